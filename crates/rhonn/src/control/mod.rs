@@ -1,0 +1,4 @@
+//! Controllers of the line pressure, sampled every control period with zero-order hold.
+
+mod pi;
+pub use pi::Pi;

@@ -1,0 +1,91 @@
+//! Errors of the model library.
+
+use std::fmt;
+
+/// A value in a scenario (or any user input) that is not allowed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InvalidValue {
+    /// Dotted path of the field, e.g. `demand.pulses[1].peak_dm3_s`.
+    pub field: String,
+    /// The value given, as the user wrote it (display units).
+    pub value: String,
+    /// What is allowed.
+    pub allowed: String,
+}
+
+impl fmt::Display for InvalidValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "`{}` = {} is not allowed: {}",
+            self.field, self.value, self.allowed
+        )
+    }
+}
+
+/// Errors of this crate.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A scenario field has a value out of range.
+    #[error("invalid scenario{}: {value}", scenario.as_ref().map(|s| format!(" `{s}`")).unwrap_or_default())]
+    Invalid {
+        /// The field, its value and what is allowed.
+        value: InvalidValue,
+        /// The scenario's name, when known.
+        scenario: Option<String>,
+    },
+    /// The scenario file is not valid TOML for a scenario (syntax, unknown key, type).
+    #[error("cannot read scenario {source_name}: {message}")]
+    Parse {
+        /// File name or scenario name.
+        source_name: String,
+        /// What the TOML reader said (it names the line and the key).
+        message: String,
+    },
+    /// No shipped scenario of that name and no such file.
+    #[error("unknown scenario `{name}`: not a file, and not one of the shipped scenarios ({known})")]
+    UnknownScenario {
+        /// The name given.
+        name: String,
+        /// The shipped names.
+        known: String,
+    },
+    /// A file could not be read.
+    #[error("cannot read {path}: {message}")]
+    Io {
+        /// Path.
+        path: String,
+        /// The system's message.
+        message: String,
+    },
+    /// The solver failed; the state is named in display units.
+    #[error("simulation failed at t = {t_s} s ({state}): {source}")]
+    Solver {
+        /// Time [s].
+        t_s: f64,
+        /// The state, named and in display units.
+        state: String,
+        /// The solver's error.
+        source: rhonn_ode::Error,
+    },
+}
+
+/// Result alias.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Shorthand to build [`Error::Invalid`].
+pub(crate) fn invalid(
+    field: impl Into<String>,
+    value: impl fmt::Display,
+    allowed: impl Into<String>,
+) -> Error {
+    Error::Invalid {
+        value: InvalidValue {
+            field: field.into(),
+            value: value.to_string(),
+            allowed: allowed.into(),
+        },
+        scenario: None,
+    }
+}

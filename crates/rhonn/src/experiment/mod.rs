@@ -1,0 +1,13 @@
+//! Experiments: scenario files, running them, recording what they produce.
+
+pub mod preset;
+mod run;
+mod scenario;
+mod trace;
+
+pub use run::{run, solver_options, Figures, Regulation, SolverReport, Summary, SETTLE_S};
+pub use scenario::{
+    ControllerSpec, Drive, InitialSpec, MeasurementSpec, PiSettings, ProfileSpec, Scenario, ScenarioSpec,
+    SolverSettings, SolverSpec, Q_L_MAX_DM3_S,
+};
+pub use trace::{Column, NoRecorder, Recorder, Sample, Trace};

@@ -1,0 +1,93 @@
+//! The scenarios shipped with rhonn (the TOML files in the repository's `scenarios/`
+//! folder, compiled in), and loading a scenario by name or path.
+
+use super::scenario::ScenarioSpec;
+use crate::error::{Error, Result};
+use std::path::Path;
+
+/// `(name, TOML text)` of every shipped scenario.
+pub const SHIPPED: &[(&str, &str)] = &[
+    (
+        "thesis-ch3",
+        include_str!("../../../../scenarios/thesis-ch3.toml"),
+    ),
+    (
+        "regulated-pi",
+        include_str!("../../../../scenarios/regulated-pi.toml"),
+    ),
+];
+
+/// Names and one-line descriptions of the shipped scenarios.
+pub fn list() -> Vec<(&'static str, String)> {
+    SHIPPED
+        .iter()
+        .map(|(name, text)| {
+            let spec = ScenarioSpec::from_toml(text, name).expect("shipped scenarios parse");
+            (*name, spec.description)
+        })
+        .collect()
+}
+
+/// A shipped scenario by name, or a TOML file by path. A name with a `/` or ending in
+/// `.toml` is always a path; otherwise a shipped name wins over a file of that name.
+pub fn load(name_or_path: &str) -> Result<ScenarioSpec> {
+    let looks_like_path = name_or_path.contains('/') || name_or_path.ends_with(".toml");
+    if !looks_like_path {
+        if let Some((_, text)) = SHIPPED.iter().find(|(n, _)| *n == name_or_path) {
+            return ScenarioSpec::from_toml(text, name_or_path);
+        }
+    }
+    let path = Path::new(name_or_path);
+    if path.is_file() {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+            path: name_or_path.to_string(),
+            message: e.to_string(),
+        })?;
+        return ScenarioSpec::from_toml(&text, name_or_path);
+    }
+    if looks_like_path {
+        return Err(Error::Io {
+            path: name_or_path.to_string(),
+            message: "no such file".to_string(),
+        });
+    }
+    Err(Error::UnknownScenario {
+        name: name_or_path.to_string(),
+        known: SHIPPED.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", "),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_shipped_scenario_parses_and_checks() {
+        for (name, _) in SHIPPED {
+            let spec = load(name).unwrap();
+            assert_eq!(spec.name, *name);
+            spec.check().unwrap();
+            assert!(!spec.description.is_empty());
+        }
+    }
+
+    #[test]
+    fn unknown_names_list_the_shipped_ones() {
+        let e = load("thesis-ch9").unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi)"
+        );
+        assert!(load("nope/x.toml")
+            .unwrap_err()
+            .to_string()
+            .contains("no such file"));
+    }
+
+    #[test]
+    fn unknown_keys_are_errors() {
+        let text = SHIPPED[0].1.replace("duration_s", "duration_s = 1.0\ndurtion_s");
+        let e = ScenarioSpec::from_toml(&text, "x.toml").unwrap_err().to_string();
+        assert!(e.contains("unknown field `durtion_s`"), "{e}");
+    }
+}

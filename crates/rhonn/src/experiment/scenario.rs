@@ -1,0 +1,427 @@
+//! Scenario files: the raw TOML form ([`ScenarioSpec`]), checked once into a
+//! [`Scenario`] that the runner accepts. Every failure names the field, the value and
+//! what is allowed; unknown keys are errors.
+
+use crate::error::{invalid, Error, Result};
+use crate::plant::{PumpParams, PumpParamsSpec};
+use crate::signal::{Signal, SignalSpec};
+use crate::units::*;
+use serde::{Deserialize, Serialize};
+
+/// The largest steady pump flow of the thesis, Q_l,max = 2.1 dm^3/s (its eq. (1)):
+/// demanded-flow peaks must stay below it.
+pub const Q_L_MAX_DM3_S: f64 = 2.1;
+
+/// Initial state, display units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct InitialSpec {
+    /// P_l(0) [MPa] (2).
+    pub p_line_mpa: f64,
+    /// x(0) [mm] (0).
+    pub stroke_mm: f64,
+}
+
+impl Default for InitialSpec {
+    fn default() -> Self {
+        InitialSpec {
+            p_line_mpa: 2.0,
+            stroke_mm: 0.0,
+        }
+    }
+}
+
+/// Measurement of the line pressure.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MeasurementSpec {
+    /// Standard deviation of the white Gaussian noise on the measured pressure [MPa] (0).
+    pub noise_std_mpa: f64,
+}
+
+/// Step-size control profile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ProfileSpec {
+    /// Hairer's DOPRI5 control (default): rtol 1e-6, atol 1 Pa and 1e-9 m, max step 100 ms.
+    #[default]
+    Hairer,
+    /// MATLAB ode45's defaults and step control: RelTol 1e-3, AbsTol 1e-6, MaxStep span/10.
+    Ode45,
+    /// Simulink's variable-step ode45: as `ode45` but MaxStep span/50.
+    SimulinkOde45,
+}
+
+/// Solver settings; unset fields take the profile's defaults.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SolverSpec {
+    /// Step-size control profile.
+    pub profile: ProfileSpec,
+    /// Relative tolerance (both states).
+    pub rtol: Option<f64>,
+    /// Absolute tolerance of the line pressure [Pa].
+    pub atol_p_line_pa: Option<f64>,
+    /// Absolute tolerance of the stroke [m].
+    pub atol_stroke_m: Option<f64>,
+    /// Largest step [ms].
+    pub max_step_ms: Option<f64>,
+}
+
+/// A controller of the line pressure, tagged by `kind`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ControllerSpec {
+    /// PI on the measured pressure, sampled every T, anti-windup at the current limits.
+    Pi {
+        /// Pressure set-point [MPa].
+        setpoint_mpa: SignalSpec,
+        /// Proportional gain [A/MPa].
+        kp_a_per_mpa: f64,
+        /// Integral time [s].
+        ti_s: f64,
+        /// Output offset [A] (default: the current whose steady stroke gives a pump
+        /// flow equal to the lubricating flow Q_0).
+        #[serde(default)]
+        bias_a: Option<f64>,
+    },
+}
+
+/// A scenario as written in a TOML file (display units, see each field).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScenarioSpec {
+    /// Short name (used for the default output folder).
+    pub name: String,
+    /// One line saying what the scenario shows.
+    #[serde(default)]
+    pub description: String,
+    /// Simulated time [s].
+    pub duration_s: f64,
+    /// Interval of the output samples [ms] (1).
+    #[serde(default = "default_output_ms")]
+    pub output_interval_ms: f64,
+    /// Seed of every random draw (noise, PRBS) (0).
+    #[serde(default)]
+    pub seed: u64,
+    /// Parameter overrides (table 3.3 of the thesis by default).
+    #[serde(default)]
+    pub plant: PumpParamsSpec,
+    /// Initial state.
+    #[serde(default)]
+    pub initial: InitialSpec,
+    /// Open-loop solenoid current [A]; exclusive with `controller`.
+    #[serde(default)]
+    pub current_a: Option<SignalSpec>,
+    /// Demanded flow [dm^3/s] (zero when absent).
+    #[serde(default)]
+    pub demand_dm3_s: Option<SignalSpec>,
+    /// Pressure controller; exclusive with `current_a`.
+    #[serde(default)]
+    pub controller: Option<ControllerSpec>,
+    /// Measurement.
+    #[serde(default)]
+    pub measurement: MeasurementSpec,
+    /// Solver settings.
+    #[serde(default)]
+    pub solver: SolverSpec,
+}
+
+fn default_output_ms() -> f64 {
+    1.0
+}
+
+/// A checked PI controller (SI).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PiSettings {
+    /// Set-point [Pa].
+    pub setpoint: Signal,
+    /// Gain [A/Pa].
+    pub kp: f64,
+    /// Integral time [s].
+    pub ti_s: f64,
+    /// Output offset [A].
+    pub bias: f64,
+}
+
+/// How the current is produced.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Drive {
+    /// An open-loop profile [A].
+    OpenLoop(Signal),
+    /// A PI regulator.
+    Pi(PiSettings),
+}
+
+/// Checked solver settings (SI).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SolverSettings {
+    /// Profile.
+    pub profile: ProfileSpec,
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance of P_l [Pa].
+    pub atol_p_line_pa: f64,
+    /// Absolute tolerance of x [m].
+    pub atol_stroke_m: f64,
+    /// Largest step [s].
+    pub max_step_s: f64,
+}
+
+/// A validated scenario: only this type runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario {
+    /// The spec it came from (echoed in summaries).
+    pub spec: ScenarioSpec,
+    /// Parameters (SI).
+    pub params: PumpParams,
+    /// P_l(0) [Pa], x(0) [m].
+    pub initial: [f64; 2],
+    /// Current source.
+    pub drive: Drive,
+    /// Demanded flow [m^3/s].
+    pub demand: Signal,
+    /// Noise standard deviation [Pa].
+    pub noise_std_pa: f64,
+    /// Output interval [s].
+    pub output_interval_s: f64,
+    /// Solver.
+    pub solver: SolverSettings,
+    /// Things the user should know (printed and written to the summary).
+    pub warnings: Vec<String>,
+}
+
+impl ScenarioSpec {
+    /// Parse TOML; `source_name` names the file in errors.
+    pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
+        toml::from_str(text).map_err(|e| Error::Parse {
+            source_name: source_name.to_string(),
+            message: e.to_string(),
+        })
+    }
+
+    /// The spec as TOML.
+    pub fn to_toml(&self) -> String {
+        toml::to_string_pretty(self).expect("a scenario spec serialises")
+    }
+
+    /// Validate everything and convert to SI.
+    pub fn check(&self) -> Result<Scenario> {
+        self.check_inner().map_err(|e| match e {
+            Error::Invalid {
+                value,
+                scenario: None,
+            } => Error::Invalid {
+                value,
+                scenario: Some(self.name.clone()),
+            },
+            other => other,
+        })
+    }
+
+    fn check_inner(&self) -> Result<Scenario> {
+        let mut warnings = Vec::new();
+        if self.name.trim().is_empty()
+            || !self
+                .name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.')
+        {
+            return Err(invalid(
+                "name",
+                format!("{:?}", self.name),
+                "a non-empty name of letters, digits, '-', '_' or '.' (it names the output folder)",
+            ));
+        }
+        if !(self.duration_s.is_finite() && self.duration_s > 0.0 && self.duration_s <= 1e6) {
+            return Err(invalid("duration_s", self.duration_s, "a number in (0, 1e6] s"));
+        }
+        if !(self.output_interval_ms.is_finite() && self.output_interval_ms > 0.0) {
+            return Err(invalid(
+                "output_interval_ms",
+                self.output_interval_ms,
+                "a number > 0",
+            ));
+        }
+        let dt = self.output_interval_ms * S_PER_MS;
+        if self.duration_s / dt > 5e7 {
+            return Err(invalid(
+                "output_interval_ms",
+                self.output_interval_ms,
+                "at most 50,000,000 samples per run (raise the interval)",
+            ));
+        }
+        let params = self.plant.check()?;
+        let p0 = self.initial.p_line_mpa;
+        if !(p0.is_finite() && p0 >= 0.0 && p0 <= self.plant.p_max_mpa) {
+            return Err(invalid(
+                "initial.p_line_mpa",
+                p0,
+                format!("a pressure in [0, {}] MPa (P_max)", self.plant.p_max_mpa),
+            ));
+        }
+        if p0 < self.plant.p_min_mpa {
+            warnings.push(format!(
+                "initial.p_line_mpa = {p0} MPa is below P_min = {} MPa: the model is not valid there",
+                self.plant.p_min_mpa
+            ));
+        }
+        let x0 = self.initial.stroke_mm;
+        if !(x0.is_finite() && x0 >= 0.0 && x0 <= self.plant.x_max_mm) {
+            return Err(invalid(
+                "initial.stroke_mm",
+                x0,
+                format!("a stroke in [0, {}] mm (x_max)", self.plant.x_max_mm),
+            ));
+        }
+        let current_lim = crate::signal::spec_limits(0.0, params.i_max, None, None);
+        let drive = match (&self.current_a, &self.controller) {
+            (Some(_), Some(_)) => {
+                return Err(invalid(
+                    "current_a",
+                    "a profile",
+                    "absent when a `controller` drives the current (give one or the other)",
+                ))
+            }
+            (None, None) => {
+                return Err(invalid(
+                    "current_a",
+                    "nothing",
+                    "a current profile, or a `controller` section",
+                ))
+            }
+            (Some(c), None) => {
+                let sig = c.build("current_a", 1.0, current_lim)?;
+                if sig.clips_on(self.duration_s) {
+                    warnings.push(format!("current_a leaves [0, {}] A and is clipped", params.i_max));
+                }
+                Drive::OpenLoop(sig)
+            }
+            (
+                None,
+                Some(ControllerSpec::Pi {
+                    setpoint_mpa,
+                    kp_a_per_mpa,
+                    ti_s,
+                    bias_a,
+                }),
+            ) => {
+                let lim = crate::signal::spec_limits(
+                    params.p_min / PA_PER_MPA,
+                    params.p_max / PA_PER_MPA,
+                    None,
+                    None,
+                );
+                let setpoint = setpoint_mpa.build("controller.setpoint_mpa", PA_PER_MPA, lim)?;
+                if setpoint.clips_on(self.duration_s) {
+                    return Err(invalid(
+                        "controller.setpoint_mpa",
+                        "a set-point",
+                        format!(
+                            "within [{}, {}] MPa (P_min, P_max) at all times",
+                            self.plant.p_min_mpa, self.plant.p_max_mpa
+                        ),
+                    ));
+                }
+                if !(kp_a_per_mpa.is_finite() && *kp_a_per_mpa >= 0.0) {
+                    return Err(invalid(
+                        "controller.kp_a_per_mpa",
+                        kp_a_per_mpa,
+                        "a finite number >= 0",
+                    ));
+                }
+                if !(ti_s.is_finite() && *ti_s > 0.0) {
+                    return Err(invalid("controller.ti_s", ti_s, "a number > 0"));
+                }
+                let bias =
+                    bias_a.unwrap_or(params.k_a * params.q_0 / (params.k_l * params.omega * params.phi));
+                if !(bias.is_finite() && (0.0..=params.i_max).contains(&bias)) {
+                    return Err(invalid(
+                        "controller.bias_a",
+                        bias,
+                        format!("a current in [0, {}] A", params.i_max),
+                    ));
+                }
+                Drive::Pi(PiSettings {
+                    setpoint,
+                    kp: kp_a_per_mpa / PA_PER_MPA,
+                    ti_s: *ti_s,
+                    bias,
+                })
+            }
+        };
+        let demand_lim = crate::signal::spec_limits(
+            0.0,
+            f64::INFINITY,
+            Some((self.plant.qdot_max_dm3_s2, "Qdot_max of the plant, dm^3/s^2")),
+            Some((Q_L_MAX_DM3_S, "the max pump flow Q_l,max, dm^3/s")),
+        );
+        let demand = match &self.demand_dm3_s {
+            Some(d) => d.build("demand_dm3_s", M3_PER_DM3, demand_lim)?,
+            None => Signal::constant(0.0),
+        };
+        if demand.clips_on(self.duration_s) {
+            return Err(invalid(
+                "demand_dm3_s",
+                "a profile",
+                "a demanded flow >= 0 at all times",
+            ));
+        }
+        let noise = self.measurement.noise_std_mpa;
+        if !(noise.is_finite() && noise >= 0.0) {
+            return Err(invalid(
+                "measurement.noise_std_mpa",
+                noise,
+                "a finite number >= 0",
+            ));
+        }
+        let s = &self.solver;
+        let (rtol, atol_p, atol_x, h_max) = match s.profile {
+            ProfileSpec::Hairer => (1e-6, 1.0, 1e-9, 0.1),
+            ProfileSpec::Ode45 => (1e-3, 1e-6, 1e-6, 0.1 * self.duration_s),
+            ProfileSpec::SimulinkOde45 => (1e-3, 1e-6, 1e-6, self.duration_s / 50.0),
+        };
+        let solver = SolverSettings {
+            profile: s.profile,
+            rtol: s.rtol.unwrap_or(rtol),
+            atol_p_line_pa: s.atol_p_line_pa.unwrap_or(atol_p),
+            atol_stroke_m: s.atol_stroke_m.unwrap_or(atol_x),
+            max_step_s: s.max_step_ms.map_or(h_max, |v| v * S_PER_MS),
+        };
+        if !(1e-13..0.1).contains(&solver.rtol) {
+            return Err(invalid("solver.rtol", solver.rtol, "a number in [1e-13, 0.1)"));
+        }
+        if !(solver.atol_p_line_pa.is_finite() && solver.atol_p_line_pa > 0.0) {
+            return Err(invalid(
+                "solver.atol_p_line_pa",
+                solver.atol_p_line_pa,
+                "a number > 0 (Pa)",
+            ));
+        }
+        if !(solver.atol_stroke_m.is_finite() && solver.atol_stroke_m > 0.0) {
+            return Err(invalid(
+                "solver.atol_stroke_m",
+                solver.atol_stroke_m,
+                "a number > 0 (m)",
+            ));
+        }
+        if !(solver.max_step_s.is_finite() && solver.max_step_s > 0.0) {
+            return Err(invalid(
+                "solver.max_step_ms",
+                solver.max_step_s / S_PER_MS,
+                "a number > 0 (ms)",
+            ));
+        }
+        Ok(Scenario {
+            spec: self.clone(),
+            params,
+            initial: [p0 * PA_PER_MPA, x0 * M_PER_MM],
+            drive,
+            demand,
+            noise_std_pa: noise * PA_PER_MPA,
+            output_interval_s: dt,
+            solver,
+            warnings,
+        })
+    }
+}

@@ -1,0 +1,118 @@
+//! What a run produces sample by sample: the [`Recorder`] trait and the in-memory
+//! [`Trace`].
+
+/// One output sample (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// Time [s].
+    pub t: f64,
+    /// Line pressure [Pa].
+    pub p_line: f64,
+    /// Pump stroke [m].
+    pub stroke: f64,
+    /// Solenoid current [A].
+    pub current: f64,
+    /// Demanded flow [m^3/s].
+    pub demand: f64,
+    /// Pressure set-point [Pa] (regulated runs).
+    pub p_ref: Option<f64>,
+    /// Measured pressure [Pa] (when measured: regulated runs, or noise > 0).
+    pub p_meas: Option<f64>,
+}
+
+/// Receives the output samples of a run, in time order.
+pub trait Recorder {
+    /// One sample.
+    fn record(&mut self, s: &Sample);
+}
+
+/// Keeps nothing (a campaign that needs only the summary).
+#[derive(Debug, Default, Clone, Copy)]
+pub struct NoRecorder;
+
+impl Recorder for NoRecorder {
+    #[inline]
+    fn record(&mut self, _s: &Sample) {}
+}
+
+/// A column of a trace: name, SI unit, values.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    /// Name (`p_line`, `stroke`, ...).
+    pub name: &'static str,
+    /// SI unit (`Pa`, `m`, ...).
+    pub unit: &'static str,
+    /// Values, one per sample.
+    pub values: Vec<f64>,
+}
+
+/// All samples of a run in labelled SI columns; the first is `t` [s].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Trace {
+    /// The columns, `t` first.
+    pub columns: Vec<Column>,
+}
+
+impl Trace {
+    /// The column called `name`.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.columns
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| c.values.as_slice())
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.columns.first().map_or(0, |c| c.values.len())
+    }
+
+    /// Whether there are no samples.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+impl Recorder for Trace {
+    fn record(&mut self, s: &Sample) {
+        if self.columns.is_empty() {
+            let mut cols = vec![
+                ("t", "s"),
+                ("p_line", "Pa"),
+                ("stroke", "m"),
+                ("current", "A"),
+                ("demand", "m^3/s"),
+            ];
+            if s.p_ref.is_some() {
+                cols.push(("p_ref", "Pa"));
+            }
+            if s.p_meas.is_some() {
+                cols.push(("p_meas", "Pa"));
+            }
+            self.columns = cols
+                .into_iter()
+                .map(|(name, unit)| Column {
+                    name,
+                    unit,
+                    values: Vec::new(),
+                })
+                .collect();
+        }
+        let vals = [
+            Some(s.t),
+            Some(s.p_line),
+            Some(s.stroke),
+            Some(s.current),
+            Some(s.demand),
+            s.p_ref,
+            s.p_meas,
+        ];
+        let mut c = 0;
+        for v in vals.into_iter().flatten() {
+            if let Some(col) = self.columns.get_mut(c) {
+                col.values.push(v);
+            }
+            c += 1;
+        }
+    }
+}

@@ -1,0 +1,8 @@
+//! The plant: a solenoid-controlled variable-displacement pump feeding a hydraulic
+//! line (SPEC.md section 1).
+
+mod params;
+mod pump;
+
+pub use params::{PumpParams, PumpParamsSpec};
+pub use pump::{Input, PumpSystem, P_LINE, STROKE};

@@ -1,0 +1,205 @@
+//! The pump's equations as a [`rhonn_ode::System`].
+
+use super::PumpParams;
+use crate::signal::Signal;
+use rhonn_ode::{Direction, System};
+
+/// Index of the line pressure P_l [Pa] in the state.
+pub const P_LINE: usize = 0;
+/// Index of the pump stroke x [m] in the state.
+pub const STROKE: usize = 1;
+
+/// An input of the pump: a signal of time, or a value held by a sampled controller
+/// (zero-order hold).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Input {
+    /// A profile.
+    Signal(Signal),
+    /// Held constant until changed.
+    Held(f64),
+}
+
+impl Input {
+    #[inline]
+    fn segment(&self, t: f64) -> usize {
+        match self {
+            Input::Signal(s) => s.segment(t),
+            Input::Held(_) => 0,
+        }
+    }
+    #[inline]
+    fn eval_in(&self, seg: usize, t: f64) -> f64 {
+        match self {
+            Input::Signal(s) => s.eval_in(seg, t),
+            Input::Held(v) => *v,
+        }
+    }
+    #[inline]
+    fn next_breakpoint(&self, t: f64) -> f64 {
+        match self {
+            Input::Signal(s) => s.next_breakpoint(t),
+            Input::Held(_) => f64::INFINITY,
+        }
+    }
+}
+
+/// The pump and line (states `[P_l, x]`, SI) driven by a solenoid current [A] and a
+/// demanded flow [m^3/s].
+///
+/// Modes, constant within a step: the segments of the two inputs, the pilot valve's
+/// branch (`s >= 0` or `s < 0`) and the sign of the pilot pressure drop. Event 0 is
+/// `s = 0` (the valve switches: the pressure-drop formula and the line's draw change),
+/// event 1 is `dPa = 0` (the pilot flow reverses; `sqrt|dPa|` has a vertical tangent
+/// there). Both states are limited integrators: `0 <= P_l <= P_max`, `0 <= x <= x_max`.
+#[derive(Debug, Clone)]
+pub struct PumpSystem {
+    /// Parameters (SI).
+    pub params: PumpParams,
+    /// Solenoid current [A], clipped to `[0, i_max]` when evaluated.
+    pub current: Input,
+    /// Demanded flow [m^3/s].
+    pub demand: Input,
+    seg_i: usize,
+    seg_q: usize,
+    branch_neg: bool,
+    dpa_pos: bool,
+}
+
+/// Intermediate quantities of the pilot valve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pilot {
+    /// Pilot valve stroke s [m].
+    pub s: f64,
+    /// Pressure drop across the pilot valve [Pa].
+    pub dpa: f64,
+    /// Pilot flow Q_a [m^3/s].
+    pub q_a: f64,
+}
+
+impl PumpSystem {
+    /// A pump with the given inputs.
+    pub fn new(params: PumpParams, current: Input, demand: Input) -> Self {
+        PumpSystem {
+            params,
+            current,
+            demand,
+            seg_i: 0,
+            seg_q: 0,
+            branch_neg: false,
+            dpa_pos: true,
+        }
+    }
+
+    /// Solenoid current at `t` in the current modes [A] (clipped).
+    #[inline]
+    pub fn current_at(&self, t: f64) -> f64 {
+        self.current.eval_in(self.seg_i, t).clamp(0.0, self.params.i_max)
+    }
+
+    /// Demanded flow at `t` in the current modes [m^3/s].
+    #[inline]
+    pub fn demand_at(&self, t: f64) -> f64 {
+        self.demand.eval_in(self.seg_q, t)
+    }
+
+    /// Set the held current (a sampled controller's output) [A].
+    pub fn set_current(&mut self, i: f64) {
+        self.current = Input::Held(i);
+    }
+
+    /// The pilot valve at `(P_l, x)` and current `i`, on the branch `neg` (s < 0).
+    #[inline(always)]
+    pub fn pilot(&self, p: f64, x: f64, i: f64, neg: bool) -> Pilot {
+        let k = &self.params;
+        let s = (k.phi * i - k.k_a * x) / (k.k_c + k.k_a);
+        let bias = (k.f_u - k.k * x) / k.a_a;
+        let dpa = if neg {
+            (1.0 - k.gamma_l) * p - bias
+        } else {
+            k.gamma_l * p + bias - k.p_0
+        };
+        let mag = dpa.abs().sqrt();
+        let q_a = if dpa >= 0.0 { 1.0 } else { -1.0 } * s * (k.mu_1 + k.mu_2 * s.abs()) * mag;
+        Pilot { s, dpa, q_a }
+    }
+
+    /// Derivatives `(dP_l/dt, dx/dt)` at `(P_l, x)` with inputs `i`, `q` on branch `neg`.
+    #[inline(always)]
+    pub fn derivative(&self, p: f64, x: f64, i: f64, q: f64, neg: bool) -> (f64, f64) {
+        let k = &self.params;
+        let pil = self.pilot(p, x, i, neg);
+        let draw = if neg { pil.q_a.abs() } else { 0.0 };
+        let v_l = k.v_l0 * (1.0 + k.alpha_v * p);
+        let dp = k.beta / v_l * (k.k_l * k.omega * x - q - k.q_0 - draw);
+        (dp, pil.q_a / k.a_a)
+    }
+
+    /// Whether the pilot valve is on its `s < 0` branch.
+    pub fn branch_negative(&self) -> bool {
+        self.branch_neg
+    }
+}
+
+impl System for PumpSystem {
+    type State = [f64; 2];
+
+    fn dim(&self) -> usize {
+        2
+    }
+
+    #[inline]
+    fn rhs(&self, t: f64, x: &[f64], dx: &mut [f64]) {
+        let i = self.current_at(t);
+        let q = self.demand_at(t);
+        let (dp, ds) = self.derivative(x[P_LINE], x[STROKE], i, q, self.branch_neg);
+        dx[P_LINE] = dp;
+        dx[STROKE] = ds;
+    }
+
+    fn n_events(&self) -> usize {
+        2
+    }
+
+    #[inline]
+    fn events(&self, t: f64, x: &[f64], g: &mut [f64]) {
+        let pil = self.pilot(x[P_LINE], x[STROKE], self.current_at(t), self.branch_neg);
+        g[0] = pil.s;
+        g[1] = pil.dpa;
+    }
+
+    fn event_direction(&self, j: usize) -> Direction {
+        let positive = if j == 0 { !self.branch_neg } else { self.dpa_pos };
+        if positive {
+            Direction::Falling
+        } else {
+            Direction::Rising
+        }
+    }
+
+    fn update_modes(&mut self, t: f64, x: &[f64]) {
+        self.seg_i = self.current.segment(t);
+        self.seg_q = self.demand.segment(t);
+        let i = self.current_at(t);
+        let s = self.pilot(x[P_LINE], x[STROKE], i, self.branch_neg).s;
+        if s > 0.0 {
+            self.branch_neg = false;
+        } else if s < 0.0 {
+            self.branch_neg = true;
+        }
+        self.dpa_pos = self.pilot(x[P_LINE], x[STROKE], i, self.branch_neg).dpa >= 0.0;
+    }
+
+    fn next_breakpoint(&self, t: f64) -> f64 {
+        self.current
+            .next_breakpoint(t)
+            .min(self.demand.next_breakpoint(t))
+    }
+
+    fn bounds(&self, i: usize) -> (f64, f64) {
+        if i == P_LINE {
+            (0.0, self.params.p_max)
+        } else {
+            (0.0, self.params.x_max)
+        }
+    }
+}
