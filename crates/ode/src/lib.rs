@@ -64,6 +64,8 @@ assert_eq!(s.state()[0], 0.5);
 
 #[cfg(feature = "alloc")]
 extern crate alloc;
+#[cfg(feature = "std")]
+extern crate std;
 
 mod dopri5;
 mod error;

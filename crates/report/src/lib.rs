@@ -1,1 +1,67 @@
-//! placeholder
+/*!
+Files of rhonn runs: `trajectory.csv` (SI columns), `summary.json`, and SVG plots in
+display units (MPa, mm, A, dm^3/s). Every file of a run is first written under a
+temporary name in the output folder and renamed only when all of them are complete
+([`OutputSet`]), so a failed run leaves no half-written file.
+
+```no_run
+use rhonn::experiment::{preset, run, Trace};
+let scenario = preset::load("thesis-ch3")?.check()?;
+let mut trace = Trace::default();
+let summary = run(&scenario, &mut trace)?;
+rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &summary)?;
+# Ok::<(), Box<dyn std::error::Error>>(())
+```
+*/
+#![deny(missing_docs)]
+
+mod atomic;
+mod csv_out;
+mod plot;
+
+pub use atomic::OutputSet;
+pub use csv_out::write_trace_csv;
+pub use plot::{plot_run, Series, TimePlot};
+
+use rhonn::experiment::{Summary, Trace};
+use std::path::{Path, PathBuf};
+
+/// Errors while writing outputs.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// The output folder cannot be created or written.
+    #[error("cannot write to output folder {path}: {message}")]
+    Folder {
+        /// The folder.
+        path: PathBuf,
+        /// What the system said.
+        message: String,
+    },
+    /// A file cannot be written.
+    #[error("cannot write {path}: {message}")]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// Result alias.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Write everything `rhonn run` writes into `dir`: `trajectory.csv`, `summary.json`,
+/// `pressure.svg`, `stroke.svg`, `inputs.svg`. Returns the files written.
+pub fn write_run(dir: &Path, trace: &Trace, summary: &Summary) -> Result<Vec<PathBuf>> {
+    let mut out = OutputSet::new(dir)?;
+    out.write("trajectory.csv", |w| write_trace_csv(w, trace))?;
+    out.write("summary.json", |w| {
+        serde_json::to_writer_pretty(&mut *w, summary).map_err(std::io::Error::other)?;
+        writeln!(w)
+    })?;
+    for (name, svg) in plot_run(trace, summary) {
+        out.write(&name, |w| w.write_all(svg.as_bytes()))?;
+    }
+    out.commit()
+}

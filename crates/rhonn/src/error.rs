@@ -67,7 +67,7 @@ pub enum Error {
         /// The state, named and in display units.
         state: String,
         /// The solver's error.
-        source: rhonn_ode::Error,
+        source: Box<rhonn_ode::Error>,
     },
 }
 

@@ -6,6 +6,7 @@ use super::trace::{Recorder, Sample};
 use crate::control::Pi;
 use crate::error::{Error, Result};
 use crate::plant::{Input, PumpSystem, P_LINE, STROKE};
+use crate::signal::Signal;
 use crate::units::*;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
@@ -88,11 +89,20 @@ pub struct Summary {
     pub warnings: Vec<String>,
 }
 
-/// Running figures, fed one sample at a time (the time-weighted ones use the interval
-/// to the next sample: left-point rule on the output grid).
-struct Accumulator {
-    p_min: f64,
+/// The run's figures, accumulated step by step on the solver's dense output, so that
+/// they do not depend on the output interval: time-weighted figures are integrated
+/// with 3-point Gauss-Legendre quadrature on each step (split where the set-point has a
+/// breakpoint, at 1 s, and where a settling window ends), the time below P_min from
+/// the located crossings, extremes from the step ends and the Gauss points.
+struct Accumulator<'a> {
     p_limit: f64,
+    i_max: f64,
+    setpoint: Option<&'a Signal>,
+    /// Times where an interval must be split, sorted; `cursor` is the next one.
+    splits: Vec<f64>,
+    cursor: usize,
+    /// Set-point breakpoints (sorted) for the settling windows.
+    changes: Vec<f64>,
     p_lo: f64,
     p_hi: f64,
     x_hi: f64,
@@ -102,18 +112,44 @@ struct Accumulator {
     max_dev: f64,
     max_dev_settled: f64,
     saturated: f64,
-    i_max: f64,
-    last: Option<Sample>,
-    last_ref: Option<f64>,
-    ref_changed_at: f64,
-    n: usize,
 }
 
-impl Accumulator {
-    fn new(p_limit: f64, i_max: f64) -> Self {
+/// Gauss-Legendre nodes on [0, 1] and weights (summing to 1).
+const GAUSS: [(f64, f64); 3] = [
+    (0.112_701_665_379_258_31, 5.0 / 18.0),
+    (0.5, 8.0 / 18.0),
+    (0.887_298_334_620_741_7, 5.0 / 18.0),
+];
+
+impl<'a> Accumulator<'a> {
+    fn new(p_limit: f64, i_max: f64, setpoint: Option<&'a Signal>, t_end: f64) -> Self {
+        let mut changes = vec![0.0];
+        let mut splits = vec![1.0];
+        if let Some(sp) = setpoint {
+            let mut t = 0.0;
+            loop {
+                let b = sp.next_breakpoint(t);
+                if !(b < t_end) {
+                    break;
+                }
+                changes.push(b);
+                t = b;
+            }
+            for &c in &changes {
+                splits.push(c);
+                splits.push(c + SETTLE_S);
+            }
+        }
+        splits.retain(|&v| v > 0.0 && v < t_end);
+        splits.sort_by(f64::total_cmp);
+        splits.dedup();
         Accumulator {
-            p_min: p_limit,
             p_limit,
+            i_max,
+            setpoint,
+            splits,
+            cursor: 0,
+            changes,
             p_lo: f64::INFINITY,
             p_hi: f64::NEG_INFINITY,
             x_hi: f64::NEG_INFINITY,
@@ -123,62 +159,126 @@ impl Accumulator {
             max_dev: 0.0,
             max_dev_settled: 0.0,
             saturated: 0.0,
-            i_max,
-            last: None,
-            last_ref: None,
-            ref_changed_at: 0.0,
-            n: 0,
         }
     }
 
-    fn add(&mut self, s: &Sample) {
-        if let Some(prev) = self.last {
-            let dt = s.t - prev.t;
-            if prev.p_line < self.p_limit {
-                self.below += dt;
-                if prev.t >= 1.0 {
-                    self.below_after_1s += dt;
+    /// Account for the last step `[t_prev, t]` of `solver`.
+    fn add_step(&mut self, solver: &Dopri5<PumpSystem>) {
+        let (t0, t1) = (solver.t_prev(), solver.t());
+        if !(t1 > t0) {
+            return;
+        }
+        while self.cursor < self.splits.len() && self.splits[self.cursor] <= t0 {
+            self.cursor += 1;
+        }
+        let mut a = t0;
+        let mut k = self.cursor;
+        while k < self.splits.len() && self.splits[k] < t1 {
+            self.add_interval(solver, a, self.splits[k]);
+            a = self.splits[k];
+            k += 1;
+        }
+        self.add_interval(solver, a, t1);
+    }
+
+    /// `[a, b]` lies in one step, one set-point segment and one settling window.
+    fn add_interval(&mut self, solver: &Dopri5<PumpSystem>, a: f64, b: f64) {
+        let h = b - a;
+        if !(h > 0.0) {
+            return;
+        }
+        let prm = &solver.system().params;
+        // The interpolant of a step that ends on a bound may pass it by a hair.
+        let state = |t: f64| {
+            let mut x = [0.0; 2];
+            solver.interpolate(t, &mut x);
+            [x[P_LINE].clamp(0.0, prm.p_max), x[STROKE].clamp(0.0, prm.x_max)]
+        };
+        let mid = 0.5 * (a + b);
+        let seg = self.setpoint.map(|sp| (sp, sp.segment(mid)));
+        let settled = {
+            let last_change = self
+                .changes
+                .iter()
+                .rev()
+                .find(|&&c| c <= mid)
+                .copied()
+                .unwrap_or(0.0);
+            mid >= last_change + SETTLE_S
+        };
+        let mut pts = [(a, 0.0); 5];
+        pts[0] = (a, state(a)[P_LINE]);
+        for (j, (node, _)) in GAUSS.iter().enumerate() {
+            let t = a + node * h;
+            let x = state(t);
+            pts[j + 1] = (t, x[P_LINE]);
+            self.x_hi = self.x_hi.max(x[STROKE]);
+        }
+        let xb = state(b);
+        pts[4] = (b, xb[P_LINE]);
+        self.x_hi = self.x_hi.max(xb[STROKE]).max(state(a)[STROKE]);
+        for &(t, p) in &pts {
+            self.p_lo = self.p_lo.min(p);
+            self.p_hi = self.p_hi.max(p);
+            if let Some((sp, sg)) = seg {
+                let dev = mpa((p - sp.eval_in(sg, t)).abs());
+                self.max_dev = self.max_dev.max(dev);
+                if settled {
+                    self.max_dev_settled = self.max_dev_settled.max(dev);
                 }
             }
-            if let Some(r) = prev.p_ref {
-                self.ise += (mpa(prev.p_line - r)).powi(2) * dt;
-            }
-            if prev.current <= 0.0 || prev.current >= self.i_max {
-                self.saturated += dt;
+        }
+        if let Some((sp, sg)) = seg {
+            self.ise += h * GAUSS
+                .iter()
+                .zip(&pts[1..4])
+                .map(|((_, w), &(t, p))| w * mpa(p - sp.eval_in(sg, t)).powi(2))
+                .sum::<f64>();
+            let i = solver.system().current_at(mid);
+            if i <= 0.0 || i >= self.i_max {
+                self.saturated += h;
             }
         }
-        self.p_lo = self.p_lo.min(s.p_line);
-        self.p_hi = self.p_hi.max(s.p_line);
-        self.x_hi = self.x_hi.max(s.stroke);
-        if let Some(r) = s.p_ref {
-            if self.last_ref.is_some_and(|lr| lr != r) {
-                self.ref_changed_at = s.t;
-            }
-            self.last_ref = Some(r);
-            let dev = mpa((s.p_line - r).abs());
-            self.max_dev = self.max_dev.max(dev);
-            if s.t >= self.ref_changed_at + SETTLE_S {
-                self.max_dev_settled = self.max_dev_settled.max(dev);
+        // Time below P_min: the sub-intervals between the five points, with the
+        // crossings located by bisection on the dense output.
+        let mut below = 0.0;
+        for w in pts.windows(2) {
+            let ((ta, pa), (tb, pb)) = (w[0], w[1]);
+            let (ba, bb) = (pa < self.p_limit, pb < self.p_limit);
+            if ba && bb {
+                below += tb - ta;
+            } else if ba != bb {
+                let (mut lo, mut hi) = (ta, tb);
+                while hi - lo > 1e-10 * (1.0 + hi.abs()) {
+                    let m = 0.5 * (lo + hi);
+                    if (state(m)[P_LINE] < self.p_limit) == ba {
+                        lo = m;
+                    } else {
+                        hi = m;
+                    }
+                }
+                let tc = 0.5 * (lo + hi);
+                below += if ba { tc - ta } else { tb - tc };
             }
         }
-        self.last = Some(*s);
-        self.n += 1;
+        self.below += below;
+        if a >= 1.0 {
+            self.below_after_1s += below;
+        }
     }
 
-    fn figures(&self, duration_s: f64, regulated: bool) -> Figures {
-        let last = self.last.expect("a run has at least one sample");
-        let _ = self.p_min;
+    fn figures(&self, duration_s: f64, samples: usize, last: [f64; 2], regulated: bool) -> Figures {
         Figures {
             duration_s,
-            samples: self.n,
-            final_p_line_mpa: mpa(last.p_line),
-            final_stroke_mm: mm(last.stroke),
+            samples,
+            final_p_line_mpa: mpa(last[P_LINE]),
+            final_stroke_mm: mm(last[STROKE]),
             p_line_min_mpa: mpa(self.p_lo),
             p_line_max_mpa: mpa(self.p_hi),
             stroke_max_mm: mm(self.x_hi),
             time_below_p_min_s: self.below,
             time_below_p_min_after_1s_s: self.below_after_1s,
-            regulation: regulated.then(|| Regulation {
+            regulation: regulated.then_some(Regulation {
                 max_abs_deviation_mpa: self.max_dev,
                 max_abs_deviation_settled_mpa: self.max_dev_settled,
                 ise_mpa2_s: self.ise,
@@ -186,6 +286,10 @@ impl Accumulator {
             }),
         }
     }
+}
+
+fn sc_last(solver: &Dopri5<PumpSystem>) -> [f64; 2] {
+    [solver.state()[P_LINE], solver.state()[STROKE]]
 }
 
 fn solver_error(e: rhonn_ode::Error, t: f64, x: &[f64]) -> Error {
@@ -196,21 +300,22 @@ fn solver_error(e: rhonn_ode::Error, t: f64, x: &[f64]) -> Error {
             mpa(x[P_LINE]),
             mm(x[STROKE])
         ),
-        source: e,
+        source: Box::new(e),
     }
 }
 
 /// Solver options of a scenario.
 pub fn solver_options(s: &SolverSettings) -> Options<[f64; 2]> {
-    let mut o = Options::<[f64; 2]>::default();
-    o.rtol = [s.rtol; 2];
-    o.atol = [s.atol_p_line_pa, s.atol_stroke_m];
-    o.h_max_s = s.max_step_s;
-    o.profile = match s.profile {
-        ProfileSpec::Hairer => Profile::Hairer,
-        ProfileSpec::Ode45 | ProfileSpec::SimulinkOde45 => Profile::Ode45,
-    };
-    o
+    Options {
+        rtol: [s.rtol; 2],
+        atol: [s.atol_p_line_pa, s.atol_stroke_m],
+        h_max_s: s.max_step_s,
+        profile: match s.profile {
+            ProfileSpec::Hairer => Profile::Hairer,
+            ProfileSpec::Ode45 | ProfileSpec::SimulinkOde45 => Profile::Ode45,
+        },
+        ..Options::default()
+    }
 }
 
 /// Run a scenario, giving every output sample to `rec`; returns the summary.
@@ -251,11 +356,25 @@ pub fn run(sc: &Scenario, rec: &mut impl Recorder) -> Result<Summary> {
     let t_end = sc.spec.duration_s;
     let dt = sc.output_interval_s;
     let n_out = (t_end / dt).round().max(1.0) as u64;
-    let out_time = |k: u64| if k >= n_out { t_end } else { k as f64 * dt };
+    // k * interval_ms / 1000 rounds to the nearest double of the decimal time
+    // (3.01, not 3.0100000000000002), which CSV readers and joins appreciate.
+    let interval_ms = sc.spec.output_interval_ms;
+    let out_time = |k: u64| {
+        if k >= n_out {
+            t_end
+        } else {
+            k as f64 * interval_ms / 1000.0
+        }
+    };
     let mut k_out: u64 = 0;
-    let mut acc = Accumulator::new(p.p_min, p.i_max);
     let regulated = pi.is_some();
-    let t_ctl = p.t_control;
+    let mut acc = Accumulator::new(p.p_min, p.i_max, setpoint, t_end);
+    // Noise on recorded (not fed back) measurements has its own stream, so what is
+    // recorded never changes what the controller sees.
+    let mut rng_out = rand_chacha::ChaCha8Rng::seed_from_u64(sc.spec.seed ^ 0x9e37_79b9_7f4a_7c15);
+    // Control instants k * T, computed from T in ms like the output times, so that a
+    // control instant and an output sample at the same decimal time coincide exactly.
+    let t_ctl_ms = sc.spec.plant.t_control_ms;
     let mut k_ctl: u64 = 0;
     let mut last_meas: Option<f64> = None;
     let mut x = [0.0; 2];
@@ -269,27 +388,32 @@ pub fn run(sc: &Scenario, rec: &mut impl Recorder) -> Result<Summary> {
         k_ctl = 1;
     }
 
-    let emit = |solver: &Dopri5<PumpSystem>,
-                upto: f64,
-                inclusive: bool,
-                k_out: &mut u64,
-                last_meas: Option<f64>,
-                rng: &mut rand_chacha::ChaCha8Rng,
-                acc: &mut Accumulator,
-                rec: &mut dyn FnMut(&Sample)| {
-        while *k_out <= n_out {
-            let t = out_time(*k_out);
-            if t > upto || (!inclusive && t >= upto) {
+    let wants = rec.wants_samples();
+    let bounds = [(0.0, p.p_max), (0.0, p.x_max)];
+    loop {
+        let t_stop = if regulated {
+            (k_ctl as f64 * t_ctl_ms / 1000.0).min(t_end)
+        } else {
+            t_end
+        };
+        let r = solver
+            .step(t_stop)
+            .map_err(|e| solver_error(e, solver.t(), solver.state()))?;
+        acc.add_step(&solver);
+        let done = solver.t() >= t_end;
+        // Output samples in [t_prev, t) from this step's dense output (and t_end at the end).
+        while wants && k_out <= n_out {
+            let t = out_time(k_out);
+            if t > solver.t() || (!done && t >= solver.t()) {
                 break;
             }
             let mut xs = [0.0; 2];
             solver.interpolate(t, &mut xs);
-            let sys = solver.system();
-            let bounds = [(0.0, sys.params.p_max), (0.0, sys.params.x_max)];
             for (v, (lo, hi)) in xs.iter_mut().zip(bounds) {
                 *v = v.clamp(lo, hi);
             }
-            let s = Sample {
+            let sys = solver.system();
+            rec.record(&Sample {
                 t,
                 p_line: xs[P_LINE],
                 stroke: xs[STROKE],
@@ -299,38 +423,13 @@ pub fn run(sc: &Scenario, rec: &mut impl Recorder) -> Result<Summary> {
                 p_meas: if regulated {
                     last_meas
                 } else if noisy {
-                    Some(measure(xs[P_LINE], rng))
+                    Some(measure(xs[P_LINE], &mut rng_out))
                 } else {
                     None
                 },
-            };
-            acc.add(&s);
-            rec(&s);
-            *k_out += 1;
+            });
+            k_out += 1;
         }
-    };
-    let mut record = |s: &Sample| rec.record(s);
-
-    loop {
-        let t_stop = if regulated {
-            (k_ctl as f64 * t_ctl).min(t_end)
-        } else {
-            t_end
-        };
-        let r = solver
-            .step(t_stop)
-            .map_err(|e| solver_error(e, solver.t(), solver.state()))?;
-        let done = solver.t() >= t_end;
-        emit(
-            &solver,
-            solver.t(),
-            done,
-            &mut k_out,
-            last_meas,
-            &mut rng,
-            &mut acc,
-            &mut record,
-        );
         if done {
             break;
         }
@@ -356,7 +455,7 @@ pub fn run(sc: &Scenario, rec: &mut impl Recorder) -> Result<Summary> {
             events: st.events,
             breakpoints: st.breakpoints,
         },
-        figures: acc.figures(t_end, regulated),
+        figures: acc.figures(t_end, n_out as usize + 1, sc_last(&solver), regulated),
         warnings: sc.warnings.clone(),
     })
 }

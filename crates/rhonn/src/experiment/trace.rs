@@ -24,6 +24,10 @@ pub struct Sample {
 pub trait Recorder {
     /// One sample.
     fn record(&mut self, s: &Sample);
+    /// Whether to produce samples at all (a summary-only run skips the sampling).
+    fn wants_samples(&self) -> bool {
+        true
+    }
 }
 
 /// Keeps nothing (a campaign that needs only the summary).
@@ -33,6 +37,9 @@ pub struct NoRecorder;
 impl Recorder for NoRecorder {
     #[inline]
     fn record(&mut self, _s: &Sample) {}
+    fn wants_samples(&self) -> bool {
+        false
+    }
 }
 
 /// A column of a trace: name, SI unit, values.
@@ -107,12 +114,8 @@ impl Recorder for Trace {
             s.p_ref,
             s.p_meas,
         ];
-        let mut c = 0;
-        for v in vals.into_iter().flatten() {
-            if let Some(col) = self.columns.get_mut(c) {
-                col.values.push(v);
-            }
-            c += 1;
+        for (col, v) in self.columns.iter_mut().zip(vals.into_iter().flatten()) {
+            col.values.push(v);
         }
     }
 }

@@ -34,6 +34,9 @@ use std::f64::consts::PI;
 pub struct PiecewiseLinear {
     t: Vec<f64>,
     v: Vec<f64>,
+    /// Slope of segment j (between points j-1 and j) at index j; 0 for jumps and the
+    /// held ends.
+    slope: Vec<f64>,
 }
 
 impl PiecewiseLinear {
@@ -41,15 +44,26 @@ impl PiecewiseLinear {
     pub fn new(points: Vec<(f64, f64)>) -> Self {
         debug_assert!(points.windows(2).all(|w| w[0].0 <= w[1].0));
         let (t, v) = points.into_iter().unzip();
-        PiecewiseLinear { t, v }
+        Self::with_slopes(t, v)
+    }
+
+    fn with_slopes(t: Vec<f64>, v: Vec<f64>) -> Self {
+        let n = t.len();
+        let slope = (0..=n)
+            .map(|j| {
+                if j == 0 || j >= n || t[j] == t[j - 1] {
+                    0.0
+                } else {
+                    (v[j] - v[j - 1]) / (t[j] - t[j - 1])
+                }
+            })
+            .collect();
+        PiecewiseLinear { t, v, slope }
     }
 
     /// A constant.
     pub fn constant(v: f64) -> Self {
-        PiecewiseLinear {
-            t: vec![0.0],
-            v: vec![v],
-        }
+        Self::with_slopes(vec![0.0], vec![v])
     }
 
     /// Segment index at `t` (right-continuous): 0 before the first point, `n` after the
@@ -68,8 +82,7 @@ impl PiecewiseLinear {
         } else if seg >= n {
             self.v[n - 1]
         } else {
-            let (t0, t1, v0, v1) = (self.t[seg - 1], self.t[seg], self.v[seg - 1], self.v[seg]);
-            v0 + (v1 - v0) * (t - t0) / (t1 - t0)
+            self.v[seg - 1] + self.slope[seg] * (t - self.t[seg - 1])
         }
     }
 
@@ -138,6 +151,7 @@ impl Signal {
     /// Scale every value (a unit conversion), including the clip range.
     pub fn scaled(mut self, k: f64) -> Self {
         self.pwl.v.iter_mut().for_each(|v| *v *= k);
+        self.pwl.slope.iter_mut().for_each(|v| *v *= k);
         self.sines.iter_mut().for_each(|s| s.amplitude *= k);
         self.lo *= k;
         self.hi *= k;

@@ -1,0 +1,259 @@
+//! SVG plots against time, in display units.
+
+use plotters::prelude::*;
+use rhonn::experiment::{Summary, Trace};
+use rhonn::units::*;
+
+/// A line on a plot.
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// Values (display units), one per time.
+    pub y: Vec<f64>,
+    /// Dashed (references, limits) or solid.
+    pub dashed: bool,
+}
+
+/// One panel: series against a shared time axis.
+#[derive(Debug, Clone)]
+pub struct TimePlot {
+    /// Caption.
+    pub title: String,
+    /// Y axis label, with unit.
+    pub y_label: String,
+    /// Times [s].
+    pub t: Vec<f64>,
+    /// Lines.
+    pub series: Vec<Series>,
+}
+
+const COLORS: [RGBColor; 5] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+];
+
+/// Keep at most about `2 * buckets` points, the minimum and maximum of each bucket,
+/// so that spikes survive.
+fn decimate(t: &[f64], y: &[f64], buckets: usize) -> Vec<(f64, f64)> {
+    let n = t.len().min(y.len());
+    if n <= 2 * buckets {
+        return t.iter().copied().zip(y.iter().copied()).collect();
+    }
+    let per = n.div_ceil(buckets);
+    let mut out = Vec::with_capacity(2 * buckets + 1);
+    for start in (0..n).step_by(per) {
+        let end = (start + per).min(n);
+        let (mut imin, mut imax) = (start, start);
+        for k in start..end {
+            if y[k] < y[imin] {
+                imin = k;
+            }
+            if y[k] > y[imax] {
+                imax = k;
+            }
+        }
+        let (a, b) = if imin <= imax { (imin, imax) } else { (imax, imin) };
+        out.push((t[a], y[a]));
+        if b != a {
+            out.push((t[b], y[b]));
+        }
+    }
+    out
+}
+
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    p: &TimePlot,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let t0 = p.t.first().copied().unwrap_or(0.0);
+    let t1 = p.t.last().copied().unwrap_or(1.0).max(t0 + 1e-9);
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for s in &p.series {
+        for &v in &s.y {
+            if v.is_finite() {
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+        }
+    }
+    if !lo.is_finite() {
+        (lo, hi) = (0.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
+    let (lo, hi) = (lo - pad, hi + pad);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&p.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(t0..t1, lo..hi)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("time [s]")
+        .y_desc(p.y_label.as_str())
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    for (k, s) in p.series.iter().enumerate() {
+        let color = COLORS[k % COLORS.len()];
+        let pts = decimate(&p.t, &s.y, 2000);
+        let style = ShapeStyle {
+            color: color.to_rgba(),
+            filled: false,
+            stroke_width: if s.dashed { 1 } else { 2 },
+        };
+        let anno = if s.dashed {
+            chart
+                .draw_series(DashedLineSeries::new(pts, 6, 4, style))
+                .map_err(|e| e.to_string())?
+        } else {
+            chart
+                .draw_series(LineSeries::new(pts, style))
+                .map_err(|e| e.to_string())?
+        };
+        anno.label(s.label.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.85))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+impl TimePlot {
+    /// Render panels stacked vertically into one SVG document.
+    pub fn render(panels: &[TimePlot], width: u32, panel_height: u32) -> String {
+        let mut svg = String::new();
+        {
+            let h = panel_height * panels.len().max(1) as u32;
+            let root = SVGBackend::with_string(&mut svg, (width, h)).into_drawing_area();
+            root.fill(&WHITE).expect("filling an SVG string");
+            let areas = root.split_evenly((panels.len().max(1), 1));
+            for (area, p) in areas.iter().zip(panels) {
+                // Drawing into a String cannot fail for I/O reasons; a layout error
+                // (e.g. a degenerate range) leaves that panel blank.
+                let _ = draw_panel(area, p);
+            }
+            root.present().expect("presenting an SVG string");
+        }
+        svg
+    }
+}
+
+/// The plots of a run: `pressure.svg` (line pressure, set-point, P_min), `stroke.svg`,
+/// `inputs.svg` (current and demand). Returns `(file name, SVG)`.
+pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
+    let t = trace.column("t").unwrap_or(&[]).to_vec();
+    let col = |name: &str, k: f64| {
+        trace
+            .column(name)
+            .map(|v| v.iter().map(|x| x / k).collect::<Vec<_>>())
+    };
+    let name = &summary.scenario.name;
+    let p_min = summary.scenario.plant.p_min_mpa;
+    let mut p_series = vec![Series {
+        label: "p_line".into(),
+        y: col("p_line", PA_PER_MPA).unwrap_or_default(),
+        dashed: false,
+    }];
+    if let Some(r) = col("p_ref", PA_PER_MPA) {
+        p_series.push(Series {
+            label: "set-point".into(),
+            y: r,
+            dashed: true,
+        });
+    }
+    p_series.push(Series {
+        label: "P_min".into(),
+        y: vec![p_min; t.len()],
+        dashed: true,
+    });
+    let pressure = TimePlot {
+        title: format!("{name}: line pressure"),
+        y_label: "line pressure [MPa]".into(),
+        t: t.clone(),
+        series: p_series,
+    };
+    let stroke = TimePlot {
+        title: format!("{name}: pump stroke"),
+        y_label: "stroke [mm]".into(),
+        t: t.clone(),
+        series: vec![Series {
+            label: "stroke".into(),
+            y: col("stroke", M_PER_MM).unwrap_or_default(),
+            dashed: false,
+        }],
+    };
+    let current = TimePlot {
+        title: format!("{name}: solenoid current"),
+        y_label: "current [A]".into(),
+        t: t.clone(),
+        series: vec![Series {
+            label: "current".into(),
+            y: col("current", 1.0).unwrap_or_default(),
+            dashed: false,
+        }],
+    };
+    let demand = TimePlot {
+        title: format!("{name}: demanded flow"),
+        y_label: "demand [dm^3/s]".into(),
+        t,
+        series: vec![Series {
+            label: "demand".into(),
+            y: col("demand", M3_PER_DM3).unwrap_or_default(),
+            dashed: false,
+        }],
+    };
+    vec![
+        ("pressure.svg".into(), TimePlot::render(&[pressure], 900, 450)),
+        ("stroke.svg".into(), TimePlot::render(&[stroke], 900, 450)),
+        (
+            "inputs.svg".into(),
+            TimePlot::render(&[current, demand], 900, 330),
+        ),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decimation_keeps_extremes() {
+        let t: Vec<f64> = (0..10_000).map(|k| k as f64).collect();
+        let mut y = vec![0.0; 10_000];
+        y[5_000] = 7.0;
+        let d = decimate(&t, &y, 100);
+        assert!(d.len() <= 201);
+        assert!(d.iter().any(|&(_, v)| v == 7.0));
+    }
+
+    #[test]
+    fn an_svg_has_axis_labels_with_units() {
+        let p = TimePlot {
+            title: "x".into(),
+            y_label: "line pressure [MPa]".into(),
+            t: vec![0.0, 1.0, 2.0],
+            series: vec![Series {
+                label: "p".into(),
+                y: vec![1.0, 2.0, 1.5],
+                dashed: false,
+            }],
+        };
+        let svg = TimePlot::render(&[p], 400, 300);
+        assert!(svg.starts_with("<svg"));
+        assert!(svg.contains("line pressure [MPa]") && svg.contains("time [s]"));
+    }
+}

@@ -1,0 +1,95 @@
+//! The PI baseline (`regulated-pi`): figures checked against the trace, the valid
+//! range, current limits, seeded noise.
+
+use rhonn::experiment::{preset, run, NoRecorder, Summary, Trace};
+
+fn simulate(edit: impl FnOnce(&mut rhonn::experiment::ScenarioSpec)) -> (Trace, Summary) {
+    let mut spec = preset::load("regulated-pi").unwrap();
+    edit(&mut spec);
+    let sc = spec.check().unwrap();
+    let mut trace = Trace::default();
+    let s = run(&sc, &mut trace).unwrap();
+    (trace, s)
+}
+
+#[test]
+fn figures_agree_with_the_trace_sampled_every_millisecond() {
+    let (tr, s) = simulate(|_| {});
+    let t = tr.column("t").unwrap();
+    let p = tr.column("p_line").unwrap();
+    let r = tr.column("p_ref").unwrap();
+    // Trapezoidal ISE on the 1 ms samples [MPa^2 s].
+    let e2: Vec<f64> = p.iter().zip(r).map(|(p, r)| ((p - r) / 1e6).powi(2)).collect();
+    let ise: f64 = (1..t.len())
+        .map(|k| 0.5 * (e2[k] + e2[k - 1]) * (t[k] - t[k - 1]))
+        .sum();
+    let reg = s.figures.regulation.as_ref().unwrap();
+    assert!(
+        (reg.ise_mpa2_s - ise).abs() < 0.02 * ise,
+        "{} vs {ise}",
+        reg.ise_mpa2_s
+    );
+    // Largest deviation after the first second (the set-point is constant).
+    let dev = (0..t.len())
+        .filter(|&k| t[k] >= 1.0)
+        .map(|k| (p[k] - r[k]).abs() / 1e6)
+        .fold(0.0, f64::max);
+    assert!(
+        (reg.max_abs_deviation_settled_mpa - dev).abs() < 0.05 * dev,
+        "{} vs {dev}",
+        reg.max_abs_deviation_settled_mpa
+    );
+    // A summary-only run gives the same figures.
+    let sc = preset::load("regulated-pi").unwrap().check().unwrap();
+    assert_eq!(run(&sc, &mut NoRecorder).unwrap().figures, s.figures);
+}
+
+#[test]
+fn pressure_stays_in_the_valid_range_after_start_up_and_current_in_its_limits() {
+    let (tr, s) = simulate(|_| {});
+    let t = tr.column("t").unwrap();
+    let p = tr.column("p_line").unwrap();
+    let i = tr.column("current").unwrap();
+    for k in 0..t.len() {
+        if t[k] >= 1.0 {
+            assert!(
+                p[k] >= 1e6 && p[k] <= 25e6,
+                "p = {} MPa at t = {}",
+                p[k] / 1e6,
+                t[k]
+            );
+        }
+        assert!((0.0..=0.8).contains(&i[k]));
+    }
+    assert_eq!(s.figures.time_below_p_min_after_1s_s, 0.0);
+    // The start from 2 MPa with no stroke drains the line in milliseconds: unavoidable.
+    assert!(s.figures.time_below_p_min_s > 0.0 && s.figures.time_below_p_min_s < 0.05);
+    // ZOH: the current changes only at multiples of T = 5 ms.
+    for k in 1..t.len() {
+        if i[k] != i[k - 1] {
+            let m = (t[k] * 1000.0).round() as i64;
+            assert_eq!(m % 5, 0, "current changed at t = {}", t[k]);
+        }
+    }
+}
+
+#[test]
+fn measurement_noise_is_seeded() {
+    let noisy = |seed: u64| {
+        simulate(|s| {
+            s.measurement.noise_std_mpa = 0.05;
+            s.seed = seed;
+        })
+    };
+    let (a, sa) = noisy(7);
+    let (b, _) = noisy(7);
+    let (c, _) = noisy(8);
+    assert_eq!(a, b);
+    assert_ne!(a.column("p_meas"), c.column("p_meas"));
+    // The measurement differs from the pressure by about the noise level.
+    let p = a.column("p_line").unwrap();
+    let m = a.column("p_meas").unwrap();
+    let sd = (p.iter().zip(m).map(|(p, m)| (p - m).powi(2)).sum::<f64>() / p.len() as f64).sqrt() / 1e6;
+    assert!(sd > 0.03 && sd < 0.5, "{sd}");
+    assert!(sa.figures.regulation.is_some());
+}

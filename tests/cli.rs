@@ -1,0 +1,170 @@
+//! The real `rhonn` binary in a temporary folder: files written, exit codes, error text.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn rhonn(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rhonn"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("runs rhonn")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+#[test]
+fn run_thesis_ch3_writes_csv_summary_and_plots() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(d.path(), &["run", "thesis-ch3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.path().join("out/thesis-ch3");
+    assert_eq!(
+        files_in(&out),
+        [
+            "inputs.svg",
+            "pressure.svg",
+            "stroke.svg",
+            "summary.json",
+            "trajectory.csv"
+        ]
+    );
+    let csv = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines[0], "t,p_line,stroke,current,demand");
+    assert!(lines[1].starts_with("0,2000000,0,0,0"), "{}", lines[1]);
+    assert!(lines.last().unwrap().starts_with("40,"));
+    assert_eq!(lines.len(), 40_002);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["scenario"]["name"], "thesis-ch3");
+    assert!(summary["solver"]["rhs_evaluations"].as_u64().unwrap() > 100);
+    assert_eq!(summary["figures"]["p_line_max_mpa"], 25.0);
+    let svg = std::fs::read_to_string(out.join("pressure.svg")).unwrap();
+    assert!(svg.contains("line pressure [MPa]") && svg.contains("time [s]"));
+    let svg = std::fs::read_to_string(out.join("stroke.svg")).unwrap();
+    assert!(svg.contains("stroke [mm]"));
+}
+
+#[test]
+fn regulated_run_has_set_point_and_regulation_figures() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(d.path(), &["run", "regulated-pi", "--out", "reg"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let csv = std::fs::read_to_string(d.path().join("reg/trajectory.csv")).unwrap();
+    assert!(csv.starts_with("t,p_line,stroke,current,demand,p_ref,p_meas\n"));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("reg/summary.json")).unwrap()).unwrap();
+    let r = &s["figures"]["regulation"];
+    assert!(r["ise_mpa2_s"].as_f64().unwrap() > 0.0);
+    assert!(r["max_abs_deviation_mpa"].as_f64().unwrap() > 0.0);
+    // After the start-up the pressure stays in the model's valid range.
+    assert_eq!(s["figures"]["time_below_p_min_after_1s_s"], 0.0);
+}
+
+#[test]
+fn unknown_scenario_is_a_clear_error_and_writes_nothing() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(d.path(), &["run", "thesis-ch4"]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("unknown scenario `thesis-ch4`") && e.contains("thesis-ch3, regulated-pi"),
+        "{e}"
+    );
+    assert!(files_in(d.path()).is_empty());
+}
+
+#[test]
+fn bad_scenario_files_name_the_field_value_and_range() {
+    let d = tempfile::tempdir().unwrap();
+    let shipped = rhonn(d.path(), &["show", "thesis-ch3"]);
+    assert!(shipped.status.success());
+    let text = String::from_utf8(shipped.stdout).unwrap();
+
+    let cases = [
+        (
+            text.replace("duration_s = 40.0", "duration_s = -1.0"),
+            "`duration_s` = -1 is not allowed: a number in (0, 1e6] s",
+        ),
+        (
+            text.replace("[initial]", "[initial]\nbeta_mpa = 3"),
+            "unknown field `beta_mpa`",
+        ),
+        (
+            text.replace("p_line_mpa = 2.0", "p_line_mpa = 30.0"),
+            "`initial.p_line_mpa` = 30 is not allowed: a pressure in [0, 25] MPa",
+        ),
+        (
+            text.replace("[25.0, 0.8]", "[5.0, 0.8]"),
+            "`current_a.points[2][0]` = 5",
+        ),
+        (
+            text.replace("duration_s = 40.0", "duration_s = \"forty\""),
+            "invalid type",
+        ),
+        (
+            format!("{text}\n[demand_dm3_s]\nkind = \"trapezoids\"\nslew_per_s = 3.0\npulses = []\n"),
+            "`demand_dm3_s.slew_per_s` = 3 is not allowed: at most 2",
+        ),
+    ];
+    for (k, (toml, expected)) in cases.iter().enumerate() {
+        let f = d.path().join(format!("bad{k}.toml"));
+        std::fs::write(&f, toml).unwrap();
+        let o = rhonn(d.path(), &["run", f.to_str().unwrap(), "--out", "o"]);
+        assert_eq!(o.status.code(), Some(2), "case {k}");
+        let e = stderr(&o);
+        assert!(e.contains(expected), "case {k}: expected `{expected}` in:\n{e}");
+        assert!(!d.path().join("o").exists(), "case {k} wrote output");
+    }
+}
+
+#[test]
+fn unwritable_output_folder_is_an_error_and_leaves_nothing() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("afile"), "x").unwrap();
+    let o = rhonn(d.path(), &["run", "thesis-ch3", "--out", "afile/sub"]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("cannot write to output folder afile/sub"), "{e}");
+    assert_eq!(files_in(d.path()), ["afile"]);
+}
+
+#[test]
+fn scenarios_lists_every_shipped_scenario_with_a_description() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(d.path(), &["scenarios"]);
+    assert!(o.status.success());
+    let s = String::from_utf8(o.stdout).unwrap();
+    assert!(s.lines().any(|l| l.starts_with("thesis-ch3") && l.len() > 30));
+    assert!(s.lines().any(|l| l.starts_with("regulated-pi") && l.len() > 30));
+}
+
+#[test]
+fn help_says_what_run_writes_and_in_which_units() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(d.path(), &["run", "--help"]);
+    let s = String::from_utf8(o.stdout).unwrap();
+    for needle in [
+        "trajectory.csv",
+        "summary.json",
+        "p_line [Pa]",
+        "[MPa]",
+        "stroke [mm]",
+    ] {
+        assert!(s.contains(needle), "{needle} missing from help");
+    }
+}
