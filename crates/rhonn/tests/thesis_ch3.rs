@@ -92,3 +92,25 @@ fn tells_the_story_of_the_thesis() {
     assert_eq!(s.figures.p_line_max_mpa, 25.0);
     assert!(s.solver.events >= 4);
 }
+
+#[test]
+fn ode45_compatible_profile_is_coarser_and_cheaper_but_close() {
+    let mut spec = preset::load("thesis-ch3").unwrap();
+    spec.solver = rhonn::experiment::SolverSpec {
+        profile: rhonn::experiment::ProfileSpec::Ode45,
+        ..Default::default()
+    };
+    let sc = spec.check().unwrap();
+    assert_eq!(sc.solver.rtol, 1e-3);
+    assert_eq!(sc.solver.max_step_s, 4.0);
+    let mut trace = Trace::default();
+    let s = run(&sc, &mut trace).unwrap();
+    let (_, fine) = simulate();
+    assert!(s.solver.rhs_evaluations < fine.solver.rhs_evaluations);
+    let r = reference();
+    let x = trace.column("stroke").unwrap();
+    let worst = r.iter().zip(x).map(|(r, x)| (r[2] - x).abs()).fold(0.0, f64::max);
+    // RelTol 1e-3 on a 17 mm stroke: a few hundredths of a millimetre.
+    assert!(worst < 0.05e-3 && worst > 1e-6, "{} mm", worst * 1e3);
+    assert_eq!(s.solver.events, fine.solver.events);
+}
