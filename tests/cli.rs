@@ -82,7 +82,7 @@ fn unknown_scenario_is_a_clear_error_and_writes_nothing() {
     assert_eq!(o.status.code(), Some(2));
     let e = stderr(&o);
     assert!(
-        e.contains("unknown scenario `thesis-ch4`") && e.contains("thesis-ch3, regulated-pi"),
+        e.contains("unknown scenario `thesis-ch4`") && e.contains("thesis-ch3, regulated-pi, thesis-ch5"),
         "{e}"
     );
     assert!(files_in(d.path()).is_empty());

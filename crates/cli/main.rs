@@ -7,7 +7,7 @@ mod args;
 use anyhow::{Context, Result};
 use args::{Cli, Command};
 use clap::Parser;
-use rhonn::experiment::{preset, run, Trace};
+use rhonn::experiment::{preset, run_full, Trace};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -53,8 +53,9 @@ fn cmd_run(scenario: &str, out: Option<PathBuf>) -> Result<()> {
     }
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&spec.name));
     let mut trace = Trace::default();
-    let summary = run(&sc, &mut trace)?;
-    let files = rhonn_report::write_run(&dir, &trace, &summary).with_context(|| {
+    let output = run_full(&sc, &mut trace)?;
+    let summary = &output.summary;
+    let files = rhonn_report::write_run(&dir, &trace, &output).with_context(|| {
         format!(
             "scenario `{}` ran, but its outputs could not be written",
             spec.name
@@ -78,6 +79,24 @@ fn cmd_run(scenario: &str, out: Option<PathBuf>) -> Result<()> {
             "  regulation: max |p - p_ref| {:.3} MPa ({:.3} MPa from 1 s after each set-point change), ISE {:.3} MPa^2 s, current saturated {:.3} s",
             r.max_abs_deviation_mpa, r.max_abs_deviation_settled_mpa, r.ise_mpa2_s, r.time_current_saturated_s
         );
+    }
+    if let Some(id) = &summary.identification {
+        println!(
+            "  identification ({}, {} terms, {} epoch(s)):",
+            id.law, id.n_terms, id.epochs
+        );
+        for (mode, figs) in [
+            ("training", &id.training),
+            ("series-parallel", &id.series_parallel),
+            ("parallel", &id.parallel),
+        ] {
+            for f in figs {
+                println!(
+                    "    {mode:<16} {:<7} rms error {:.4} {}, fit {:.1} %, |w| {:.4e}",
+                    f.state, f.rms_error, f.unit, f.fit_percent, f.final_weight_norm
+                );
+            }
+        }
     }
     let s = &summary.solver;
     println!(

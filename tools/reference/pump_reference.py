@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Independent high-accuracy reference for the pump of SPEC.md section 1 (thesis-ch3).
+"""Independent high-accuracy reference for the pump of SPEC.md section 1 (thesis-ch3),
+and with --ch5 for the thesis's RHONN identifier of SPEC.md section 2 (thesis-ch5).
 
 Written from SPEC.md alone, sharing no code with the Rust solver: scipy's DOP853 at
 rtol 1e-12 integrates between events; every mode change (valve branch s >= 0 / s < 0,
@@ -8,6 +9,10 @@ of the current profile) is located by scipy's own event finder and the integrati
 restarted there. Output: t [s], p_line [Pa], stroke [m] every 1 ms, on stdout as CSV.
 
 Usage: python3 tools/reference/pump_reference.py > crates/rhonn/tests/data/thesis_ch3_reference.csv
+       python3 tools/reference/pump_reference.py --ch5 > crates/rhonn/tests/data/thesis_ch5_reference.csv
+With --ch5 the state is [P_l, x, xhat_1, xhat_2, w_11, w_12, w_21, w_22]:
+dxhat_i = -a_i xhat_i + w_i . z, dw_i = -gamma_i z e_i (- sigma_i gamma_i w_i while |w_i| > M_i),
+z = [logistic(P_l), logistic(x)], e_i = xhat_i - chi_i, A = (120, 41), gamma = (1e4, 30).
 Needs numpy and scipy; it is not part of the test command (its output is committed).
 """
 import sys
@@ -33,7 +38,7 @@ def current(t):
 
 
 def pilot(t, y, branch):
-    P, x = y
+    P, x = y[0], y[1]
     s = (phi * current(t) - Ka * x) / (Kc + Ka)
     if branch >= 0:
         dPa = gam * P + (Fu - K * x) / Aa - P0
@@ -43,14 +48,34 @@ def pilot(t, y, branch):
     return s, dPa, Qa
 
 
+CH5 = "--ch5" in sys.argv
+A_ID, GAMMA, M_ID, SIGMA = (120.0, 41.0), (1e4, 30.0), (1e10, 10.0), (0.01, 0.01)
+
+
+def logistic(v):
+    return 1.0 / (1.0 + np.exp(-v)) if v > -700 else 0.0
+
+
 def unclamped(t, y, branch):
-    P, x = y
+    P, x = y[0], y[1]
     s, dPa, Qa = pilot(t, y, branch)
     leak = abs(Qa) if branch < 0 else 0.0
     Vl = V0 * (1 + alpha_v * P)
     dP = beta / Vl * (kl * omega * x - 0.0 - Q0 - leak)
     dx = Qa / Aa
-    return np.array([dP, dx])
+    if not CH5:
+        return np.array([dP, dx])
+    z = np.array([logistic(P), logistic(x)])
+    out = [dP, dx, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+    for i in range(2):
+        w = np.array(y[4 + 2 * i: 6 + 2 * i])
+        e = y[2 + i] - y[i]
+        out[2 + i] = -A_ID[i] * y[2 + i] + w @ z
+        dw = -GAMMA[i] * z * e
+        if np.linalg.norm(w) > M_ID[i]:
+            dw = dw - SIGMA[i] * GAMMA[i] * w
+        out[4 + 2 * i: 6 + 2 * i] = dw
+    return np.array(out)
 
 
 def modes_at(t, y, branch_hint):
@@ -75,7 +100,7 @@ def modes_at(t, y, branch_hint):
 
 def simulate(t_end=40.0):
     breaks = [0.0, 15.0, 25.0, 40.0]
-    t, y = 0.0, np.array([2e6, 0.0])
+    t, y = 0.0, np.array([2e6, 0.0] + ([0.0] * 6 if CH5 else []))
     branch, held = modes_at(t, y, 1)
     nev = 0
     stalls = 0
@@ -118,7 +143,8 @@ def simulate(t_end=40.0):
                 evs.append((f_l, ("held", i, 0)))
         for f, _ in evs:
             f.terminal = True
-        sol = solve_ivp(rhs, (t, t_next), y, method="DOP853", rtol=1e-12, atol=[1e-6, 1e-15],
+        atol = [1e-6, 1e-15] + ([1e-6, 1e-15, 1e-3, 1e-3, 1e-12, 1e-12] if CH5 else [])
+        sol = solve_ivp(rhs, (t, t_next), y, method="DOP853", rtol=1e-12, atol=atol,
                         events=[f for f, _ in evs], dense_output=True, max_step=0.01)
         tn = sol.t[-1]
         yn = sol.y[:, -1].copy()
@@ -155,7 +181,7 @@ def main():
     nev = simulate()
     grid = np.round(np.arange(0, 40000 + 1) * 1e-3, 9)
     out = sys.stdout
-    out.write("t,p_line,stroke\n")
+    out.write("t,p_line,stroke" + (",p_line_hat,stroke_hat" if CH5 else "") + "\n")
     k = 0
     for tt in grid:
         while k + 1 < len(seg_t) and tt > seg_t[k][1]:
@@ -163,7 +189,8 @@ def main():
         y = segs[k](tt)
         p = min(max(y[0], 0.0), Pmax)
         x = min(max(y[1], 0.0), xmax)
-        out.write(f"{tt:.3f},{p:.6f},{x:.12e}\n")
+        extra = f",{y[2]:.6f},{y[3]:.12e}" if CH5 else ""
+        out.write(f"{tt:.3f},{p:.6f},{x:.12e}{extra}\n")
     print(f"segments: {len(seg_t)}, events: {nev}", file=sys.stderr)
 
 

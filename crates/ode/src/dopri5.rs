@@ -295,6 +295,22 @@ impl<Sys: System> Dopri5<Sys> {
         Self::dense_eval(&self.dense, theta, out);
     }
 
+    /// As [`Dopri5::interpolate`], for the first `out.len()` components only.
+    #[inline]
+    pub fn interpolate_first(&self, t: f64, out: &mut [f64]) {
+        if self.h_step == 0.0 {
+            out.copy_from_slice(&self.x.as_slice()[..out.len()]);
+            return;
+        }
+        let theta = (t - self.t_prev) / self.h_step;
+        Self::dense_eval(&self.dense, theta, out);
+    }
+
+    /// Give the system back.
+    pub fn into_system(self) -> Sys {
+        self.sys
+    }
+
     #[inline(always)]
     fn dense_eval(d: &[Sys::State; 5], theta: f64, out: &mut [f64]) {
         let t1 = 1.0 - theta;

@@ -7,7 +7,7 @@ use std::io::Write;
 /// round-trip decimal form).
 pub fn write_trace_csv(w: &mut dyn Write, trace: &Trace) -> std::io::Result<()> {
     let mut wr = csv::Writer::from_writer(w);
-    wr.write_record(trace.columns.iter().map(|c| c.name))
+    wr.write_record(trace.columns.iter().map(|c| c.name.as_str()))
         .map_err(std::io::Error::other)?;
     let mut buf = ryu_like::Buf::default();
     for k in 0..trace.len() {
@@ -53,6 +53,7 @@ mod tests {
                 demand: 0.0,
                 p_ref: None,
                 p_meas: None,
+                hat: [None, None],
             });
         }
         let mut out = Vec::new();

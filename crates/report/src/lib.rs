@@ -5,11 +5,11 @@ temporary name in the output folder and renamed only when all of them are comple
 ([`OutputSet`]), so a failed run leaves no half-written file.
 
 ```no_run
-use rhonn::experiment::{preset, run, Trace};
+use rhonn::experiment::{preset, Trace};
 let scenario = preset::load("thesis-ch3")?.check()?;
 let mut trace = Trace::default();
-let summary = run(&scenario, &mut trace)?;
-rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &summary)?;
+let output = rhonn::experiment::run_full(&scenario, &mut trace)?;
+rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &output)?;
 # Ok::<(), Box<dyn std::error::Error>>(())
 ```
 */
@@ -21,9 +21,9 @@ mod plot;
 
 pub use atomic::OutputSet;
 pub use csv_out::write_trace_csv;
-pub use plot::{plot_run, Series, TimePlot};
+pub use plot::{plot_identification, plot_run, Series, TimePlot};
 
-use rhonn::experiment::{Summary, Trace};
+use rhonn::experiment::{RunOutput, Trace};
 use std::path::{Path, PathBuf};
 
 /// Errors while writing outputs.
@@ -52,16 +52,28 @@ pub enum Error {
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// Write everything `rhonn run` writes into `dir`: `trajectory.csv`, `summary.json`,
-/// `pressure.svg`, `stroke.svg`, `inputs.svg`. Returns the files written.
-pub fn write_run(dir: &Path, trace: &Trace, summary: &Summary) -> Result<Vec<PathBuf>> {
+/// `pressure.svg`, `stroke.svg`, `inputs.svg`, and for identified runs `weights.json`,
+/// `validation.csv` and the identification plots. Returns the files written.
+pub fn write_run(dir: &Path, trace: &Trace, output: &RunOutput) -> Result<Vec<PathBuf>> {
+    let summary = &output.summary;
     let mut out = OutputSet::new(dir)?;
     out.write("trajectory.csv", |w| write_trace_csv(w, trace))?;
-    out.write("summary.json", |w| {
-        serde_json::to_writer_pretty(&mut *w, summary).map_err(std::io::Error::other)?;
-        writeln!(w)
-    })?;
-    for (name, svg) in plot_run(trace, summary) {
+    out.write("summary.json", |w| write_json(w, summary))?;
+    if let Some(model) = &output.model {
+        out.write("weights.json", |w| write_json(w, model))?;
+    }
+    if let Some(v) = &output.validation {
+        out.write("validation.csv", |w| write_trace_csv(w, v))?;
+    }
+    let mut plots = plot_run(trace, summary);
+    plots.extend(plot_identification(trace, output.validation.as_ref(), summary));
+    for (name, svg) in plots {
         out.write(&name, |w| w.write_all(svg.as_bytes()))?;
     }
     out.commit()
+}
+
+fn write_json(w: &mut dyn std::io::Write, v: &impl serde::Serialize) -> std::io::Result<()> {
+    serde_json::to_writer_pretty(&mut *w, v).map_err(std::io::Error::other)?;
+    writeln!(w)
 }

@@ -226,6 +226,137 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
     ]
 }
 
+/// Plots of an identified run: `ident_errors.svg` (the two errors), `ident_states.svg`
+/// (actual and identified, both states), `ident_zoom.svg` (the thesis's zooms: the
+/// first 0.12 s of the pressure error and the first 1.2 s of the pressure) and
+/// `validation.svg` (frozen weights, series-parallel and parallel). Empty for runs
+/// without an identifier.
+pub fn plot_identification(
+    trace: &Trace,
+    validation: Option<&Trace>,
+    summary: &Summary,
+) -> Vec<(String, String)> {
+    let name = &summary.scenario.name;
+    let Some(t) = trace.column("t") else { return vec![] };
+    let mut out = Vec::new();
+    let mut errors = Vec::new();
+    let mut states = Vec::new();
+    let mut zoom = Vec::new();
+    let mut val = Vec::new();
+    for (col, label, unit, k) in [
+        ("p_line", "line pressure", "MPa", PA_PER_MPA),
+        ("stroke", "stroke", "mm", M_PER_MM),
+    ] {
+        let hat = format!("{col}_hat");
+        let (Some(y), Some(yh)) = (trace.column(col), trace.column(&hat)) else {
+            continue;
+        };
+        let y: Vec<f64> = y.iter().map(|v| v / k).collect();
+        let yh: Vec<f64> = yh.iter().map(|v| v / k).collect();
+        let e: Vec<f64> = y.iter().zip(&yh).map(|(a, b)| b - a).collect();
+        errors.push(TimePlot {
+            title: format!("{name}: identification error of the {label}"),
+            y_label: format!("{col}_hat - {col} [{unit}]"),
+            t: t.to_vec(),
+            series: vec![Series {
+                label: "error".into(),
+                y: e.clone(),
+                dashed: false,
+            }],
+        });
+        states.push(TimePlot {
+            title: format!("{name}: {label}, actual and identified"),
+            y_label: format!("{label} [{unit}]"),
+            t: t.to_vec(),
+            series: vec![
+                Series {
+                    label: col.into(),
+                    y: y.clone(),
+                    dashed: false,
+                },
+                Series {
+                    label: hat.clone(),
+                    y: yh.clone(),
+                    dashed: true,
+                },
+            ],
+        });
+        if col == "p_line" {
+            let n1 = t.iter().take_while(|&&v| v <= 0.12 + 1e-12).count();
+            zoom.push(TimePlot {
+                title: format!("{name}: pressure error, first 0.12 s"),
+                y_label: "p_line_hat - p_line [MPa]".into(),
+                t: t[..n1].to_vec(),
+                series: vec![Series {
+                    label: "error".into(),
+                    y: e[..n1].to_vec(),
+                    dashed: false,
+                }],
+            });
+            let n2 = t.iter().take_while(|&&v| v <= 1.2 + 1e-12).count();
+            zoom.push(TimePlot {
+                title: format!("{name}: line pressure, first 1.2 s"),
+                y_label: "line pressure [MPa]".into(),
+                t: t[..n2].to_vec(),
+                series: vec![
+                    Series {
+                        label: "p_line".into(),
+                        y: y[..n2].to_vec(),
+                        dashed: false,
+                    },
+                    Series {
+                        label: "p_line_hat".into(),
+                        y: yh[..n2].to_vec(),
+                        dashed: true,
+                    },
+                ],
+            });
+        }
+        if let Some(v) = validation {
+            if let (Some(vt), Some(vy), Some(sp), Some(par)) = (
+                v.column("t"),
+                v.column(col),
+                v.column(&format!("{col}_hat_series_parallel")),
+                v.column(&format!("{col}_hat_parallel")),
+            ) {
+                let sc = |s: &[f64]| s.iter().map(|x| x / k).collect::<Vec<_>>();
+                val.push(TimePlot {
+                    title: format!("{name}: {label}, frozen weights"),
+                    y_label: format!("{label} [{unit}]"),
+                    t: vt.to_vec(),
+                    series: vec![
+                        Series {
+                            label: col.into(),
+                            y: sc(vy),
+                            dashed: false,
+                        },
+                        Series {
+                            label: "series-parallel".into(),
+                            y: sc(sp),
+                            dashed: true,
+                        },
+                        Series {
+                            label: "parallel (free run)".into(),
+                            y: sc(par),
+                            dashed: true,
+                        },
+                    ],
+                });
+            }
+        }
+    }
+    if errors.is_empty() {
+        return out;
+    }
+    out.push(("ident_errors.svg".into(), TimePlot::render(&errors, 900, 330)));
+    out.push(("ident_states.svg".into(), TimePlot::render(&states, 900, 330)));
+    out.push(("ident_zoom.svg".into(), TimePlot::render(&zoom, 900, 330)));
+    if !val.is_empty() {
+        out.push(("validation.svg".into(), TimePlot::render(&val, 900, 330)));
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -27,10 +27,16 @@ All quantities are SI inside ([`units`] converts); people read MPa, mm and dm^3/
 #![deny(missing_docs)]
 // `!(a < b)` is deliberate throughout: it is also true when either side is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Numerical kernels index several slices in lockstep; index loops read best there.
+#![allow(clippy::needless_range_loop)]
 
 pub mod control;
 pub mod error;
 pub mod experiment;
+pub mod ident;
+pub mod law;
+pub mod metrics;
+pub mod net;
 pub mod plant;
 pub mod signal;
 pub mod units;

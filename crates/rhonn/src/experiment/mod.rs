@@ -5,7 +5,10 @@ mod run;
 mod scenario;
 mod trace;
 
-pub use run::{run, solver_options, Figures, Regulation, SolverReport, Summary, SETTLE_S};
+pub use run::{
+    run, run_full, solver_options, Figures, IdentReport, ModelFile, Plant, Regulation, RunOutput,
+    SolverReport, StateFigures, Summary, SETTLE_S,
+};
 pub use scenario::{
     ControllerSpec, Drive, InitialSpec, MeasurementSpec, PiSettings, ProfileSpec, Scenario, ScenarioSpec,
     SolverSettings, SolverSpec, Q_L_MAX_DM3_S,

@@ -15,6 +15,10 @@ pub const SHIPPED: &[(&str, &str)] = &[
         "regulated-pi",
         include_str!("../../../../scenarios/regulated-pi.toml"),
     ),
+    (
+        "thesis-ch5",
+        include_str!("../../../../scenarios/thesis-ch5.toml"),
+    ),
 ];
 
 /// Names and one-line descriptions of the shipped scenarios.
@@ -76,7 +80,7 @@ mod tests {
         let e = load("thesis-ch9").unwrap_err().to_string();
         assert_eq!(
             e,
-            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi)"
+            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5)"
         );
         assert!(load("nope/x.toml")
             .unwrap_err()

@@ -2,15 +2,18 @@
 //! the measurement, the output samples taken from the dense output, and the figures.
 
 use super::scenario::{Drive, ProfileSpec, Scenario, ScenarioSpec, SolverSettings};
-use super::trace::{Recorder, Sample};
+use super::trace::{Column, NoRecorder, Recorder, Sample, Trace};
 use crate::control::Pi;
 use crate::error::{Error, Result};
+use crate::ident::{IdentSettings, IdentifiedPump, Mode, PumpSignal};
+use crate::metrics;
+use crate::net::Sigmoid;
 use crate::plant::{Input, PumpSystem, P_LINE, STROKE};
 use crate::signal::Signal;
 use crate::units::*;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
-use rhonn_ode::{Dopri5, Options, Profile, Stats};
+use rhonn_ode::{Dopri5, Options, Profile, State, Stats, System};
 use serde::Serialize;
 
 /// Deviations from the set-point are judged this long after each set-point change
@@ -85,6 +88,9 @@ pub struct Summary {
     pub solver: SolverReport,
     /// The run's figures.
     pub figures: Figures,
+    /// Identified runs: per state and mode, RMS error, fit, convergence, weights.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub identification: Option<IdentReport>,
     /// Warnings (also printed by the command).
     pub warnings: Vec<String>,
 }
@@ -163,7 +169,7 @@ impl<'a> Accumulator<'a> {
     }
 
     /// Account for the last step `[t_prev, t]` of `solver`.
-    fn add_step(&mut self, solver: &Dopri5<PumpSystem>) {
+    fn add_step<S: Plant>(&mut self, solver: &Dopri5<S>) {
         let (t0, t1) = (solver.t_prev(), solver.t());
         if !(t1 > t0) {
             return;
@@ -182,16 +188,15 @@ impl<'a> Accumulator<'a> {
     }
 
     /// `[a, b]` lies in one step, one set-point segment and one settling window.
-    fn add_interval(&mut self, solver: &Dopri5<PumpSystem>, a: f64, b: f64) {
+    fn add_interval<S: Plant>(&mut self, solver: &Dopri5<S>, a: f64, b: f64) {
         let h = b - a;
         if !(h > 0.0) {
             return;
         }
-        let prm = &solver.system().params;
+        let prm = &solver.system().pump().params;
         // The interpolant of a step that ends on a bound may pass it by a hair.
         let state = |t: f64| {
-            let mut x = [0.0; 2];
-            solver.interpolate(t, &mut x);
+            let x = plant_state(solver, t);
             [x[P_LINE].clamp(0.0, prm.p_max), x[STROKE].clamp(0.0, prm.x_max)]
         };
         let mid = 0.5 * (a + b);
@@ -234,7 +239,7 @@ impl<'a> Accumulator<'a> {
                 .zip(&pts[1..4])
                 .map(|((_, w), &(t, p))| w * mpa(p - sp.eval_in(sg, t)).powi(2))
                 .sum::<f64>();
-            let i = solver.system().current_at(mid);
+            let i = solver.system().pump().current_at(mid);
             if i <= 0.0 || i >= self.i_max {
                 self.saturated += h;
             }
@@ -288,8 +293,59 @@ impl<'a> Accumulator<'a> {
     }
 }
 
-fn sc_last(solver: &Dopri5<PumpSystem>) -> [f64; 2] {
-    [solver.state()[P_LINE], solver.state()[STROKE]]
+/// What the run loop needs from the integrated system: the pump inside it, and the
+/// model's estimates when an identifier runs along.
+pub trait Plant: System {
+    /// The pump.
+    fn pump(&self) -> &PumpSystem;
+    /// The pump, to set the held current.
+    fn pump_mut(&mut self) -> &mut PumpSystem;
+    /// The identifier's estimates of `[p_line, stroke]` in state `x` (None where a
+    /// state is not identified, or no identifier runs).
+    fn hats(&self, _x: &[f64]) -> [Option<f64>; 2] {
+        [None, None]
+    }
+}
+
+impl Plant for PumpSystem {
+    fn pump(&self) -> &PumpSystem {
+        self
+    }
+    fn pump_mut(&mut self) -> &mut PumpSystem {
+        self
+    }
+}
+
+impl Plant for IdentifiedPump {
+    fn pump(&self) -> &PumpSystem {
+        &self.pump
+    }
+    fn pump_mut(&mut self) -> &mut PumpSystem {
+        &mut self.pump
+    }
+    fn hats(&self, x: &[f64]) -> [Option<f64>; 2] {
+        let mut xh = [0.0; 2];
+        let n = self.states.len();
+        self.ident.outputs(&x[2..], &mut xh[..n]);
+        let mut out = [None, None];
+        for (k, s) in self.states.iter().enumerate() {
+            match s {
+                PumpSignal::PLine => out[P_LINE] = Some(xh[k]),
+                PumpSignal::Stroke => out[STROKE] = Some(xh[k]),
+                _ => {}
+            }
+        }
+        out
+    }
+}
+
+/// `[P_l, x]` of the solver's dense output at `t`.
+#[inline]
+fn plant_state<S: Plant>(solver: &Dopri5<S>, t: f64) -> [f64; 2] {
+    // The plant is the first two components; interpolate only those.
+    let mut x = [0.0; 2];
+    solver.interpolate_first(t, &mut x);
+    x
 }
 
 fn solver_error(e: rhonn_ode::Error, t: f64, x: &[f64]) -> Error {
@@ -304,54 +360,48 @@ fn solver_error(e: rhonn_ode::Error, t: f64, x: &[f64]) -> Error {
     }
 }
 
-/// Solver options of a scenario.
-pub fn solver_options(s: &SolverSettings) -> Options<[f64; 2]> {
-    Options {
-        rtol: [s.rtol; 2],
-        atol: [s.atol_p_line_pa, s.atol_stroke_m],
-        h_max_s: s.max_step_s,
-        profile: match s.profile {
-            ProfileSpec::Hairer => Profile::Hairer,
-            ProfileSpec::Ode45 | ProfileSpec::SimulinkOde45 => Profile::Ode45,
-        },
-        ..Options::default()
-    }
+/// Solver options of a scenario for a state of `dim` components (the pump's two
+/// first; identifier states get the relative tolerance and an absolute 1e-9).
+pub fn solver_options<S: rhonn_ode::State>(s: &SolverSettings, dim: usize) -> Options<S> {
+    let mut rtol = S::splat(dim, s.rtol);
+    let mut atol = S::splat(dim, 1e-9);
+    atol.as_mut_slice()[P_LINE] = s.atol_p_line_pa;
+    atol.as_mut_slice()[STROKE] = s.atol_stroke_m;
+    rtol.as_mut_slice()[0] = s.rtol;
+    let mut o = Options::uniform(dim, s.rtol, 1e-9);
+    o.rtol = rtol;
+    o.atol = atol;
+    o.h_max_s = s.max_step_s;
+    o.profile = match s.profile {
+        ProfileSpec::Hairer => Profile::Hairer,
+        ProfileSpec::Ode45 | ProfileSpec::SimulinkOde45 => Profile::Ode45,
+    };
+    o
 }
 
-/// Run a scenario, giving every output sample to `rec`; returns the summary.
-///
-/// ```
-/// use rhonn::experiment::{preset, run, Trace};
-/// let sc = preset::load("thesis-ch3").unwrap().check().unwrap();
-/// let mut trace = Trace::default();
-/// let summary = run(&sc, &mut trace).unwrap();
-/// assert!((summary.figures.final_stroke_mm - 1.01).abs() < 0.05);
-/// assert_eq!(trace.len(), 40_001);
-/// ```
-pub fn run(sc: &Scenario, rec: &mut impl Recorder) -> Result<Summary> {
+/// One simulation of `sys` through the scenario's time, controller and measurement.
+fn simulate<S: Plant>(
+    sc: &Scenario,
+    sys: S,
+    x0: S::State,
+    rec: &mut impl Recorder,
+) -> Result<(Stats, Figures, S::State, S)> {
     let p = &sc.params;
-    let (current, mut pi, setpoint) = match &sc.drive {
-        Drive::OpenLoop(sig) => (Input::Signal(sig.clone()), None, None),
+    let dim = sys.dim();
+    let (mut pi, setpoint) = match &sc.drive {
+        Drive::OpenLoop(_) => (None, None),
         Drive::Pi(s) => (
-            Input::Held(s.bias),
             Some(Pi::new(s.kp, s.ti_s, p.t_control, s.bias, 0.0, p.i_max)),
             Some(&s.setpoint),
         ),
     };
-    let sys = PumpSystem::new(p.clone(), current, Input::Signal(sc.demand.clone()));
-    let opts = solver_options(&sc.solver);
+    let opts = solver_options::<S::State>(&sc.solver, dim);
     let mut solver =
-        Dopri5::new(sys, 0.0, sc.initial, opts).map_err(|e| solver_error(e, 0.0, &sc.initial))?;
+        Dopri5::new(sys, 0.0, x0.clone(), opts).map_err(|e| solver_error(e, 0.0, x0.as_slice()))?;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(sc.spec.seed);
     let noise = Normal::new(0.0, sc.noise_std_pa.max(0.0)).expect("checked standard deviation");
     let noisy = sc.noise_std_pa > 0.0;
-    let measure = |p: f64, rng: &mut rand_chacha::ChaCha8Rng| {
-        if noisy {
-            p + noise.sample(rng)
-        } else {
-            p
-        }
-    };
+    let measure = |p: f64, rng: &mut rand_chacha::ChaCha8Rng| if noisy { p + noise.sample(rng) } else { p };
 
     let t_end = sc.spec.duration_s;
     let dt = sc.output_interval_s;
@@ -377,19 +427,18 @@ pub fn run(sc: &Scenario, rec: &mut impl Recorder) -> Result<Summary> {
     let t_ctl_ms = sc.spec.plant.t_control_ms;
     let mut k_ctl: u64 = 0;
     let mut last_meas: Option<f64> = None;
-    let mut x = [0.0; 2];
 
     // The controller acts at t = 0 on the first measurement.
     if let (Some(pi), Some(sp)) = (pi.as_mut(), setpoint) {
-        let y = measure(sc.initial[P_LINE], &mut rng);
+        let y = measure(x0.as_slice()[P_LINE], &mut rng);
         last_meas = Some(y);
         let u = pi.update(sp.eval(0.0), y);
-        solver.system_mut().set_current(u);
+        solver.system_mut().pump_mut().set_current(u);
         k_ctl = 1;
     }
-
     let wants = rec.wants_samples();
     let bounds = [(0.0, p.p_max), (0.0, p.x_max)];
+    let mut full = S::State::zeros(dim);
     loop {
         let t_stop = if regulated {
             (k_ctl as f64 * t_ctl_ms / 1000.0).min(t_end)
@@ -407,26 +456,26 @@ pub fn run(sc: &Scenario, rec: &mut impl Recorder) -> Result<Summary> {
             if t > solver.t() || (!done && t >= solver.t()) {
                 break;
             }
-            let mut xs = [0.0; 2];
-            solver.interpolate(t, &mut xs);
-            for (v, (lo, hi)) in xs.iter_mut().zip(bounds) {
-                *v = v.clamp(lo, hi);
-            }
+            solver.interpolate(t, full.as_mut_slice());
+            let xs = full.as_slice();
             let sys = solver.system();
+            let pump = sys.pump();
+            let p_line = xs[P_LINE].clamp(bounds[0].0, bounds[0].1);
             rec.record(&Sample {
                 t,
-                p_line: xs[P_LINE],
-                stroke: xs[STROKE],
-                current: sys.current_at(t),
-                demand: sys.demand_at(t),
+                p_line,
+                stroke: xs[STROKE].clamp(bounds[1].0, bounds[1].1),
+                current: pump.current_at(t),
+                demand: pump.demand_at(t),
                 p_ref: setpoint.map(|sp| sp.eval(t)),
                 p_meas: if regulated {
                     last_meas
                 } else if noisy {
-                    Some(measure(xs[P_LINE], &mut rng_out))
+                    Some(measure(p_line, &mut rng_out))
                 } else {
                     None
                 },
+                hat: sys.hats(xs),
             });
             k_out += 1;
         }
@@ -434,17 +483,24 @@ pub fn run(sc: &Scenario, rec: &mut impl Recorder) -> Result<Summary> {
             break;
         }
         if let (rhonn_ode::StepResult::Reached { .. }, Some(pi), Some(sp)) = (r, pi.as_mut(), setpoint) {
-            x.copy_from_slice(solver.state());
             let t = solver.t();
-            let y = measure(x[P_LINE], &mut rng);
+            let y = measure(solver.state()[P_LINE], &mut rng);
             last_meas = Some(y);
             let u = pi.update(sp.eval(t), y);
-            solver.system_mut().set_current(u);
+            solver.system_mut().pump_mut().set_current(u);
             k_ctl += 1;
         }
     }
-    let st: Stats = solver.stats();
-    Ok(Summary {
+    let last = [solver.state()[P_LINE], solver.state()[STROKE]];
+    let figures = acc.figures(t_end, n_out as usize + 1, last, regulated);
+    let mut xf = S::State::zeros(dim);
+    xf.as_mut_slice().copy_from_slice(solver.state());
+    let stats = solver.stats();
+    Ok((stats, figures, xf, solver.into_system()))
+}
+
+fn report(sc: &Scenario, st: Stats, figures: Figures, identification: Option<IdentReport>) -> Summary {
+    Summary {
         rhonn_version: env!("CARGO_PKG_VERSION"),
         scenario: sc.spec.clone(),
         solver: SolverReport {
@@ -455,7 +511,297 @@ pub fn run(sc: &Scenario, rec: &mut impl Recorder) -> Result<Summary> {
             events: st.events,
             breakpoints: st.breakpoints,
         },
-        figures: acc.figures(t_end, n_out as usize + 1, sc_last(&solver), regulated),
+        figures,
+        identification,
         warnings: sc.warnings.clone(),
+    }
+}
+
+fn pump_system(sc: &Scenario) -> PumpSystem {
+    let current = match &sc.drive {
+        Drive::OpenLoop(sig) => Input::Signal(sig.clone()),
+        Drive::Pi(s) => Input::Held(s.bias),
+    };
+    PumpSystem::new(sc.params.clone(), current, Input::Signal(sc.demand.clone()))
+}
+
+/// Run a scenario, giving every output sample to `rec`; returns the summary. With an
+/// `[identifier]` the samples are those of the last training epoch (see [`run_full`]
+/// for the validation runs and the weights).
+///
+/// ```
+/// use rhonn::experiment::{preset, run, Trace};
+/// let sc = preset::load("thesis-ch3").unwrap().check().unwrap();
+/// let mut trace = Trace::default();
+/// let summary = run(&sc, &mut trace).unwrap();
+/// assert!((summary.figures.final_stroke_mm - 1.01).abs() < 0.05);
+/// assert_eq!(trace.len(), 40_001);
+/// ```
+pub fn run(sc: &Scenario, rec: &mut impl Recorder) -> Result<Summary> {
+    run_full(sc, rec).map(|o| o.summary)
+}
+
+/// Everything a run produces beside its samples.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOutput {
+    /// The summary.
+    pub summary: Summary,
+    /// Identified runs: the validation runs with frozen weights on the same data
+    /// (columns `t`, then per state `<s>`, `<s>_hat_series_parallel`, `<s>_hat_parallel`).
+    pub validation: Option<Trace>,
+    /// Identified runs: the trained model.
+    pub model: Option<ModelFile>,
+}
+
+/// Run a scenario: with an `[identifier]`, train it for its epochs (the final weights of
+/// one epoch start the next), then validate with frozen weights in series-parallel and
+/// in parallel (free-run) mode on the same data.
+pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
+    let Some(is) = &sc.identifier else {
+        let sys = pump_system(sc);
+        let (st, fig, _, _) = simulate(sc, sys, sc.initial, rec)?;
+        return Ok(RunOutput {
+            summary: report(sc, st, fig, None),
+            validation: None,
+            model: None,
+        });
+    };
+    let make = |mode: Mode, w: Option<&[Vec<f64>]>| {
+        let mut ident = is.ident.clone();
+        ident.mode = mode;
+        let s0 = ident.initial_state(&is.xhat0, w);
+        let mut x0 = vec![sc.initial[P_LINE], sc.initial[STROKE]];
+        x0.extend(s0);
+        let sys = IdentifiedPump {
+            pump: pump_system(sc),
+            ident,
+            states: is.states.clone(),
+            inputs: is.inputs.clone(),
+        };
+        (sys, x0)
+    };
+    let mut weights: Option<Vec<Vec<f64>>> = None;
+    let mut total = Stats::default();
+    let mut train = None;
+    for epoch in 1..=is.epochs {
+        let (sys, x0) = make(Mode::Train, weights.as_deref());
+        let last = epoch == is.epochs;
+        let mut coll = Collector::new(is);
+        let (st, fig, xf, sys) = if last {
+            let mut tee = Tee(rec, &mut coll);
+            simulate(sc, sys, x0, &mut tee)?
+        } else {
+            simulate(sc, sys, x0, &mut NoRecorder)?
+        };
+        add_stats(&mut total, st);
+        weights = Some(sys.ident.weights(&xf[2..]));
+        if last {
+            train = Some((fig, coll));
+        }
+    }
+    let weights = weights.expect("at least one epoch");
+    let (fig, train_coll) = train.expect("a last epoch");
+    let mut val = Vec::new();
+    for mode in [Mode::SeriesParallel, Mode::Parallel] {
+        let (sys, x0) = make(mode, Some(&weights));
+        let mut coll = Collector::new(is);
+        let (st, _, _, _) = simulate(sc, sys, x0, &mut coll)?;
+        add_stats(&mut total, st);
+        val.push(coll);
+    }
+    let names: Vec<&str> = is.states.iter().map(|s| s.name()).collect();
+    let figures_of = |c: &Collector| -> Vec<StateFigures> {
+        (0..names.len())
+            .map(|k| state_figures(names[k], &c.t, &c.y[k], &c.yhat[k], &weights[k]))
+            .collect()
+    };
+    let report_id = IdentReport {
+        law: is.ident.law.name,
+        epochs: is.epochs,
+        n_terms: is.ident.net.n_terms(),
+        training: figures_of(&train_coll),
+        series_parallel: figures_of(&val[0]),
+        parallel: figures_of(&val[1]),
+        final_weights: weights.clone(),
+    };
+    let mut vt = Trace::default();
+    vt.columns.push(Column {
+        name: "t".into(),
+        unit: "s",
+        values: val[0].t.clone(),
+    });
+    for (k, n) in names.iter().enumerate() {
+        let unit = if *n == "p_line" { "Pa" } else { "m" };
+        vt.columns.push(Column {
+            name: (*n).into(),
+            unit,
+            values: val[0].y[k].clone(),
+        });
+        vt.columns.push(Column {
+            name: format!("{n}_hat_series_parallel"),
+            unit,
+            values: val[0].yhat[k].clone(),
+        });
+        vt.columns.push(Column {
+            name: format!("{n}_hat_parallel"),
+            unit,
+            values: val[1].yhat[k].clone(),
+        });
+    }
+    let model = ModelFile {
+        states: names.iter().map(|s| s.to_string()).collect(),
+        inputs: is.inputs.iter().map(|s| s.name().to_string()).collect(),
+        sigmoid: is.ident.net.sigmoid,
+        state_scale: is.ident.net.state_scale.clone(),
+        input_scale: is.ident.net.input_scale.clone(),
+        terms: (0..is.ident.net.n_terms())
+            .map(|k| is.ident.net.terms.factors(k))
+            .collect(),
+        a: is.ident.net.a.clone(),
+        law: is.ident.law.name,
+        weights,
+    };
+    Ok(RunOutput {
+        summary: report(sc, total, fig, Some(report_id)),
+        validation: Some(vt),
+        model: Some(model),
     })
+}
+
+fn add_stats(total: &mut Stats, st: Stats) {
+    total.rhs_evaluations += st.rhs_evaluations;
+    total.accepted_steps += st.accepted_steps;
+    total.rejected_steps += st.rejected_steps;
+    total.events += st.events;
+    total.breakpoints += st.breakpoints;
+}
+
+/// A trained RHONN: everything needed to run it (`weights.json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModelFile {
+    /// Identified states (neurons), SI.
+    pub states: Vec<String>,
+    /// External inputs, SI.
+    pub inputs: Vec<String>,
+    /// Sigmoid.
+    pub sigmoid: Sigmoid,
+    /// State divisors before the sigmoid.
+    pub state_scale: Vec<f64>,
+    /// Input divisors.
+    pub input_scale: Vec<f64>,
+    /// Terms: `[y index, exponent]` factors each.
+    pub terms: Vec<Vec<[usize; 2]>>,
+    /// Poles a_i.
+    pub a: Vec<f64>,
+    /// The law that trained it.
+    pub law: &'static str,
+    /// Weights, one vector per neuron.
+    pub weights: Vec<Vec<f64>>,
+}
+
+/// Figures of one identified state in one mode (display units: MPa, mm).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StateFigures {
+    /// State.
+    pub state: &'static str,
+    /// Unit of the errors below.
+    pub unit: &'static str,
+    /// RMS of x_hat - x.
+    pub rms_error: f64,
+    /// 100 (1 - |y - yhat| / |y - mean y|).
+    pub fit_percent: f64,
+    /// RMS error / range of the state.
+    pub nrmse: f64,
+    /// The band: 1 % of the state's range over the run.
+    pub convergence_band: f64,
+    /// First time after which |e| stays within the band (null: it does not).
+    pub convergence_time_s: Option<f64>,
+    /// |w_i| at the end of training.
+    pub final_weight_norm: f64,
+}
+
+fn state_figures(name: &str, t: &[f64], y: &[f64], yhat: &[f64], w: &[f64]) -> StateFigures {
+    let (state, unit, k) = if name == "p_line" {
+        ("p_line", "MPa", PA_PER_MPA)
+    } else {
+        ("stroke", "mm", M_PER_MM)
+    };
+    let e: Vec<f64> = y.iter().zip(yhat).map(|(a, b)| b - a).collect();
+    let band = 0.01 * metrics::range(y);
+    StateFigures {
+        state,
+        unit,
+        rms_error: metrics::rms_error(y, yhat) / k,
+        fit_percent: metrics::fit_percent(y, yhat),
+        nrmse: metrics::nrmse(y, yhat),
+        convergence_band: band / k,
+        convergence_time_s: metrics::convergence_time(t, &e, band),
+        final_weight_norm: w.iter().map(|v| v * v).sum::<f64>().sqrt(),
+    }
+}
+
+/// Identification figures of `summary.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct IdentReport {
+    /// Law.
+    pub law: &'static str,
+    /// Epochs.
+    pub epochs: usize,
+    /// Terms L.
+    pub n_terms: usize,
+    /// Last training epoch.
+    pub training: Vec<StateFigures>,
+    /// Frozen weights, z from the plant's states.
+    pub series_parallel: Vec<StateFigures>,
+    /// Frozen weights, z from the model's own states (free run).
+    pub parallel: Vec<StateFigures>,
+    /// Weights at the end of training.
+    pub final_weights: Vec<Vec<f64>>,
+}
+
+/// Collects `(t, state, estimate)` of the identified states.
+struct Collector {
+    states: Vec<usize>,
+    t: Vec<f64>,
+    y: Vec<Vec<f64>>,
+    yhat: Vec<Vec<f64>>,
+}
+
+impl Collector {
+    fn new(is: &IdentSettings) -> Self {
+        let states: Vec<usize> = is
+            .states
+            .iter()
+            .map(|s| if *s == PumpSignal::PLine { P_LINE } else { STROKE })
+            .collect();
+        let n = states.len();
+        Collector {
+            states,
+            t: vec![],
+            y: vec![vec![]; n],
+            yhat: vec![vec![]; n],
+        }
+    }
+}
+
+impl Recorder for Collector {
+    fn record(&mut self, s: &Sample) {
+        self.t.push(s.t);
+        for (k, &i) in self.states.iter().enumerate() {
+            self.y[k].push(if i == P_LINE { s.p_line } else { s.stroke });
+            self.yhat[k].push(s.hat[i].unwrap_or(f64::NAN));
+        }
+    }
+}
+
+/// Two recorders fed the same samples.
+struct Tee<'a, A: Recorder, B: Recorder>(&'a mut A, &'a mut B);
+
+impl<A: Recorder, B: Recorder> Recorder for Tee<'_, A, B> {
+    fn record(&mut self, s: &Sample) {
+        if self.0.wants_samples() {
+            self.0.record(s);
+        }
+        self.1.record(s);
+    }
 }

@@ -3,6 +3,7 @@
 //! what is allowed; unknown keys are errors.
 
 use crate::error::{invalid, Error, Result};
+use crate::ident::{IdentSettings, IdentifierSpec};
 use crate::plant::{PumpParams, PumpParamsSpec};
 use crate::signal::{Signal, SignalSpec};
 use crate::units::*;
@@ -125,6 +126,9 @@ pub struct ScenarioSpec {
     /// Solver settings.
     #[serde(default)]
     pub solver: SolverSpec,
+    /// A RHONN identifier running along with the plant.
+    #[serde(default)]
+    pub identifier: Option<IdentifierSpec>,
 }
 
 fn default_output_ms() -> f64 {
@@ -187,6 +191,8 @@ pub struct Scenario {
     pub output_interval_s: f64,
     /// Solver.
     pub solver: SolverSettings,
+    /// Identifier.
+    pub identifier: Option<IdentSettings>,
     /// Things the user should know (printed and written to the summary).
     pub warnings: Vec<String>,
 }
@@ -421,6 +427,7 @@ impl ScenarioSpec {
             noise_std_pa: noise * PA_PER_MPA,
             output_interval_s: dt,
             solver,
+            identifier: self.identifier.as_ref().map(|i| i.check()).transpose()?,
             warnings,
         })
     }

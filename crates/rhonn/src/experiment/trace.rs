@@ -18,6 +18,8 @@ pub struct Sample {
     pub p_ref: Option<f64>,
     /// Measured pressure [Pa] (when measured: regulated runs, or noise > 0).
     pub p_meas: Option<f64>,
+    /// An identifier's estimates of `[p_line, stroke]` [Pa, m] (identified states only).
+    pub hat: [Option<f64>; 2],
 }
 
 /// Receives the output samples of a run, in time order.
@@ -46,7 +48,7 @@ impl Recorder for NoRecorder {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Column {
     /// Name (`p_line`, `stroke`, ...).
-    pub name: &'static str,
+    pub name: String,
     /// SI unit (`Pa`, `m`, ...).
     pub unit: &'static str,
     /// Values, one per sample.
@@ -96,10 +98,16 @@ impl Recorder for Trace {
             if s.p_meas.is_some() {
                 cols.push(("p_meas", "Pa"));
             }
+            if s.hat[0].is_some() {
+                cols.push(("p_line_hat", "Pa"));
+            }
+            if s.hat[1].is_some() {
+                cols.push(("stroke_hat", "m"));
+            }
             self.columns = cols
                 .into_iter()
                 .map(|(name, unit)| Column {
-                    name,
+                    name: name.into(),
                     unit,
                     values: Vec::new(),
                 })
@@ -113,6 +121,8 @@ impl Recorder for Trace {
             Some(s.demand),
             s.p_ref,
             s.p_meas,
+            s.hat[0],
+            s.hat[1],
         ];
         for (col, v) in self.columns.iter_mut().zip(vals.into_iter().flatten()) {
             col.values.push(v);

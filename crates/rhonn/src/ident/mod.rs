@@ -1,0 +1,564 @@
+//! The RHONN identifier: one definition of the network and its learning law, run two
+//! ways — integrated together with the plant by the event-locating solver
+//! ([`IdentifiedPump`], as the thesis's Simulink model does), or one sample at a time
+//! from measured signals ([`DiscreteIdentifier`], for online use on a controller).
+//!
+//! Modes of running (named plainly):
+//! - *training*: the weights adapt, z from the measured states (series-parallel);
+//! - *series-parallel validation*: weights frozen, z from the measured states (one-step
+//!   tracking);
+//! - *parallel validation* (free run): weights frozen, z from the model's own states
+//!   (the model runs on its own).
+
+use crate::law::{Law, Robust, Structure};
+use crate::net::{Network, MAX_TERMS, MAX_Y};
+use crate::plant::{PumpSystem, P_LINE};
+use rhonn_ode::{Direction, EventAction, System};
+
+/// How the identifier runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Weights adapt; z from the measured states.
+    Train,
+    /// Weights frozen; z from the measured states (one-step tracking).
+    SeriesParallel,
+    /// Weights frozen; z from the model's own states (free run).
+    Parallel,
+}
+
+impl Mode {
+    /// Name used in summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Train => "training",
+            Mode::SeriesParallel => "series-parallel",
+            Mode::Parallel => "parallel",
+        }
+    }
+}
+
+/// Where a neuron's weight vector is relative to the radius M (robust laws).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Zone {
+    Inside,
+    Sphere,
+    Outside,
+}
+
+/// A network, its law and its mode; knows the layout of its states.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Identifier {
+    /// Structure.
+    pub net: Network,
+    /// Learning law.
+    pub law: Law,
+    /// Mode.
+    pub mode: Mode,
+    zones: Vec<Zone>,
+}
+
+/// Scratch space on the stack for one evaluation.
+struct Scratch {
+    xhat: [f64; MAX_Y],
+    y: [f64; MAX_Y],
+    z: [f64; MAX_TERMS],
+    q: [f64; MAX_TERMS],
+    r: [f64; MAX_TERMS],
+}
+
+impl Scratch {
+    #[inline(always)]
+    fn new() -> Self {
+        Scratch {
+            xhat: [0.0; MAX_Y],
+            y: [0.0; MAX_Y],
+            z: [0.0; MAX_TERMS],
+            q: [0.0; MAX_TERMS],
+            r: [0.0; MAX_TERMS],
+        }
+    }
+}
+
+#[inline(always)]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+impl Identifier {
+    /// An identifier in `mode`.
+    pub fn new(net: Network, law: Law, mode: Mode) -> Self {
+        let n = net.n;
+        Identifier {
+            net,
+            law,
+            mode,
+            zones: vec![Zone::Inside; n],
+        }
+    }
+
+    /// States per neuron.
+    pub fn block(&self) -> usize {
+        let l = self.net.n_terms();
+        match self.law.structure {
+            Structure::FilteredError => 1 + l,
+            Structure::FilteredRegressor => 2 * l,
+            Structure::LeastSquares => 2 * l + l * l,
+        }
+    }
+
+    /// Number of identifier states.
+    pub fn dim(&self) -> usize {
+        self.net.n * self.block()
+    }
+
+    /// Offset of neuron i's weights in its block.
+    fn w_off(&self) -> usize {
+        match self.law.structure {
+            Structure::FilteredError => 1,
+            _ => self.net.n_terms(),
+        }
+    }
+
+    /// Initial identifier state: model states `xhat0` (filtered-error laws; the
+    /// filtered-regressor laws start their filters at 0), weights `w0[i]` (or 0), and
+    /// P_i(0) = p0_i I.
+    pub fn initial_state(&self, xhat0: &[f64], w0: Option<&[Vec<f64>]>) -> Vec<f64> {
+        let (n, l, b, wo) = (self.net.n, self.net.n_terms(), self.block(), self.w_off());
+        let mut s = vec![0.0; self.dim()];
+        for i in 0..n {
+            let blk = &mut s[i * b..(i + 1) * b];
+            if self.law.structure == Structure::FilteredError {
+                blk[0] = xhat0[i];
+            }
+            if let Some(w) = w0 {
+                blk[wo..wo + l].copy_from_slice(&w[i]);
+            }
+            if self.law.structure == Structure::LeastSquares {
+                for k in 0..l {
+                    blk[2 * l + k * l + k] = self.law.p0[i];
+                }
+            }
+        }
+        s
+    }
+
+    /// The model's estimates x_hat (one per neuron) from the identifier state.
+    #[inline]
+    pub fn outputs(&self, s: &[f64], xhat: &mut [f64]) {
+        let (l, b) = (self.net.n_terms(), self.block());
+        for (i, xh) in xhat.iter_mut().enumerate().take(self.net.n) {
+            let blk = &s[i * b..(i + 1) * b];
+            *xh = match self.law.structure {
+                Structure::FilteredError => blk[0],
+                _ => dot(&blk[..l], &blk[l..2 * l]),
+            };
+        }
+    }
+
+    /// The weights, one vector per neuron.
+    pub fn weights(&self, s: &[f64]) -> Vec<Vec<f64>> {
+        let (l, b, wo) = (self.net.n_terms(), self.block(), self.w_off());
+        (0..self.net.n)
+            .map(|i| s[i * b + wo..i * b + wo + l].to_vec())
+            .collect()
+    }
+
+    /// Set the weights (e.g. those of the previous epoch).
+    pub fn set_weights(&self, s: &mut [f64], w: &[Vec<f64>]) {
+        let (l, b, wo) = (self.net.n_terms(), self.block(), self.w_off());
+        for (i, wi) in w.iter().enumerate() {
+            s[i * b + wo..i * b + wo + l].copy_from_slice(wi);
+        }
+    }
+
+    /// Derivative of the identifier state `s` given the measured states `chi` and
+    /// inputs `u` (no allocation).
+    pub fn rhs(&self, chi: &[f64], u: &[f64], s: &[f64], ds: &mut [f64]) {
+        let mut sc = Scratch::new();
+        let (n, l, b) = (self.net.n, self.net.n_terms(), self.block());
+        self.outputs(s, &mut sc.xhat[..n]);
+        let src: &[f64] = if self.mode == Mode::Parallel {
+            &sc.xhat[..n]
+        } else {
+            chi
+        };
+        self.net.regressor(src, u, &mut sc.y, &mut sc.z[..l]);
+        let z = &sc.z[..l];
+        let train = self.mode == Mode::Train;
+        for i in 0..n {
+            let blk = &s[i * b..(i + 1) * b];
+            let dblk = &mut ds[i * b..(i + 1) * b];
+            let a = self.net.a[i];
+            let e = sc.xhat[i] - chi[i];
+            match self.law.structure {
+                Structure::FilteredError => {
+                    let w = &blk[1..1 + l];
+                    dblk[0] = -a * blk[0] + dot(w, z);
+                    let dw = &mut dblk[1..1 + l];
+                    if !train {
+                        dw.iter_mut().for_each(|v| *v = 0.0);
+                        continue;
+                    }
+                    // q = Gamma z e
+                    self.law.gamma[i].apply(z, &mut sc.q[..l]);
+                    for k in 0..l {
+                        sc.q[k] *= e;
+                        dw[k] = -sc.q[k];
+                    }
+                    match (self.law.robust, self.zones[i]) {
+                        (Robust::None, _) | (_, Zone::Inside) => {}
+                        (_, Zone::Outside) => {
+                            let sig = self.law.sigma[i];
+                            self.law.gamma[i].apply(w, &mut sc.r[..l]);
+                            for k in 0..l {
+                                dw[k] -= sig * sc.r[k];
+                            }
+                        }
+                        (_, Zone::Sphere) => {
+                            self.law.gamma[i].apply(w, &mut sc.r[..l]);
+                            let g = dot(w, &sc.q[..l]);
+                            let wgw = dot(w, &sc.r[..l]);
+                            if wgw > 0.0 {
+                                for k in 0..l {
+                                    dw[k] += g / wgw * sc.r[k];
+                                }
+                            }
+                        }
+                    }
+                }
+                Structure::FilteredRegressor | Structure::LeastSquares => {
+                    let zeta = &blk[..l];
+                    for k in 0..l {
+                        dblk[k] = -a * zeta[k] + z[k];
+                    }
+                    if self.law.structure == Structure::FilteredRegressor {
+                        let dw = &mut dblk[l..2 * l];
+                        if train {
+                            self.law.gamma[i].apply(zeta, &mut sc.q[..l]);
+                            for k in 0..l {
+                                dw[k] = -sc.q[k] * e;
+                            }
+                        } else {
+                            dw.iter_mut().for_each(|v| *v = 0.0);
+                        }
+                        continue;
+                    }
+                    let p = &blk[2 * l..2 * l + l * l];
+                    // q = P zeta
+                    for r in 0..l {
+                        sc.q[r] = dot(&p[r * l..(r + 1) * l], zeta);
+                    }
+                    let (dw, dp) = dblk[l..].split_at_mut(l);
+                    if train {
+                        for k in 0..l {
+                            dw[k] = -sc.q[k] * e;
+                        }
+                        let trace: f64 = (0..l).map(|k| p[k * l + k]).sum();
+                        let shrink = trace > self.law.floor[i] * l as f64;
+                        for r in 0..l {
+                            for c in 0..l {
+                                dp[r * l + c] = if shrink { -sc.q[r] * sc.q[c] } else { 0.0 };
+                            }
+                        }
+                    } else {
+                        dw.iter_mut().for_each(|v| *v = 0.0);
+                        dp.iter_mut().for_each(|v| *v = 0.0);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Event functions: two per neuron for the robust laws in training (|w|^2 - M^2,
+    /// or on the sphere the two conditions of the smooth law), none otherwise.
+    pub fn n_events(&self) -> usize {
+        if self.law.robust != Robust::None && self.mode == Mode::Train {
+            2 * self.net.n
+        } else {
+            0
+        }
+    }
+
+    /// `w^T Gamma z e` and `w^T Gamma w` for neuron i.
+    fn robust_terms(&self, i: usize, chi: &[f64], u: &[f64], s: &[f64]) -> (f64, f64) {
+        let mut sc = Scratch::new();
+        let (n, l, b) = (self.net.n, self.net.n_terms(), self.block());
+        self.outputs(s, &mut sc.xhat[..n]);
+        self.net.regressor(chi, u, &mut sc.y, &mut sc.z[..l]);
+        let w = &s[i * b + 1..i * b + 1 + l];
+        let e = sc.xhat[i] - chi[i];
+        self.law.gamma[i].apply(&sc.z[..l], &mut sc.q[..l]);
+        self.law.gamma[i].apply(w, &mut sc.r[..l]);
+        (dot(w, &sc.q[..l]) * e, dot(w, &sc.r[..l]))
+    }
+
+    fn norm2(&self, i: usize, s: &[f64]) -> f64 {
+        let (l, b, wo) = (self.net.n_terms(), self.block(), self.w_off());
+        let w = &s[i * b + wo..i * b + wo + l];
+        dot(w, w)
+    }
+
+    /// Evaluate the event functions.
+    pub fn events(&self, chi: &[f64], u: &[f64], s: &[f64], g: &mut [f64]) {
+        for i in 0..g.len() / 2 {
+            let m2 = self.law.m[i] * self.law.m[i];
+            match self.zones[i] {
+                Zone::Sphere => {
+                    let (g1, wgw) = self.robust_terms(i, chi, u, s);
+                    g[2 * i] = g1;
+                    g[2 * i + 1] = g1 + self.law.sigma[i] * wgw;
+                }
+                _ => {
+                    g[2 * i] = self.norm2(i, s) - m2;
+                    g[2 * i + 1] = 1.0;
+                }
+            }
+        }
+    }
+
+    /// Direction of event j.
+    pub fn event_direction(&self, j: usize) -> Direction {
+        match (self.zones[j / 2], j % 2) {
+            (Zone::Inside, _) => Direction::Rising,
+            (Zone::Outside, _) => Direction::Falling,
+            (Zone::Sphere, 0) => Direction::Rising,
+            (Zone::Sphere, _) => Direction::Falling,
+        }
+    }
+
+    /// At an event of the smooth law reaching the sphere, put w exactly on it.
+    pub fn on_event(&mut self, j: usize, s: &mut [f64]) {
+        let i = j / 2;
+        if self.law.robust == Robust::Smooth && self.zones[i] != Zone::Sphere {
+            let r = self.norm2(i, s).sqrt();
+            let m = self.law.m[i];
+            if r > 0.0 && (r - m).abs() < 1e-3 * m {
+                let (l, b, wo) = (self.net.n_terms(), self.block(), self.w_off());
+                s[i * b + wo..i * b + wo + l].iter_mut().for_each(|v| *v *= m / r);
+            }
+        }
+    }
+
+    /// Choose each neuron's zone at the start of an interval.
+    pub fn update_modes(&mut self, chi: &[f64], u: &[f64], s: &[f64]) {
+        if self.law.robust == Robust::None || self.mode != Mode::Train {
+            return;
+        }
+        for i in 0..self.net.n {
+            let m2 = self.law.m[i] * self.law.m[i];
+            let r2 = self.norm2(i, s);
+            self.zones[i] = match self.law.robust {
+                Robust::Switching => {
+                    if r2 > m2 {
+                        Zone::Outside
+                    } else {
+                        Zone::Inside
+                    }
+                }
+                _ => {
+                    if r2 < m2 * (1.0 - 1e-9) {
+                        Zone::Inside
+                    } else if r2 > m2 * (1.0 + 1e-6) {
+                        Zone::Outside
+                    } else {
+                        let (g, wgw) = self.robust_terms(i, chi, u, s);
+                        if g > 0.0 {
+                            Zone::Inside
+                        } else if g >= -self.law.sigma[i] * wgw {
+                            Zone::Sphere
+                        } else {
+                            Zone::Outside
+                        }
+                    }
+                }
+            };
+        }
+    }
+}
+
+/// Which pump signals feed the identifier.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PumpSignal {
+    /// Line pressure [Pa].
+    PLine,
+    /// Stroke [m].
+    Stroke,
+    /// Solenoid current [A].
+    Current,
+    /// Demanded flow [m^3/s].
+    Demand,
+}
+
+impl PumpSignal {
+    /// Column name.
+    pub fn name(self) -> &'static str {
+        match self {
+            PumpSignal::PLine => "p_line",
+            PumpSignal::Stroke => "stroke",
+            PumpSignal::Current => "current",
+            PumpSignal::Demand => "demand",
+        }
+    }
+}
+
+/// The pump and an identifier integrated together: state `[P_l, x, identifier...]`.
+#[derive(Debug, Clone)]
+pub struct IdentifiedPump {
+    /// The plant.
+    pub pump: PumpSystem,
+    /// The identifier.
+    pub ident: Identifier,
+    /// Identified states (one per neuron): `PLine` or `Stroke`.
+    pub states: Vec<PumpSignal>,
+    /// External inputs of the network.
+    pub inputs: Vec<PumpSignal>,
+}
+
+impl IdentifiedPump {
+    #[inline(always)]
+    fn signals(&self, t: f64, x: &[f64], chi: &mut [f64], u: &mut [f64]) {
+        let get = |s: PumpSignal| match s {
+            PumpSignal::PLine => x[P_LINE],
+            PumpSignal::Stroke => x[crate::plant::STROKE],
+            PumpSignal::Current => self.pump.current_at(t),
+            PumpSignal::Demand => self.pump.demand_at(t),
+        };
+        for (c, s) in chi.iter_mut().zip(&self.states) {
+            *c = get(*s);
+        }
+        for (c, s) in u.iter_mut().zip(&self.inputs) {
+            *c = get(*s);
+        }
+    }
+}
+
+impl System for IdentifiedPump {
+    type State = Vec<f64>;
+
+    fn dim(&self) -> usize {
+        2 + self.ident.dim()
+    }
+
+    #[inline]
+    fn rhs(&self, t: f64, x: &[f64], dx: &mut [f64]) {
+        self.pump.rhs(t, &x[..2], &mut dx[..2]);
+        let (mut chi, mut u) = ([0.0; MAX_Y], [0.0; MAX_Y]);
+        let (n, m) = (self.states.len(), self.inputs.len());
+        self.signals(t, x, &mut chi[..n], &mut u[..m]);
+        self.ident.rhs(&chi[..n], &u[..m], &x[2..], &mut dx[2..]);
+    }
+
+    fn n_events(&self) -> usize {
+        2 + self.ident.n_events()
+    }
+
+    fn events(&self, t: f64, x: &[f64], g: &mut [f64]) {
+        self.pump.events(t, &x[..2], &mut g[..2]);
+        if g.len() > 2 {
+            let (mut chi, mut u) = ([0.0; MAX_Y], [0.0; MAX_Y]);
+            let (n, m) = (self.states.len(), self.inputs.len());
+            self.signals(t, x, &mut chi[..n], &mut u[..m]);
+            self.ident.events(&chi[..n], &u[..m], &x[2..], &mut g[2..]);
+        }
+    }
+
+    fn event_direction(&self, j: usize) -> Direction {
+        if j < 2 {
+            self.pump.event_direction(j)
+        } else {
+            self.ident.event_direction(j - 2)
+        }
+    }
+
+    fn on_event(&mut self, j: usize, _t: f64, x: &mut [f64]) -> EventAction {
+        if j >= 2 {
+            self.ident.on_event(j - 2, &mut x[2..]);
+        }
+        EventAction::Continue
+    }
+
+    fn update_modes(&mut self, t: f64, x: &[f64]) {
+        self.pump.update_modes(t, &x[..2]);
+        let (mut chi, mut u) = ([0.0; MAX_Y], [0.0; MAX_Y]);
+        let (n, m) = (self.states.len(), self.inputs.len());
+        self.signals(t, x, &mut chi[..n], &mut u[..m]);
+        self.ident.update_modes(&chi[..n], &u[..m], &x[2..]);
+    }
+
+    fn next_breakpoint(&self, t: f64) -> f64 {
+        self.pump.next_breakpoint(t)
+    }
+
+    fn bounds(&self, i: usize) -> (f64, f64) {
+        if i < 2 {
+            self.pump.bounds(i)
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        }
+    }
+}
+
+/// The identifier taking one sample every `period_s` from measured signals: the
+/// identifier's ODE integrated over the period by classical RK4 with the measurements
+/// held (zero-order hold). Buffers are allocated once; a step does not allocate.
+#[derive(Debug, Clone)]
+pub struct DiscreteIdentifier {
+    /// The identifier.
+    pub ident: Identifier,
+    /// Sampling period [s].
+    pub period_s: f64,
+    state: Vec<f64>,
+    k: [Vec<f64>; 4],
+    tmp: Vec<f64>,
+}
+
+impl DiscreteIdentifier {
+    /// Start from `state` (see [`Identifier::initial_state`]).
+    pub fn new(ident: Identifier, state: Vec<f64>, period_s: f64) -> Self {
+        let d = ident.dim();
+        DiscreteIdentifier {
+            ident,
+            period_s,
+            state,
+            k: std::array::from_fn(|_| vec![0.0; d]),
+            tmp: vec![0.0; d],
+        }
+    }
+
+    /// Take one sample of the identified states `chi` and inputs `u`.
+    pub fn step(&mut self, chi: &[f64], u: &[f64]) {
+        let h = self.period_s;
+        self.ident.update_modes(chi, u, &self.state);
+        let d = self.state.len();
+        let [k1, k2, k3, k4] = &mut self.k;
+        self.ident.rhs(chi, u, &self.state, k1);
+        for j in 0..d {
+            self.tmp[j] = self.state[j] + 0.5 * h * k1[j];
+        }
+        self.ident.rhs(chi, u, &self.tmp, k2);
+        for j in 0..d {
+            self.tmp[j] = self.state[j] + 0.5 * h * k2[j];
+        }
+        self.ident.rhs(chi, u, &self.tmp, k3);
+        for j in 0..d {
+            self.tmp[j] = self.state[j] + h * k3[j];
+        }
+        self.ident.rhs(chi, u, &self.tmp, k4);
+        for j in 0..d {
+            self.state[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
+        }
+    }
+
+    /// The model's current estimates.
+    pub fn outputs(&self, xhat: &mut [f64]) {
+        self.ident.outputs(&self.state, xhat);
+    }
+
+    /// The identifier state.
+    pub fn state(&self) -> &[f64] {
+        &self.state
+    }
+}
+
+mod spec;
+pub use spec::{IdentSettings, IdentifierSpec, SigmoidSpec};

@@ -1,0 +1,267 @@
+//! The `[identifier]` section of a scenario.
+
+use super::{Identifier, Mode, PumpSignal};
+use crate::error::{invalid, Result};
+use crate::law::LawSpec;
+use crate::net::{Network, Sigmoid, Terms, MAX_TERMS, MAX_Y};
+use serde::{Deserialize, Serialize};
+
+/// A sigmoid by name (`"logistic"`, `"tanh"`) or by its parameters `{a, b, c}`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum SigmoidSpec {
+    /// A preset.
+    Named(String),
+    /// `a / (1 + exp(-b v)) - c`.
+    Custom(Sigmoid),
+}
+
+/// A RHONN identifier as a scenario writes it. The network works on SI values divided
+/// by the scales (1 = the raw SI states, as the thesis does).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IdentifierSpec {
+    /// Identified states, one neuron each: `p_line`, `stroke`.
+    pub states: Vec<String>,
+    /// External inputs in y: `current`, `demand`.
+    #[serde(default)]
+    pub inputs: Vec<String>,
+    /// Sigmoid (default logistic).
+    #[serde(default = "default_sigmoid")]
+    pub sigmoid: SigmoidSpec,
+    /// Divisor of each state before its sigmoid (default 1).
+    #[serde(default)]
+    pub state_scale: Option<Vec<f64>>,
+    /// Divisor of each input (default 1).
+    #[serde(default)]
+    pub input_scale: Option<Vec<f64>>,
+    /// Terms by hand: each a list of `[y index, exponent]`, y = [s(states)..., inputs...].
+    #[serde(default)]
+    pub terms: Option<Vec<Vec<[usize; 2]>>>,
+    /// Or every monomial of y up to this degree ...
+    #[serde(default)]
+    pub degree: Option<usize>,
+    /// ... with at most this many distinct factors (default: the degree).
+    #[serde(default)]
+    pub max_factors: Option<usize>,
+    /// Poles a_i > 0, one per neuron.
+    pub a: Vec<f64>,
+    /// The model's initial states [SI] (default 0).
+    #[serde(default)]
+    pub initial_si: Option<Vec<f64>>,
+    /// Training epochs over the same data (default 1).
+    #[serde(default = "one")]
+    pub epochs: usize,
+    /// The learning law.
+    pub law: LawSpec,
+}
+
+fn default_sigmoid() -> SigmoidSpec {
+    SigmoidSpec::Named("logistic".into())
+}
+
+fn one() -> usize {
+    1
+}
+
+/// A checked identifier set-up.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IdentSettings {
+    /// The identifier (mode `Train`).
+    pub ident: Identifier,
+    /// Identified states.
+    pub states: Vec<PumpSignal>,
+    /// Inputs.
+    pub inputs: Vec<PumpSignal>,
+    /// Initial model states [SI].
+    pub xhat0: Vec<f64>,
+    /// Epochs.
+    pub epochs: usize,
+}
+
+impl IdentifierSpec {
+    /// Validate.
+    pub fn check(&self) -> Result<IdentSettings> {
+        let f = "identifier";
+        let n = self.states.len();
+        if n == 0 || n > 2 {
+            return Err(invalid(
+                format!("{f}.states"),
+                format!("{:?}", self.states),
+                "1 or 2 of \"p_line\", \"stroke\"",
+            ));
+        }
+        let mut states = Vec::new();
+        for (k, s) in self.states.iter().enumerate() {
+            let sig = match s.as_str() {
+                "p_line" => PumpSignal::PLine,
+                "stroke" => PumpSignal::Stroke,
+                _ => {
+                    return Err(invalid(
+                        format!("{f}.states[{k}]"),
+                        format!("{s:?}"),
+                        "\"p_line\" or \"stroke\"",
+                    ))
+                }
+            };
+            if states.contains(&sig) {
+                return Err(invalid(
+                    format!("{f}.states[{k}]"),
+                    format!("{s:?}"),
+                    "each state once",
+                ));
+            }
+            states.push(sig);
+        }
+        let mut inputs = Vec::new();
+        for (k, s) in self.inputs.iter().enumerate() {
+            inputs.push(match s.as_str() {
+                "current" => PumpSignal::Current,
+                "demand" => PumpSignal::Demand,
+                _ => {
+                    return Err(invalid(
+                        format!("{f}.inputs[{k}]"),
+                        format!("{s:?}"),
+                        "\"current\" or \"demand\"",
+                    ))
+                }
+            });
+        }
+        let m = inputs.len();
+        if n + m > MAX_Y {
+            return Err(invalid(
+                format!("{f}.inputs"),
+                m,
+                format!("at most {} states and inputs", MAX_Y),
+            ));
+        }
+        let sigmoid = match &self.sigmoid {
+            SigmoidSpec::Named(s) if s == "logistic" => Sigmoid::LOGISTIC,
+            SigmoidSpec::Named(s) if s == "tanh" => Sigmoid::TANH,
+            SigmoidSpec::Named(s) => {
+                return Err(invalid(
+                    format!("{f}.sigmoid"),
+                    format!("{s:?}"),
+                    "\"logistic\", \"tanh\" or {a, b, c}",
+                ))
+            }
+            SigmoidSpec::Custom(s) => {
+                if !(s.a.is_finite() && s.a != 0.0 && s.b.is_finite() && s.b != 0.0 && s.c.is_finite()) {
+                    return Err(invalid(
+                        format!("{f}.sigmoid"),
+                        format!("{s:?}"),
+                        "finite a and b, not zero, finite c",
+                    ));
+                }
+                *s
+            }
+        };
+        let scale = |v: &Option<Vec<f64>>, len: usize, name: &str| -> Result<Vec<f64>> {
+            match v {
+                None => Ok(vec![1.0; len]),
+                Some(v) if v.len() != len => Err(invalid(
+                    format!("{f}.{name}"),
+                    format!("{} values", v.len()),
+                    format!("{len} values"),
+                )),
+                Some(v) => {
+                    for (k, x) in v.iter().enumerate() {
+                        if !(x.is_finite() && *x > 0.0) {
+                            return Err(invalid(format!("{f}.{name}[{k}]"), x, "a number > 0"));
+                        }
+                    }
+                    Ok(v.clone())
+                }
+            }
+        };
+        let state_scale = scale(&self.state_scale, n, "state_scale")?;
+        let input_scale = scale(&self.input_scale, m, "input_scale")?;
+        let terms = match (&self.terms, self.degree) {
+            (Some(t), None) => Terms::from_lists(t, n + m, &format!("{f}.terms"))?,
+            (None, Some(d)) => {
+                if !(1..=6).contains(&d) {
+                    return Err(invalid(format!("{f}.degree"), d, "an integer in [1, 6]"));
+                }
+                let mf = self.max_factors.unwrap_or(d);
+                if !(1..=d).contains(&mf) {
+                    return Err(invalid(
+                        format!("{f}.max_factors"),
+                        mf,
+                        format!("an integer in [1, {d}]"),
+                    ));
+                }
+                let t = Terms::monomials(n + m, d, mf);
+                if t.len() > MAX_TERMS {
+                    return Err(invalid(
+                        format!("{f}.degree"),
+                        d,
+                        format!(
+                            "a degree giving at most {MAX_TERMS} terms (this gives {})",
+                            t.len()
+                        ),
+                    ));
+                }
+                t
+            }
+            _ => {
+                return Err(invalid(
+                    format!("{f}.terms"),
+                    "both or neither of terms and degree",
+                    "exactly one of `terms` and `degree`",
+                ))
+            }
+        };
+        if self.a.len() != n {
+            return Err(invalid(
+                format!("{f}.a"),
+                format!("{} values", self.a.len()),
+                format!("one per state ({n})"),
+            ));
+        }
+        for (k, a) in self.a.iter().enumerate() {
+            if !(a.is_finite() && *a > 0.0) {
+                return Err(invalid(
+                    format!("{f}.a[{k}]"),
+                    a,
+                    "a number > 0 (a stable neuron)",
+                ));
+            }
+        }
+        let xhat0 = match &self.initial_si {
+            None => vec![0.0; n],
+            Some(v) if v.len() == n && v.iter().all(|x| x.is_finite()) => v.clone(),
+            Some(v) => {
+                return Err(invalid(
+                    format!("{f}.initial_si"),
+                    format!("{v:?}"),
+                    format!("{n} finite values"),
+                ))
+            }
+        };
+        if !(1..=10_000).contains(&self.epochs) {
+            return Err(invalid(
+                format!("{f}.epochs"),
+                self.epochs,
+                "an integer in [1, 10000]",
+            ));
+        }
+        let l = terms.len();
+        let law = self.law.check(n, l, &format!("{f}.law"))?;
+        let net = Network {
+            n,
+            m,
+            sigmoid,
+            state_scale,
+            input_scale,
+            terms,
+            a: self.a.clone(),
+        };
+        Ok(IdentSettings {
+            ident: Identifier::new(net, law, Mode::Train),
+            states,
+            inputs,
+            xhat0,
+            epochs: self.epochs,
+        })
+    }
+}

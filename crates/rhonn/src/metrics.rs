@@ -1,0 +1,74 @@
+//! Small pure functions of a measured series `y` and an estimate `yhat`.
+
+/// Root mean square of `y - yhat`.
+pub fn rms_error(y: &[f64], yhat: &[f64]) -> f64 {
+    let n = y.len().min(yhat.len());
+    if n == 0 {
+        return f64::NAN;
+    }
+    (y.iter().zip(yhat).map(|(a, b)| (a - b) * (a - b)).sum::<f64>() / n as f64).sqrt()
+}
+
+/// MATLAB `compare`'s fit: `100 (1 - |y - yhat| / |y - mean(y)|)` [%]; 100 is perfect,
+/// 0 is no better than the mean, negative is worse.
+pub fn fit_percent(y: &[f64], yhat: &[f64]) -> f64 {
+    let n = y.len().min(yhat.len());
+    let mean = y[..n].iter().sum::<f64>() / n as f64;
+    let num: f64 = y
+        .iter()
+        .zip(yhat)
+        .map(|(a, b)| (a - b) * (a - b))
+        .sum::<f64>()
+        .sqrt();
+    let den: f64 = y[..n].iter().map(|a| (a - mean) * (a - mean)).sum::<f64>().sqrt();
+    100.0 * (1.0 - num / den)
+}
+
+/// RMS error divided by the range of `y`.
+pub fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
+    let (lo, hi) = y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+        (l.min(v), h.max(v))
+    });
+    rms_error(y, yhat) / (hi - lo)
+}
+
+/// The first time after which `|e|` stays at or below `band` to the end of the series,
+/// or `None` if the last sample is outside the band.
+pub fn convergence_time(t: &[f64], e: &[f64], band: f64) -> Option<f64> {
+    let last_out = e.iter().rposition(|v| !(v.abs() <= band));
+    match last_out {
+        None => t.first().copied(),
+        Some(k) if k + 1 < t.len() => Some(t[k + 1]),
+        Some(_) => None,
+    }
+}
+
+/// Range `max - min` of a series.
+pub fn range(y: &[f64]) -> f64 {
+    let (lo, hi) = y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+        (l.min(v), h.max(v))
+    });
+    hi - lo
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hand_computed_series() {
+        let y = [1.0, 2.0, 3.0, 4.0];
+        let yhat = [1.0, 2.0, 3.0, 6.0];
+        assert_eq!(rms_error(&y, &yhat), 1.0);
+        // |y - yhat| = 2, |y - mean| = sqrt(5)
+        assert!((fit_percent(&y, &yhat) - 100.0 * (1.0 - 2.0 / 5f64.sqrt())).abs() < 1e-12);
+        assert_eq!(fit_percent(&y, &y), 100.0);
+        assert!((nrmse(&y, &yhat) - 1.0 / 3.0).abs() < 1e-15);
+        let t = [0.0, 0.1, 0.2, 0.3, 0.4];
+        let e = [5.0, -2.0, 0.5, -0.1, 0.05];
+        assert_eq!(convergence_time(&t, &e, 1.0), Some(0.2));
+        assert_eq!(convergence_time(&t, &e, 10.0), Some(0.0));
+        assert_eq!(convergence_time(&t, &e, 0.01), None);
+        assert_eq!(range(&y), 3.0);
+    }
+}
