@@ -1,8 +1,12 @@
-//! Whole runs of the shipped scenarios, without I/O. The right-hand-side evaluation
-//! count of each run is printed once, to go beside the time in the README.
+//! Whole runs of the shipped scenarios without I/O, and one step of the discrete
+//! identifier. The right-hand-side evaluation count of each run is printed once, to go
+//! beside the time in the README.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use rhonn::experiment::{preset, run, NoRecorder, Trace};
+use rhonn::ident::{DiscreteIdentifier, Identifier, Mode};
+use rhonn::law::{GainSpec, LawSpec};
+use rhonn::net::{Network, Sigmoid, Terms};
 use std::hint::black_box;
 
 fn bench_runs(c: &mut Criterion) {
@@ -24,7 +28,80 @@ fn bench_runs(c: &mut Criterion) {
             })
         });
     }
+    // thesis-ch5: the training run (plant + identifier, 40 s), then the whole job with
+    // the two frozen-weight validation runs.
+    let mut spec = preset::load("thesis-ch5").unwrap();
+    spec.identifier.as_mut().unwrap().validate = false;
+    let train = spec.check().unwrap();
+    let full = preset::load("thesis-ch5").unwrap().check().unwrap();
+    for (label, sc) in [
+        ("thesis-ch5 training", &train),
+        ("thesis-ch5 training + 2 validations", &full),
+    ] {
+        let s = run(sc, &mut NoRecorder).unwrap();
+        eprintln!(
+            "{label}: {} rhs evaluations, {} events",
+            s.solver.rhs_evaluations, s.solver.events
+        );
+        c.bench_function(label, |b| b.iter(|| run(black_box(sc), &mut NoRecorder).unwrap()));
+    }
 }
 
-criterion_group!(benches, bench_runs);
+fn bench_discrete_step(c: &mut Criterion) {
+    // 2 neurons, 2 inputs, 10 terms: 4 linear, 4 squares, 2 cross products.
+    let lists: Vec<Vec<[usize; 2]>> = vec![
+        vec![[0, 1]],
+        vec![[1, 1]],
+        vec![[2, 1]],
+        vec![[3, 1]],
+        vec![[0, 2]],
+        vec![[1, 2]],
+        vec![[2, 2]],
+        vec![[3, 2]],
+        vec![[0, 1], [2, 1]],
+        vec![[1, 1], [3, 1]],
+    ];
+    let net = Network {
+        n: 2,
+        m: 2,
+        sigmoid: Sigmoid::LOGISTIC,
+        state_scale: vec![10e6, 10e-3],
+        input_scale: vec![0.8, 2e-3],
+        terms: Terms::from_lists(&lists, 4, "terms").unwrap(),
+        a: vec![120.0, 41.0],
+    };
+    for (label, law) in [
+        (
+            "filtered-error",
+            LawSpec::FilteredError {
+                gamma: vec![GainSpec::Scalar(1e4), GainSpec::Scalar(30.0)],
+            },
+        ),
+        (
+            "filtered-regressor-ls",
+            LawSpec::FilteredRegressorLs {
+                p0: vec![10.0, 10.0],
+                floor: None,
+            },
+        ),
+    ] {
+        let law = law.check(2, 10, "law").unwrap();
+        let ident = Identifier::new(net.clone(), law, Mode::Train);
+        let s0 = ident.initial_state(&[0.0, 0.0], None);
+        let mut d = DiscreteIdentifier::new(ident, s0, 0.005);
+        let mut k = 0u64;
+        c.bench_function(
+            &format!("discrete identifier step, 2 neurons, 10 terms, {label}"),
+            |b| {
+                b.iter(|| {
+                    k += 1;
+                    let t = k as f64 * 0.005;
+                    d.step(black_box(&[10e6 + 1e5 * t.sin(), 8e-3]), black_box(&[0.4, 1e-3]));
+                })
+            },
+        );
+    }
+}
+
+criterion_group!(benches, bench_runs, bench_discrete_step);
 criterion_main!(benches);

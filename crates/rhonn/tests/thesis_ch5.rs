@@ -99,3 +99,26 @@ fn summary_reports_every_mode_and_the_preset_does_not_generalise() {
     let v = out.validation.as_ref().unwrap();
     assert!(v.column("p_line_hat_parallel").is_some() && v.column("stroke_hat_series_parallel").is_some());
 }
+
+#[test]
+fn figures_integrated_on_the_dense_output_agree_with_the_sample_formulas() {
+    let (tr, out) = identify();
+    let id = out.summary.identification.as_ref().unwrap();
+    for (k, (col, scale)) in [("p_line", 1e6), ("stroke", 1e-3)].into_iter().enumerate() {
+        let y = tr.column(col).unwrap();
+        let yh = tr.column(&format!("{col}_hat")).unwrap();
+        let rms = rhonn::metrics::rms_error(y, yh) / scale;
+        let fit = rhonn::metrics::fit_percent(y, yh);
+        let f = &id.training[k];
+        assert!(
+            (f.rms_error - rms).abs() < 0.02 * rms,
+            "{col}: {} vs {rms}",
+            f.rms_error
+        );
+        assert!(
+            (f.fit_percent - fit).abs() < 0.5,
+            "{col}: {} vs {fit}",
+            f.fit_percent
+        );
+    }
+}

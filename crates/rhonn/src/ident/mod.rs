@@ -11,9 +11,10 @@
 //!   (the model runs on its own).
 
 use crate::law::{Law, Robust, Structure};
-use crate::net::{Network, MAX_TERMS, MAX_Y};
+use crate::net::{Network, MAX_Y};
 use crate::plant::{PumpSystem, P_LINE};
 use rhonn_ode::{Direction, EventAction, System};
+use std::cell::RefCell;
 
 /// How the identifier runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -57,24 +58,28 @@ pub struct Identifier {
     zones: Vec<Zone>,
 }
 
-/// Scratch space on the stack for one evaluation.
-struct Scratch {
-    xhat: [f64; MAX_Y],
-    y: [f64; MAX_Y],
-    z: [f64; MAX_TERMS],
-    q: [f64; MAX_TERMS],
-    r: [f64; MAX_TERMS],
+/// Work space of one identifier evaluation, allocated once per run (an owner that is
+/// not shared between threads keeps it, e.g. in a `RefCell`), so that evaluations
+/// neither allocate nor clear kilobytes of stack.
+#[derive(Debug, Clone, Default)]
+pub struct Scratch {
+    xhat: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+    q: Vec<f64>,
+    r: Vec<f64>,
 }
 
 impl Scratch {
-    #[inline(always)]
-    fn new() -> Self {
+    /// Work space for `ident`.
+    pub fn for_identifier(ident: &Identifier) -> Self {
+        let (ny, l) = (ident.net.n + ident.net.m, ident.net.n_terms());
         Scratch {
-            xhat: [0.0; MAX_Y],
-            y: [0.0; MAX_Y],
-            z: [0.0; MAX_TERMS],
-            q: [0.0; MAX_TERMS],
-            r: [0.0; MAX_TERMS],
+            xhat: vec![0.0; ident.net.n],
+            y: vec![0.0; ny],
+            z: vec![0.0; l],
+            q: vec![0.0; l],
+            r: vec![0.0; l],
         }
     }
 }
@@ -173,8 +178,7 @@ impl Identifier {
 
     /// Derivative of the identifier state `s` given the measured states `chi` and
     /// inputs `u` (no allocation).
-    pub fn rhs(&self, chi: &[f64], u: &[f64], s: &[f64], ds: &mut [f64]) {
-        let mut sc = Scratch::new();
+    pub fn rhs(&self, chi: &[f64], u: &[f64], s: &[f64], ds: &mut [f64], sc: &mut Scratch) {
         let (n, l, b) = (self.net.n, self.net.n_terms(), self.block());
         self.outputs(s, &mut sc.xhat[..n]);
         let src: &[f64] = if self.mode == Mode::Parallel {
@@ -182,7 +186,7 @@ impl Identifier {
         } else {
             chi
         };
-        self.net.regressor(src, u, &mut sc.y, &mut sc.z[..l]);
+        self.net.regressor(src, u, &mut sc.y, &mut sc.z);
         let z = &sc.z[..l];
         let train = self.mode == Mode::Train;
         for i in 0..n {
@@ -280,11 +284,10 @@ impl Identifier {
     }
 
     /// `w^T Gamma z e` and `w^T Gamma w` for neuron i.
-    fn robust_terms(&self, i: usize, chi: &[f64], u: &[f64], s: &[f64]) -> (f64, f64) {
-        let mut sc = Scratch::new();
+    fn robust_terms(&self, i: usize, chi: &[f64], u: &[f64], s: &[f64], sc: &mut Scratch) -> (f64, f64) {
         let (n, l, b) = (self.net.n, self.net.n_terms(), self.block());
         self.outputs(s, &mut sc.xhat[..n]);
-        self.net.regressor(chi, u, &mut sc.y, &mut sc.z[..l]);
+        self.net.regressor(chi, u, &mut sc.y, &mut sc.z);
         let w = &s[i * b + 1..i * b + 1 + l];
         let e = sc.xhat[i] - chi[i];
         self.law.gamma[i].apply(&sc.z[..l], &mut sc.q[..l]);
@@ -299,12 +302,12 @@ impl Identifier {
     }
 
     /// Evaluate the event functions.
-    pub fn events(&self, chi: &[f64], u: &[f64], s: &[f64], g: &mut [f64]) {
+    pub fn events(&self, chi: &[f64], u: &[f64], s: &[f64], g: &mut [f64], sc: &mut Scratch) {
         for i in 0..g.len() / 2 {
             let m2 = self.law.m[i] * self.law.m[i];
             match self.zones[i] {
                 Zone::Sphere => {
-                    let (g1, wgw) = self.robust_terms(i, chi, u, s);
+                    let (g1, wgw) = self.robust_terms(i, chi, u, s, sc);
                     g[2 * i] = g1;
                     g[2 * i + 1] = g1 + self.law.sigma[i] * wgw;
                 }
@@ -329,7 +332,7 @@ impl Identifier {
     /// At an event of the smooth law reaching the sphere, put w exactly on it.
     pub fn on_event(&mut self, j: usize, s: &mut [f64]) {
         let i = j / 2;
-        if self.law.robust == Robust::Smooth && self.zones[i] != Zone::Sphere {
+        if self.law.robust != Robust::None && self.zones[i] != Zone::Sphere {
             let r = self.norm2(i, s).sqrt();
             let m = self.law.m[i];
             if r > 0.0 && (r - m).abs() < 1e-3 * m {
@@ -340,36 +343,31 @@ impl Identifier {
     }
 
     /// Choose each neuron's zone at the start of an interval.
-    pub fn update_modes(&mut self, chi: &[f64], u: &[f64], s: &[f64]) {
+    pub fn update_modes(&mut self, chi: &[f64], u: &[f64], s: &[f64], sc: &mut Scratch) {
         if self.law.robust == Robust::None || self.mode != Mode::Train {
             return;
         }
         for i in 0..self.net.n {
             let m2 = self.law.m[i] * self.law.m[i];
             let r2 = self.norm2(i, s);
-            self.zones[i] = match self.law.robust {
-                Robust::Switching => {
-                    if r2 > m2 {
-                        Zone::Outside
-                    } else {
-                        Zone::Inside
-                    }
-                }
-                _ => {
-                    if r2 < m2 * (1.0 - 1e-9) {
-                        Zone::Inside
-                    } else if r2 > m2 * (1.0 + 1e-6) {
-                        Zone::Outside
-                    } else {
-                        let (g, wgw) = self.robust_terms(i, chi, u, s);
-                        if g > 0.0 {
-                            Zone::Inside
-                        } else if g >= -self.law.sigma[i] * wgw {
-                            Zone::Sphere
-                        } else {
-                            Zone::Outside
-                        }
-                    }
+            // Both robust laws decide alike on the surface |w| = M: inside when the
+            // gradient points in, sliding on the sphere while the leakage would push
+            // back harder than the gradient pushes out, outside otherwise. For the
+            // switching law this is its Filippov solution (an event-located solver
+            // must slide there, or it chatters), which coincides with the smooth law;
+            // off the surface the two laws are the thesis's eq. 4.9 as written.
+            self.zones[i] = if r2 < m2 * (1.0 - 1e-9) {
+                Zone::Inside
+            } else if r2 > m2 * (1.0 + 1e-6) {
+                Zone::Outside
+            } else {
+                let (g, wgw) = self.robust_terms(i, chi, u, s, sc);
+                if g > 0.0 {
+                    Zone::Inside
+                } else if g >= -self.law.sigma[i] * wgw {
+                    Zone::Sphere
+                } else {
+                    Zone::Outside
                 }
             };
         }
@@ -412,9 +410,27 @@ pub struct IdentifiedPump {
     pub states: Vec<PumpSignal>,
     /// External inputs of the network.
     pub inputs: Vec<PumpSignal>,
+    scratch: RefCell<Scratch>,
 }
 
 impl IdentifiedPump {
+    /// The pump with `ident` running along, identifying `states` with `inputs`.
+    pub fn new(
+        pump: PumpSystem,
+        ident: Identifier,
+        states: Vec<PumpSignal>,
+        inputs: Vec<PumpSignal>,
+    ) -> Self {
+        let scratch = RefCell::new(Scratch::for_identifier(&ident));
+        IdentifiedPump {
+            pump,
+            ident,
+            states,
+            inputs,
+            scratch,
+        }
+    }
+
     #[inline(always)]
     fn signals(&self, t: f64, x: &[f64], chi: &mut [f64], u: &mut [f64]) {
         let get = |s: PumpSignal| match s {
@@ -445,7 +461,13 @@ impl System for IdentifiedPump {
         let (mut chi, mut u) = ([0.0; MAX_Y], [0.0; MAX_Y]);
         let (n, m) = (self.states.len(), self.inputs.len());
         self.signals(t, x, &mut chi[..n], &mut u[..m]);
-        self.ident.rhs(&chi[..n], &u[..m], &x[2..], &mut dx[2..]);
+        self.ident.rhs(
+            &chi[..n],
+            &u[..m],
+            &x[2..],
+            &mut dx[2..],
+            &mut self.scratch.borrow_mut(),
+        );
     }
 
     fn n_events(&self) -> usize {
@@ -458,7 +480,13 @@ impl System for IdentifiedPump {
             let (mut chi, mut u) = ([0.0; MAX_Y], [0.0; MAX_Y]);
             let (n, m) = (self.states.len(), self.inputs.len());
             self.signals(t, x, &mut chi[..n], &mut u[..m]);
-            self.ident.events(&chi[..n], &u[..m], &x[2..], &mut g[2..]);
+            self.ident.events(
+                &chi[..n],
+                &u[..m],
+                &x[2..],
+                &mut g[2..],
+                &mut self.scratch.borrow_mut(),
+            );
         }
     }
 
@@ -482,7 +510,8 @@ impl System for IdentifiedPump {
         let (mut chi, mut u) = ([0.0; MAX_Y], [0.0; MAX_Y]);
         let (n, m) = (self.states.len(), self.inputs.len());
         self.signals(t, x, &mut chi[..n], &mut u[..m]);
-        self.ident.update_modes(&chi[..n], &u[..m], &x[2..]);
+        self.ident
+            .update_modes(&chi[..n], &u[..m], &x[2..], self.scratch.get_mut());
     }
 
     fn next_breakpoint(&self, t: f64) -> f64 {
@@ -510,40 +539,43 @@ pub struct DiscreteIdentifier {
     state: Vec<f64>,
     k: [Vec<f64>; 4],
     tmp: Vec<f64>,
+    scratch: Scratch,
 }
 
 impl DiscreteIdentifier {
     /// Start from `state` (see [`Identifier::initial_state`]).
     pub fn new(ident: Identifier, state: Vec<f64>, period_s: f64) -> Self {
         let d = ident.dim();
+        let scratch = Scratch::for_identifier(&ident);
         DiscreteIdentifier {
             ident,
             period_s,
             state,
             k: std::array::from_fn(|_| vec![0.0; d]),
             tmp: vec![0.0; d],
+            scratch,
         }
     }
 
     /// Take one sample of the identified states `chi` and inputs `u`.
     pub fn step(&mut self, chi: &[f64], u: &[f64]) {
         let h = self.period_s;
-        self.ident.update_modes(chi, u, &self.state);
+        self.ident.update_modes(chi, u, &self.state, &mut self.scratch);
         let d = self.state.len();
         let [k1, k2, k3, k4] = &mut self.k;
-        self.ident.rhs(chi, u, &self.state, k1);
+        self.ident.rhs(chi, u, &self.state, k1, &mut self.scratch);
         for j in 0..d {
             self.tmp[j] = self.state[j] + 0.5 * h * k1[j];
         }
-        self.ident.rhs(chi, u, &self.tmp, k2);
+        self.ident.rhs(chi, u, &self.tmp, k2, &mut self.scratch);
         for j in 0..d {
             self.tmp[j] = self.state[j] + 0.5 * h * k2[j];
         }
-        self.ident.rhs(chi, u, &self.tmp, k3);
+        self.ident.rhs(chi, u, &self.tmp, k3, &mut self.scratch);
         for j in 0..d {
             self.tmp[j] = self.state[j] + h * k3[j];
         }
-        self.ident.rhs(chi, u, &self.tmp, k4);
+        self.ident.rhs(chi, u, &self.tmp, k4, &mut self.scratch);
         for j in 0..d {
             self.state[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
         }

@@ -54,6 +54,13 @@ pub struct IdentifierSpec {
     pub epochs: usize,
     /// The learning law.
     pub law: LawSpec,
+    /// Validate with frozen weights after training (default true).
+    #[serde(default = "yes")]
+    pub validate: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn default_sigmoid() -> SigmoidSpec {
@@ -77,6 +84,8 @@ pub struct IdentSettings {
     pub xhat0: Vec<f64>,
     /// Epochs.
     pub epochs: usize,
+    /// Validate after training.
+    pub validate: bool,
 }
 
 impl IdentifierSpec {
@@ -262,6 +271,7 @@ impl IdentifierSpec {
             inputs,
             xhat0,
             epochs: self.epochs,
+            validate: self.validate,
         })
     }
 }

@@ -38,7 +38,16 @@ impl Sigmoid {
     /// Evaluate.
     #[inline(always)]
     pub fn eval(&self, v: f64) -> f64 {
-        self.a / (1.0 + (-self.b * v).exp()) - self.c
+        let bv = self.b * v;
+        // Saturated arguments (raw SI pressures are ~1e6) would send exp() down its
+        // slow overflow path; the limits are exact to double precision there.
+        if bv > 40.0 {
+            self.a - self.c
+        } else if bv < -745.0 {
+            -self.c
+        } else {
+            self.a / (1.0 + (-bv).exp()) - self.c
+        }
     }
 }
 
