@@ -168,3 +168,103 @@ fn help_says_what_run_writes_and_in_which_units() {
         assert!(s.contains(needle), "{needle} missing from help");
     }
 }
+
+#[test]
+fn thesis_ch5_writes_estimates_weights_validation_and_identification_plots() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(d.path(), &["run", "thesis-ch5", "--out", "ch5"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.path().join("ch5");
+    for f in [
+        "weights.json",
+        "validation.csv",
+        "ident_errors.svg",
+        "ident_states.svg",
+        "ident_zoom.svg",
+        "validation.svg",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let csv = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    assert!(csv.starts_with("t,p_line,stroke,current,demand,p_line_hat,stroke_hat\n"));
+    let val = std::fs::read_to_string(out.join("validation.csv")).unwrap();
+    assert!(val.starts_with(
+        "t,p_line,p_line_hat_series_parallel,p_line_hat_parallel,stroke,stroke_hat_series_parallel,stroke_hat_parallel\n"
+    ));
+    let w: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("weights.json")).unwrap()).unwrap();
+    assert_eq!(w["states"], serde_json::json!(["p_line", "stroke"]));
+    assert_eq!(w["weights"].as_array().unwrap().len(), 2);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    for mode in ["training", "series_parallel", "parallel"] {
+        let figs = s["identification"][mode].as_array().unwrap();
+        assert_eq!(figs.len(), 2, "{mode}");
+        for key in [
+            "rms_error",
+            "fit_percent",
+            "convergence_time_s",
+            "final_weight_norm",
+        ] {
+            assert!(figs[0].get(key).is_some(), "{mode}.{key}");
+        }
+    }
+    let zoom = std::fs::read_to_string(out.join("ident_zoom.svg")).unwrap();
+    assert!(zoom.contains("first 0.12 s") && zoom.contains("first 1.2 s"));
+}
+
+#[test]
+fn reproduce_runs_every_thesis_scenario() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(d.path(), &["reproduce", "--out", "r"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for name in ["thesis-ch3", "thesis-ch5", "regulated-pi"] {
+        assert!(
+            d.path().join("r").join(name).join("summary.json").is_file(),
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn bad_identifier_sections_are_clear_errors() {
+    let d = tempfile::tempdir().unwrap();
+    let shipped = String::from_utf8(rhonn(d.path(), &["show", "thesis-ch5"]).stdout).unwrap();
+    let cases = [
+        (
+            shipped.replace("a = [120.0, 41.0]", "a = [120.0]"),
+            "`identifier.a` = 1 values is not allowed: one per state (2)",
+        ),
+        (
+            shipped.replace("gamma = [1e4, 30.0]", "gamma = [1e4, -30.0]"),
+            "`identifier.law.gamma[1]` = -30",
+        ),
+        (
+            shipped.replace("terms = [[[0, 1]], [[1, 1]]]", "terms = [[[0, 1]], [[5, 1]]]"),
+            "`identifier.terms[1][0][0]` = 5",
+        ),
+        (
+            shipped.replace("kind = \"sigma-switching\"", "kind = \"sigma-switchin\""),
+            "unknown variant `sigma-switchin`",
+        ),
+        (
+            shipped.replace(
+                "states = [\"p_line\", \"stroke\"]",
+                "states = [\"p_line\", \"flow\"]",
+            ),
+            "`identifier.states[1]` = \"flow\"",
+        ),
+    ];
+    for (k, (toml, expected)) in cases.iter().enumerate() {
+        let f = d.path().join(format!("bad{k}.toml"));
+        std::fs::write(&f, toml).unwrap();
+        let o = rhonn(d.path(), &["run", f.to_str().unwrap(), "--out", "o"]);
+        assert_eq!(o.status.code(), Some(2), "case {k}");
+        assert!(
+            stderr(&o).contains(expected),
+            "case {k}: expected `{expected}` in:\n{}",
+            stderr(&o)
+        );
+        assert!(!d.path().join("o").exists());
+    }
+}

@@ -28,12 +28,29 @@ pub enum Command {
     ///   pressure.svg    line pressure [MPa] against time (thesis figure 3.7)
     ///   stroke.svg      pump stroke [mm] against time (thesis figure 3.6)
     ///   inputs.svg      solenoid current [A] and demanded flow [dm^3/s]
+    /// With an [identifier] (e.g. thesis-ch5) also:
+    ///   trajectory.csv  + p_line_hat [Pa], stroke_hat [m] (last training epoch)
+    ///   weights.json    the trained model: states, inputs, sigmoid, scales, terms,
+    ///                   poles, law, weights (SI)
+    ///   validation.csv  frozen weights on the same data: t [s], <state>,
+    ///                   <state>_hat_series_parallel, <state>_hat_parallel (SI)
+    ///   summary.json    + per state and mode: RMS error and convergence band [MPa or
+    ///                   mm], fit [%], NRMSE, convergence time [s], final |w|
+    ///   ident_errors.svg, ident_states.svg, ident_zoom.svg, validation.svg
     /// Files appear only when all of them are complete. Exit code 2 on any error.
     #[command(verbatim_doc_comment)]
     Run {
         /// A shipped scenario's name (see `rhonn scenarios`) or a path to a TOML file.
         scenario: String,
         /// Output folder.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
+    /// Reproduce the thesis: run thesis-ch3 (the pump, chapter 3), thesis-ch5 (the RHONN
+    /// identification, chapter 5) and regulated-pi (the PI baseline) into DIR/<name>
+    /// (default out/), each writing what `rhonn run` writes.
+    Reproduce {
+        /// Output root.
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
     },

@@ -34,6 +34,13 @@ fn dispatch(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Command::Reproduce { out } => {
+            let root = out.unwrap_or_else(|| PathBuf::from("out"));
+            for name in ["thesis-ch3", "thesis-ch5", "regulated-pi"] {
+                cmd_run(name, Some(root.join(name)))?;
+            }
+            Ok(())
+        }
         Command::Show { scenario } => {
             let spec = preset::load(&scenario)?;
             match preset::SHIPPED.iter().find(|(n, _)| *n == scenario) {
@@ -96,6 +103,9 @@ fn cmd_run(scenario: &str, out: Option<PathBuf>) -> Result<()> {
                     f.state, f.rms_error, f.unit, f.fit_percent, f.final_weight_norm
                 );
             }
+        }
+        for finding in &id.findings {
+            println!("    finding: {finding}");
         }
     }
     let s = &summary.solver;

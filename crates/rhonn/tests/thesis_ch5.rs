@@ -122,3 +122,26 @@ fn figures_integrated_on_the_dense_output_agree_with_the_sample_formulas() {
         );
     }
 }
+
+#[test]
+fn each_epoch_starts_from_the_final_weights_of_the_previous_one() {
+    let run_epochs = |epochs: usize| {
+        let mut spec = preset::load("thesis-ch5").unwrap();
+        let id = spec.identifier.as_mut().unwrap();
+        id.epochs = epochs;
+        id.validate = false;
+        let mut tr = Trace::default();
+        let out = run_full(&spec.check().unwrap(), &mut tr).unwrap();
+        (tr, out)
+    };
+    let (t1, o1) = run_epochs(1);
+    let (t2, o2) = run_epochs(2);
+    assert_eq!(o2.summary.identification.as_ref().unwrap().epochs, 2);
+    assert!(o2.validation.is_none());
+    // Epoch 2 starts from W1 (|w_1| ~ 1.7e8), not from 0: after 1 ms the pressure
+    // estimate is far ahead of epoch 1's, which started from zero weights.
+    let h1 = t1.column("p_line_hat").unwrap()[1];
+    let h2 = t2.column("p_line_hat").unwrap()[1];
+    assert!(h2 > 10.0 * h1, "epoch 1: {h1}, epoch 2: {h2}");
+    assert_ne!(o1.model.unwrap().weights, o2.model.unwrap().weights);
+}

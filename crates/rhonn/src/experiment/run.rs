@@ -621,14 +621,32 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
             .map(|k| a.figures(k, names[k], &weights[k]))
             .collect()
     };
+    let training = figures_of(&train_acc);
+    let parallel = val_acc.get(1).map(figures_of).unwrap_or_default();
+    let mut findings = Vec::new();
+    for (tr, par) in training.iter().zip(&parallel) {
+        let verdict = if par.fit_percent >= 80.0 {
+            "the frozen model runs on its own"
+        } else if par.fit_percent >= 0.0 {
+            "the frozen model runs on its own only roughly"
+        } else {
+            "the model tracks while it adapts but does not run on its own: its frozen weights describe \
+             little more than the last operating point"
+        };
+        findings.push(format!(
+            "{}: fit {:.1} % while training, {:.1} % free-run (parallel) with frozen weights; {verdict}",
+            tr.state, tr.fit_percent, par.fit_percent
+        ));
+    }
     let report_id = IdentReport {
         law: is.ident.law.name,
         epochs: is.epochs,
         n_terms: is.ident.net.n_terms(),
-        training: figures_of(&train_acc),
+        training,
         series_parallel: val_acc.first().map(figures_of).unwrap_or_default(),
-        parallel: val_acc.get(1).map(figures_of).unwrap_or_default(),
+        parallel,
         final_weights: weights.clone(),
+        findings,
     };
     let validation = (wants && val.len() == 2).then(|| {
         let mut vt = Trace::default();
@@ -866,6 +884,9 @@ pub struct IdentReport {
     pub parallel: Vec<StateFigures>,
     /// Weights at the end of training.
     pub final_weights: Vec<Vec<f64>>,
+    /// What the figures say, in words (e.g. that a model tracks while it adapts but
+    /// does not run on its own).
+    pub findings: Vec<String>,
 }
 
 /// Collects `(t, state, estimate)` of the identified states.
