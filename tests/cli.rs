@@ -268,3 +268,155 @@ fn bad_identifier_sections_are_clear_errors() {
         assert!(!d.path().join("o").exists());
     }
 }
+
+/// A small nonlinear record: y(k) = 0.6 y(k-1) + 0.3 u(k-1) + 0.3 tanh(y(k-1)) u(k-1).
+fn write_record(path: &Path, seed: u64, n: usize) {
+    let mut s = seed;
+    let mut text = String::from("t,u,y\n");
+    let (mut y, mut u) = (0.0f64, 0.0f64);
+    for k in 0..n {
+        if k % 9 == 0 {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            u = ((s >> 33) as f64 / (1u64 << 31) as f64) * 2.0 - 1.0;
+        }
+        text.push_str(&format!("{},{},{}\n", k as f64 * 0.5, u, y));
+        y = 0.6 * y + 0.3 * u + 0.3 * y.tanh() * u;
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+#[test]
+fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
+    let d = tempfile::tempdir().unwrap();
+    write_record(&d.path().join("train.csv"), 1, 600);
+    write_record(&d.path().join("train2.csv"), 3, 300);
+    write_record(&d.path().join("val.csv"), 2, 400);
+    let o = rhonn(
+        d.path(),
+        &[
+            "fit",
+            "--data",
+            "train.csv",
+            "--data",
+            "train2.csv",
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--out",
+            "m",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(files_in(&d.path().join("m")), ["model.json", "summary.json"]);
+    let o = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "m/model.json",
+            "--data",
+            "val.csv",
+            "--out",
+            "p",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        files_in(&d.path().join("p")),
+        ["prediction.csv", "prediction.svg", "summary.json"]
+    );
+    let csv = std::fs::read_to_string(d.path().join("p/prediction.csv")).unwrap();
+    assert!(csv.starts_with("t,y,y_hat,y_hat_arx\n"));
+    assert_eq!(csv.lines().count(), 401);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("p/summary.json")).unwrap()).unwrap();
+    let fit = s["outputs"][0]["fit_percent"].as_f64().unwrap();
+    let arx = s["baseline_arx"][0]["fit_percent"].as_f64().unwrap();
+    assert!(fit > 90.0 && fit > arx, "rhonn {fit} %, arx {arx} %");
+    assert!(s["outputs"][0]["nrmse"].as_f64().unwrap() > 0.0);
+    // One step ahead tracks better than the free run.
+    let o = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "m/model.json",
+            "--data",
+            "val.csv",
+            "--out",
+            "p1",
+            "--steps-ahead",
+            "1",
+        ],
+    );
+    assert!(o.status.success());
+    let s1: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("p1/summary.json")).unwrap()).unwrap();
+    assert!(s1["outputs"][0]["fit_percent"].as_f64().unwrap() >= fit);
+    assert_eq!(s1["steps_ahead"], 1);
+}
+
+#[test]
+fn bad_data_names_file_line_and_column_and_writes_nothing() {
+    let d = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "t,u,y\n0,1,2\n1,x,3\n",
+            "bad.csv, line 3, column `u`: `x` is not a finite number",
+        ),
+        (
+            "t,u\n0,1\n1,2\n",
+            "bad.csv: no column `y` in the header (columns: t, u)",
+        ),
+        (
+            "t,u,y\n0,1,2\n2,1,2\n1,1,2\n",
+            "bad.csv, line 4, column `t`: time 1 does not increase (previous 2)",
+        ),
+        (
+            "t,u,y\n0,1,inf\n",
+            "line 2, column `y`: `inf` is not a finite number",
+        ),
+        ("t,u,y\n0,1,2\n1,1,2\n", "bad.csv: 2 data rows; at least"),
+    ];
+    for (k, (text, expected)) in cases.iter().enumerate() {
+        std::fs::write(d.path().join("bad.csv"), text).unwrap();
+        let o = rhonn(
+            d.path(),
+            &[
+                "fit",
+                "--data",
+                "bad.csv",
+                "--inputs",
+                "u",
+                "--outputs",
+                "y",
+                "--out",
+                "m",
+            ],
+        );
+        assert_eq!(o.status.code(), Some(2), "case {k}");
+        assert!(
+            stderr(&o).contains(expected),
+            "case {k}: expected `{expected}` in:\n{}",
+            stderr(&o)
+        );
+        assert!(!d.path().join("m").exists(), "case {k} wrote output");
+    }
+    let o = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "nope.json",
+            "--data",
+            "bad.csv",
+            "--out",
+            "p",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("cannot read nope.json"));
+}

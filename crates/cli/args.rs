@@ -54,6 +54,64 @@ pub enum Command {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
     },
+    /// Train a model on measured data (CSV) and write it.
+    ///
+    /// Each CSV has a header, a time column `t` [s] (uniform or not: a non-uniform file
+    /// is put on a uniform grid of its median interval, inputs held, outputs
+    /// interpolated) and numeric columns. Several --data files are separate recordings.
+    /// Writes into DIR:
+    ///   model.json    the model (structure, normalisation, weights: all that
+    ///                 `rhonn predict` needs) and, for a RHONN, the ARX baseline with the
+    ///                 same lags trained on the same data
+    ///   summary.json  per output and model: RMS error, fit [%] and NRMSE on the
+    ///                 training data, one step ahead and free run
+    /// Units are those of the data. Exit code 2 on any error, naming file, line, column.
+    #[command(verbatim_doc_comment)]
+    Fit {
+        /// A CSV file (repeat for several recordings).
+        #[arg(long = "data", value_name = "FILE.csv", required = true)]
+        data: Vec<PathBuf>,
+        /// Input columns, comma-separated.
+        #[arg(long, value_delimiter = ',', required = true)]
+        inputs: Vec<String>,
+        /// Output columns, comma-separated.
+        #[arg(long, value_delimiter = ',', required = true)]
+        outputs: Vec<String>,
+        /// Model structure (TOML: kind, na, nb, nk, degree, max_factors, law, ridge,
+        /// epochs, gain, output_margin); defaults: a RHONN with na = nb = 2, nk = 1,
+        /// degree 2, batch least squares.
+        #[arg(long, value_name = "SPEC.toml")]
+        model: Option<PathBuf>,
+        /// Output folder.
+        #[arg(long, value_name = "DIR", required = true)]
+        out: PathBuf,
+    },
+    /// Run a trained model on data and compare.
+    ///
+    /// Free run by default (the model sees the inputs and the first few measured
+    /// outputs only); --steps-ahead K predicts sample k + K from the measurements up to
+    /// k (1: one-step tracking). Writes into DIR:
+    ///   prediction.csv  t, then per output <name>, <name>_hat and (with a baseline)
+    ///                   <name>_hat_arx; the first samples, which no model can
+    ///                   predict, repeat the measurement
+    ///   summary.json    per output: rms_error, fit_percent, nrmse, for the model and
+    ///                   the baseline
+    ///   prediction.svg  measured and predicted against time
+    #[command(verbatim_doc_comment)]
+    Predict {
+        /// model.json written by `rhonn fit`.
+        #[arg(long, value_name = "FILE")]
+        model: PathBuf,
+        /// A CSV file with the model's input and output columns.
+        #[arg(long, value_name = "FILE.csv")]
+        data: PathBuf,
+        /// Output folder.
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Predict K samples ahead instead of a free run.
+        #[arg(long, value_name = "K")]
+        steps_ahead: Option<usize>,
+    },
     /// List the shipped scenarios with a one-line description each.
     Scenarios,
     /// Print a scenario's TOML (a shipped one as it ships: copy it to start your own).

@@ -7,8 +7,11 @@ mod args;
 use anyhow::{Context, Result};
 use args::{Cli, Command};
 use clap::Parser;
+use rhonn::data::Record;
 use rhonn::experiment::{preset, run_full, Trace};
-use std::path::PathBuf;
+use rhonn::sysid::{fit_with_baseline, FittedModel, Model, ModelSpec};
+use rhonn_report::{Series, TimePlot};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
@@ -34,6 +37,19 @@ fn dispatch(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Command::Fit {
+            data,
+            inputs,
+            outputs,
+            model,
+            out,
+        } => cmd_fit(&data, &inputs, &outputs, model.as_deref(), &out),
+        Command::Predict {
+            model,
+            data,
+            out,
+            steps_ahead,
+        } => cmd_predict(&model, &data, &out, steps_ahead),
         Command::Reproduce { out } => {
             let root = out.unwrap_or_else(|| PathBuf::from("out"));
             for name in ["thesis-ch3", "thesis-ch5", "regulated-pi"] {
@@ -50,6 +66,213 @@ fn dispatch(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
+}
+
+fn read_data(
+    paths: &[PathBuf],
+    inputs: &[String],
+    outputs: &[String],
+    min_rows: usize,
+) -> Result<Vec<Record>> {
+    let mut recs = Vec::new();
+    for p in paths {
+        let r = rhonn_report::read_record(p, inputs, outputs, min_rows)?;
+        let dt = r.median_interval();
+        recs.push(r.uniform(dt));
+    }
+    Ok(recs)
+}
+
+fn figures_json(m: &Model, recs: &[Record], steps: Option<usize>) -> serde_json::Value {
+    let per: Vec<_> = recs
+        .iter()
+        .map(|r| {
+            let (p, first) = m.predict(r, steps);
+            serde_json::json!({ "data": r.source, "outputs": m.figures(r, &p, first) })
+        })
+        .collect();
+    serde_json::Value::Array(per)
+}
+
+fn cmd_fit(
+    data: &[PathBuf],
+    inputs: &[String],
+    outputs: &[String],
+    model: Option<&Path>,
+    out: &Path,
+) -> Result<()> {
+    let spec: ModelSpec = match model {
+        None => ModelSpec::default(),
+        Some(p) => {
+            let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+            toml::from_str(&text)
+                .map_err(|e| anyhow::anyhow!("cannot read model spec {}: {e}", p.display()))?
+        }
+    };
+    spec.check()?;
+    let recs = read_data(data, inputs, outputs, spec.max_lag() + 2)?;
+    let fitted = fit_with_baseline(&spec, &recs, inputs, outputs)?;
+    let mut summary = serde_json::json!({
+        "rhonn_version": env!("CARGO_PKG_VERSION"),
+        "model": fitted.model.spec,
+        "features": fitted.model.n_features(),
+        "sample_time_s": fitted.model.sample_time_s,
+        "training": { "one_step": figures_json(&fitted.model, &recs, Some(1)), "free_run": figures_json(&fitted.model, &recs, None) },
+    });
+    if let Some(b) = &fitted.baseline {
+        summary["baseline_arx"] = serde_json::json!({
+            "features": b.n_features(),
+            "one_step": figures_json(b, &recs, Some(1)),
+            "free_run": figures_json(b, &recs, None),
+        });
+    }
+    let mut set = rhonn_report::OutputSet::new(out)?;
+    set.write("model.json", |w| {
+        serde_json::to_writer_pretty(&mut *w, &fitted).map_err(std::io::Error::other)?;
+        writeln!(w)
+    })?;
+    set.write("summary.json", |w| {
+        serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::other)?;
+        writeln!(w)
+    })?;
+    let files = set.commit()?;
+    println!(
+        "fitted a {:?} model with {} features per output on {} record(s)",
+        spec.kind,
+        fitted.model.n_features(),
+        recs.len()
+    );
+    print_training(&summary["training"]["free_run"], "free run (training data)");
+    if fitted.baseline.is_some() {
+        print_training(&summary["baseline_arx"]["free_run"], "ARX baseline, free run");
+    }
+    for f in files {
+        println!("  wrote {}", f.display());
+    }
+    Ok(())
+}
+
+fn print_training(v: &serde_json::Value, label: &str) {
+    for rec in v.as_array().into_iter().flatten() {
+        for o in rec["outputs"].as_array().into_iter().flatten() {
+            println!(
+                "  {label}: {} {}: rms error {:.4}, fit {:.1} %",
+                rec["data"].as_str().unwrap_or(""),
+                o["output"].as_str().unwrap_or(""),
+                o["rms_error"].as_f64().unwrap_or(f64::NAN),
+                o["fit_percent"].as_f64().unwrap_or(f64::NAN)
+            );
+        }
+    }
+}
+
+fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> Result<()> {
+    let text = std::fs::read_to_string(model).with_context(|| format!("cannot read {}", model.display()))?;
+    let fitted: FittedModel = serde_json::from_str(&text)
+        .map_err(|e| anyhow::anyhow!("{} is not a model written by `rhonn fit`: {e}", model.display()))?;
+    if steps == Some(0) {
+        anyhow::bail!("--steps-ahead 0 is not allowed: give K >= 1, or leave it out for a free run");
+    }
+    let m = &fitted.model;
+    let recs = read_data(
+        &[data.to_path_buf()],
+        &m.inputs,
+        &m.outputs,
+        m.spec.max_lag() + steps.unwrap_or(1) + 1,
+    )?;
+    let r = &recs[0];
+    let (p, first) = m.predict(r, steps);
+    let figs = m.figures(r, &p, first);
+    let base = fitted.baseline.as_ref().map(|b| {
+        let (pb, fb) = b.predict(r, steps);
+        let f = b.figures(r, &pb, fb);
+        (pb, f)
+    });
+    let mut trace = rhonn::experiment::Trace::default();
+    let col = |name: String, values: Vec<f64>| rhonn::experiment::Column {
+        name,
+        unit: "",
+        values,
+    };
+    trace.columns.push(col("t".into(), r.t.clone()));
+    for (j, name) in m.outputs.iter().enumerate() {
+        trace.columns.push(col(name.clone(), r.outputs[j].clone()));
+        trace.columns.push(col(format!("{name}_hat"), p[j].clone()));
+        if let Some((pb, _)) = &base {
+            trace.columns.push(col(format!("{name}_hat_arx"), pb[j].clone()));
+        }
+    }
+    let mode = match steps {
+        None => "free run".to_string(),
+        Some(k) => format!("{k} step(s) ahead"),
+    };
+    let summary = serde_json::json!({
+        "rhonn_version": env!("CARGO_PKG_VERSION"),
+        "model": model.display().to_string(),
+        "data": r.source,
+        "mode": mode,
+        "steps_ahead": steps,
+        "outputs": figs,
+        "baseline_arx": base.as_ref().map(|(_, f)| f),
+    });
+    let plots: Vec<TimePlot> = m
+        .outputs
+        .iter()
+        .enumerate()
+        .map(|(j, name)| {
+            let mut series = vec![
+                Series {
+                    label: name.clone(),
+                    y: r.outputs[j].clone(),
+                    dashed: false,
+                },
+                Series {
+                    label: format!("{name}_hat ({mode})"),
+                    y: p[j].clone(),
+                    dashed: true,
+                },
+            ];
+            if let Some((pb, _)) = &base {
+                series.push(Series {
+                    label: "ARX baseline".into(),
+                    y: pb[j].clone(),
+                    dashed: true,
+                });
+            }
+            TimePlot {
+                title: format!("{name}: measured and predicted, {mode}"),
+                y_label: name.clone(),
+                t: r.t.clone(),
+                series,
+            }
+        })
+        .collect();
+    let svg = TimePlot::render(&plots, 900, 380);
+    let mut set = rhonn_report::OutputSet::new(out)?;
+    set.write("prediction.csv", |w| rhonn_report::write_trace_csv(w, &trace))?;
+    set.write("summary.json", |w| {
+        serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::other)?;
+        writeln!(w)
+    })?;
+    set.write("prediction.svg", |w| w.write_all(svg.as_bytes()))?;
+    let files = set.commit()?;
+    for (j, f) in figs.iter().enumerate() {
+        print!(
+            "{} ({mode}): rms error {:.4}, fit {:.1} %, nrmse {:.4}",
+            f.output, f.rms_error, f.fit_percent, f.nrmse
+        );
+        if let Some((_, fb)) = &base {
+            print!(
+                "; ARX baseline: rms error {:.4}, fit {:.1} %",
+                fb[j].rms_error, fb[j].fit_percent
+            );
+        }
+        println!();
+    }
+    for f in files {
+        println!("  wrote {}", f.display());
+    }
+    Ok(())
 }
 
 fn cmd_run(scenario: &str, out: Option<PathBuf>) -> Result<()> {

@@ -17,10 +17,12 @@ rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &output)
 
 mod atomic;
 mod csv_out;
+mod data_in;
 mod plot;
 
 pub use atomic::OutputSet;
 pub use csv_out::write_trace_csv;
+pub use data_in::{read_record, DataError};
 pub use plot::{plot_identification, plot_run, Series, TimePlot};
 
 use rhonn::experiment::{RunOutput, Trace};

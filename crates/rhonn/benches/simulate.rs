@@ -103,5 +103,50 @@ fn bench_discrete_step(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench_runs, bench_discrete_step);
+fn bench_sysid(c: &mut Criterion) {
+    use rhonn::data::Record;
+    use rhonn::sysid::{fit, ModelSpec};
+    // 1,000 samples of a nonlinear first-order system under a random staircase input.
+    let n = 1000;
+    let mut s = 1u64;
+    let (mut u, mut y) = (vec![0.0; n], vec![0.0; n]);
+    let mut level = 0.0;
+    for k in 0..n {
+        if k % 9 == 0 {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            level = ((s >> 33) as f64 / (1u64 << 31) as f64) * 2.0 - 1.0;
+        }
+        u[k] = level;
+        if k > 0 {
+            y[k] = 0.6 * y[k - 1] + 0.3 * u[k - 1] + 0.3 * y[k - 1].tanh() * u[k - 1];
+        }
+    }
+    let r = Record {
+        source: "bench".into(),
+        t: (0..n).map(|k| k as f64).collect(),
+        inputs: vec![u],
+        outputs: vec![y],
+    };
+    let (i, o) = (vec!["u".to_string()], vec!["y".to_string()]);
+    let spec = ModelSpec {
+        na: 3,
+        nb: 2,
+        nk: 1,
+        ..Default::default()
+    };
+    c.bench_function("fit rhonn na 3 nb 2 degree 2 (26 features), 1,000 samples", |b| {
+        b.iter(|| fit(black_box(&spec), std::slice::from_ref(&r), &i, &o).unwrap())
+    });
+    let m = fit(&spec, std::slice::from_ref(&r), &i, &o).unwrap();
+    c.bench_function("predict free run, 1,000 samples", |b| {
+        b.iter(|| m.predict(black_box(&r), None))
+    });
+    c.bench_function("predict 10 steps ahead, 1,000 samples", |b| {
+        b.iter(|| m.predict(black_box(&r), Some(10)))
+    });
+}
+
+criterion_group!(benches, bench_runs, bench_discrete_step, bench_sysid);
 criterion_main!(benches);

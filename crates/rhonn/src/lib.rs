@@ -31,6 +31,7 @@ All quantities are SI inside ([`units`] converts); people read MPa, mm and dm^3/
 #![allow(clippy::needless_range_loop)]
 
 pub mod control;
+pub mod data;
 pub mod error;
 pub mod experiment;
 pub mod ident;
@@ -39,6 +40,7 @@ pub mod metrics;
 pub mod net;
 pub mod plant;
 pub mod signal;
+pub mod sysid;
 pub mod units;
 
 pub use error::{Error, InvalidValue, Result};

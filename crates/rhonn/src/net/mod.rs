@@ -152,9 +152,17 @@ impl Terms {
         t
     }
 
+    /// No terms.
+    pub fn empty() -> Self {
+        Terms {
+            offsets: vec![0],
+            ..Default::default()
+        }
+    }
+
     /// Number of terms L.
     pub fn len(&self) -> usize {
-        self.offsets.len() - 1
+        self.offsets.len().saturating_sub(1)
     }
 
     /// Whether there are no terms.

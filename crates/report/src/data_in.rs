@@ -1,0 +1,203 @@
+//! Measured data in: CSV files with a header, a time column `t` [s] and numeric
+//! columns. Every problem names the file, the line and the column.
+
+use rhonn::data::Record;
+use std::path::Path;
+
+/// What is wrong with a data file.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum DataError {
+    /// The file cannot be opened or read.
+    #[error("{file}: cannot read: {message}")]
+    Unreadable {
+        /// File.
+        file: String,
+        /// Message.
+        message: String,
+    },
+    /// A requested column is not in the header.
+    #[error("{file}: no column `{column}` in the header (columns: {available})")]
+    MissingColumn {
+        /// File.
+        file: String,
+        /// Column asked for.
+        column: String,
+        /// Columns present.
+        available: String,
+    },
+    /// A cell is not a number, or not finite.
+    #[error("{file}, line {line}, column `{column}`: `{value}` is not a finite number")]
+    BadCell {
+        /// File.
+        file: String,
+        /// Line (1-based, the header is line 1).
+        line: u64,
+        /// Column.
+        column: String,
+        /// The cell.
+        value: String,
+    },
+    /// Time does not increase.
+    #[error("{file}, line {line}, column `t`: time {t} does not increase (previous {previous})")]
+    TimeNotIncreasing {
+        /// File.
+        file: String,
+        /// Line.
+        line: u64,
+        /// This time.
+        t: f64,
+        /// The previous one.
+        previous: f64,
+    },
+    /// Too few rows.
+    #[error("{file}: {rows} data rows; at least {min} are needed")]
+    TooFew {
+        /// File.
+        file: String,
+        /// Rows found.
+        rows: usize,
+        /// Needed.
+        min: usize,
+    },
+}
+
+/// Read `t`, the `inputs` and the `outputs` columns of a CSV file.
+pub fn read_record(
+    path: &Path,
+    inputs: &[String],
+    outputs: &[String],
+    min_rows: usize,
+) -> Result<Record, DataError> {
+    let file = path.display().to_string();
+    let unreadable = |e: &dyn std::fmt::Display| DataError::Unreadable {
+        file: file.clone(),
+        message: e.to_string(),
+    };
+    let mut rd = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .trim(csv::Trim::All)
+        .from_path(path)
+        .map_err(|e| unreadable(&e))?;
+    let header: Vec<String> = rd
+        .headers()
+        .map_err(|e| unreadable(&e))?
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let find = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .ok_or_else(|| DataError::MissingColumn {
+                file: file.clone(),
+                column: name.to_string(),
+                available: header.join(", "),
+            })
+    };
+    let it = find("t")?;
+    let ii: Vec<usize> = inputs.iter().map(|c| find(c)).collect::<Result<_, _>>()?;
+    let io: Vec<usize> = outputs.iter().map(|c| find(c)).collect::<Result<_, _>>()?;
+    let mut rec = Record {
+        source: file.clone(),
+        t: vec![],
+        inputs: vec![vec![]; inputs.len()],
+        outputs: vec![vec![]; outputs.len()],
+    };
+    for (row, result) in rd.records().enumerate() {
+        let line = row as u64 + 2;
+        let r = result.map_err(|e| unreadable(&e))?;
+        let cell = |idx: usize| -> Result<f64, DataError> {
+            let s = r.get(idx).unwrap_or("");
+            match s.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                _ => Err(DataError::BadCell {
+                    file: file.clone(),
+                    line,
+                    column: header[idx].clone(),
+                    value: s.to_string(),
+                }),
+            }
+        };
+        let t = cell(it)?;
+        if let Some(&prev) = rec.t.last() {
+            if t <= prev {
+                return Err(DataError::TimeNotIncreasing {
+                    file: file.clone(),
+                    line,
+                    t,
+                    previous: prev,
+                });
+            }
+        }
+        rec.t.push(t);
+        for (k, &c) in ii.iter().enumerate() {
+            rec.inputs[k].push(cell(c)?);
+        }
+        for (k, &c) in io.iter().enumerate() {
+            rec.outputs[k].push(cell(c)?);
+        }
+    }
+    if rec.len() < min_rows {
+        return Err(DataError::TooFew {
+            file,
+            rows: rec.len(),
+            min: min_rows,
+        });
+    }
+    Ok(rec)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(d: &tempfile::TempDir, text: &str) -> std::path::PathBuf {
+        let p = d.path().join("d.csv");
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    #[test]
+    fn reads_and_names_every_problem() {
+        let d = tempfile::tempdir().unwrap();
+        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        let p = write(&d, "t,u,y\n0,1,2\n1,1.5,2.5\n2,2,3\n");
+        let r = read_record(&p, &s(&["u"]), &s(&["y"]), 2).unwrap();
+        assert_eq!(r.t, vec![0.0, 1.0, 2.0]);
+        assert_eq!(r.outputs[0], vec![2.0, 2.5, 3.0]);
+        let e = read_record(&p, &s(&["v"]), &s(&["y"]), 2)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.ends_with("no column `v` in the header (columns: t, u, y)"),
+            "{e}"
+        );
+        let p = write(&d, "t,u,y\n0,1,2\n1,abc,2.5\n");
+        let e = read_record(&p, &s(&["u"]), &s(&["y"]), 1)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.ends_with("d.csv, line 3, column `u`: `abc` is not a finite number"),
+            "{e}"
+        );
+        let p = write(&d, "t,u,y\n0,1,2\n1,1,NaN\n");
+        assert!(read_record(&p, &s(&["u"]), &s(&["y"]), 1)
+            .unwrap_err()
+            .to_string()
+            .contains("line 3, column `y`: `NaN`"));
+        let p = write(&d, "t,u,y\n0,1,2\n0,1,2\n");
+        let e = read_record(&p, &s(&["u"]), &s(&["y"]), 1)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 3, column `t`: time 0 does not increase (previous 0)"),
+            "{e}"
+        );
+        let p = write(&d, "t,u,y\n0,1,2\n");
+        let e = read_record(&p, &s(&["u"]), &s(&["y"]), 10)
+            .unwrap_err()
+            .to_string();
+        assert!(e.ends_with("1 data rows; at least 10 are needed"), "{e}");
+    }
+}

@@ -1,0 +1,721 @@
+//! Identification from measured data: discrete-time models of lagged outputs and inputs
+//! (a time-delay embedding), trained on records and run free or K steps ahead.
+//!
+//! Two kinds share one regressor:
+//! - `arx`: `y(k) = theta^T [phi(k), 1]` — the linear baseline (least squares);
+//! - `rhonn`: `y(k) = theta^T [phi(k), z(s(phi_y(k)), phi_u(k)), 1]` — the discrete-time
+//!   RHONN neuron with lagged measurements: the linear state terms of `dx = -a x + w^T z`,
+//!   plus high-order terms of the sigmoids of the normalised lagged outputs and of the
+//!   normalised lagged inputs (all monomials up to `degree` with at most `max_factors`
+//!   factors).
+//!
+//! `phi(k)` holds, normalised by the training data's mean and standard deviation, every
+//! output at lags 1..=na and every input at lags nk..nk+nb-1. Only the outputs need to
+//! be measured: the model's states are its lagged outputs, so a neuron per output and
+//! the filtered-error / least-squares laws apply to each output's row of weights.
+//!
+//! Training laws (`law`): `batch-ls` (default: ridge least squares over all records, the
+//! limit of the least-squares law run to convergence), `rls` (the recursive least
+//! squares law over `epochs`, the weights of one epoch starting the next), `gradient`
+//! (the normalised gradient law over `epochs`).
+
+use crate::data::Record;
+use crate::error::{invalid, Result};
+use crate::metrics;
+use crate::net::Terms;
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+
+/// Model family.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Kind {
+    /// Linear ARX.
+    Arx,
+    /// Discrete-time RHONN with lagged measurements.
+    #[default]
+    Rhonn,
+}
+
+/// Training law.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Law {
+    /// Ridge least squares over all data.
+    #[default]
+    BatchLs,
+    /// Recursive least squares over epochs.
+    Rls,
+    /// Normalised gradient over epochs.
+    Gradient,
+}
+
+/// A model structure as `--model SPEC.toml` writes it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ModelSpec {
+    /// `rhonn` (default) or `arx`.
+    pub kind: Kind,
+    /// Output lags 1..=na (default 2).
+    pub na: usize,
+    /// Number of input lags (default 2).
+    pub nb: usize,
+    /// Input delay in samples (default 1).
+    pub nk: usize,
+    /// Degree of the high-order terms (rhonn; default 2).
+    pub degree: usize,
+    /// Most distinct factors per term (rhonn; default 2).
+    pub max_factors: usize,
+    /// Training law.
+    pub law: Law,
+    /// Ridge weight of batch least squares, relative to the mean diagonal (default 1e-6).
+    pub ridge: f64,
+    /// Epochs (rls, gradient; default 20).
+    pub epochs: usize,
+    /// Gain of the gradient law (default 0.5).
+    pub gain: f64,
+    /// Free runs keep each output within its training range widened by this fraction
+    /// on both sides (default 0.5), so that a model cannot run away to infinity.
+    pub output_margin: f64,
+}
+
+impl Default for ModelSpec {
+    fn default() -> Self {
+        ModelSpec {
+            kind: Kind::Rhonn,
+            na: 2,
+            nb: 2,
+            nk: 1,
+            degree: 2,
+            max_factors: 2,
+            law: Law::BatchLs,
+            ridge: 1e-6,
+            epochs: 20,
+            gain: 0.5,
+            output_margin: 0.5,
+        }
+    }
+}
+
+/// A trained model (`model.json`): everything needed to run it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Model {
+    /// The structure it was trained with.
+    pub spec: ModelSpec,
+    /// Input column names.
+    pub inputs: Vec<String>,
+    /// Output column names.
+    pub outputs: Vec<String>,
+    /// Sampling interval [s].
+    pub sample_time_s: f64,
+    /// (mean, std) of each input.
+    pub input_norm: Vec<(f64, f64)>,
+    /// (mean, std) of each output.
+    pub output_norm: Vec<(f64, f64)>,
+    /// (min, max) of each output in the training data.
+    pub output_range: Vec<(f64, f64)>,
+    /// High-order terms (rhonn), `[y index, exponent]` factors.
+    pub terms: Vec<Vec<[usize; 2]>>,
+    /// One weight vector per output.
+    pub weights: Vec<Vec<f64>>,
+}
+
+/// Figures of one output.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OutputFigures {
+    /// Output name.
+    pub output: String,
+    /// RMS of y - yhat.
+    pub rms_error: f64,
+    /// 100 (1 - |y - yhat| / |y - mean y|).
+    pub fit_percent: f64,
+    /// RMS error / range of y.
+    pub nrmse: f64,
+    /// Samples compared.
+    pub samples: usize,
+}
+
+impl ModelSpec {
+    /// Validate.
+    pub fn check(&self) -> Result<()> {
+        let f = "model";
+        if self.na == 0 || self.na > 50 {
+            return Err(invalid(format!("{f}.na"), self.na, "an integer in [1, 50]"));
+        }
+        if self.nb > 50 {
+            return Err(invalid(format!("{f}.nb"), self.nb, "an integer in [0, 50]"));
+        }
+        if self.nk > 50 {
+            return Err(invalid(format!("{f}.nk"), self.nk, "an integer in [0, 50]"));
+        }
+        if self.kind == Kind::Rhonn && !(1..=5).contains(&self.degree) {
+            return Err(invalid(
+                format!("{f}.degree"),
+                self.degree,
+                "an integer in [1, 5]",
+            ));
+        }
+        if self.kind == Kind::Rhonn && !(1..=self.degree).contains(&self.max_factors) {
+            return Err(invalid(
+                format!("{f}.max_factors"),
+                self.max_factors,
+                format!("an integer in [1, {}]", self.degree),
+            ));
+        }
+        if !(self.ridge.is_finite() && self.ridge >= 0.0) {
+            return Err(invalid(format!("{f}.ridge"), self.ridge, "a number >= 0"));
+        }
+        if !(1..=100_000).contains(&self.epochs) {
+            return Err(invalid(
+                format!("{f}.epochs"),
+                self.epochs,
+                "an integer in [1, 100000]",
+            ));
+        }
+        if !(self.gain.is_finite() && self.gain > 0.0 && self.gain < 2.0) {
+            return Err(invalid(format!("{f}.gain"), self.gain, "a number in (0, 2)"));
+        }
+        if !(self.output_margin.is_finite() && self.output_margin >= 0.0) {
+            return Err(invalid(
+                format!("{f}.output_margin"),
+                self.output_margin,
+                "a number >= 0",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Largest lag: samples needed before the first prediction.
+    pub fn max_lag(&self) -> usize {
+        self.na.max(if self.nb > 0 { self.nk + self.nb - 1 } else { 0 })
+    }
+}
+
+/// Number of regressors for `ni` inputs and `no` outputs (without terms and bias).
+fn n_phi(spec: &ModelSpec, ni: usize, no: usize) -> usize {
+    no * spec.na + ni * spec.nb
+}
+
+impl Model {
+    fn ni(&self) -> usize {
+        self.inputs.len()
+    }
+    fn no(&self) -> usize {
+        self.outputs.len()
+    }
+
+    /// The features at sample k, given normalised output history `yn(j, k - i)` and
+    /// inputs; written into `feat` (length [`Model::n_features`]).
+    fn features(
+        &self,
+        yhist: &dyn Fn(usize, usize) -> f64,
+        un: &[Vec<f64>],
+        k: usize,
+        terms: &Terms,
+        feat: &mut [f64],
+    ) {
+        let s = &self.spec;
+        let mut c = 0;
+        for j in 0..self.no() {
+            for i in 1..=s.na {
+                feat[c] = yhist(j, k - i);
+                c += 1;
+            }
+        }
+        for (j, u) in un.iter().enumerate().take(self.ni()) {
+            for i in 0..s.nb {
+                feat[c] = u[k - s.nk - i];
+                c += 1;
+            }
+            let _ = j;
+        }
+        let nphi = c;
+        if s.kind == Kind::Rhonn {
+            // y = [tanh of the output lags, input lags]
+            let ny = nphi;
+            let mut y = [0.0; 128];
+            let n_out_lags = self.no() * s.na;
+            for q in 0..ny {
+                y[q] = if q < n_out_lags { feat[q].tanh() } else { feat[q] };
+            }
+            let l = terms.len();
+            terms.eval(&y[..ny], &mut feat[nphi..nphi + l]);
+            c += l;
+        }
+        feat[c] = 1.0;
+    }
+
+    /// Number of features (regressors, terms, bias).
+    pub fn n_features(&self) -> usize {
+        n_phi(&self.spec, self.ni(), self.no()) + self.terms.len() + 1
+    }
+
+    fn terms(&self) -> Terms {
+        if self.terms.is_empty() {
+            Terms::empty()
+        } else {
+            Terms::from_lists(&self.terms, n_phi(&self.spec, self.ni(), self.no()), "terms")
+                .expect("a trained model's terms are valid")
+        }
+    }
+
+    fn normalise(&self, r: &Record) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+        let un = r
+            .inputs
+            .iter()
+            .zip(&self.input_norm)
+            .map(|(c, (m, s))| c.iter().map(|v| (v - m) / s).collect())
+            .collect();
+        let yn = r
+            .outputs
+            .iter()
+            .zip(&self.output_norm)
+            .map(|(c, (m, s))| c.iter().map(|v| (v - m) / s).collect())
+            .collect();
+        (un, yn)
+    }
+
+    /// Predict every output of `r`: free run (`steps_ahead = None`: the model sees the
+    /// inputs and the first `max_lag` measured outputs only) or `K` steps ahead (from
+    /// the measurements up to k and the inputs, predict k + K). Returns the predictions
+    /// (the first samples, which the model cannot predict, hold the measurements) and
+    /// the index of the first genuine prediction.
+    pub fn predict(&self, r: &Record, steps_ahead: Option<usize>) -> (Vec<Vec<f64>>, usize) {
+        let (un, yn) = self.normalise(r);
+        let n = r.len();
+        let lag = self.spec.max_lag();
+        let terms = self.terms();
+        let nf = self.n_features();
+        let mut feat = vec![0.0; nf];
+        let no = self.no();
+        let bounds: Vec<(f64, f64)> = self
+            .output_range
+            .iter()
+            .zip(&self.output_norm)
+            .map(|((lo, hi), (m, s))| {
+                let w = (hi - lo) * self.spec.output_margin;
+                ((lo - w - m) / s, (hi + w - m) / s)
+            })
+            .collect();
+        let mut pred = yn.clone();
+        let first;
+        match steps_ahead {
+            None => {
+                first = lag;
+                for k in lag..n {
+                    {
+                        let p = &pred;
+                        self.features(&|j, i| p[j][i], &un, k, &terms, &mut feat);
+                    }
+                    for j in 0..no {
+                        let v: f64 = self.weights[j].iter().zip(&feat).map(|(w, f)| w * f).sum();
+                        pred[j][k] = v.clamp(bounds[j].0, bounds[j].1);
+                    }
+                }
+            }
+            Some(kk) => {
+                let kk = kk.max(1);
+                first = lag + kk - 1;
+                // A window of the last lag + K values: measured, then predicted.
+                let mut hist = vec![vec![0.0; n]; no];
+                for end in first..n {
+                    let start = end + 1 - kk;
+                    for j in 0..no {
+                        hist[j][start - lag..start].copy_from_slice(&yn[j][start - lag..start]);
+                    }
+                    for k in start..=end {
+                        {
+                            let h = &hist;
+                            self.features(&|j, i| h[j][i], &un, k, &terms, &mut feat);
+                        }
+                        for j in 0..no {
+                            let v: f64 = self.weights[j].iter().zip(&feat).map(|(w, f)| w * f).sum();
+                            hist[j][k] = v.clamp(bounds[j].0, bounds[j].1);
+                        }
+                    }
+                    for j in 0..no {
+                        pred[j][end] = hist[j][end];
+                    }
+                }
+            }
+        }
+        let out = pred
+            .iter()
+            .zip(&self.output_norm)
+            .map(|(c, (m, s))| c.iter().map(|v| v * s + m).collect())
+            .collect();
+        (out, first)
+    }
+
+    /// Figures per output of predictions against the record, from `first` on.
+    pub fn figures(&self, r: &Record, pred: &[Vec<f64>], first: usize) -> Vec<OutputFigures> {
+        self.outputs
+            .iter()
+            .enumerate()
+            .map(|(j, name)| {
+                let y = &r.outputs[j][first..];
+                let yh = &pred[j][first..];
+                OutputFigures {
+                    output: name.clone(),
+                    rms_error: metrics::rms_error(y, yh),
+                    fit_percent: metrics::fit_percent(y, yh),
+                    nrmse: metrics::nrmse(y, yh),
+                    samples: y.len(),
+                }
+            })
+            .collect()
+    }
+}
+
+fn mean_std(cols: &[&[f64]]) -> (f64, f64) {
+    let n: usize = cols.iter().map(|c| c.len()).sum();
+    let m = cols.iter().flat_map(|c| c.iter()).sum::<f64>() / n as f64;
+    let v = cols
+        .iter()
+        .flat_map(|c| c.iter())
+        .map(|x| (x - m) * (x - m))
+        .sum::<f64>()
+        / n as f64;
+    (m, if v > 0.0 { v.sqrt() } else { 1.0 })
+}
+
+/// Train a model of `outputs` from `inputs` on `records` (uniformly sampled at the same
+/// interval; see [`Record::uniform`]).
+pub fn fit(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[String]) -> Result<Model> {
+    spec.check()?;
+    if records.is_empty() {
+        return Err(invalid("--data", "no files", "at least one CSV file"));
+    }
+    let lag = spec.max_lag();
+    for r in records {
+        r.check(lag + 2)?;
+    }
+    let dt = records[0].median_interval();
+    for r in &records[1..] {
+        let d = r.median_interval();
+        if (d - dt).abs() > 1e-6 * dt {
+            return Err(invalid(
+                format!("{}: sampling interval", r.source),
+                d,
+                format!("the first file's, {dt} s"),
+            ));
+        }
+    }
+    let ni = inputs.len();
+    let no = outputs.len();
+    let input_norm = (0..ni)
+        .map(|j| mean_std(&records.iter().map(|r| r.inputs[j].as_slice()).collect::<Vec<_>>()))
+        .collect();
+    let output_norm: Vec<(f64, f64)> = (0..no)
+        .map(|j| {
+            mean_std(
+                &records
+                    .iter()
+                    .map(|r| r.outputs[j].as_slice())
+                    .collect::<Vec<_>>(),
+            )
+        })
+        .collect();
+    let output_range = (0..no)
+        .map(|j| {
+            records
+                .iter()
+                .flat_map(|r| r.outputs[j].iter())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+                    (l.min(v), h.max(v))
+                })
+        })
+        .collect();
+    let nphi = n_phi(spec, ni, no);
+    if nphi > 128 {
+        return Err(invalid(
+            "model.na",
+            spec.na,
+            "at most 128 lagged regressors in all (na * outputs + nb * inputs)",
+        ));
+    }
+    let terms = if spec.kind == Kind::Rhonn {
+        let t = Terms::monomials(nphi, spec.degree, spec.max_factors);
+        (0..t.len()).map(|k| t.factors(k)).collect()
+    } else {
+        vec![]
+    };
+    let mut model = Model {
+        spec: spec.clone(),
+        inputs: inputs.to_vec(),
+        outputs: outputs.to_vec(),
+        sample_time_s: dt,
+        input_norm,
+        output_norm,
+        output_range,
+        terms,
+        weights: vec![],
+    };
+    let nf = model.n_features();
+    if nf > 2000 {
+        return Err(invalid(
+            "model.degree",
+            spec.degree,
+            format!("a structure with at most 2000 features (this one has {nf})"),
+        ));
+    }
+    let t = model.terms();
+    // The regression rows (series-parallel: lagged measured outputs).
+    let mut rows: Vec<Vec<f64>> = Vec::new();
+    let mut targets: Vec<Vec<f64>> = vec![Vec::new(); no];
+    for r in records {
+        let (un, yn) = model.normalise(r);
+        for k in lag..r.len() {
+            let mut feat = vec![0.0; nf];
+            model.features(&|j, i| yn[j][i], &un, k, &t, &mut feat);
+            rows.push(feat);
+            for j in 0..no {
+                targets[j].push(yn[j][k]);
+            }
+        }
+    }
+    let weights = match spec.law {
+        Law::BatchLs => batch_ls(&rows, &targets, spec.ridge),
+        Law::Rls => recursive(&rows, &targets, spec.epochs, None),
+        Law::Gradient => recursive(&rows, &targets, spec.epochs, Some(spec.gain)),
+    };
+    model.weights = weights;
+    Ok(model)
+}
+
+/// Ridge least squares by the normal equations and a Cholesky factorisation.
+fn batch_ls(rows: &[Vec<f64>], targets: &[Vec<f64>], ridge: f64) -> Vec<Vec<f64>> {
+    let nf = rows[0].len();
+    let x = DMatrix::from_fn(rows.len(), nf, |i, j| rows[i][j]);
+    let mut xtx = x.transpose() * &x;
+    let mean_diag = (0..nf).map(|i| xtx[(i, i)]).sum::<f64>() / nf as f64;
+    for i in 0..nf {
+        xtx[(i, i)] += ridge * mean_diag + 1e-12 * mean_diag;
+    }
+    let chol = xtx
+        .cholesky()
+        .expect("a ridge-regularised Gram matrix is positive definite");
+    targets
+        .iter()
+        .map(|y| {
+            let rhs = x.transpose() * DVector::from_column_slice(y);
+            chol.solve(&rhs).iter().copied().collect()
+        })
+        .collect()
+}
+
+/// The recursive least-squares law (gain None) or the normalised gradient law over
+/// epochs, the weights of one epoch starting the next.
+fn recursive(rows: &[Vec<f64>], targets: &[Vec<f64>], epochs: usize, gain: Option<f64>) -> Vec<Vec<f64>> {
+    let nf = rows[0].len();
+    targets
+        .iter()
+        .map(|y| {
+            let mut w = DVector::<f64>::zeros(nf);
+            for _ in 0..epochs {
+                let mut p = DMatrix::<f64>::identity(nf, nf) * 1e3;
+                for (row, &yk) in rows.iter().zip(y) {
+                    let phi = DVector::from_column_slice(row);
+                    let e = yk - w.dot(&phi);
+                    match gain {
+                        Some(g) => w += &phi * (g * e / (1.0 + phi.dot(&phi))),
+                        None => {
+                            let pphi = &p * &phi;
+                            let den = 1.0 + phi.dot(&pphi);
+                            w += &pphi * (e / den);
+                            p -= &pphi * pphi.transpose() / den;
+                        }
+                    }
+                }
+            }
+            w.iter().copied().collect()
+        })
+        .collect()
+}
+
+/// What `rhonn fit` writes to `model.json`: the model and, for a RHONN, the ARX
+/// baseline with the same lags, trained on the same data.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FittedModel {
+    /// rhonn's version.
+    pub rhonn_version: String,
+    /// The model.
+    pub model: Model,
+    /// The linear baseline (None when the model is itself an ARX).
+    pub baseline: Option<Model>,
+}
+
+/// Train `spec` and, for a RHONN, the ARX baseline with the same lags.
+pub fn fit_with_baseline(
+    spec: &ModelSpec,
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<FittedModel> {
+    let model = fit(spec, records, inputs, outputs)?;
+    let baseline = if spec.kind == Kind::Rhonn {
+        let arx = ModelSpec {
+            kind: Kind::Arx,
+            law: Law::BatchLs,
+            ridge: 1e-9,
+            ..spec.clone()
+        };
+        Some(fit(&arx, records, inputs, outputs)?)
+    } else {
+        None
+    };
+    Ok(FittedModel {
+        rhonn_version: env!("CARGO_PKG_VERSION").to_string(),
+        model,
+        baseline,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A record of y(k) = 0.5 y(k-1) + 0.3 u(k-1) + 0.2 y(k-1)^2-ish nonlinear system.
+    fn record(seed: u64, n: usize, nonlinear: bool) -> Record {
+        let mut s = seed;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((s >> 33) as f64 / (1u64 << 31) as f64) - 0.5
+        };
+        let mut u = vec![0.0; n];
+        let mut level = 0.0;
+        for k in 0..n {
+            if k % 7 == 0 {
+                level = 2.0 * next();
+            }
+            u[k] = level;
+        }
+        let mut y = vec![0.0; n];
+        for k in 1..n {
+            let lin = 0.5 * y[k - 1] + 0.3 * u[k - 1];
+            y[k] = if nonlinear {
+                lin + 0.4 * (y[k - 1]).tanh() * u[k - 1]
+            } else {
+                lin
+            };
+        }
+        Record {
+            source: format!("r{seed}"),
+            t: (0..n).map(|k| k as f64 * 0.1).collect(),
+            inputs: vec![u],
+            outputs: vec![y],
+        }
+    }
+
+    fn names() -> (Vec<String>, Vec<String>) {
+        (vec!["u".into()], vec!["y".into()])
+    }
+
+    #[test]
+    fn arx_recovers_a_linear_system_exactly_and_predicts_unseen_data() {
+        let (i, o) = names();
+        let spec = ModelSpec {
+            kind: Kind::Arx,
+            na: 1,
+            nb: 1,
+            nk: 1,
+            ..Default::default()
+        };
+        let m = fit(&spec, &[record(1, 500, false)], &i, &o).unwrap();
+        let val = record(2, 300, false);
+        let (p, first) = m.predict(&val, None);
+        let f = m.figures(&val, &p, first);
+        assert!(f[0].fit_percent > 99.9, "{f:?}");
+        assert_eq!(first, 1);
+    }
+
+    #[test]
+    fn rhonn_beats_arx_with_the_same_lags_on_a_nonlinear_system() {
+        let (i, o) = names();
+        let spec = ModelSpec {
+            na: 1,
+            nb: 1,
+            nk: 1,
+            ..Default::default()
+        };
+        let fm = fit_with_baseline(&spec, &[record(3, 800, true)], &i, &o).unwrap();
+        let val = record(4, 400, true);
+        let free = |m: &Model| {
+            let (p, first) = m.predict(&val, None);
+            m.figures(&val, &p, first)[0].fit_percent
+        };
+        let (rh, arx) = (free(&fm.model), free(fm.baseline.as_ref().unwrap()));
+        assert!(rh > 95.0 && rh > arx + 20.0, "rhonn {rh} %, arx {arx} %");
+    }
+
+    #[test]
+    fn k_steps_ahead_sits_between_one_step_and_free_run() {
+        let (i, o) = names();
+        let m = fit(
+            &ModelSpec {
+                kind: Kind::Arx,
+                na: 2,
+                nb: 2,
+                nk: 1,
+                ..Default::default()
+            },
+            &[record(5, 500, true)],
+            &i,
+            &o,
+        )
+        .unwrap();
+        let val = record(6, 300, true);
+        let fit_of = |k: Option<usize>| {
+            let (p, first) = m.predict(&val, k);
+            m.figures(&val, &p, first)[0].fit_percent
+        };
+        let (one, ten, free) = (fit_of(Some(1)), fit_of(Some(10)), fit_of(None));
+        assert!(one >= ten - 1e-9 && ten >= free - 1.0, "{one} {ten} {free}");
+    }
+
+    #[test]
+    fn recursive_laws_approach_batch_least_squares() {
+        let (i, o) = names();
+        let data = [record(7, 600, false)];
+        let base = ModelSpec {
+            kind: Kind::Arx,
+            na: 1,
+            nb: 1,
+            nk: 1,
+            ..Default::default()
+        };
+        let w_ls = fit(&base, &data, &i, &o).unwrap().weights;
+        let w_rls = fit(
+            &ModelSpec {
+                law: Law::Rls,
+                epochs: 3,
+                ..base.clone()
+            },
+            &data,
+            &i,
+            &o,
+        )
+        .unwrap()
+        .weights;
+        let w_g = fit(
+            &ModelSpec {
+                law: Law::Gradient,
+                epochs: 200,
+                ..base.clone()
+            },
+            &data,
+            &i,
+            &o,
+        )
+        .unwrap()
+        .weights;
+        for k in 0..w_ls[0].len() {
+            assert!((w_ls[0][k] - w_rls[0][k]).abs() < 1e-3, "{w_ls:?} {w_rls:?}");
+            assert!((w_ls[0][k] - w_g[0][k]).abs() < 2e-2, "{w_ls:?} {w_g:?}");
+        }
+    }
+}
