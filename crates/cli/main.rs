@@ -173,6 +173,14 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
     if steps == Some(0) {
         anyhow::bail!("--steps-ahead 0 is not allowed: give K >= 1, or leave it out for a free run");
     }
+    fitted
+        .model
+        .validate()
+        .with_context(|| format!("{} is not a valid model", model.display()))?;
+    if let Some(b) = &fitted.baseline {
+        b.validate()
+            .with_context(|| format!("{}: the baseline is not a valid model", model.display()))?;
+    }
     let m = &fitted.model;
     let recs = read_data(
         &[data.to_path_buf()],

@@ -538,7 +538,14 @@ impl<Sys: System> Dopri5<Sys> {
                 });
             }
             if err <= 1.0 {
+                let proposal = self.h;
                 self.accept_size(h, err, rejected_once);
+                if land && !rejected_once {
+                    // The step was shortened to land on a breakpoint, perhaps to a
+                    // sliver: its size says nothing about the solution, so the next
+                    // step may be as long as the one planned before.
+                    self.h = self.h.max(proposal);
+                }
                 h_taken = h;
                 lands = land;
                 break;

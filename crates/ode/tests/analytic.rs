@@ -397,3 +397,33 @@ fn solver_and_options_are_send_sync_clone_where_campaigns_need_it() {
     fn send<T: Send>() {}
     send::<Dopri5<Oscillator>>();
 }
+
+/// Two breakpoints a rounding error apart (6.8 as k * 5 / 1000, and 6.4 + 0.4).
+struct NearBreakpoints;
+impl System for NearBreakpoints {
+    type State = [f64; 1];
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&self, t: f64, _x: &[f64], dx: &mut [f64]) {
+        dx[0] = t.sin();
+    }
+    fn next_breakpoint(&self, t: f64) -> f64 {
+        let b = 6.4 + 0.4;
+        if t < b {
+            b
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
+#[test]
+fn a_breakpoint_a_rounding_error_after_the_stop_time_is_no_step_underflow() {
+    let mut s = Dopri5::new(NearBreakpoints, 0.0, [0.0], Options::default()).unwrap();
+    let stop = 1360.0 * 5.0 / 1000.0;
+    assert!(stop < 6.4 + 0.4);
+    s.solve_to(stop, |_, _| {}).unwrap();
+    s.solve_to(10.0, |_, _| {}).unwrap();
+    assert!((s.state()[0] - (1.0 - 10.0f64.cos())).abs() < 1e-6);
+}

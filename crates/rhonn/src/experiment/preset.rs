@@ -19,6 +19,14 @@ pub const SHIPPED: &[(&str, &str)] = &[
         "thesis-ch5",
         include_str!("../../../../scenarios/thesis-ch5.toml"),
     ),
+    (
+        "pump-identify",
+        include_str!("../../../../scenarios/pump-identify.toml"),
+    ),
+    (
+        "pump-validate",
+        include_str!("../../../../scenarios/pump-validate.toml"),
+    ),
 ];
 
 /// Names and one-line descriptions of the shipped scenarios.
@@ -80,7 +88,7 @@ mod tests {
         let e = load("thesis-ch9").unwrap_err().to_string();
         assert_eq!(
             e,
-            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5)"
+            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5, pump-identify, pump-validate)"
         );
         assert!(load("nope/x.toml")
             .unwrap_err()

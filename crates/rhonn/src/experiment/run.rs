@@ -388,12 +388,17 @@ fn simulate<S: Plant>(
 ) -> Result<(Stats, Figures, S::State, S)> {
     let p = &sc.params;
     let dim = sys.dim();
-    let (mut pi, setpoint) = match &sc.drive {
-        Drive::OpenLoop(_) => (None, None),
+    let (mut pi, setpoint, dither) = match &sc.drive {
+        Drive::OpenLoop(_) => (None, None, None),
         Drive::Pi(s) => (
             Some(Pi::new(s.kp, s.ti_s, p.t_control, s.bias, 0.0, p.i_max)),
             Some(&s.setpoint),
+            s.dither.as_ref(),
         ),
+    };
+    let dithered = |u: f64, t: f64| match dither {
+        Some(d) => (u + d.eval(t)).clamp(0.0, p.i_max),
+        None => u,
     };
     let opts = solver_options::<S::State>(&sc.solver, dim);
     let mut solver =
@@ -432,7 +437,7 @@ fn simulate<S: Plant>(
     if let (Some(pi), Some(sp)) = (pi.as_mut(), setpoint) {
         let y = measure(x0.as_slice()[P_LINE], &mut rng);
         last_meas = Some(y);
-        let u = pi.update(sp.eval(0.0), y);
+        let u = dithered(pi.update(sp.eval(0.0), y), 0.0);
         solver.system_mut().pump_mut().set_current(u);
         k_ctl = 1;
     }
@@ -489,7 +494,7 @@ fn simulate<S: Plant>(
             let t = solver.t();
             let y = measure(solver.state()[P_LINE], &mut rng);
             last_meas = Some(y);
-            let u = pi.update(sp.eval(t), y);
+            let u = dithered(pi.update(sp.eval(t), y), t);
             solver.system_mut().pump_mut().set_current(u);
             k_ctl += 1;
         }

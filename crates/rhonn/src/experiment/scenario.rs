@@ -85,6 +85,10 @@ pub enum ControllerSpec {
         /// flow equal to the lubricating flow Q_0).
         #[serde(default)]
         bias_a: Option<f64>,
+        /// An excitation added to the controller's output [A] (e.g. a PRBS), held over
+        /// each control period; the sum is clipped to the current range.
+        #[serde(default)]
+        dither_a: Option<SignalSpec>,
     },
 }
 
@@ -146,6 +150,8 @@ pub struct PiSettings {
     pub ti_s: f64,
     /// Output offset [A].
     pub bias: f64,
+    /// Excitation added to the output [A].
+    pub dither: Option<Signal>,
 }
 
 /// How the current is produced.
@@ -310,6 +316,7 @@ impl ScenarioSpec {
                     kp_a_per_mpa,
                     ti_s,
                     bias_a,
+                    dither_a,
                 }),
             ) => {
                 let lim = crate::signal::spec_limits(
@@ -348,11 +355,17 @@ impl ScenarioSpec {
                         format!("a current in [0, {}] A", params.i_max),
                     ));
                 }
+                let no_clip = crate::signal::spec_limits(f64::NEG_INFINITY, f64::INFINITY, None, None);
+                let dither = dither_a
+                    .as_ref()
+                    .map(|d| d.build("controller.dither_a", 1.0, no_clip))
+                    .transpose()?;
                 Drive::Pi(PiSettings {
                     setpoint,
                     kp: kp_a_per_mpa / PA_PER_MPA,
                     ti_s: *ti_s,
                     bias,
+                    dither,
                 })
             }
         };

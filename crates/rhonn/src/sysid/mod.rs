@@ -17,7 +17,9 @@
 //! Training laws (`law`): `batch-ls` (default: ridge least squares over all records, the
 //! limit of the least-squares law run to convergence), `rls` (the recursive least
 //! squares law over `epochs`, the weights of one epoch starting the next), `gradient`
-//! (the normalised gradient law over `epochs`).
+//! (the normalised gradient law over `epochs`), `simulation-error` (parallel training:
+//! from the least-squares weights, Levenberg-Marquardt on the free-run error — a model
+//! judged by free runs is trained on free runs).
 
 use crate::data::Record;
 use crate::error::{invalid, Result};
@@ -48,6 +50,12 @@ pub enum Law {
     Rls,
     /// Normalised gradient over epochs.
     Gradient,
+    /// Parallel (free-run) training: start from batch least squares, then minimise the
+    /// free-run simulation error over every record by Levenberg-Marquardt (at most
+    /// `epochs` iterations).
+    SimulationError,
+    /// As `simulation-error`, on the error `horizon` steps ahead instead of the free run.
+    MultiStep,
 }
 
 /// A model structure as `--model SPEC.toml` writes it.
@@ -77,6 +85,8 @@ pub struct ModelSpec {
     /// Free runs keep each output within its training range widened by this fraction
     /// on both sides (default 0.5), so that a model cannot run away to infinity.
     pub output_margin: f64,
+    /// Prediction horizon of the `multi-step` law, in samples (default 10).
+    pub horizon: usize,
 }
 
 impl Default for ModelSpec {
@@ -93,6 +103,7 @@ impl Default for ModelSpec {
             epochs: 20,
             gain: 0.5,
             output_margin: 0.5,
+            horizon: 10,
         }
     }
 }
@@ -176,6 +187,13 @@ impl ModelSpec {
         if !(self.gain.is_finite() && self.gain > 0.0 && self.gain < 2.0) {
             return Err(invalid(format!("{f}.gain"), self.gain, "a number in (0, 2)"));
         }
+        if !(1..=10_000).contains(&self.horizon) {
+            return Err(invalid(
+                format!("{f}.horizon"),
+                self.horizon,
+                "an integer in [1, 10000]",
+            ));
+        }
         if !(self.output_margin.is_finite() && self.output_margin >= 0.0) {
             return Err(invalid(
                 format!("{f}.output_margin"),
@@ -244,6 +262,57 @@ impl Model {
             c += l;
         }
         feat[c] = 1.0;
+    }
+
+    /// Check a model read from a file: names, normalisation, terms and weight lengths.
+    pub fn validate(&self) -> Result<()> {
+        self.spec.check()?;
+        if self.outputs.is_empty() {
+            return Err(invalid("model.outputs", "[]", "at least one output"));
+        }
+        if self.input_norm.len() != self.ni()
+            || self.output_norm.len() != self.no()
+            || self.output_range.len() != self.no()
+        {
+            return Err(invalid(
+                "model normalisation",
+                "lengths",
+                "one entry per input and per output",
+            ));
+        }
+        for (m, s) in self.input_norm.iter().chain(&self.output_norm) {
+            if !(m.is_finite() && s.is_finite() && *s > 0.0) {
+                return Err(invalid(
+                    "model normalisation",
+                    format!("({m}, {s})"),
+                    "a finite mean and a standard deviation > 0",
+                ));
+            }
+        }
+        if !self.terms.is_empty() {
+            Terms::from_lists(
+                &self.terms,
+                n_phi(&self.spec, self.ni(), self.no()),
+                "model.terms",
+            )?;
+        }
+        let nf = self.n_features();
+        if self.weights.len() != self.no()
+            || self
+                .weights
+                .iter()
+                .any(|w| w.len() != nf || w.iter().any(|v| !v.is_finite()))
+        {
+            return Err(invalid(
+                "model.weights",
+                format!("{} vectors", self.weights.len()),
+                format!("one vector of {nf} finite weights per output"),
+            ));
+        }
+        if !(self.sample_time_s.is_finite() && self.sample_time_s > 0.0) {
+            return Err(invalid("model.sample_time_s", self.sample_time_s, "a number > 0"));
+        }
+        Ok(())
     }
 
     /// Number of features (regressors, terms, bias).
@@ -452,14 +521,18 @@ pub fn fit(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[S
         terms,
         weights: vec![],
     };
-    let nf = model.n_features();
-    if nf > 2000 {
+    if model.terms.len() > crate::net::MAX_TERMS {
         return Err(invalid(
             "model.degree",
             spec.degree,
-            format!("a structure with at most 2000 features (this one has {nf})"),
+            format!(
+                "a structure with at most {} high-order terms (this one gives {}: lower degree, max_factors or the lags)",
+                crate::net::MAX_TERMS,
+                model.terms.len()
+            ),
         ));
     }
+    let nf = model.n_features();
     let t = model.terms();
     // The regression rows (series-parallel: lagged measured outputs).
     let mut rows: Vec<Vec<f64>> = Vec::new();
@@ -476,12 +549,99 @@ pub fn fit(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[S
         }
     }
     let weights = match spec.law {
-        Law::BatchLs => batch_ls(&rows, &targets, spec.ridge),
+        Law::BatchLs | Law::SimulationError | Law::MultiStep => batch_ls(&rows, &targets, spec.ridge),
         Law::Rls => recursive(&rows, &targets, spec.epochs, None),
         Law::Gradient => recursive(&rows, &targets, spec.epochs, Some(spec.gain)),
     };
     model.weights = weights;
+    match spec.law {
+        Law::SimulationError => simulation_error(&mut model, records, None),
+        Law::MultiStep => simulation_error(&mut model, records, Some(spec.horizon)),
+        _ => {}
+    }
     Ok(model)
+}
+
+/// Free-run residuals (normalised units) of `m` over `records`, appended to `out`.
+fn free_run_residuals(m: &Model, records: &[Record], horizon: Option<usize>, out: &mut Vec<f64>) {
+    out.clear();
+    for r in records {
+        let (p, first) = m.predict(r, horizon);
+        for (j, (col, (_, sd))) in r.outputs.iter().zip(&m.output_norm).enumerate() {
+            for k in first..r.len() {
+                out.push((p[j][k] - col[k]) / sd);
+            }
+        }
+    }
+}
+
+/// Levenberg-Marquardt on the free-run error, from the current weights. The Jacobian
+/// is taken by forward differences (a few dozen weights and a cheap simulation make
+/// that simpler and as fast as differentiating through the clipped recursion).
+fn simulation_error(m: &mut Model, records: &[Record], horizon: Option<usize>) {
+    let shapes: Vec<usize> = m.weights.iter().map(|w| w.len()).collect();
+    let flat = |m: &Model| m.weights.iter().flatten().copied().collect::<Vec<f64>>();
+    let set = |m: &mut Model, th: &[f64]| {
+        let mut o = 0;
+        for (w, &l) in m.weights.iter_mut().zip(&shapes) {
+            w.copy_from_slice(&th[o..o + l]);
+            o += l;
+        }
+    };
+    let mut theta = flat(m);
+    let np = theta.len();
+    let mut r0 = Vec::new();
+    free_run_residuals(m, records, horizon, &mut r0);
+    let cost = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
+    let mut c0 = cost(&r0);
+    let mut lambda = 1e-2;
+    let mut r1 = Vec::new();
+    for _ in 0..m.spec.epochs {
+        let nr = r0.len();
+        let mut jac = DMatrix::<f64>::zeros(nr, np);
+        for p in 0..np {
+            let h = 1e-6 * theta[p].abs().max(1e-3);
+            let mut th = theta.clone();
+            th[p] += h;
+            set(m, &th);
+            free_run_residuals(m, records, horizon, &mut r1);
+            for i in 0..nr {
+                jac[(i, p)] = (r1[i] - r0[i]) / h;
+            }
+        }
+        let jtj = jac.transpose() * &jac;
+        let g = jac.transpose() * DVector::from_column_slice(&r0);
+        let mut improved = false;
+        for _ in 0..10 {
+            let mut a = jtj.clone();
+            for d in 0..np {
+                a[(d, d)] += lambda * jtj[(d, d)].max(1e-12);
+            }
+            let Some(ch) = a.cholesky() else {
+                lambda *= 10.0;
+                continue;
+            };
+            let step = ch.solve(&g);
+            let th: Vec<f64> = theta.iter().zip(step.iter()).map(|(t, s)| t - s).collect();
+            set(m, &th);
+            free_run_residuals(m, records, horizon, &mut r1);
+            let c1 = cost(&r1);
+            if c1.is_finite() && c1 < c0 {
+                theta = th;
+                std::mem::swap(&mut r0, &mut r1);
+                let rel = (c0 - c1) / c0;
+                c0 = c1;
+                lambda = (lambda / 3.0).max(1e-9);
+                improved = rel > 1e-6;
+                break;
+            }
+            lambda *= 4.0;
+        }
+        if !improved {
+            break;
+        }
+    }
+    set(m, &theta);
 }
 
 /// Ridge least squares by the normal equations and a Cholesky factorisation.
@@ -675,6 +835,65 @@ mod tests {
         };
         let (one, ten, free) = (fit_of(Some(1)), fit_of(Some(10)), fit_of(None));
         assert!(one >= ten - 1e-9 && ten >= free - 1.0, "{one} {ten} {free}");
+    }
+
+    #[test]
+    fn simulation_and_multi_step_training_lower_their_own_criterion_below_least_squares() {
+        let (i, o) = names();
+        // Noisy measurements: one-step least squares is biased for free runs.
+        let mut data = record(9, 600, true);
+        let mut s = 7u64;
+        for v in data.outputs[0].iter_mut() {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            *v += 0.05 * (((s >> 33) as f64 / (1u64 << 31) as f64) - 0.5);
+        }
+        let base = ModelSpec {
+            na: 2,
+            nb: 2,
+            nk: 1,
+            epochs: 20,
+            ..Default::default()
+        };
+        let err = |m: &Model, h: Option<usize>| {
+            let (p, first) = m.predict(&data, h);
+            m.figures(&data, &p, first)[0].rms_error
+        };
+        let ls = fit(&base, std::slice::from_ref(&data), &i, &o).unwrap();
+        let se = fit(
+            &ModelSpec {
+                law: Law::SimulationError,
+                ..base.clone()
+            },
+            std::slice::from_ref(&data),
+            &i,
+            &o,
+        )
+        .unwrap();
+        let ms = fit(
+            &ModelSpec {
+                law: Law::MultiStep,
+                horizon: 5,
+                ..base.clone()
+            },
+            std::slice::from_ref(&data),
+            &i,
+            &o,
+        )
+        .unwrap();
+        assert!(
+            err(&se, None) < err(&ls, None),
+            "free run: {} vs {}",
+            err(&se, None),
+            err(&ls, None)
+        );
+        assert!(
+            err(&ms, Some(5)) < err(&ls, Some(5)),
+            "5 steps: {} vs {}",
+            err(&ms, Some(5)),
+            err(&ls, Some(5))
+        );
     }
 
     #[test]
