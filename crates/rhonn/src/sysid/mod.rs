@@ -87,6 +87,11 @@ pub struct ModelSpec {
     pub output_margin: f64,
     /// Prediction horizon of the `multi-step` law, in samples (default 10).
     pub horizon: usize,
+    /// Time constants [s] of first-order filters each input also passes through (the
+    /// filtered-regressor idea of the thesis applied to inputs: a filtered current
+    /// stands for a lagged state that is not measured, such as the pump stroke).
+    /// Default none.
+    pub input_filters_s: Vec<f64>,
 }
 
 impl Default for ModelSpec {
@@ -104,6 +109,7 @@ impl Default for ModelSpec {
             gain: 0.5,
             output_margin: 0.5,
             horizon: 10,
+            input_filters_s: vec![],
         }
     }
 }
@@ -187,6 +193,22 @@ impl ModelSpec {
         if !(self.gain.is_finite() && self.gain > 0.0 && self.gain < 2.0) {
             return Err(invalid(format!("{f}.gain"), self.gain, "a number in (0, 2)"));
         }
+        if self.input_filters_s.len() > 16 {
+            return Err(invalid(
+                format!("{f}.input_filters_s"),
+                self.input_filters_s.len(),
+                "at most 16 filters",
+            ));
+        }
+        for (q, tau) in self.input_filters_s.iter().enumerate() {
+            if !(tau.is_finite() && *tau > 0.0) {
+                return Err(invalid(
+                    format!("{f}.input_filters_s[{q}]"),
+                    tau,
+                    "a time constant > 0 s",
+                ));
+            }
+        }
         if !(1..=10_000).contains(&self.horizon) {
             return Err(invalid(
                 format!("{f}.horizon"),
@@ -212,7 +234,7 @@ impl ModelSpec {
 
 /// Number of regressors for `ni` inputs and `no` outputs (without terms and bias).
 fn n_phi(spec: &ModelSpec, ni: usize, no: usize) -> usize {
-    no * spec.na + ni * spec.nb
+    no * spec.na + ni * spec.nb + ni * spec.input_filters_s.len()
 }
 
 impl Model {
@@ -241,12 +263,16 @@ impl Model {
                 c += 1;
             }
         }
-        for (j, u) in un.iter().enumerate().take(self.ni()) {
+        for u in un.iter().take(self.ni()) {
             for i in 0..s.nb {
                 feat[c] = u[k - s.nk - i];
                 c += 1;
             }
-            let _ = j;
+        }
+        // Filtered inputs (appended to `un` by `normalise`), at lag nk.
+        for u in un.iter().skip(self.ni()) {
+            feat[c] = u[k - s.nk];
+            c += 1;
         }
         let nphi = c;
         if s.kind == Kind::Rhonn {
@@ -329,13 +355,29 @@ impl Model {
         }
     }
 
+    /// Normalised inputs (then each input through each first-order filter of
+    /// `input_filters_s`, started at its first value) and normalised outputs.
     fn normalise(&self, r: &Record) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
-        let un = r
+        let mut un: Vec<Vec<f64>> = r
             .inputs
             .iter()
             .zip(&self.input_norm)
             .map(|(c, (m, s))| c.iter().map(|v| (v - m) / s).collect())
             .collect();
+        for j in 0..self.ni() {
+            for &tau in &self.spec.input_filters_s {
+                let a = (-self.sample_time_s / tau).exp();
+                let mut z = un[j][0];
+                let f: Vec<f64> = un[j]
+                    .iter()
+                    .map(|&v| {
+                        z = a * z + (1.0 - a) * v;
+                        z
+                    })
+                    .collect();
+                un.push(f);
+            }
+        }
         let yn = r
             .outputs
             .iter()
@@ -894,6 +936,49 @@ mod tests {
             err(&ms, Some(5)),
             err(&ls, Some(5))
         );
+    }
+
+    #[test]
+    fn input_filters_stand_for_an_unmeasured_lagged_state() {
+        // y(k) = 2 x(k-1), x a first-order lag (tau = 1 s, T = 0.1 s) of u: a static map
+        // of the filtered input, which two input lags cannot express.
+        let (i, o) = names();
+        let mut r = record(11, 600, false);
+        let a = (-0.1f64 / 1.0).exp();
+        let mut x = r.inputs[0][0];
+        let u = r.inputs[0].clone();
+        for k in 0..r.len() {
+            r.outputs[0][k] = 2.0 * x;
+            x = a * x + (1.0 - a) * u[k];
+        }
+        let free_fit = |spec: &ModelSpec| {
+            let m = fit(spec, std::slice::from_ref(&r), &i, &o).unwrap();
+            let (p, first) = m.predict(&r, None);
+            m.figures(&r, &p, first)[0].fit_percent
+        };
+        let plain = ModelSpec {
+            kind: Kind::Arx,
+            na: 1,
+            nb: 1,
+            nk: 1,
+            ..Default::default()
+        };
+        let filtered = ModelSpec {
+            input_filters_s: vec![1.0],
+            ..plain.clone()
+        };
+        let (f0, f1) = (free_fit(&plain), free_fit(&filtered));
+        assert!(f1 > 99.9, "with the filter: {f1} %");
+        assert!(f0 < f1, "{f0} vs {f1}");
+        let bad = ModelSpec {
+            input_filters_s: vec![-1.0],
+            ..plain
+        };
+        assert!(bad
+            .check()
+            .unwrap_err()
+            .to_string()
+            .contains("`model.input_filters_s[0]` = -1"));
     }
 
     #[test]
