@@ -92,6 +92,10 @@ pub struct ModelSpec {
     /// stands for a lagged state that is not measured, such as the pump stroke).
     /// Default none.
     pub input_filters_s: Vec<f64>,
+    /// First output lag (default 1). A model with `output_lag_start = K` and input lags
+    /// covering the horizon is a direct K-step-ahead predictor: `--steps-ahead K` then
+    /// uses only measured outputs, with no recursion on its own predictions.
+    pub output_lag_start: usize,
 }
 
 impl Default for ModelSpec {
@@ -110,6 +114,7 @@ impl Default for ModelSpec {
             output_margin: 0.5,
             horizon: 10,
             input_filters_s: vec![],
+            output_lag_start: 1,
         }
     }
 }
@@ -193,6 +198,13 @@ impl ModelSpec {
         if !(self.gain.is_finite() && self.gain > 0.0 && self.gain < 2.0) {
             return Err(invalid(format!("{f}.gain"), self.gain, "a number in (0, 2)"));
         }
+        if !(1..=1000).contains(&self.output_lag_start) {
+            return Err(invalid(
+                format!("{f}.output_lag_start"),
+                self.output_lag_start,
+                "an integer in [1, 1000]",
+            ));
+        }
         if self.input_filters_s.len() > 16 {
             return Err(invalid(
                 format!("{f}.input_filters_s"),
@@ -228,7 +240,9 @@ impl ModelSpec {
 
     /// Largest lag: samples needed before the first prediction.
     pub fn max_lag(&self) -> usize {
-        self.na.max(if self.nb > 0 { self.nk + self.nb - 1 } else { 0 })
+        (self.output_lag_start + self.na - 1)
+            .max(if self.nb > 0 { self.nk + self.nb - 1 } else { 0 })
+            .max(self.nk)
     }
 }
 
@@ -258,7 +272,7 @@ impl Model {
         let s = &self.spec;
         let mut c = 0;
         for j in 0..self.no() {
-            for i in 1..=s.na {
+            for i in s.output_lag_start..s.output_lag_start + s.na {
                 feat[c] = yhist(j, k - i);
                 c += 1;
             }
@@ -979,6 +993,25 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("`model.input_filters_s[0]` = -1"));
+    }
+
+    #[test]
+    fn a_direct_two_step_predictor_is_exact_on_a_linear_system() {
+        // y(k) = 0.5 y(k-1) + 0.3 u(k-1) = 0.25 y(k-2) + 0.15 u(k-2) + 0.3 u(k-1).
+        let (i, o) = names();
+        let spec = ModelSpec {
+            kind: Kind::Arx,
+            na: 1,
+            nb: 2,
+            nk: 1,
+            output_lag_start: 2,
+            ..Default::default()
+        };
+        assert_eq!(spec.max_lag(), 2);
+        let m = fit(&spec, &[record(12, 400, false)], &i, &o).unwrap();
+        let val = record(13, 200, false);
+        let (p, first) = m.predict(&val, Some(2));
+        assert!(m.figures(&val, &p, first)[0].fit_percent > 99.99);
     }
 
     #[test]
