@@ -122,14 +122,19 @@ fn bad_scenario_files_name_the_field_value_and_range() {
             "`demand_dm3_s.slew_per_s` = 3 is not allowed: at most 2",
         ),
     ];
+    assert_bad_scenarios(d.path(), &cases);
+}
+/// Run each bad scenario text; each must fail with exit code 2, an error containing its
+/// expected text, and no output folder.
+fn assert_bad_scenarios(d: &Path, cases: &[(String, &str)]) {
     for (k, (toml, expected)) in cases.iter().enumerate() {
-        let f = d.path().join(format!("bad{k}.toml"));
+        let f = d.join(format!("bad{k}.toml"));
         std::fs::write(&f, toml).unwrap();
-        let o = rhonn(d.path(), &["run", f.to_str().unwrap(), "--out", "o"]);
+        let o = rhonn(d, &["run", f.to_str().unwrap(), "--out", "o"]);
         assert_eq!(o.status.code(), Some(2), "case {k}");
         let e = stderr(&o);
         assert!(e.contains(expected), "case {k}: expected `{expected}` in:\n{e}");
-        assert!(!d.path().join("o").exists(), "case {k} wrote output");
+        assert!(!d.join("o").exists(), "case {k} wrote output");
     }
 }
 
@@ -256,18 +261,7 @@ fn bad_identifier_sections_are_clear_errors() {
             "`identifier.states[1]` = \"flow\"",
         ),
     ];
-    for (k, (toml, expected)) in cases.iter().enumerate() {
-        let f = d.path().join(format!("bad{k}.toml"));
-        std::fs::write(&f, toml).unwrap();
-        let o = rhonn(d.path(), &["run", f.to_str().unwrap(), "--out", "o"]);
-        assert_eq!(o.status.code(), Some(2), "case {k}");
-        assert!(
-            stderr(&o).contains(expected),
-            "case {k}: expected `{expected}` in:\n{}",
-            stderr(&o)
-        );
-        assert!(!d.path().join("o").exists());
-    }
+    assert_bad_scenarios(d.path(), &cases);
 }
 
 /// A small nonlinear record: y(k) = 0.6 y(k-1) + 0.3 u(k-1) + 0.3 tanh(y(k-1)) u(k-1).
