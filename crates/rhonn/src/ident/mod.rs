@@ -11,7 +11,7 @@
 //!   (the model runs on its own).
 
 use crate::law::{Law, Robust, Structure};
-use crate::net::{Network, MAX_Y};
+use crate::net::Network;
 use crate::plant::{PumpSystem, P_LINE};
 use rhonn_ode::{Direction, EventAction, System};
 use std::cell::RefCell;
@@ -458,7 +458,7 @@ impl System for IdentifiedPump {
     #[inline]
     fn rhs(&self, t: f64, x: &[f64], dx: &mut [f64]) {
         self.pump.rhs(t, &x[..2], &mut dx[..2]);
-        let (mut chi, mut u) = ([0.0; MAX_Y], [0.0; MAX_Y]);
+        let (mut chi, mut u) = ([0.0; 2], [0.0; 2]);
         let (n, m) = (self.states.len(), self.inputs.len());
         self.signals(t, x, &mut chi[..n], &mut u[..m]);
         self.ident.rhs(
@@ -477,7 +477,7 @@ impl System for IdentifiedPump {
     fn events(&self, t: f64, x: &[f64], g: &mut [f64]) {
         self.pump.events(t, &x[..2], &mut g[..2]);
         if g.len() > 2 {
-            let (mut chi, mut u) = ([0.0; MAX_Y], [0.0; MAX_Y]);
+            let (mut chi, mut u) = ([0.0; 2], [0.0; 2]);
             let (n, m) = (self.states.len(), self.inputs.len());
             self.signals(t, x, &mut chi[..n], &mut u[..m]);
             self.ident.events(
@@ -507,7 +507,7 @@ impl System for IdentifiedPump {
 
     fn update_modes(&mut self, t: f64, x: &[f64]) {
         self.pump.update_modes(t, &x[..2]);
-        let (mut chi, mut u) = ([0.0; MAX_Y], [0.0; MAX_Y]);
+        let (mut chi, mut u) = ([0.0; 2], [0.0; 2]);
         let (n, m) = (self.states.len(), self.inputs.len());
         self.signals(t, x, &mut chi[..n], &mut u[..m]);
         self.ident

@@ -124,7 +124,7 @@ impl IdentifierSpec {
         }
         let mut inputs = Vec::new();
         for (k, s) in self.inputs.iter().enumerate() {
-            inputs.push(match s.as_str() {
+            let sig = match s.as_str() {
                 "current" => PumpSignal::Current,
                 "demand" => PumpSignal::Demand,
                 _ => {
@@ -134,7 +134,15 @@ impl IdentifierSpec {
                         "\"current\" or \"demand\"",
                     ))
                 }
-            });
+            };
+            if inputs.contains(&sig) {
+                return Err(invalid(
+                    format!("{f}.inputs[{k}]"),
+                    format!("{s:?}"),
+                    "each input once",
+                ));
+            }
+            inputs.push(sig);
         }
         let m = inputs.len();
         if n + m > MAX_Y {
