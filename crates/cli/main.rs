@@ -116,6 +116,7 @@ fn cmd_fit(
         "rhonn_version": env!("CARGO_PKG_VERSION"),
         "model": fitted.model.spec,
         "features": fitted.model.n_features(),
+        "high_order_terms": fitted.model.terms.len(),
         "sample_time_s": fitted.model.sample_time_s,
         "training": { "one_step": figures_json(&fitted.model, &recs, Some(1)), "free_run": figures_json(&fitted.model, &recs, None) },
     });

@@ -96,6 +96,9 @@ pub struct ModelSpec {
     /// covering the horizon is a direct K-step-ahead predictor: `--steps-ahead K` then
     /// uses only measured outputs, with no recursion on its own predictions.
     pub output_lag_start: usize,
+    /// Keep at most this many high-order terms: train with all, keep those with the
+    /// largest weights, train again (default: keep all).
+    pub max_terms: Option<usize>,
 }
 
 impl Default for ModelSpec {
@@ -115,6 +118,7 @@ impl Default for ModelSpec {
             horizon: 10,
             input_filters_s: vec![],
             output_lag_start: 1,
+            max_terms: None,
         }
     }
 }
@@ -197,6 +201,13 @@ impl ModelSpec {
         }
         if !(self.gain.is_finite() && self.gain > 0.0 && self.gain < 2.0) {
             return Err(invalid(format!("{f}.gain"), self.gain, "a number in (0, 2)"));
+        }
+        if self.max_terms == Some(0) {
+            return Err(invalid(
+                format!("{f}.max_terms"),
+                0,
+                "at least 1 (leave it out to keep every term)",
+            ));
         }
         if !(1..=1000).contains(&self.output_lag_start) {
             return Err(invalid(
@@ -508,6 +519,38 @@ fn mean_std(cols: &[&[f64]]) -> (f64, f64) {
 /// Train a model of `outputs` from `inputs` on `records` (uniformly sampled at the same
 /// interval; see [`Record::uniform`]).
 pub fn fit(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[String]) -> Result<Model> {
+    let full = fit_terms(spec, records, inputs, outputs, None)?;
+    match spec.max_terms {
+        Some(keep) if spec.kind == Kind::Rhonn && full.terms.len() > keep => {
+            // Prune by weight magnitude: the terms work on normalised signals, so their
+            // weights are comparable; keep the `keep` largest (largest over the outputs),
+            // in their original order, and train again.
+            let nphi = n_phi(spec, inputs.len(), outputs.len());
+            let mut rank: Vec<(usize, f64)> = (0..full.terms.len())
+                .map(|q| {
+                    (
+                        q,
+                        full.weights.iter().map(|w| w[nphi + q].abs()).fold(0.0, f64::max),
+                    )
+                })
+                .collect();
+            rank.sort_by(|a, b| b.1.total_cmp(&a.1));
+            let mut kept: Vec<usize> = rank[..keep].iter().map(|r| r.0).collect();
+            kept.sort_unstable();
+            let terms = kept.iter().map(|&q| full.terms[q].clone()).collect();
+            fit_terms(spec, records, inputs, outputs, Some(terms))
+        }
+        _ => Ok(full),
+    }
+}
+
+fn fit_terms(
+    spec: &ModelSpec,
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+    given_terms: Option<Vec<Vec<[usize; 2]>>>,
+) -> Result<Model> {
     spec.check()?;
     if records.is_empty() {
         return Err(invalid("--data", "no files", "at least one CSV file"));
@@ -560,11 +603,13 @@ pub fn fit(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[S
             "at most 128 lagged regressors in all (na * outputs + nb * inputs)",
         ));
     }
-    let terms = if spec.kind == Kind::Rhonn {
-        let t = Terms::monomials(nphi, spec.degree, spec.max_factors);
-        (0..t.len()).map(|k| t.factors(k)).collect()
-    } else {
-        vec![]
+    let terms = match (spec.kind, given_terms) {
+        (Kind::Rhonn, Some(t)) => t,
+        (Kind::Rhonn, None) => {
+            let t = Terms::monomials(nphi, spec.degree, spec.max_factors);
+            (0..t.len()).map(|k| t.factors(k)).collect()
+        }
+        (Kind::Arx, _) => vec![],
     };
     let mut model = Model {
         spec: spec.clone(),
@@ -1012,6 +1057,38 @@ mod tests {
         let val = record(13, 200, false);
         let (p, first) = m.predict(&val, Some(2));
         assert!(m.figures(&val, &p, first)[0].fit_percent > 99.99);
+    }
+
+    #[test]
+    fn pruning_keeps_the_terms_that_matter() {
+        // The nonlinear record needs the product tanh(y(k-1)) u(k-1): with two terms kept
+        // out of the nine of degree 2 the model must keep that one and stay accurate.
+        let (i, o) = names();
+        let data = [record(14, 800, true)];
+        let spec = ModelSpec {
+            na: 1,
+            nb: 1,
+            nk: 1,
+            max_terms: Some(2),
+            ..Default::default()
+        };
+        let m = fit(&spec, &data, &i, &o).unwrap();
+        assert_eq!(m.terms.len(), 2);
+        assert!(m.terms.contains(&vec![[0, 1], [1, 1]]), "{:?}", m.terms);
+        let val = record(15, 300, true);
+        let (p, first) = m.predict(&val, None);
+        assert!(m.figures(&val, &p, first)[0].fit_percent > 90.0);
+        let full = fit(
+            &ModelSpec {
+                max_terms: None,
+                ..spec
+            },
+            &data,
+            &i,
+            &o,
+        )
+        .unwrap();
+        assert!(full.terms.len() > 2);
     }
 
     #[test]
