@@ -93,3 +93,17 @@ fn measurement_noise_is_seeded() {
     assert!(sd > 0.03 && sd < 0.5, "{sd}");
     assert!(sa.figures.regulation.is_some());
 }
+
+#[test]
+fn what_a_parallel_campaign_shares_is_send_sync_and_clone() {
+    fn check<T: Send + Sync + Clone>() {}
+    check::<rhonn::experiment::Scenario>();
+    check::<rhonn::experiment::ScenarioSpec>();
+    check::<rhonn::experiment::Summary>();
+    check::<rhonn::sysid::Model>();
+    check::<rhonn::ident::Identifier>();
+    fn send<T: Send>() {}
+    send::<rhonn::ident::IdentifiedPump>();
+    send::<rhonn::ident::DiscreteIdentifier>();
+    send::<rhonn::Error>();
+}

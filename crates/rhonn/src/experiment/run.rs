@@ -7,7 +7,7 @@ use crate::control::Pi;
 use crate::error::{Error, Result};
 use crate::ident::{IdentSettings, IdentifiedPump, Mode, PumpSignal};
 use crate::net::Sigmoid;
-use crate::plant::{Input, PumpSystem, P_LINE, STROKE};
+use crate::plant::{Input, PumpSystem, CURRENT_EFF, PLANT_DIM, P_LINE, STROKE};
 use crate::signal::Signal;
 use crate::units::*;
 use rand::SeedableRng;
@@ -325,7 +325,7 @@ impl Plant for IdentifiedPump {
     fn hats(&self, x: &[f64]) -> [Option<f64>; 2] {
         let mut xh = [0.0; 2];
         let n = self.states.len();
-        self.ident.outputs(&x[2..], &mut xh[..n]);
+        self.ident.outputs(&x[PLANT_DIM..], &mut xh[..n]);
         let mut out = [None, None];
         for (k, s) in self.states.iter().enumerate() {
             match s {
@@ -525,6 +525,19 @@ fn report(sc: &Scenario, st: Stats, figures: Figures, identification: Option<Ide
     }
 }
 
+/// The plant's initial state: pressure, stroke, and the solenoid carrying the current
+/// commanded at t = 0.
+fn plant_initial(sc: &Scenario) -> [f64; PLANT_DIM] {
+    let mut x = [0.0; PLANT_DIM];
+    x[P_LINE] = sc.initial[P_LINE];
+    x[STROKE] = sc.initial[STROKE];
+    x[CURRENT_EFF] = match &sc.drive {
+        Drive::OpenLoop(sig) => sig.eval(0.0).clamp(0.0, sc.params.i_max),
+        Drive::Pi(s) => s.bias,
+    };
+    x
+}
+
 fn pump_system(sc: &Scenario) -> PumpSystem {
     let current = match &sc.drive {
         Drive::OpenLoop(sig) => Input::Signal(sig.clone()),
@@ -567,7 +580,7 @@ pub struct RunOutput {
 pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
     let Some(is) = &sc.identifier else {
         let sys = pump_system(sc);
-        let (st, fig, _, _) = simulate(sc, sys, sc.initial, rec, None)?;
+        let (st, fig, _, _) = simulate(sc, sys, plant_initial(sc), rec, None)?;
         return Ok(RunOutput {
             summary: report(sc, st, fig, None),
             validation: None,
@@ -578,7 +591,7 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
         let mut ident = is.ident.clone();
         ident.mode = mode;
         let s0 = ident.initial_state(&is.xhat0, w);
-        let mut x0 = vec![sc.initial[P_LINE], sc.initial[STROKE]];
+        let mut x0 = plant_initial(sc).to_vec();
         x0.extend(s0);
         let sys = IdentifiedPump::new(pump_system(sc), ident, is.states.clone(), is.inputs.clone());
         (sys, x0)
@@ -597,7 +610,7 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
             simulate(sc, sys, x0, &mut NoRecorder, None)?
         };
         add_stats(&mut total, st);
-        weights = Some(sys.ident.weights(&xf[2..]));
+        weights = Some(sys.ident.weights(&xf[PLANT_DIM..]));
         if last {
             train = Some((fig, ia));
         }

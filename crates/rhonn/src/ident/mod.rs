@@ -12,7 +12,7 @@
 
 use crate::law::{Law, Robust, Structure};
 use crate::net::Network;
-use crate::plant::{PumpSystem, P_LINE};
+use crate::plant::{PumpSystem, PLANT_DIM, PUMP_EVENTS, P_LINE};
 use rhonn_ode::{Direction, EventAction, System};
 use std::cell::RefCell;
 
@@ -399,7 +399,7 @@ impl PumpSignal {
     }
 }
 
-/// The pump and an identifier integrated together: state `[P_l, x, identifier...]`.
+/// The pump and an identifier integrated together: state `[P_l, x, i, identifier...]`.
 #[derive(Debug, Clone)]
 pub struct IdentifiedPump {
     /// The plant.
@@ -452,66 +452,66 @@ impl System for IdentifiedPump {
     type State = Vec<f64>;
 
     fn dim(&self) -> usize {
-        2 + self.ident.dim()
+        PLANT_DIM + self.ident.dim()
     }
 
     #[inline]
     fn rhs(&self, t: f64, x: &[f64], dx: &mut [f64]) {
-        self.pump.rhs(t, &x[..2], &mut dx[..2]);
+        self.pump.rhs(t, &x[..PLANT_DIM], &mut dx[..PLANT_DIM]);
         let (mut chi, mut u) = ([0.0; 2], [0.0; 2]);
         let (n, m) = (self.states.len(), self.inputs.len());
         self.signals(t, x, &mut chi[..n], &mut u[..m]);
         self.ident.rhs(
             &chi[..n],
             &u[..m],
-            &x[2..],
-            &mut dx[2..],
+            &x[PLANT_DIM..],
+            &mut dx[PLANT_DIM..],
             &mut self.scratch.borrow_mut(),
         );
     }
 
     fn n_events(&self) -> usize {
-        2 + self.ident.n_events()
+        PUMP_EVENTS + self.ident.n_events()
     }
 
     fn events(&self, t: f64, x: &[f64], g: &mut [f64]) {
-        self.pump.events(t, &x[..2], &mut g[..2]);
-        if g.len() > 2 {
+        self.pump.events(t, &x[..PLANT_DIM], &mut g[..PUMP_EVENTS]);
+        if g.len() > PUMP_EVENTS {
             let (mut chi, mut u) = ([0.0; 2], [0.0; 2]);
             let (n, m) = (self.states.len(), self.inputs.len());
             self.signals(t, x, &mut chi[..n], &mut u[..m]);
             self.ident.events(
                 &chi[..n],
                 &u[..m],
-                &x[2..],
-                &mut g[2..],
+                &x[PLANT_DIM..],
+                &mut g[PUMP_EVENTS..],
                 &mut self.scratch.borrow_mut(),
             );
         }
     }
 
     fn event_direction(&self, j: usize) -> Direction {
-        if j < 2 {
+        if j < PUMP_EVENTS {
             self.pump.event_direction(j)
         } else {
-            self.ident.event_direction(j - 2)
+            self.ident.event_direction(j - PUMP_EVENTS)
         }
     }
 
     fn on_event(&mut self, j: usize, _t: f64, x: &mut [f64]) -> EventAction {
-        if j >= 2 {
-            self.ident.on_event(j - 2, &mut x[2..]);
+        if j >= PUMP_EVENTS {
+            self.ident.on_event(j - PUMP_EVENTS, &mut x[PLANT_DIM..]);
         }
         EventAction::Continue
     }
 
     fn update_modes(&mut self, t: f64, x: &[f64]) {
-        self.pump.update_modes(t, &x[..2]);
+        self.pump.update_modes(t, &x[..PLANT_DIM]);
         let (mut chi, mut u) = ([0.0; 2], [0.0; 2]);
         let (n, m) = (self.states.len(), self.inputs.len());
         self.signals(t, x, &mut chi[..n], &mut u[..m]);
         self.ident
-            .update_modes(&chi[..n], &u[..m], &x[2..], self.scratch.get_mut());
+            .update_modes(&chi[..n], &u[..m], &x[PLANT_DIM..], self.scratch.get_mut());
     }
 
     fn next_breakpoint(&self, t: f64) -> f64 {
@@ -519,7 +519,7 @@ impl System for IdentifiedPump {
     }
 
     fn bounds(&self, i: usize) -> (f64, f64) {
-        if i < 2 {
+        if i < PLANT_DIM {
             self.pump.bounds(i)
         } else {
             (f64::NEG_INFINITY, f64::INFINITY)

@@ -5,4 +5,4 @@ mod params;
 mod pump;
 
 pub use params::{PumpParams, PumpParamsSpec};
-pub use pump::{Input, PumpSystem, P_LINE, STROKE};
+pub use pump::{Input, PumpSystem, CURRENT_EFF, PLANT_DIM, PUMP_EVENTS, P_LINE, STROKE};

@@ -53,6 +53,9 @@ pub struct PumpParams {
     pub p_0: f64,
     /// Minimum line pressure of the model's validity P_min [Pa].
     pub p_min: f64,
+    /// Time constant of a first-order lag on the solenoid current [s] (0: none). An
+    /// unmodeled dynamic for robustness studies (SPEC.md section 3).
+    pub solenoid_lag: f64,
 }
 
 impl Default for PumpParams {
@@ -132,6 +135,8 @@ pub struct PumpParamsSpec {
     pub p_0_mpa: f64,
     /// P_min [MPa] (1).
     pub p_min_mpa: f64,
+    /// First-order lag on the solenoid current [ms] (0: none; SPEC.md section 3).
+    pub solenoid_lag_ms: f64,
 }
 
 impl Default for PumpParamsSpec {
@@ -159,6 +164,7 @@ impl Default for PumpParamsSpec {
             gamma_l: 0.2,
             p_0_mpa: 0.4,
             p_min_mpa: 1.0,
+            solenoid_lag_ms: 0.0,
         }
     }
 }
@@ -191,12 +197,13 @@ impl PumpParamsSpec {
                 return Err(invalid(format!("plant.{name}"), v, "a finite number > 0"));
             }
         }
-        let non_negative: [(&str, f64); 5] = [
+        let non_negative: [(&str, f64); 6] = [
             ("alpha_v_per_mpa", self.alpha_v_per_mpa),
             ("q_0_dm3_s", self.q_0_dm3_s),
             ("mu_2", self.mu_2),
             ("k_n_per_m", self.k_n_per_m),
             ("p_0_mpa", self.p_0_mpa),
+            ("solenoid_lag_ms", self.solenoid_lag_ms),
         ];
         for (name, v) in non_negative {
             if !(v.is_finite() && v >= 0.0) {
@@ -236,6 +243,7 @@ impl PumpParamsSpec {
             gamma_l: self.gamma_l,
             p_0: self.p_0_mpa * PA_PER_MPA,
             p_min: self.p_min_mpa * PA_PER_MPA,
+            solenoid_lag: self.solenoid_lag_ms * S_PER_MS,
         })
     }
 }

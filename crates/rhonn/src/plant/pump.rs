@@ -8,6 +8,14 @@ use rhonn_ode::{Direction, System};
 pub const P_LINE: usize = 0;
 /// Index of the pump stroke x [m] in the state.
 pub const STROKE: usize = 1;
+/// Index of the current the solenoid actually carries [A] in the state: the commanded
+/// current through a first-order lag of `solenoid_lag` (unmodeled dynamics, SPEC.md
+/// section 3); without a lag it stays unused and the commanded current acts directly.
+pub const CURRENT_EFF: usize = 2;
+/// Number of plant states.
+pub const PLANT_DIM: usize = 3;
+/// Number of the pump's event functions.
+pub const PUMP_EVENTS: usize = 2;
 
 /// An input of the pump: a signal of time, or a value held by a sampled controller
 /// (zero-order hold).
@@ -43,7 +51,7 @@ impl Input {
     }
 }
 
-/// The pump and line (states `[P_l, x]`, SI) driven by a solenoid current [A] and a
+/// The pump and line (states `[P_l, x, i]`, SI) driven by a solenoid current [A] and a
 /// demanded flow [m^3/s].
 ///
 /// Modes, constant within a step: the segments of the two inputs, the pilot valve's
@@ -134,6 +142,17 @@ impl PumpSystem {
         (dp, pil.q_a / k.a_a)
     }
 
+    /// The current acting on the pilot valve in state `x` at `t` [A]: the lagged
+    /// current when the solenoid has a lag, the commanded one otherwise.
+    #[inline(always)]
+    pub fn acting_current(&self, t: f64, x: &[f64]) -> f64 {
+        if self.params.solenoid_lag > 0.0 {
+            x[CURRENT_EFF].clamp(0.0, self.params.i_max)
+        } else {
+            self.current_at(t)
+        }
+    }
+
     /// Whether the pilot valve is on its `s < 0` branch.
     pub fn branch_negative(&self) -> bool {
         self.branch_neg
@@ -141,28 +160,33 @@ impl PumpSystem {
 }
 
 impl System for PumpSystem {
-    type State = [f64; 2];
+    type State = [f64; PLANT_DIM];
 
     fn dim(&self) -> usize {
-        2
+        PLANT_DIM
     }
 
     #[inline]
     fn rhs(&self, t: f64, x: &[f64], dx: &mut [f64]) {
-        let i = self.current_at(t);
+        let i = self.acting_current(t, x);
         let q = self.demand_at(t);
         let (dp, ds) = self.derivative(x[P_LINE], x[STROKE], i, q, self.branch_neg);
         dx[P_LINE] = dp;
         dx[STROKE] = ds;
+        dx[CURRENT_EFF] = if self.params.solenoid_lag > 0.0 {
+            (self.current_at(t) - x[CURRENT_EFF]) / self.params.solenoid_lag
+        } else {
+            0.0
+        };
     }
 
     fn n_events(&self) -> usize {
-        2
+        PUMP_EVENTS
     }
 
     #[inline]
     fn events(&self, t: f64, x: &[f64], g: &mut [f64]) {
-        let pil = self.pilot(x[P_LINE], x[STROKE], self.current_at(t), self.branch_neg);
+        let pil = self.pilot(x[P_LINE], x[STROKE], self.acting_current(t, x), self.branch_neg);
         g[0] = pil.s;
         g[1] = pil.dpa;
     }
@@ -179,7 +203,7 @@ impl System for PumpSystem {
     fn update_modes(&mut self, t: f64, x: &[f64]) {
         self.seg_i = self.current.segment(t);
         self.seg_q = self.demand.segment(t);
-        let i = self.current_at(t);
+        let i = self.acting_current(t, x);
         let s = self.pilot(x[P_LINE], x[STROKE], i, self.branch_neg).s;
         if s > 0.0 {
             self.branch_neg = false;
@@ -196,10 +220,10 @@ impl System for PumpSystem {
     }
 
     fn bounds(&self, i: usize) -> (f64, f64) {
-        if i == P_LINE {
-            (0.0, self.params.p_max)
-        } else {
-            (0.0, self.params.x_max)
+        match i {
+            P_LINE => (0.0, self.params.p_max),
+            STROKE => (0.0, self.params.x_max),
+            _ => (f64::NEG_INFINITY, f64::INFINITY),
         }
     }
 }
