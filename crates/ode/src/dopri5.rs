@@ -231,12 +231,12 @@ impl<Sys: System> Dopri5<Sys> {
         Ok(s)
     }
 
-    /// Current time [s].
+    /// Current time \[s\].
     pub fn t(&self) -> f64 {
         self.t
     }
 
-    /// Start of the last step [s].
+    /// Start of the last step \[s\].
     pub fn t_prev(&self) -> f64 {
         self.t_prev
     }

@@ -6,7 +6,7 @@ use crate::{Error, State};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Profile {
     /// Hairer's DOPRI5: RMS norm of `e_i / (atol_i + rtol_i max(|y_i|, |ynew_i|))`, a PI
-    /// step controller (beta = 0.04, safety 0.9, growth in [0.2, 10]) and Hairer's
+    /// step controller (beta = 0.04, safety 0.9, growth in \[0.2, 10\]) and Hairer's
     /// two-evaluation initial step.
     Hairer,
     /// MATLAB's ode45: max norm of `e_i / max(rtol_i max(|y_i|, |ynew_i|), atol_i)`, the
@@ -22,15 +22,15 @@ pub struct Options<S: State> {
     pub rtol: S,
     /// Absolute tolerance per state, in the state's own unit (default 1e-9).
     pub atol: S,
-    /// Largest step [s] (default infinity).
+    /// Largest step \[s\] (default infinity).
     pub h_max_s: f64,
-    /// Smallest step [s] before the solver gives up (default 1e-14).
+    /// Smallest step \[s\] before the solver gives up (default 1e-14).
     pub h_min_s: f64,
-    /// First step [s]; `None` lets the profile's rule choose (default `None`).
+    /// First step \[s\]; `None` lets the profile's rule choose (default `None`).
     pub h_init_s: Option<f64>,
     /// Steps allowed in one run, accepted and rejected (default 10,000,000).
     pub max_steps: u64,
-    /// Width of the final bracket when locating an event [s] (default 1e-10; the
+    /// Width of the final bracket when locating an event \[s\] (default 1e-10; the
     /// solver stops at the bracket's far end, just past the crossing).
     pub event_tol_s: f64,
     /// Step-size control (default [`Profile::Hairer`]).

@@ -174,7 +174,7 @@ fn bouncing_ball_event_times_within_1e9_s() {
     assert_eq!(s.stats().events, 5);
 }
 
-/// dx/dt = cos t, limited to [-0.5, 0.5].
+/// dx/dt = cos t, limited to \[-0.5, 0.5\].
 struct Saturating;
 impl System for Saturating {
     type State = [f64; 1];

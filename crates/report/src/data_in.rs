@@ -1,4 +1,4 @@
-//! Measured data in: CSV files with a header, a time column `t` [s] and numeric
+//! Measured data in: CSV files with a header, a time column `t` \[s\] and numeric
 //! columns. Every problem names the file, the line and the column.
 
 use rhonn::data::Record;

@@ -22,7 +22,7 @@ pub struct TimePlot {
     pub title: String,
     /// Y axis label, with unit.
     pub y_label: String,
-    /// Times [s].
+    /// Times \[s\].
     pub t: Vec<f64>,
     /// Lines.
     pub series: Vec<Series>,

@@ -8,7 +8,7 @@ use crate::error::{invalid, Result};
 pub struct Record {
     /// Where it came from (file name), for messages.
     pub source: String,
-    /// Times [s], strictly increasing.
+    /// Times \[s\], strictly increasing.
     pub t: Vec<f64>,
     /// Input columns.
     pub inputs: Vec<Vec<f64>>,
@@ -27,7 +27,7 @@ impl Record {
         self.t.is_empty()
     }
 
-    /// The median sampling interval [s].
+    /// The median sampling interval \[s\].
     pub fn median_interval(&self) -> f64 {
         let mut d: Vec<f64> = self.t.windows(2).map(|w| w[1] - w[0]).collect();
         d.sort_by(f64::total_cmp);

@@ -62,7 +62,7 @@ pub enum Error {
     /// The solver failed; the state is named in display units.
     #[error("simulation failed at t = {t_s} s ({state}): {source}")]
     Solver {
-        /// Time [s].
+        /// Time \[s\].
         t_s: f64,
         /// The state, named and in display units.
         state: String,

@@ -9,7 +9,7 @@ pub fn rms_error(y: &[f64], yhat: &[f64]) -> f64 {
     (y.iter().zip(yhat).map(|(a, b)| (a - b) * (a - b)).sum::<f64>() / n as f64).sqrt()
 }
 
-/// MATLAB `compare`'s fit: `100 (1 - |y - yhat| / |y - mean(y)|)` [%]; 100 is perfect,
+/// MATLAB `compare`'s fit: `100 (1 - |y - yhat| / |y - mean(y)|)` \[%\]; 100 is perfect,
 /// 0 is no better than the mean, negative is worse.
 pub fn fit_percent(y: &[f64], yhat: &[f64]) -> f64 {
     let n = y.len().min(yhat.len());

@@ -7,7 +7,7 @@ use rhonn::net::{Network, Sigmoid, Terms};
 use rhonn_ode::{Direction, Dopri5, EventAction, Options, StepResult, System};
 use std::cell::RefCell;
 
-/// chi' = -a chi + w*^T z(chi, u) + v(t), identified by `ident`; state [chi, identifier].
+/// chi' = -a chi + w*^T z(chi, u) + v(t), identified by `ident`; state \[chi, identifier\].
 struct RhonnPlant {
     net: Network,
     wstar: Vec<Vec<f64>>,
@@ -89,7 +89,7 @@ impl System for RhonnPlant {
     }
 }
 
-/// One neuron, input u: y = [s(chi), u], z = [s(chi), u, s(chi) u], a = 1.
+/// One neuron, input u: y = \[s(chi), u\], z = \[s(chi), u, s(chi) u\], a = 1.
 fn net3() -> Network {
     Network {
         n: 1,

@@ -8,13 +8,13 @@
 /// Units are the caller's; the pump uses Pa in and A out.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pi {
-    /// Proportional gain [A/Pa].
+    /// Proportional gain \[A/Pa\].
     pub kp: f64,
-    /// Integral gain kp / Ti [A/(Pa s)].
+    /// Integral gain kp / Ti \[A/(Pa s)\].
     pub ki: f64,
-    /// Sampling period [s].
+    /// Sampling period \[s\].
     pub period_s: f64,
-    /// Output offset [A].
+    /// Output offset \[A\].
     pub bias: f64,
     /// Output range.
     pub u_min: f64,
@@ -49,7 +49,7 @@ impl Pi {
         (self.bias + self.kp * e + self.integral).clamp(self.u_min, self.u_max)
     }
 
-    /// The integral term [A].
+    /// The integral term \[A\].
     pub fn integral(&self) -> f64 {
         self.integral
     }

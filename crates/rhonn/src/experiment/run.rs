@@ -16,7 +16,7 @@ use rhonn_ode::{Dopri5, Options, Profile, State, Stats, System};
 use serde::Serialize;
 
 /// Deviations from the set-point are judged this long after each set-point change
-/// (the start counts as one) for `max_abs_deviation_settled_mpa` [s].
+/// (the start counts as one) for `max_abs_deviation_settled_mpa` \[s\].
 pub const SETTLE_S: f64 = 1.0;
 
 /// Solver settings and counters of a run.
@@ -40,36 +40,36 @@ pub struct SolverReport {
 /// Figures of a regulated run (display units).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Regulation {
-    /// max |p_line - p_ref| over the run [MPa].
+    /// max |p_line - p_ref| over the run \[MPa\].
     pub max_abs_deviation_mpa: f64,
-    /// max |p_line - p_ref| from 1 s after each set-point change on [MPa].
+    /// max |p_line - p_ref| from 1 s after each set-point change on \[MPa\].
     pub max_abs_deviation_settled_mpa: f64,
-    /// Integral of (p_line - p_ref)^2 over the run [MPa^2 s].
+    /// Integral of (p_line - p_ref)^2 over the run \[MPa^2 s\].
     pub ise_mpa2_s: f64,
-    /// Time with the current at 0 or at its maximum [s].
+    /// Time with the current at 0 or at its maximum \[s\].
     pub time_current_saturated_s: f64,
 }
 
 /// The figures of a run (display units, named with their unit).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Figures {
-    /// Simulated time [s].
+    /// Simulated time \[s\].
     pub duration_s: f64,
     /// Output samples.
     pub samples: usize,
-    /// P_l at the end [MPa].
+    /// P_l at the end \[MPa\].
     pub final_p_line_mpa: f64,
-    /// x at the end [mm].
+    /// x at the end \[mm\].
     pub final_stroke_mm: f64,
-    /// Lowest P_l [MPa].
+    /// Lowest P_l \[MPa\].
     pub p_line_min_mpa: f64,
-    /// Highest P_l [MPa].
+    /// Highest P_l \[MPa\].
     pub p_line_max_mpa: f64,
-    /// Largest stroke [mm].
+    /// Largest stroke \[mm\].
     pub stroke_max_mm: f64,
-    /// Time with P_l below P_min, where the model is not valid [s].
+    /// Time with P_l below P_min, where the model is not valid \[s\].
     pub time_below_p_min_s: f64,
-    /// Time with P_l below P_min after the first second [s].
+    /// Time with P_l below P_min after the first second \[s\].
     pub time_below_p_min_after_1s_s: f64,
     /// Regulated runs only.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -119,7 +119,7 @@ struct Accumulator<'a> {
     saturated: f64,
 }
 
-/// Gauss-Legendre nodes on [0, 1] and weights (summing to 1).
+/// Gauss-Legendre nodes on \[0, 1\] and weights (summing to 1).
 const GAUSS: [(f64, f64); 3] = [
     (0.112_701_665_379_258_31, 5.0 / 18.0),
     (0.5, 8.0 / 18.0),

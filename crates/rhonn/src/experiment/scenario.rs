@@ -17,9 +17,9 @@ pub const Q_L_MAX_DM3_S: f64 = 2.1;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct InitialSpec {
-    /// P_l(0) [MPa] (2).
+    /// P_l(0) \[MPa\] (2).
     pub p_line_mpa: f64,
-    /// x(0) [mm] (0).
+    /// x(0) \[mm\] (0).
     pub stroke_mm: f64,
 }
 
@@ -36,7 +36,7 @@ impl Default for InitialSpec {
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MeasurementSpec {
-    /// Standard deviation of the white Gaussian noise on the measured pressure [MPa] (0).
+    /// Standard deviation of the white Gaussian noise on the measured pressure \[MPa\] (0).
     pub noise_std_mpa: f64,
 }
 
@@ -61,11 +61,11 @@ pub struct SolverSpec {
     pub profile: ProfileSpec,
     /// Relative tolerance (both states).
     pub rtol: Option<f64>,
-    /// Absolute tolerance of the line pressure [Pa].
+    /// Absolute tolerance of the line pressure \[Pa\].
     pub atol_p_line_pa: Option<f64>,
-    /// Absolute tolerance of the stroke [m].
+    /// Absolute tolerance of the stroke \[m\].
     pub atol_stroke_m: Option<f64>,
-    /// Largest step [ms].
+    /// Largest step \[ms\].
     pub max_step_ms: Option<f64>,
 }
 
@@ -75,17 +75,17 @@ pub struct SolverSpec {
 pub enum ControllerSpec {
     /// PI on the measured pressure, sampled every T, anti-windup at the current limits.
     Pi {
-        /// Pressure set-point [MPa].
+        /// Pressure set-point \[MPa\].
         setpoint_mpa: SignalSpec,
-        /// Proportional gain [A/MPa].
+        /// Proportional gain \[A/MPa\].
         kp_a_per_mpa: f64,
-        /// Integral time [s].
+        /// Integral time \[s\].
         ti_s: f64,
-        /// Output offset [A] (default: the current whose steady stroke gives a pump
+        /// Output offset \[A\] (default: the current whose steady stroke gives a pump
         /// flow equal to the lubricating flow Q_0).
         #[serde(default)]
         bias_a: Option<f64>,
-        /// An excitation added to the controller's output [A] (e.g. a PRBS), held over
+        /// An excitation added to the controller's output \[A\] (e.g. a PRBS), held over
         /// each control period; the sum is clipped to the current range.
         #[serde(default)]
         dither_a: Option<SignalSpec>,
@@ -101,9 +101,9 @@ pub struct ScenarioSpec {
     /// One line saying what the scenario shows.
     #[serde(default)]
     pub description: String,
-    /// Simulated time [s].
+    /// Simulated time \[s\].
     pub duration_s: f64,
-    /// Interval of the output samples [ms] (1).
+    /// Interval of the output samples \[ms\] (1).
     #[serde(default = "default_output_ms")]
     pub output_interval_ms: f64,
     /// Seed of every random draw (noise, PRBS) (0).
@@ -115,10 +115,10 @@ pub struct ScenarioSpec {
     /// Initial state.
     #[serde(default)]
     pub initial: InitialSpec,
-    /// Open-loop solenoid current [A]; exclusive with `controller`.
+    /// Open-loop solenoid current \[A\]; exclusive with `controller`.
     #[serde(default)]
     pub current_a: Option<SignalSpec>,
-    /// Demanded flow [dm^3/s] (zero when absent).
+    /// Demanded flow \[dm^3/s\] (zero when absent).
     #[serde(default)]
     pub demand_dm3_s: Option<SignalSpec>,
     /// Pressure controller; exclusive with `current_a`.
@@ -142,22 +142,22 @@ fn default_output_ms() -> f64 {
 /// A checked PI controller (SI).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PiSettings {
-    /// Set-point [Pa].
+    /// Set-point \[Pa\].
     pub setpoint: Signal,
-    /// Gain [A/Pa].
+    /// Gain \[A/Pa\].
     pub kp: f64,
-    /// Integral time [s].
+    /// Integral time \[s\].
     pub ti_s: f64,
-    /// Output offset [A].
+    /// Output offset \[A\].
     pub bias: f64,
-    /// Excitation added to the output [A].
+    /// Excitation added to the output \[A\].
     pub dither: Option<Signal>,
 }
 
 /// How the current is produced.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Drive {
-    /// An open-loop profile [A].
+    /// An open-loop profile \[A\].
     OpenLoop(Signal),
     /// A PI regulator.
     Pi(PiSettings),
@@ -170,11 +170,11 @@ pub struct SolverSettings {
     pub profile: ProfileSpec,
     /// Relative tolerance.
     pub rtol: f64,
-    /// Absolute tolerance of P_l [Pa].
+    /// Absolute tolerance of P_l \[Pa\].
     pub atol_p_line_pa: f64,
-    /// Absolute tolerance of x [m].
+    /// Absolute tolerance of x \[m\].
     pub atol_stroke_m: f64,
-    /// Largest step [s].
+    /// Largest step \[s\].
     pub max_step_s: f64,
 }
 
@@ -185,15 +185,15 @@ pub struct Scenario {
     pub spec: ScenarioSpec,
     /// Parameters (SI).
     pub params: PumpParams,
-    /// P_l(0) [Pa], x(0) [m].
+    /// P_l(0) \[Pa\], x(0) \[m\].
     pub initial: [f64; 2],
     /// Current source.
     pub drive: Drive,
-    /// Demanded flow [m^3/s].
+    /// Demanded flow \[m^3/s\].
     pub demand: Signal,
-    /// Noise standard deviation [Pa].
+    /// Noise standard deviation \[Pa\].
     pub noise_std_pa: f64,
-    /// Output interval [s].
+    /// Output interval \[s\].
     pub output_interval_s: f64,
     /// Solver.
     pub solver: SolverSettings,

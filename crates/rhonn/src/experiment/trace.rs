@@ -4,21 +4,21 @@
 /// One output sample (SI).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
-    /// Line pressure [Pa].
+    /// Line pressure \[Pa\].
     pub p_line: f64,
-    /// Pump stroke [m].
+    /// Pump stroke \[m\].
     pub stroke: f64,
-    /// Solenoid current [A].
+    /// Solenoid current \[A\].
     pub current: f64,
-    /// Demanded flow [m^3/s].
+    /// Demanded flow \[m^3/s\].
     pub demand: f64,
-    /// Pressure set-point [Pa] (regulated runs).
+    /// Pressure set-point \[Pa\] (regulated runs).
     pub p_ref: Option<f64>,
-    /// Measured pressure [Pa] (when measured: regulated runs, or noise > 0).
+    /// Measured pressure \[Pa\] (when measured: regulated runs, or noise > 0).
     pub p_meas: Option<f64>,
-    /// An identifier's estimates of `[p_line, stroke]` [Pa, m] (identified states only).
+    /// An identifier's estimates of `[p_line, stroke]` \[Pa, m\] (identified states only).
     pub hat: [Option<f64>; 2],
 }
 
@@ -55,7 +55,7 @@ pub struct Column {
     pub values: Vec<f64>,
 }
 
-/// All samples of a run in labelled SI columns; the first is `t` [s].
+/// All samples of a run in labelled SI columns; the first is `t` \[s\].
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Trace {
     /// The columns, `t` first.

@@ -377,13 +377,13 @@ impl Identifier {
 /// Which pump signals feed the identifier.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PumpSignal {
-    /// Line pressure [Pa].
+    /// Line pressure \[Pa\].
     PLine,
-    /// Stroke [m].
+    /// Stroke \[m\].
     Stroke,
-    /// Solenoid current [A].
+    /// Solenoid current \[A\].
     Current,
-    /// Demanded flow [m^3/s].
+    /// Demanded flow \[m^3/s\].
     Demand,
 }
 
@@ -534,7 +534,7 @@ impl System for IdentifiedPump {
 pub struct DiscreteIdentifier {
     /// The identifier.
     pub ident: Identifier,
-    /// Sampling period [s].
+    /// Sampling period \[s\].
     pub period_s: f64,
     state: Vec<f64>,
     k: [Vec<f64>; 4],

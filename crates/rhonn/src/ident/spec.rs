@@ -35,7 +35,7 @@ pub struct IdentifierSpec {
     /// Divisor of each input (default 1).
     #[serde(default)]
     pub input_scale: Option<Vec<f64>>,
-    /// Terms by hand: each a list of `[y index, exponent]`, y = [s(states)..., inputs...].
+    /// Terms by hand: each a list of `[y index, exponent]`, y = \[s(states)..., inputs...\].
     #[serde(default)]
     pub terms: Option<Vec<Vec<[usize; 2]>>>,
     /// Or every monomial of y up to this degree ...
@@ -46,7 +46,7 @@ pub struct IdentifierSpec {
     pub max_factors: Option<usize>,
     /// Poles a_i > 0, one per neuron.
     pub a: Vec<f64>,
-    /// The model's initial states [SI] (default 0).
+    /// The model's initial states \[SI\] (default 0).
     #[serde(default)]
     pub initial_si: Option<Vec<f64>>,
     /// Training epochs over the same data (default 1).
@@ -80,7 +80,7 @@ pub struct IdentSettings {
     pub states: Vec<PumpSignal>,
     /// Inputs.
     pub inputs: Vec<PumpSignal>,
-    /// Initial model states [SI].
+    /// Initial model states \[SI\].
     pub xhat0: Vec<f64>,
     /// Epochs.
     pub epochs: usize,

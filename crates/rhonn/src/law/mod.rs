@@ -177,11 +177,11 @@ pub enum LawSpec {
 /// The structure a law gives each neuron's states.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Structure {
-    /// [x_i, w_i].
+    /// \[x_i, w_i\].
     FilteredError,
-    /// [zeta_i, w_i].
+    /// \[zeta_i, w_i\].
     FilteredRegressor,
-    /// [zeta_i, w_i, P_i].
+    /// \[zeta_i, w_i, P_i\].
     LeastSquares,
 }
 

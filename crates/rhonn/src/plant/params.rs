@@ -9,51 +9,51 @@ use serde::{Deserialize, Serialize};
 /// thesis's values) or from a [`PumpParamsSpec`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PumpParams {
-    /// Line volume at zero pressure V_l0 [m^3].
+    /// Line volume at zero pressure V_l0 \[m^3\].
     pub v_l0: f64,
-    /// Bulk modulus beta [Pa].
+    /// Bulk modulus beta \[Pa\].
     pub beta: f64,
-    /// Volume variation rate alpha_v [1/Pa].
+    /// Volume variation rate alpha_v \[1/Pa\].
     pub alpha_v: f64,
-    /// Maximum line pressure P_max [Pa].
+    /// Maximum line pressure P_max \[Pa\].
     pub p_max: f64,
-    /// Maximum slew rate of the demanded flow Qdot_max [m^3/s^2].
+    /// Maximum slew rate of the demanded flow Qdot_max \[m^3/s^2\].
     pub qdot_max: f64,
-    /// Pump gain k_l [m^2].
+    /// Pump gain k_l \[m^2\].
     pub k_l: f64,
-    /// Pump angular rate omega [rad/s].
+    /// Pump angular rate omega \[rad/s\].
     pub omega: f64,
-    /// Lubricating flow Q_0 [m^3/s].
+    /// Lubricating flow Q_0 \[m^3/s\].
     pub q_0: f64,
-    /// Largest solenoid current [A] (the range is 0 to this).
+    /// Largest solenoid current \[A\] (the range is 0 to this).
     pub i_max: f64,
-    /// Piston area A_a [m^2].
+    /// Piston area A_a \[m^2\].
     pub a_a: f64,
-    /// Control time unit T [s].
+    /// Control time unit T \[s\].
     pub t_control: f64,
-    /// Maximum pump stroke x_max [m].
+    /// Maximum pump stroke x_max \[m\].
     pub x_max: f64,
-    /// Flow aperture coefficient mu_1 [m^2/s/sqrt(Pa)].
+    /// Flow aperture coefficient mu_1 \[m^2/s/sqrt(Pa)\].
     pub mu_1: f64,
-    /// Second-order aperture coefficient mu_2 [m/s/sqrt(Pa)].
+    /// Second-order aperture coefficient mu_2 \[m/s/sqrt(Pa)\].
     pub mu_2: f64,
-    /// Solenoid gain phi [N/A].
+    /// Solenoid gain phi \[N/A\].
     pub phi: f64,
-    /// Pilot valve spring stiffness K_c [N/m].
+    /// Pilot valve spring stiffness K_c \[N/m\].
     pub k_c: f64,
-    /// Feedback spring stiffness K_a [N/m].
+    /// Feedback spring stiffness K_a \[N/m\].
     pub k_a: f64,
-    /// Bias spring stiffness K [N/m].
+    /// Bias spring stiffness K \[N/m\].
     pub k: f64,
-    /// Bias force F_u [N].
+    /// Bias force F_u \[N\].
     pub f_u: f64,
-    /// Line pressure fraction gamma_l [-].
+    /// Line pressure fraction gamma_l \[-\].
     pub gamma_l: f64,
-    /// Bias pressure P_0 [Pa].
+    /// Bias pressure P_0 \[Pa\].
     pub p_0: f64,
-    /// Minimum line pressure of the model's validity P_min [Pa].
+    /// Minimum line pressure of the model's validity P_min \[Pa\].
     pub p_min: f64,
-    /// Time constant of a first-order lag on the solenoid current [s] (0: none). An
+    /// Time constant of a first-order lag on the solenoid current \[s\] (0: none). An
     /// unmodeled dynamic for robustness studies (SPEC.md section 3).
     pub solenoid_lag: f64,
 }
@@ -67,19 +67,19 @@ impl Default for PumpParams {
 }
 
 impl PumpParams {
-    /// Steady-state stroke at current `i` (s = 0): phi I / K_a [m].
+    /// Steady-state stroke at current `i` (s = 0): phi I / K_a \[m\].
     pub fn steady_stroke(&self, i: f64) -> f64 {
         self.phi * i / self.k_a
     }
-    /// Pump flow k_l omega x [m^3/s] at stroke `x`.
+    /// Pump flow k_l omega x \[m^3/s\] at stroke `x`.
     pub fn pump_flow(&self, x: f64) -> f64 {
         self.k_l * self.omega * x
     }
-    /// The largest steady pump flow, at the largest current [m^3/s].
+    /// The largest steady pump flow, at the largest current \[m^3/s\].
     pub fn max_pump_flow(&self) -> f64 {
         self.pump_flow(self.steady_stroke(self.i_max).min(self.x_max))
     }
-    /// P_min from the parameters, F_u / (A_a (1 - gamma_l)) [Pa] (the thesis's bound
+    /// P_min from the parameters, F_u / (A_a (1 - gamma_l)) \[Pa\] (the thesis's bound
     /// below which the pilot pressure drop changes sign).
     pub fn p_min_derived(&self) -> f64 {
         self.f_u / (self.a_a * (1.0 - self.gamma_l))
@@ -91,51 +91,51 @@ impl PumpParams {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct PumpParamsSpec {
-    /// V_l0 [dm^3] (0.25).
+    /// V_l0 \[dm^3\] (0.25).
     pub v_l0_dm3: f64,
-    /// beta [MPa] (1200, +-20 %).
+    /// beta \[MPa\] (1200, +-20 %).
     pub beta_mpa: f64,
-    /// alpha_v [1/MPa] (0.04).
+    /// alpha_v \[1/MPa\] (0.04).
     pub alpha_v_per_mpa: f64,
-    /// P_max [MPa] (25).
+    /// P_max \[MPa\] (25).
     pub p_max_mpa: f64,
-    /// Qdot_max [dm^3/s^2] (2, +-10 %).
+    /// Qdot_max \[dm^3/s^2\] (2, +-10 %).
     pub qdot_max_dm3_s2: f64,
-    /// k_l [m^2] (0.6e-3).
+    /// k_l \[m^2\] (0.6e-3).
     pub k_l_m2: f64,
-    /// omega [rad/s] (200).
+    /// omega \[rad/s\] (200).
     pub omega_rad_s: f64,
-    /// Q_0 [dm^3/s] (0.13, +-10 %).
+    /// Q_0 \[dm^3/s\] (0.13, +-10 %).
     pub q_0_dm3_s: f64,
-    /// Largest current [A] (0.8).
+    /// Largest current \[A\] (0.8).
     pub i_max_a: f64,
-    /// A_a [dm^2] (0.05).
+    /// A_a \[dm^2\] (0.05).
     pub a_a_dm2: f64,
-    /// T [ms] (5).
+    /// T \[ms\] (5).
     pub t_control_ms: f64,
-    /// x_max [mm] (24).
+    /// x_max \[mm\] (24).
     pub x_max_mm: f64,
-    /// mu_1 [m^2/s/sqrt(Pa)] (78e-6, +-20 %).
+    /// mu_1 \[m^2/s/sqrt(Pa)\] (78e-6, +-20 %).
     pub mu_1: f64,
-    /// mu_2 [m/s/sqrt(Pa)] (78e-6, +-20 %).
+    /// mu_2 \[m/s/sqrt(Pa)\] (78e-6, +-20 %).
     pub mu_2: f64,
-    /// phi [N/A] (28).
+    /// phi \[N/A\] (28).
     pub phi_n_per_a: f64,
-    /// K_c [N/m] (27300).
+    /// K_c \[N/m\] (27300).
     pub k_c_n_per_m: f64,
-    /// K_a [N/m] (1300).
+    /// K_a \[N/m\] (1300).
     pub k_a_n_per_m: f64,
-    /// K [N/m] (8300).
+    /// K \[N/m\] (8300).
     pub k_n_per_m: f64,
-    /// F_u [N] (400).
+    /// F_u \[N\] (400).
     pub f_u_n: f64,
-    /// gamma_l [-] (0.2).
+    /// gamma_l \[-\] (0.2).
     pub gamma_l: f64,
-    /// P_0 [MPa] (0.4).
+    /// P_0 \[MPa\] (0.4).
     pub p_0_mpa: f64,
-    /// P_min [MPa] (1).
+    /// P_min \[MPa\] (1).
     pub p_min_mpa: f64,
-    /// First-order lag on the solenoid current [ms] (0: none; SPEC.md section 3).
+    /// First-order lag on the solenoid current \[ms\] (0: none; SPEC.md section 3).
     pub solenoid_lag_ms: f64,
 }
 

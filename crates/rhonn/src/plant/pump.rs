@@ -4,11 +4,11 @@ use super::PumpParams;
 use crate::signal::Signal;
 use rhonn_ode::{Direction, System};
 
-/// Index of the line pressure P_l [Pa] in the state.
+/// Index of the line pressure P_l \[Pa\] in the state.
 pub const P_LINE: usize = 0;
-/// Index of the pump stroke x [m] in the state.
+/// Index of the pump stroke x \[m\] in the state.
 pub const STROKE: usize = 1;
-/// Index of the current the solenoid actually carries [A] in the state: the commanded
+/// Index of the current the solenoid actually carries \[A\] in the state: the commanded
 /// current through a first-order lag of `solenoid_lag` (unmodeled dynamics, SPEC.md
 /// section 3); without a lag it stays unused and the commanded current acts directly.
 pub const CURRENT_EFF: usize = 2;
@@ -51,8 +51,8 @@ impl Input {
     }
 }
 
-/// The pump and line (states `[P_l, x, i]`, SI) driven by a solenoid current [A] and a
-/// demanded flow [m^3/s].
+/// The pump and line (states `[P_l, x, i]`, SI) driven by a solenoid current \[A\] and a
+/// demanded flow \[m^3/s\].
 ///
 /// Modes, constant within a step: the segments of the two inputs, the pilot valve's
 /// branch (`s >= 0` or `s < 0`) and the sign of the pilot pressure drop. Event 0 is
@@ -63,9 +63,9 @@ impl Input {
 pub struct PumpSystem {
     /// Parameters (SI).
     pub params: PumpParams,
-    /// Solenoid current [A], clipped to `[0, i_max]` when evaluated.
+    /// Solenoid current \[A\], clipped to `[0, i_max]` when evaluated.
     pub current: Input,
-    /// Demanded flow [m^3/s].
+    /// Demanded flow \[m^3/s\].
     pub demand: Input,
     seg_i: usize,
     seg_q: usize,
@@ -76,11 +76,11 @@ pub struct PumpSystem {
 /// Intermediate quantities of the pilot valve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pilot {
-    /// Pilot valve stroke s [m].
+    /// Pilot valve stroke s \[m\].
     pub s: f64,
-    /// Pressure drop across the pilot valve [Pa].
+    /// Pressure drop across the pilot valve \[Pa\].
     pub dpa: f64,
-    /// Pilot flow Q_a [m^3/s].
+    /// Pilot flow Q_a \[m^3/s\].
     pub q_a: f64,
 }
 
@@ -98,19 +98,19 @@ impl PumpSystem {
         }
     }
 
-    /// Solenoid current at `t` in the current modes [A] (clipped).
+    /// Solenoid current at `t` in the current modes \[A\] (clipped).
     #[inline]
     pub fn current_at(&self, t: f64) -> f64 {
         self.current.eval_in(self.seg_i, t).clamp(0.0, self.params.i_max)
     }
 
-    /// Demanded flow at `t` in the current modes [m^3/s].
+    /// Demanded flow at `t` in the current modes \[m^3/s\].
     #[inline]
     pub fn demand_at(&self, t: f64) -> f64 {
         self.demand.eval_in(self.seg_q, t)
     }
 
-    /// Set the held current (a sampled controller's output) [A].
+    /// Set the held current (a sampled controller's output) \[A\].
     pub fn set_current(&mut self, i: f64) {
         self.current = Input::Held(i);
     }
@@ -142,7 +142,7 @@ impl PumpSystem {
         (dp, pil.q_a / k.a_a)
     }
 
-    /// The current acting on the pilot valve in state `x` at `t` [A]: the lagged
+    /// The current acting on the pilot valve in state `x` at `t` \[A\]: the lagged
     /// current when the solenoid has a lag, the commanded one otherwise.
     #[inline(always)]
     pub fn acting_current(&self, t: f64, x: &[f64]) -> f64 {

@@ -104,9 +104,9 @@ impl PiecewiseLinear {
 pub struct Sine {
     /// Amplitude.
     pub amplitude: f64,
-    /// Frequency [Hz].
+    /// Frequency \[Hz\].
     pub freq_hz: f64,
-    /// Phase [rad].
+    /// Phase \[rad\].
     pub phase: f64,
 }
 

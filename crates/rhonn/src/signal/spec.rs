@@ -13,11 +13,11 @@ use std::f64::consts::PI;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Pulse {
-    /// When the ramp up starts [s].
+    /// When the ramp up starts \[s\].
     pub start_s: f64,
     /// Peak value.
     pub peak: f64,
-    /// Time at the peak [s].
+    /// Time at the peak \[s\].
     pub hold_s: f64,
 }
 
@@ -45,11 +45,11 @@ pub enum SignalSpec {
     /// A seeded pseudo-random binary sequence between `low` and `high`, one bit every
     /// `bit_s`, on `[start_s, end_s)`; `low` outside.
     Prbs {
-        /// Start [s].
+        /// Start \[s\].
         start_s: f64,
-        /// End [s].
+        /// End \[s\].
         end_s: f64,
-        /// Bit length [s].
+        /// Bit length \[s\].
         bit_s: f64,
         /// Low level.
         low: f64,
@@ -66,20 +66,20 @@ pub enum SignalSpec {
         offset: f64,
         /// Amplitude of each sine.
         amplitude: f64,
-        /// Lowest frequency [Hz].
+        /// Lowest frequency \[Hz\].
         f_min_hz: f64,
-        /// Highest frequency [Hz].
+        /// Highest frequency \[Hz\].
         f_max_hz: f64,
         /// Number of sines.
         n_sines: usize,
-        /// Start [s].
+        /// Start \[s\].
         start_s: f64,
-        /// End [s].
+        /// End \[s\].
         end_s: f64,
     },
     /// A series of trapezoids (demanded flow): ramps at `slew_per_s`.
     Trapezoids {
-        /// Slew rate of the ramps [unit/s].
+        /// Slew rate of the ramps \[unit/s\].
         slew_per_s: f64,
         /// The trapezoids, in time order, not overlapping.
         pulses: Vec<Pulse>,

@@ -87,7 +87,7 @@ pub struct ModelSpec {
     pub output_margin: f64,
     /// Prediction horizon of the `multi-step` law, in samples (default 10).
     pub horizon: usize,
-    /// Time constants [s] of first-order filters each input also passes through (the
+    /// Time constants \[s\] of first-order filters each input also passes through (the
     /// filtered-regressor idea of the thesis applied to inputs: a filtered current
     /// stands for a lagged state that is not measured, such as the pump stroke).
     /// Default none.
@@ -133,7 +133,7 @@ pub struct Model {
     pub inputs: Vec<String>,
     /// Output column names.
     pub outputs: Vec<String>,
-    /// Sampling interval [s].
+    /// Sampling interval \[s\].
     pub sample_time_s: f64,
     /// (mean, std) of each input.
     pub input_norm: Vec<(f64, f64)>,
