@@ -320,24 +320,8 @@ fn cmd_run(scenario: &str, out: Option<PathBuf>) -> Result<()> {
         );
     }
     if let Some(id) = &summary.identification {
-        println!(
-            "  identification ({}, {} terms, {} epoch(s)):",
-            id.law, id.n_terms, id.epochs
-        );
-        for (mode, figs) in [
-            ("training", &id.training),
-            ("series-parallel", &id.series_parallel),
-            ("parallel", &id.parallel),
-        ] {
-            for f in figs {
-                println!(
-                    "    {mode:<16} {:<7} rms error {:.4} {}, fit {:.1} %, |w| {:.4e}",
-                    f.state, f.rms_error, f.unit, f.fit_percent, f.final_weight_norm
-                );
-            }
-        }
-        for finding in &id.findings {
-            println!("    finding: {finding}");
+        for line in id.to_string().lines() {
+            println!("  {line}");
         }
     }
     let s = &summary.solver;

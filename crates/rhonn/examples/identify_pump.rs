@@ -12,18 +12,11 @@ fn main() -> Result<(), rhonn::Error> {
         .identification
         .as_ref()
         .expect("an identified scenario");
-    for (mode, figs) in [
-        ("training", &id.training),
-        ("series-parallel", &id.series_parallel),
-        ("parallel", &id.parallel),
-    ] {
-        for f in figs {
-            println!(
-                "{mode:>16} {:>7}: rms {:.4e} {}, fit {:7.2} %, converged at {:?} s, |w| {:.4e}",
-                f.state, f.rms_error, f.unit, f.fit_percent, f.convergence_time_s, f.final_weight_norm
-            );
-        }
-    }
-    println!("{}", out.summary.solver.rhs_evaluations);
+    print!("{id}");
+    println!(
+        "{} rhs evaluations, {} samples",
+        out.summary.solver.rhs_evaluations,
+        trace.len()
+    );
     Ok(())
 }

@@ -907,6 +907,40 @@ pub struct IdentReport {
     pub findings: Vec<String>,
 }
 
+impl std::fmt::Display for IdentReport {
+    /// One line per mode and state, then the findings.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "identification ({}, {} terms, {} epoch(s)):",
+            self.law, self.n_terms, self.epochs
+        )?;
+        for (mode, figs) in [
+            ("training", &self.training),
+            ("series-parallel", &self.series_parallel),
+            ("parallel", &self.parallel),
+        ] {
+            for s in figs {
+                writeln!(
+                    f,
+                    "  {mode:<16} {:<7} rms error {:.4} {}, fit {:.1} %, converged at {}, |w| {:.4e}",
+                    s.state,
+                    s.rms_error,
+                    s.unit,
+                    s.fit_percent,
+                    s.convergence_time_s
+                        .map_or("-".to_string(), |t| format!("{t:.3} s")),
+                    s.final_weight_norm
+                )?;
+            }
+        }
+        for finding in &self.findings {
+            writeln!(f, "  finding: {finding}")?;
+        }
+        Ok(())
+    }
+}
+
 /// Collects `(t, state, estimate)` of the identified states.
 struct Collector {
     wants: bool,

@@ -165,60 +165,46 @@ pub struct OutputFigures {
 impl ModelSpec {
     /// Validate.
     pub fn check(&self) -> Result<()> {
-        let f = "model";
-        if self.na == 0 || self.na > 50 {
-            return Err(invalid(format!("{f}.na"), self.na, "an integer in [1, 50]"));
+        let int_in = |name: &str, v: usize, lo: usize, hi: usize| {
+            if (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(invalid(
+                    format!("model.{name}"),
+                    v,
+                    format!("an integer in [{lo}, {hi}]"),
+                ))
+            }
+        };
+        int_in("na", self.na, 1, 50)?;
+        int_in("nb", self.nb, 0, 50)?;
+        int_in("nk", self.nk, 0, 50)?;
+        if self.kind == Kind::Rhonn {
+            int_in("degree", self.degree, 1, 5)?;
+            int_in("max_factors", self.max_factors, 1, self.degree)?;
         }
-        if self.nb > 50 {
-            return Err(invalid(format!("{f}.nb"), self.nb, "an integer in [0, 50]"));
-        }
-        if self.nk > 50 {
-            return Err(invalid(format!("{f}.nk"), self.nk, "an integer in [0, 50]"));
-        }
-        if self.kind == Kind::Rhonn && !(1..=5).contains(&self.degree) {
-            return Err(invalid(
-                format!("{f}.degree"),
-                self.degree,
-                "an integer in [1, 5]",
-            ));
-        }
-        if self.kind == Kind::Rhonn && !(1..=self.degree).contains(&self.max_factors) {
-            return Err(invalid(
-                format!("{f}.max_factors"),
-                self.max_factors,
-                format!("an integer in [1, {}]", self.degree),
-            ));
+        int_in("epochs", self.epochs, 1, 100_000)?;
+        int_in("horizon", self.horizon, 1, 10_000)?;
+        int_in("output_lag_start", self.output_lag_start, 1, 1000)?;
+        if let Some(m) = self.max_terms {
+            int_in("max_terms", m, 1, crate::net::MAX_TERMS)?;
         }
         if !(self.ridge.is_finite() && self.ridge >= 0.0) {
-            return Err(invalid(format!("{f}.ridge"), self.ridge, "a number >= 0"));
-        }
-        if !(1..=100_000).contains(&self.epochs) {
-            return Err(invalid(
-                format!("{f}.epochs"),
-                self.epochs,
-                "an integer in [1, 100000]",
-            ));
+            return Err(invalid("model.ridge", self.ridge, "a number >= 0"));
         }
         if !(self.gain.is_finite() && self.gain > 0.0 && self.gain < 2.0) {
-            return Err(invalid(format!("{f}.gain"), self.gain, "a number in (0, 2)"));
+            return Err(invalid("model.gain", self.gain, "a number in (0, 2)"));
         }
-        if self.max_terms == Some(0) {
+        if !(self.output_margin.is_finite() && self.output_margin >= 0.0) {
             return Err(invalid(
-                format!("{f}.max_terms"),
-                0,
-                "at least 1 (leave it out to keep every term)",
-            ));
-        }
-        if !(1..=1000).contains(&self.output_lag_start) {
-            return Err(invalid(
-                format!("{f}.output_lag_start"),
-                self.output_lag_start,
-                "an integer in [1, 1000]",
+                "model.output_margin",
+                self.output_margin,
+                "a number >= 0",
             ));
         }
         if self.input_filters_s.len() > 16 {
             return Err(invalid(
-                format!("{f}.input_filters_s"),
+                "model.input_filters_s",
                 self.input_filters_s.len(),
                 "at most 16 filters",
             ));
@@ -226,25 +212,11 @@ impl ModelSpec {
         for (q, tau) in self.input_filters_s.iter().enumerate() {
             if !(tau.is_finite() && *tau > 0.0) {
                 return Err(invalid(
-                    format!("{f}.input_filters_s[{q}]"),
+                    format!("model.input_filters_s[{q}]"),
                     tau,
                     "a time constant > 0 s",
                 ));
             }
-        }
-        if !(1..=10_000).contains(&self.horizon) {
-            return Err(invalid(
-                format!("{f}.horizon"),
-                self.horizon,
-                "an integer in [1, 10000]",
-            ));
-        }
-        if !(self.output_margin.is_finite() && self.output_margin >= 0.0) {
-            return Err(invalid(
-                format!("{f}.output_margin"),
-                self.output_margin,
-                "a number >= 0",
-            ));
         }
         Ok(())
     }
