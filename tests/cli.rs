@@ -469,3 +469,20 @@ fn cascaded_tanks_free_run_beats_arx_on_validation() {
     eprintln!("cascaded tanks free-run RMS error on validation: RHONN {rms:.4} V, ARX {arx:.4} V");
     assert!(rms < 0.8 * arx, "RHONN {rms} V, ARX {arx} V");
 }
+
+#[test]
+fn bench_prints_json_figures_per_scenario() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(d.path(), &["bench", "thesis-ch3", "--json", "--seconds", "0.05"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let b = &v.as_array().unwrap()[0];
+    assert_eq!(b["scenario"], "thesis-ch3");
+    for key in ["median_s", "runs_per_s_all_cores"] {
+        assert!(b[key].as_f64().unwrap() > 0.0, "{key}");
+    }
+    assert!(b["rhs_evaluations"].as_u64().unwrap() > 1000);
+    let o = rhonn(d.path(), &["bench", "--seconds", "-1"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--seconds -1 is not allowed"));
+}

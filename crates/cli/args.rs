@@ -112,6 +112,23 @@ pub enum Command {
         #[arg(long, value_name = "K")]
         steps_ahead: Option<usize>,
     },
+    /// Time whole runs without I/O and print a table (or JSON).
+    ///
+    /// Per scenario: the median wall time of one run on one core, the right-hand-side
+    /// evaluations of one run, and the runs per second with every core busy. Each
+    /// scenario is timed for about --seconds on one core, then as long on all cores.
+    #[command(verbatim_doc_comment)]
+    Bench {
+        /// Shipped scenario names or TOML paths (default: thesis-ch3, thesis-ch5, regulated-pi).
+        scenarios: Vec<String>,
+        /// Print a JSON list of objects with scenario, median_s, rhs_evaluations,
+        /// runs_per_s_all_cores, threads, samples.
+        #[arg(long)]
+        json: bool,
+        /// Time budget per scenario and phase [s].
+        #[arg(long, default_value_t = 1.0)]
+        seconds: f64,
+    },
     /// List the shipped scenarios with a one-line description each.
     Scenarios,
     /// Print a scenario's TOML (a shipped one as it ships: copy it to start your own).

@@ -50,6 +50,11 @@ fn dispatch(cli: Cli) -> Result<()> {
             out,
             steps_ahead,
         } => cmd_predict(&model, &data, &out, steps_ahead),
+        Command::Bench {
+            scenarios,
+            json,
+            seconds,
+        } => cmd_bench(&scenarios, json, seconds),
         Command::Reproduce { out } => {
             let root = out.unwrap_or_else(|| PathBuf::from("out"));
             for name in ["thesis-ch3", "thesis-ch5", "regulated-pi"] {
@@ -280,6 +285,40 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
     }
     for f in files {
         println!("  wrote {}", f.display());
+    }
+    Ok(())
+}
+
+fn cmd_bench(names: &[String], json: bool, seconds: f64) -> Result<()> {
+    if !(seconds.is_finite() && seconds > 0.0 && seconds <= 3600.0) {
+        anyhow::bail!("--seconds {seconds} is not allowed: give a time in (0, 3600] s");
+    }
+    let default = ["thesis-ch3", "thesis-ch5", "regulated-pi"].map(String::from);
+    let names: &[String] = if names.is_empty() { &default } else { names };
+    let mut all = Vec::new();
+    for name in names {
+        let sc = preset::load(name)?.check()?;
+        let b = rhonn::experiment::bench(&sc, std::time::Duration::from_secs_f64(seconds))?;
+        if !json {
+            if all.is_empty() {
+                println!(
+                    "{:<16} {:>14} {:>16} {:>22}",
+                    "scenario", "median [ms]", "rhs evaluations", "runs/s on all cores"
+                );
+            }
+            println!(
+                "{:<16} {:>14.4} {:>16} {:>15.0} ({} threads)",
+                b.scenario,
+                b.median_s * 1e3,
+                b.rhs_evaluations,
+                b.runs_per_s_all_cores,
+                b.threads
+            );
+        }
+        all.push(b);
+    }
+    if json {
+        println!("{}", serde_json::to_string_pretty(&all)?);
     }
     Ok(())
 }

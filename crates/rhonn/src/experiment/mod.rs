@@ -1,10 +1,12 @@
 //! Experiments: scenario files, running them, recording what they produce.
 
+mod bench;
 pub mod preset;
 mod run;
 mod scenario;
 mod trace;
 
+pub use bench::{bench, BenchFigures};
 pub use run::{
     run, run_full, solver_options, Figures, IdentReport, ModelFile, Plant, Regulation, RunOutput,
     SolverReport, StateFigures, Summary, SETTLE_S,

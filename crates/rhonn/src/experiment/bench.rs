@@ -1,0 +1,61 @@
+//! Timing whole runs without I/O: the median wall time of one run on one core, and the
+//! throughput of runs on every core (rayon). Used by `rhonn bench`; the criterion
+//! benches in `benches/` are the finer instrument.
+
+use super::run::run;
+use super::scenario::Scenario;
+use super::trace::NoRecorder;
+use crate::error::Result;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::time::{Duration, Instant};
+
+/// What `rhonn bench` reports for one scenario.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BenchFigures {
+    /// Scenario name.
+    pub scenario: String,
+    /// Median wall time of one run without I/O [s].
+    pub median_s: f64,
+    /// Right-hand-side evaluations of one run.
+    pub rhs_evaluations: u64,
+    /// Runs per second with one run per core at a time, on every core.
+    pub runs_per_s_all_cores: f64,
+    /// Threads used for the throughput.
+    pub threads: usize,
+    /// Runs timed one by one.
+    pub samples: usize,
+}
+
+/// Time `sc` for about `budget` on one core, then as long on every core.
+pub fn bench(sc: &Scenario, budget: Duration) -> Result<BenchFigures> {
+    let first = run(sc, &mut NoRecorder)?;
+    let mut times = Vec::new();
+    let start = Instant::now();
+    while times.len() < 5 || start.elapsed() < budget {
+        let t0 = Instant::now();
+        run(sc, &mut NoRecorder)?;
+        times.push(t0.elapsed().as_secs_f64());
+        if times.len() >= 100_000 {
+            break;
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    let median_s = times[times.len() / 2];
+    let threads = rayon::current_num_threads();
+    // Enough runs to keep every core busy for about the budget.
+    let n = ((budget.as_secs_f64() / median_s.max(1e-9)) as usize * threads).clamp(threads, 1_000_000);
+    let t0 = Instant::now();
+    (0..n)
+        .into_par_iter()
+        .try_for_each(|_| run(sc, &mut NoRecorder).map(|_| ()))?;
+    let runs_per_s_all_cores = n as f64 / t0.elapsed().as_secs_f64();
+    Ok(BenchFigures {
+        scenario: sc.spec.name.clone(),
+        median_s,
+        rhs_evaluations: first.solver.rhs_evaluations,
+        runs_per_s_all_cores,
+        threads,
+        samples: times.len(),
+    })
+}
