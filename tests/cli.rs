@@ -482,7 +482,11 @@ fn bench_prints_json_figures_per_scenario() {
         assert!(b[key].as_f64().unwrap() > 0.0, "{key}");
     }
     assert!(b["rhs_evaluations"].as_u64().unwrap() > 1000);
-    let o = rhonn(d.path(), &["bench", "--seconds", "-1"]);
+    let o = rhonn(d.path(), &["bench", "--seconds", "0"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("--seconds -1 is not allowed"));
+    assert!(
+        stderr(&o).contains("--seconds 0 is not allowed: give a time in (0, 3600] s"),
+        "{}",
+        stderr(&o)
+    );
 }
