@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 pub struct BenchFigures {
     /// Scenario name.
     pub scenario: String,
-    /// Median wall time of one run without I/O [s].
+    /// Median wall time of one run without I/O \[s\].
     pub median_s: f64,
     /// Right-hand-side evaluations of one run.
     pub rhs_evaluations: u64,
