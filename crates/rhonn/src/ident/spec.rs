@@ -63,6 +63,28 @@ fn yes() -> bool {
     true
 }
 
+/// Names to pump signals: each one of `known`, each at most once; errors name
+/// `field[k]`.
+fn signals(
+    names: &[String],
+    field: &str,
+    known: &[(&str, PumpSignal)],
+    allowed: &str,
+    once: &str,
+) -> Result<Vec<PumpSignal>> {
+    let mut out = Vec::new();
+    for (k, s) in names.iter().enumerate() {
+        let Some(&(_, sig)) = known.iter().find(|(n, _)| n == s) else {
+            return Err(invalid(format!("{field}[{k}]"), format!("{s:?}"), allowed));
+        };
+        if out.contains(&sig) {
+            return Err(invalid(format!("{field}[{k}]"), format!("{s:?}"), once));
+        }
+        out.push(sig);
+    }
+    Ok(out)
+}
+
 fn default_sigmoid() -> SigmoidSpec {
     SigmoidSpec::Named("logistic".into())
 }
@@ -100,50 +122,20 @@ impl IdentifierSpec {
                 "1 or 2 of \"p_line\", \"stroke\"",
             ));
         }
-        let mut states = Vec::new();
-        for (k, s) in self.states.iter().enumerate() {
-            let sig = match s.as_str() {
-                "p_line" => PumpSignal::PLine,
-                "stroke" => PumpSignal::Stroke,
-                _ => {
-                    return Err(invalid(
-                        format!("{f}.states[{k}]"),
-                        format!("{s:?}"),
-                        "\"p_line\" or \"stroke\"",
-                    ))
-                }
-            };
-            if states.contains(&sig) {
-                return Err(invalid(
-                    format!("{f}.states[{k}]"),
-                    format!("{s:?}"),
-                    "each state once",
-                ));
-            }
-            states.push(sig);
-        }
-        let mut inputs = Vec::new();
-        for (k, s) in self.inputs.iter().enumerate() {
-            let sig = match s.as_str() {
-                "current" => PumpSignal::Current,
-                "demand" => PumpSignal::Demand,
-                _ => {
-                    return Err(invalid(
-                        format!("{f}.inputs[{k}]"),
-                        format!("{s:?}"),
-                        "\"current\" or \"demand\"",
-                    ))
-                }
-            };
-            if inputs.contains(&sig) {
-                return Err(invalid(
-                    format!("{f}.inputs[{k}]"),
-                    format!("{s:?}"),
-                    "each input once",
-                ));
-            }
-            inputs.push(sig);
-        }
+        let states = signals(
+            &self.states,
+            &format!("{f}.states"),
+            &[("p_line", PumpSignal::PLine), ("stroke", PumpSignal::Stroke)],
+            "\"p_line\" or \"stroke\"",
+            "each state once",
+        )?;
+        let inputs = signals(
+            &self.inputs,
+            &format!("{f}.inputs"),
+            &[("current", PumpSignal::Current), ("demand", PumpSignal::Demand)],
+            "\"current\" or \"demand\"",
+            "each input once",
+        )?;
         let m = inputs.len();
         if n + m > MAX_Y {
             return Err(invalid(
