@@ -224,11 +224,81 @@ fn reproduce_runs_every_thesis_scenario() {
     let d = tempfile::tempdir().unwrap();
     let o = rhonn(d.path(), &["reproduce", "--out", "r"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    for name in ["thesis-ch3", "thesis-ch5", "regulated-pi"] {
+    for name in ["thesis-ch3", "thesis-ch5", "regulated-pi", "control-adaptive"] {
         assert!(
             d.path().join("r").join(name).join("summary.json").is_file(),
             "{name}"
         );
+    }
+    // The adaptive run holds both controllers: CSV columns, summary figures, plots.
+    let dir = d.path().join("r").join("control-adaptive");
+    let csv = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    for col in [
+        "p_line",
+        "p_line_pi",
+        "current",
+        "current_pi",
+        "p_ref",
+        "stroke_ref",
+        "w_norm",
+        "w1_norm",
+    ] {
+        assert!(header.split(',').any(|c| c == col), "{col} in {header}");
+    }
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    for who in [&s["figures"], &s["control"]["baseline"]["figures"]] {
+        let r = &who["regulation"];
+        for key in [
+            "ise_mpa2_s",
+            "max_abs_deviation_settled_mpa",
+            "time_current_saturated_s",
+        ] {
+            assert!(r[key].as_f64().is_some(), "{key}");
+        }
+        assert_eq!(r["signals_bounded"], serde_json::Value::Bool(true));
+        assert!(who["time_below_p_min_after_1s_s"].as_f64().is_some());
+    }
+    let weights = std::fs::read_to_string(dir.join("weights.svg")).unwrap();
+    assert!(weights.contains("MPa/(s mm)"));
+    let pressure = std::fs::read_to_string(dir.join("pressure.svg")).unwrap();
+    assert!(pressure.contains("PI baseline") && pressure.contains("RHONN adaptive"));
+}
+
+#[test]
+fn bad_adaptive_controller_settings_are_clear_errors() {
+    let d = tempfile::tempdir().unwrap();
+    let shipped = String::from_utf8(rhonn(d.path(), &["show", "control-adaptive"]).stdout).unwrap();
+    let cases = [
+        (
+            shipped.replace("ball_fraction = 0.5", "ball_fraction = 1.0"),
+            "`controller.ball_fraction` = 1 is not allowed: a number in (0, 1)",
+        ),
+        (
+            shipped.replace("lambda_per_s = 100.0", "lambda_per_s = -1.0"),
+            "`controller.lambda_per_s` = -1 is not allowed: a finite number > 0",
+        ),
+        (
+            shipped.replace("baseline_ti_s = 0.15", "baseline_ti_s = 0.0"),
+            "`controller.baseline_ti_s` = 0 is not allowed: a number > 0",
+        ),
+        (
+            shipped.replace(
+                "[measurement]",
+                "[plant]\ntransport_delay_periods = 5000\n\n[measurement]",
+            ),
+            "`plant.transport_delay_periods` = 5000 is not allowed: an integer in [0, 1000]",
+        ),
+    ];
+    for (k, (text, expected)) in cases.iter().enumerate() {
+        assert_ne!(text, &shipped, "case {k} did not change the scenario");
+        let path = d.path().join(format!("bad{k}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let o = rhonn(d.path(), &["run", path.to_str().unwrap(), "--out", "o"]);
+        assert_eq!(o.status.code(), Some(2), "case {k}");
+        assert!(stderr(&o).contains(expected), "case {k}: {}", stderr(&o));
+        assert!(!d.path().join("o").exists(), "case {k} wrote outputs");
     }
 }
 

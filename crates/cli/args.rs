@@ -47,7 +47,8 @@ pub enum Command {
         out: Option<PathBuf>,
     },
     /// Reproduce the thesis: run thesis-ch3 (the pump, chapter 3), thesis-ch5 (the RHONN
-    /// identification, chapter 5) and regulated-pi (the PI baseline) into DIR/<name>
+    /// identification, chapter 5), regulated-pi (the PI baseline) and control-adaptive
+    /// (RHONN adaptive control against the PI, issue 5) into DIR/<name>
     /// (default out/), each writing what `rhonn run` writes.
     Reproduce {
         /// Output root.
@@ -119,7 +120,7 @@ pub enum Command {
     /// scenario is timed for about --seconds on one core, then as long on all cores.
     #[command(verbatim_doc_comment)]
     Bench {
-        /// Shipped scenario names or TOML paths (default: thesis-ch3, thesis-ch5, regulated-pi).
+        /// Shipped scenario names or TOML paths (default: thesis-ch3, thesis-ch5, regulated-pi, control-adaptive).
         scenarios: Vec<String>,
         /// Print a JSON list of objects with scenario, median_s, rhs_evaluations,
         /// runs_per_s_all_cores, threads, samples.

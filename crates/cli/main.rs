@@ -57,7 +57,7 @@ fn dispatch(cli: Cli) -> Result<()> {
         } => cmd_bench(&scenarios, json, seconds),
         Command::Reproduce { out } => {
             let root = out.unwrap_or_else(|| PathBuf::from("out"));
-            for name in ["thesis-ch3", "thesis-ch5", "regulated-pi"] {
+            for name in ["thesis-ch3", "thesis-ch5", "regulated-pi", "control-adaptive"] {
                 cmd_run(name, Some(root.join(name)))?;
             }
             Ok(())
@@ -293,7 +293,7 @@ fn cmd_bench(names: &[String], json: bool, seconds: f64) -> Result<()> {
     if !(seconds.is_finite() && seconds > 0.0 && seconds <= 3600.0) {
         anyhow::bail!("--seconds {seconds} is not allowed: give a time in (0, 3600] s");
     }
-    let default = ["thesis-ch3", "thesis-ch5", "regulated-pi"].map(String::from);
+    let default = ["thesis-ch3", "thesis-ch5", "regulated-pi", "control-adaptive"].map(String::from);
     let names: &[String] = if names.is_empty() { &default } else { names };
     let mut all = Vec::new();
     for name in names {
@@ -362,6 +362,19 @@ fn cmd_run(scenario: &str, out: Option<PathBuf>) -> Result<()> {
         for line in id.to_string().lines() {
             println!("  {line}");
         }
+    }
+    if let Some(c) = &summary.control {
+        println!(
+            "  RHONN adaptive vs PI baseline (kp {} A/MPa, ti {} s) on an identical plant:",
+            c.baseline.kp_a_per_mpa, c.baseline.ti_s
+        );
+        for line in &c.findings {
+            println!("    {line}");
+        }
+        println!(
+            "    weights: |W| max {:.1}, |W_1 - centre| max {:.2} within the ball's radius {:.2}, {} projections",
+            c.adaptive.w_norm_max, c.adaptive.w1_distance_max, c.adaptive.w1_ball_radius, c.adaptive.projections
+        );
     }
     let s = &summary.solver;
     println!(

@@ -54,6 +54,8 @@ mod tests {
                 p_ref: None,
                 p_meas: None,
                 hat: [None, None],
+                control: None,
+                baseline: None,
             });
         }
         let mut out = Vec::new();

@@ -153,7 +153,9 @@ impl TimePlot {
 }
 
 /// The plots of a run: `pressure.svg` (line pressure, set-point, P_min), `stroke.svg`,
-/// `inputs.svg` (current and demand). Returns `(file name, SVG)`.
+/// `inputs.svg` (current and demand); adaptive runs show the PI baseline beside the
+/// adaptive controller in each, the stroke reference, and `weights.svg` (the adaptive
+/// weights' norms). Returns `(file name, SVG)`.
 pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
     let t = trace.column("t").unwrap_or(&[]).to_vec();
     let col = |name: &str, k: f64| {
@@ -163,11 +165,28 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
     };
     let name = &summary.scenario.name;
     let p_min = summary.scenario.plant.p_min_mpa;
+    let adaptive = trace.column("p_line_pi").is_some();
     let mut p_series = vec![Series {
-        label: "p_line".into(),
+        label: if adaptive {
+            "p_line (RHONN adaptive)"
+        } else {
+            "p_line"
+        }
+        .into(),
         y: col("p_line", PA_PER_MPA).unwrap_or_default(),
         dashed: false,
     }];
+    if let Some(p) = col("p_line_pi", PA_PER_MPA) {
+        // Drawn first, so that the adaptive controller's line lies on top.
+        p_series.insert(
+            0,
+            Series {
+                label: "p_line (PI baseline)".into(),
+                y: p,
+                dashed: false,
+            },
+        );
+    }
     if let Some(r) = col("p_ref", PA_PER_MPA) {
         p_series.push(Series {
             label: "set-point".into(),
@@ -190,22 +209,71 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
         title: format!("{name}: pump stroke"),
         y_label: "stroke [mm]".into(),
         t: t.clone(),
-        series: vec![Series {
-            label: "stroke".into(),
-            y: col("stroke", M_PER_MM).unwrap_or_default(),
-            dashed: false,
-        }],
+        series: Vec::new(),
     };
+    let mut i_series = vec![Series {
+        label: if adaptive {
+            "current (RHONN adaptive)"
+        } else {
+            "current"
+        }
+        .into(),
+        y: col("current", 1.0).unwrap_or_default(),
+        dashed: false,
+    }];
+    if let Some(i) = col("current_pi", 1.0) {
+        i_series.push(Series {
+            label: "current (PI baseline)".into(),
+            y: i,
+            dashed: false,
+        });
+    }
     let current = TimePlot {
         title: format!("{name}: solenoid current"),
         y_label: "current [A]".into(),
         t: t.clone(),
-        series: vec![Series {
-            label: "current".into(),
-            y: col("current", 1.0).unwrap_or_default(),
-            dashed: false,
-        }],
+        series: i_series,
     };
+    let mut x_series = vec![Series {
+        label: if adaptive {
+            "stroke (RHONN adaptive)"
+        } else {
+            "stroke"
+        }
+        .into(),
+        y: col("stroke", M_PER_MM).unwrap_or_default(),
+        dashed: false,
+    }];
+    for (c, label) in [
+        ("stroke_ref", "stroke reference x_d"),
+        ("stroke_pi", "stroke (PI baseline)"),
+    ] {
+        if let Some(y) = col(c, M_PER_MM) {
+            x_series.push(Series {
+                label: label.into(),
+                y,
+                dashed: c == "stroke_ref",
+            });
+        }
+    }
+    let weights = [
+        ("w_norm", "|W| (drift) [MPa/s]"),
+        ("w1_norm", "|W_1| (gain) [MPa/(s mm)]"),
+    ]
+    .iter()
+    .filter_map(|(c, label)| {
+        col(c, 1.0).map(|y| TimePlot {
+            title: format!("{name}: adaptive weights, {c}"),
+            y_label: (*label).into(),
+            t: t.clone(),
+            series: vec![Series {
+                label: (*c).into(),
+                y,
+                dashed: false,
+            }],
+        })
+    })
+    .collect::<Vec<_>>();
     let demand = TimePlot {
         title: format!("{name}: demanded flow"),
         y_label: "demand [dm^3/s]".into(),
@@ -216,14 +284,22 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
             dashed: false,
         }],
     };
-    vec![
+    let stroke = TimePlot {
+        series: x_series,
+        ..stroke
+    };
+    let mut out = vec![
         ("pressure.svg".into(), TimePlot::render(&[pressure], 900, 450)),
         ("stroke.svg".into(), TimePlot::render(&[stroke], 900, 450)),
         (
             "inputs.svg".into(),
             TimePlot::render(&[current, demand], 900, 330),
         ),
-    ]
+    ];
+    if !weights.is_empty() {
+        out.push(("weights.svg".into(), TimePlot::render(&weights, 900, 300)));
+    }
+    out
 }
 
 /// Plots of an identified run: `ident_errors.svg` (the two errors), `ident_states.svg`

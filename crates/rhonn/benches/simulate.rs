@@ -148,5 +148,52 @@ fn bench_sysid(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench_runs, bench_discrete_step, bench_sysid);
+/// One control period of the adaptive cascade: the identifier's update over the last
+/// period (RK4, 2 substeps, projection) and the control law; and the whole
+/// control-adaptive run (adaptive and PI plants, 60 s).
+fn bench_control(c: &mut Criterion) {
+    use rhonn::control::{CascadeSettings, RhonnCascade};
+    let mut ctl = RhonnCascade::new(
+        CascadeSettings::default(),
+        1300.0,
+        28.0,
+        0.8,
+        0.024,
+        25e6,
+        5e-3,
+        411.0,
+        10e6,
+    );
+    let mut k = 0u64;
+    c.bench_function(
+        "control-adaptive: one control period (identifier update + control law)",
+        |b| {
+            b.iter(|| {
+                k += 1;
+                let t = 2.0 + k as f64 * 5e-3;
+                // A pressure and stroke that move, so that nothing is constant-folded.
+                let p = 10e6 + 2e5 * (k as f64 * 0.37).sin();
+                let x = 8e-3 + 1e-4 * (k as f64 * 0.11).cos();
+                black_box(ctl.update(black_box(t), black_box(p), black_box(x), black_box(10e6)))
+            })
+        },
+    );
+    let sc = preset::load("control-adaptive").unwrap().check().unwrap();
+    let s = run(&sc, &mut NoRecorder).unwrap();
+    eprintln!(
+        "control-adaptive: {} rhs evaluations (both plants)",
+        s.solver.rhs_evaluations
+    );
+    c.bench_function("control-adaptive (adaptive + PI plants, summary only)", |b| {
+        b.iter(|| run(black_box(&sc), &mut NoRecorder).unwrap())
+    });
+}
+
+criterion_group!(
+    benches,
+    bench_runs,
+    bench_discrete_step,
+    bench_sysid,
+    bench_control
+);
 criterion_main!(benches);

@@ -69,6 +69,14 @@ pub enum Error {
         /// The solver's error.
         source: Box<rhonn_ode::Error>,
     },
+    /// A controller produced a non-finite output or weight.
+    #[error("controller diverged at t = {t_s} s ({state})")]
+    Controller {
+        /// Time \[s\].
+        t_s: f64,
+        /// The plant's and the controller's state, in display units.
+        state: String,
+    },
 }
 
 /// Result alias.

@@ -8,11 +8,11 @@ mod trace;
 
 pub use bench::{bench, BenchFigures};
 pub use run::{
-    run, run_full, solver_options, Figures, IdentReport, ModelFile, Plant, Regulation, RunOutput,
-    SolverReport, StateFigures, Summary, SETTLE_S,
+    run, run_full, solver_options, AdaptiveReport, BaselineReport, ControlReport, Figures, IdentReport,
+    ModelFile, Plant, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,
 };
 pub use scenario::{
-    ControllerSpec, Drive, InitialSpec, MeasurementSpec, PiSettings, ProfileSpec, Scenario, ScenarioSpec,
-    SolverSettings, SolverSpec, Q_L_MAX_DM3_S,
+    AdaptiveSettings, ControllerSpec, Drive, InitialSpec, MeasurementSpec, PiSettings, ProfileSpec, Scenario,
+    ScenarioSpec, SolverSettings, SolverSpec, Q_L_MAX_DM3_S,
 };
-pub use trace::{Column, NoRecorder, Recorder, Sample, Trace};
+pub use trace::{BaselineSample, Column, NoRecorder, Recorder, Sample, Trace};

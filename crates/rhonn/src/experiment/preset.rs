@@ -27,6 +27,10 @@ pub const SHIPPED: &[(&str, &str)] = &[
         "pump-validate",
         include_str!("../../../../scenarios/pump-validate.toml"),
     ),
+    (
+        "control-adaptive",
+        include_str!("../../../../scenarios/control-adaptive.toml"),
+    ),
 ];
 
 /// Names and one-line descriptions of the shipped scenarios.
@@ -88,7 +92,7 @@ mod tests {
         let e = load("thesis-ch9").unwrap_err().to_string();
         assert_eq!(
             e,
-            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5, pump-identify, pump-validate)"
+            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5, pump-identify, pump-validate, control-adaptive)"
         );
         assert!(load("nope/x.toml")
             .unwrap_err()

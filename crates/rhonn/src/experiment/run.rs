@@ -1,9 +1,9 @@
 //! Running a scenario: the plant in the event-locating solver, the sampled controller,
 //! the measurement, the output samples taken from the dense output, and the figures.
 
-use super::scenario::{Drive, ProfileSpec, Scenario, ScenarioSpec, SolverSettings};
+use super::scenario::{AdaptiveSettings, Drive, ProfileSpec, Scenario, ScenarioSpec, SolverSettings};
 use super::trace::{Column, NoRecorder, Recorder, Sample, Trace};
-use crate::control::Pi;
+use crate::control::{Pi, RhonnCascade};
 use crate::error::{Error, Result};
 use crate::ident::{IdentSettings, IdentifiedPump, Mode, PumpSignal};
 use crate::net::Sigmoid;
@@ -48,6 +48,10 @@ pub struct Regulation {
     pub ise_mpa2_s: f64,
     /// Time with the current at 0 or at its maximum \[s\].
     pub time_current_saturated_s: f64,
+    /// Whether every signal stayed bounded: pressure and stroke within their limits,
+    /// the controller's output finite and in range, and (adaptive) every weight inside
+    /// its projection ball (a non-finite value stops the run with an error instead).
+    pub signals_bounded: bool,
 }
 
 /// The figures of a run (display units, named with their unit).
@@ -90,8 +94,56 @@ pub struct Summary {
     /// Identified runs: per state and mode, RMS error, fit, convergence, weights.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub identification: Option<IdentReport>,
+    /// Adaptive runs: the adaptive controller's weights, the PI baseline's figures
+    /// (its plant is identical and sees the same noise) and the comparison.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub control: Option<ControlReport>,
     /// Warnings (also printed by the command).
     pub warnings: Vec<String>,
+}
+
+/// The PI baseline of an adaptive run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BaselineReport {
+    /// Its kind (`pi`).
+    pub controller: &'static str,
+    /// Proportional gain \[A/MPa\].
+    pub kp_a_per_mpa: f64,
+    /// Integral time \[s\].
+    pub ti_s: f64,
+    /// Its run's figures.
+    pub figures: Figures,
+}
+
+/// The adaptive controller against its baseline.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ControlReport {
+    /// The adaptive controller's weights.
+    pub adaptive: AdaptiveReport,
+    /// The baseline.
+    pub baseline: BaselineReport,
+    /// One line per figure: which controller did better, with both numbers.
+    pub findings: Vec<String>,
+}
+
+impl ControlReport {
+    /// Whether the adaptive controller has a lower ISE and a lower settled maximum
+    /// deviation than the baseline, and no more time below P_min after the start.
+    pub fn adaptive_better(&self, adaptive: &Figures) -> bool {
+        let (a, b) = (
+            adaptive.regulation.as_ref(),
+            self.baseline.figures.regulation.as_ref(),
+        );
+        match (a, b) {
+            (Some(a), Some(b)) => {
+                a.ise_mpa2_s < b.ise_mpa2_s
+                    && a.max_abs_deviation_settled_mpa < b.max_abs_deviation_settled_mpa
+                    && adaptive.time_below_p_min_after_1s_s
+                        <= self.baseline.figures.time_below_p_min_after_1s_s
+            }
+            _ => false,
+        }
+    }
 }
 
 /// The run's figures, accumulated step by step on the solver's dense output, so that
@@ -101,6 +153,8 @@ pub struct Summary {
 /// the located crossings, extremes from the step ends and the Gauss points.
 struct Accumulator<'a> {
     p_limit: f64,
+    p_max: f64,
+    x_max: f64,
     i_max: f64,
     setpoint: Option<&'a Signal>,
     /// Times where an interval must be split, sorted; `cursor` is the next one.
@@ -150,6 +204,8 @@ impl<'a> Accumulator<'a> {
         splits.dedup();
         Accumulator {
             p_limit,
+            p_max: f64::INFINITY,
+            x_max: f64::INFINITY,
             i_max,
             setpoint,
             splits,
@@ -287,6 +343,9 @@ impl<'a> Accumulator<'a> {
                 max_abs_deviation_settled_mpa: self.max_dev_settled,
                 ise_mpa2_s: self.ise,
                 time_current_saturated_s: self.saturated,
+                signals_bounded: self.p_lo >= 0.0
+                    && self.p_hi <= self.p_max * (1.0 + 1e-12)
+                    && self.x_hi <= self.x_max * (1.0 + 1e-12),
             }),
         }
     }
@@ -378,6 +437,88 @@ pub fn solver_options<S: rhonn_ode::State>(s: &SolverSettings, dim: usize) -> Op
     o
 }
 
+/// The sampled controller of one simulation.
+enum Ctl<'a> {
+    /// Open loop: the current is a profile.
+    Open,
+    /// PI on the measured pressure, with an optional dither on its output.
+    Pi { pi: Pi, dither: Option<&'a Signal> },
+    /// The RHONN adaptive cascade.
+    Cascade(Box<RhonnCascade>),
+}
+
+impl Ctl<'_> {
+    fn of(sc: &Scenario) -> Ctl<'_> {
+        let p = &sc.params;
+        match &sc.drive {
+            Drive::OpenLoop(_) => Ctl::Open,
+            Drive::Pi(s) => Ctl::Pi {
+                pi: Pi::new(s.kp, s.ti_s, p.t_control, s.bias, 0.0, p.i_max),
+                dither: s.dither.as_ref(),
+            },
+            Drive::Adaptive(a) => Ctl::Cascade(Box::new(cascade_for(sc, &a.cascade))),
+        }
+    }
+
+    fn update(&mut self, t: f64, p_meas: f64, x_meas: f64, p_ref: f64, i_max: f64) -> f64 {
+        match self {
+            Ctl::Open => 0.0,
+            Ctl::Pi { pi, dither } => {
+                let u = pi.update(p_ref, p_meas);
+                match dither {
+                    Some(d) => (u + d.eval(t)).clamp(0.0, i_max),
+                    None => u,
+                }
+            }
+            Ctl::Cascade(c) => c.update(t, p_meas, x_meas, p_ref),
+        }
+    }
+}
+
+/// The adaptive cascade of a scenario, its gain weights starting from the nominal
+/// table's `beta k_l omega / V_l` at the initial set-point (MPa/(s mm)).
+fn cascade_for(sc: &Scenario, settings: &crate::control::CascadeSettings) -> RhonnCascade {
+    // The controller knows the nominal table only, never the plant's overrides.
+    let nominal = crate::plant::PumpParams::default();
+    let p_ref0 = sc.drive.setpoint().map_or(nominal.p_min, |s| s.eval(0.0));
+    let gain =
+        nominal.beta * nominal.k_l * nominal.omega / (nominal.v_l0 * (1.0 + nominal.alpha_v * p_ref0)) * 1e-9; // Pa/(s m) -> MPa/(s mm)
+    RhonnCascade::new(
+        settings.clone(),
+        nominal.k_a,
+        nominal.phi,
+        sc.params.i_max,
+        sc.params.x_max,
+        sc.params.p_max,
+        sc.params.t_control,
+        gain,
+        sc.initial[P_LINE],
+    )
+}
+
+/// What a run of the adaptive controller reports of its weights.
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+pub struct AdaptiveReport {
+    /// Largest |W| over the run (MPa/s units).
+    pub w_norm_max: f64,
+    /// |W| at the end.
+    pub w_norm_final: f64,
+    /// Largest |W_1 - centre| after the identification phase (MPa/(s mm) units).
+    pub w1_distance_max: f64,
+    /// Radius of W_1's ball.
+    pub w1_ball_radius: f64,
+    /// W_1 at the end.
+    pub w1_final: Vec<f64>,
+    /// Identifier substeps that ended with a projection.
+    pub projections: u64,
+    /// Radius of W's ball (around 0).
+    pub w_bound: f64,
+}
+
+/// What one simulation returns: solver counters, figures, final state, the system, and
+/// (adaptive runs) the weights' report.
+type Simulated<S> = (Stats, Figures, <S as System>::State, S, Option<AdaptiveReport>);
+
 /// One simulation of `sys` through the scenario's time, controller and measurement.
 fn simulate<S: Plant>(
     sc: &Scenario,
@@ -385,21 +526,11 @@ fn simulate<S: Plant>(
     x0: S::State,
     rec: &mut impl Recorder,
     mut ident_acc: Option<&mut IdentAcc>,
-) -> Result<(Stats, Figures, S::State, S)> {
+    mut ctl: Ctl,
+) -> Result<Simulated<S>> {
     let p = &sc.params;
     let dim = sys.dim();
-    let (mut pi, setpoint, dither) = match &sc.drive {
-        Drive::OpenLoop(_) => (None, None, None),
-        Drive::Pi(s) => (
-            Some(Pi::new(s.kp, s.ti_s, p.t_control, s.bias, 0.0, p.i_max)),
-            Some(&s.setpoint),
-            s.dither.as_ref(),
-        ),
-    };
-    let dithered = |u: f64, t: f64| match dither {
-        Some(d) => (u + d.eval(t)).clamp(0.0, p.i_max),
-        None => u,
-    };
+    let setpoint = sc.drive.setpoint();
     let opts = solver_options::<S::State>(&sc.solver, dim);
     let mut solver =
         Dopri5::new(sys, 0.0, x0.clone(), opts).map_err(|e| solver_error(e, 0.0, x0.as_slice()))?;
@@ -407,6 +538,24 @@ fn simulate<S: Plant>(
     let noise = Normal::new(0.0, sc.noise_std_pa.max(0.0)).expect("checked standard deviation");
     let noisy = sc.noise_std_pa > 0.0;
     let measure = |p: f64, rng: &mut rand_chacha::ChaCha8Rng| if noisy { p + noise.sample(rng) } else { p };
+    // The stroke's noise has its own stream, so it never changes the pressure's.
+    let mut rng_x = rand_chacha::ChaCha8Rng::seed_from_u64(sc.spec.seed ^ 0x5851_f42d_4c95_7f2d);
+    let x_noise = Normal::new(0.0, sc.stroke_noise_std_m.max(0.0)).expect("checked standard deviation");
+    let mut measure_x = |x: f64| {
+        if sc.stroke_noise_std_m > 0.0 {
+            x + x_noise.sample(&mut rng_x)
+        } else {
+            x
+        }
+    };
+    // Transport delay: what the controller outputs reaches the solenoid this many
+    // periods later; until then the initial current holds.
+    let mut queue = std::collections::VecDeque::from(vec![
+        solver.system().pump().current_at(0.0);
+        p.delay_periods as usize
+    ]);
+    let mut adaptive = matches!(ctl, Ctl::Cascade(_)).then(AdaptiveReport::default);
+    let mut ctl_state: Option<crate::control::CascadeState> = None;
 
     let t_end = sc.spec.duration_s;
     let dt = sc.output_interval_s;
@@ -422,8 +571,10 @@ fn simulate<S: Plant>(
         }
     };
     let mut k_out: u64 = 0;
-    let regulated = pi.is_some();
+    let regulated = !matches!(ctl, Ctl::Open);
     let mut acc = Accumulator::new(p.p_min, p.i_max, setpoint, t_end);
+    acc.p_max = p.p_max;
+    acc.x_max = p.x_max;
     // Noise on recorded (not fed back) measurements has its own stream, so what is
     // recorded never changes what the controller sees.
     let mut rng_out = rand_chacha::ChaCha8Rng::seed_from_u64(sc.spec.seed ^ 0x9e37_79b9_7f4a_7c15);
@@ -433,12 +584,59 @@ fn simulate<S: Plant>(
     let mut k_ctl: u64 = 0;
     let mut last_meas: Option<f64> = None;
 
+    // One control instant: measure, compute, send through the delay line.
+    let mut act = |solver: &mut Dopri5<S>,
+                   ctl: &mut Ctl,
+                   rng: &mut rand_chacha::ChaCha8Rng,
+                   sp: &Signal,
+                   adaptive: &mut Option<AdaptiveReport>|
+     -> Result<(f64, Option<crate::control::CascadeState>)> {
+        let t = solver.t();
+        let y = measure(solver.state()[P_LINE], rng);
+        let xm = measure_x(solver.state()[STROKE]);
+        let u = ctl.update(t, y, xm, sp.eval(t), p.i_max);
+        let mut cs = None;
+        if let (Ctl::Cascade(c), Some(rep)) = (&*ctl, adaptive.as_mut()) {
+            let st = c.state();
+            if !(u.is_finite()
+                && st.w_norm.is_finite()
+                && st.w1_norm.is_finite()
+                && st.stroke_ref.is_finite())
+            {
+                return Err(Error::Controller {
+                    t_s: t,
+                    state: format!(
+                        "p_line = {:.6} MPa, stroke = {:.6} mm, current = {u} A, |W| = {}, |W_1| = {}",
+                        mpa(solver.state()[P_LINE]),
+                        mm(solver.state()[STROKE]),
+                        st.w_norm,
+                        st.w1_norm
+                    ),
+                });
+            }
+            rep.w_norm_max = rep.w_norm_max.max(st.w_norm);
+            rep.w_norm_final = st.w_norm;
+            if t >= c.settings.identification_s {
+                rep.w1_distance_max = rep.w1_distance_max.max(c.neuron.w1_distance());
+            }
+            rep.w1_ball_radius = c.neuron.radius;
+            rep.w_bound = c.neuron.w_bound;
+            rep.w1_final = c.neuron.w1.to_vec();
+            rep.projections = c.projections();
+            cs = Some(st);
+        }
+        queue.push_back(u);
+        let applied = queue
+            .pop_front()
+            .expect("the delay line holds at least this output");
+        solver.system_mut().pump_mut().set_current(applied);
+        Ok((y, cs))
+    };
     // The controller acts at t = 0 on the first measurement.
-    if let (Some(pi), Some(sp)) = (pi.as_mut(), setpoint) {
-        let y = measure(x0.as_slice()[P_LINE], &mut rng);
+    if let (true, Some(sp)) = (regulated, setpoint) {
+        let (y, cs) = act(&mut solver, &mut ctl, &mut rng, sp, &mut adaptive)?;
         last_meas = Some(y);
-        let u = dithered(pi.update(sp.eval(0.0), y), 0.0);
-        solver.system_mut().pump_mut().set_current(u);
+        ctl_state = cs;
         k_ctl = 1;
     }
     let wants = rec.wants_samples();
@@ -484,27 +682,31 @@ fn simulate<S: Plant>(
                     None
                 },
                 hat: sys.hats(xs),
+                control: ctl_state,
+                baseline: None,
             });
             k_out += 1;
         }
         if done {
             break;
         }
-        if let (rhonn_ode::StepResult::Reached { .. }, Some(pi), Some(sp)) = (r, pi.as_mut(), setpoint) {
-            let t = solver.t();
-            let y = measure(solver.state()[P_LINE], &mut rng);
+        if let (rhonn_ode::StepResult::Reached { .. }, true, Some(sp)) = (r, regulated, setpoint) {
+            let (y, cs) = act(&mut solver, &mut ctl, &mut rng, sp, &mut adaptive)?;
             last_meas = Some(y);
-            let u = dithered(pi.update(sp.eval(t), y), t);
-            solver.system_mut().pump_mut().set_current(u);
+            ctl_state = cs;
             k_ctl += 1;
         }
     }
     let last = [solver.state()[P_LINE], solver.state()[STROKE]];
-    let figures = acc.figures(t_end, n_out as usize + 1, last, regulated);
+    let mut figures = acc.figures(t_end, n_out as usize + 1, last, regulated);
+    if let (Some(r), Some(a)) = (figures.regulation.as_mut(), adaptive.as_ref()) {
+        r.signals_bounded &=
+            a.w1_distance_max <= a.w1_ball_radius * (1.0 + 1e-9) && a.w_norm_max <= a.w_bound;
+    }
     let mut xf = S::State::zeros(dim);
     xf.as_mut_slice().copy_from_slice(solver.state());
     let stats = solver.stats();
-    Ok((stats, figures, xf, solver.into_system()))
+    Ok((stats, figures, xf, solver.into_system(), adaptive))
 }
 
 fn report(sc: &Scenario, st: Stats, figures: Figures, identification: Option<IdentReport>) -> Summary {
@@ -521,8 +723,133 @@ fn report(sc: &Scenario, st: Stats, figures: Figures, identification: Option<Ide
         },
         figures,
         identification,
+        control: None,
         warnings: sc.warnings.clone(),
     }
+}
+
+/// Forwards the adaptive run's samples with the baseline's plant at the same instant.
+struct WithBaseline<'a, R: Recorder> {
+    inner: &'a mut R,
+    base: &'a [super::trace::BaselineSample],
+    k: usize,
+}
+
+impl<R: Recorder> Recorder for WithBaseline<'_, R> {
+    fn record(&mut self, s: &Sample) {
+        let mut s = *s;
+        s.baseline = self.base.get(self.k).copied();
+        self.k += 1;
+        self.inner.record(&s);
+    }
+    fn wants_samples(&self) -> bool {
+        self.inner.wants_samples()
+    }
+}
+
+/// Keeps the baseline run's plant, sample by sample.
+struct BaselineCollector {
+    wants: bool,
+    samples: Vec<super::trace::BaselineSample>,
+}
+
+impl Recorder for BaselineCollector {
+    fn record(&mut self, s: &Sample) {
+        self.samples.push(super::trace::BaselineSample {
+            p_line: s.p_line,
+            stroke: s.stroke,
+            current: s.current,
+        });
+    }
+    fn wants_samples(&self) -> bool {
+        self.wants
+    }
+}
+
+/// An adaptive run: the PI baseline on an identical plant (same set-point, demand,
+/// noise), then the adaptive cascade, its samples carrying the baseline's.
+fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) -> Result<RunOutput> {
+    let mut base_sc = sc.clone();
+    base_sc.drive = Drive::Pi(a.baseline.clone());
+    let mut base = BaselineCollector {
+        wants: rec.wants_samples(),
+        samples: Vec::new(),
+    };
+    let (st_b, fig_b, _, _, _) = simulate(
+        &base_sc,
+        pump_system(&base_sc),
+        plant_initial(&base_sc),
+        &mut base,
+        None,
+        Ctl::of(&base_sc),
+    )?;
+    let mut inj = WithBaseline {
+        inner: rec,
+        base: &base.samples,
+        k: 0,
+    };
+    let (st, fig, _, _, adaptive) = simulate(
+        sc,
+        pump_system(sc),
+        plant_initial(sc),
+        &mut inj,
+        None,
+        Ctl::of(sc),
+    )?;
+    let adaptive = adaptive.expect("an adaptive run reports its weights");
+    let mut total = st;
+    add_stats(&mut total, st_b);
+    let mut findings = Vec::new();
+    if let (Some(ra), Some(rb)) = (&fig.regulation, &fig_b.regulation) {
+        let mut line = |what: &str, va: f64, vb: f64, unit: &str| {
+            let verdict = if va < vb {
+                "adaptive better"
+            } else if va > vb {
+                "PI better"
+            } else {
+                "equal"
+            };
+            findings.push(format!(
+                "{what}: adaptive {va:.3} {unit}, PI {vb:.3} {unit} ({verdict})"
+            ));
+        };
+        line("ISE", ra.ise_mpa2_s, rb.ise_mpa2_s, "MPa^2 s");
+        line(
+            "max |p - p_ref| from 1 s after each set-point change",
+            ra.max_abs_deviation_settled_mpa,
+            rb.max_abs_deviation_settled_mpa,
+            "MPa",
+        );
+        line(
+            "time below P_min after the first second",
+            fig.time_below_p_min_after_1s_s,
+            fig_b.time_below_p_min_after_1s_s,
+            "s",
+        );
+        line(
+            "time with the current saturated",
+            ra.time_current_saturated_s,
+            rb.time_current_saturated_s,
+            "s",
+        );
+    }
+    let control = ControlReport {
+        adaptive,
+        baseline: BaselineReport {
+            controller: "pi",
+            kp_a_per_mpa: a.baseline.kp * PA_PER_MPA,
+            ti_s: a.baseline.ti_s,
+            figures: fig_b,
+        },
+        findings,
+    };
+    let mut summary = report(sc, total, fig, None);
+    summary.control = Some(control);
+    Ok(RunOutput {
+        summary,
+        validation: None,
+        model: None,
+    })
 }
 
 /// The plant's initial state: pressure, stroke, and the solenoid carrying the current
@@ -534,6 +861,7 @@ fn plant_initial(sc: &Scenario) -> [f64; PLANT_DIM] {
     x[CURRENT_EFF] = match &sc.drive {
         Drive::OpenLoop(sig) => sig.eval(0.0).clamp(0.0, sc.params.i_max),
         Drive::Pi(s) => s.bias,
+        Drive::Adaptive(a) => a.baseline.bias,
     };
     x
 }
@@ -542,6 +870,7 @@ fn pump_system(sc: &Scenario) -> PumpSystem {
     let current = match &sc.drive {
         Drive::OpenLoop(sig) => Input::Signal(sig.clone()),
         Drive::Pi(s) => Input::Held(s.bias),
+        Drive::Adaptive(a) => Input::Held(a.baseline.bias),
     };
     PumpSystem::new(sc.params.clone(), current, Input::Signal(sc.demand.clone()))
 }
@@ -579,8 +908,11 @@ pub struct RunOutput {
 /// in parallel (free-run) mode on the same data.
 pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
     let Some(is) = &sc.identifier else {
+        if let Drive::Adaptive(a) = &sc.drive {
+            return run_adaptive(sc, a, rec);
+        }
         let sys = pump_system(sc);
-        let (st, fig, _, _) = simulate(sc, sys, plant_initial(sc), rec, None)?;
+        let (st, fig, _, _, _) = simulate(sc, sys, plant_initial(sc), rec, None, Ctl::of(sc))?;
         return Ok(RunOutput {
             summary: report(sc, st, fig, None),
             validation: None,
@@ -604,10 +936,10 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
         let (sys, x0) = make(Mode::Train, weights.as_deref());
         let last = epoch == is.epochs;
         let mut ia = IdentAcc::new(is, sys.dim());
-        let (st, fig, xf, sys) = if last {
-            simulate(sc, sys, x0, rec, Some(&mut ia))?
+        let (st, fig, xf, sys, _) = if last {
+            simulate(sc, sys, x0, rec, Some(&mut ia), Ctl::of(sc))?
         } else {
-            simulate(sc, sys, x0, &mut NoRecorder, None)?
+            simulate(sc, sys, x0, &mut NoRecorder, None, Ctl::of(sc))?
         };
         add_stats(&mut total, st);
         weights = Some(sys.ident.weights(&xf[PLANT_DIM..]));
@@ -628,7 +960,7 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
         let (sys, x0) = make(mode, Some(&weights));
         let mut ia = IdentAcc::new(is, sys.dim());
         let mut coll = Collector::new(is, wants);
-        let (st, _, _, _) = simulate(sc, sys, x0, &mut coll, Some(&mut ia))?;
+        let (st, _, _, _, _) = simulate(sc, sys, x0, &mut coll, Some(&mut ia), Ctl::of(sc))?;
         add_stats(&mut total, st);
         val.push(coll);
         val_acc.push(ia);

@@ -2,6 +2,7 @@
 //! [`Scenario`] that the runner accepts. Every failure names the field, the value and
 //! what is allowed; unknown keys are errors.
 
+use crate::control::CascadeSettings;
 use crate::error::{invalid, Error, Result};
 use crate::ident::{IdentSettings, IdentifierSpec};
 use crate::plant::{PumpParams, PumpParamsSpec};
@@ -38,6 +39,14 @@ impl Default for InitialSpec {
 pub struct MeasurementSpec {
     /// Standard deviation of the white Gaussian noise on the measured pressure \[MPa\] (0).
     pub noise_std_mpa: f64,
+    /// Standard deviation of the white Gaussian noise on the measured stroke \[mm\] (0;
+    /// only controllers that use the stroke see it).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub stroke_noise_std_mm: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// Step-size control profile.
@@ -89,6 +98,47 @@ pub enum ControllerSpec {
         /// each control period; the sum is clipped to the current range.
         #[serde(default)]
         dither_a: Option<SignalSpec>,
+    },
+    /// RHONN indirect adaptive cascade (`rhonn::control::adaptive`: an affine RHONN of the
+    /// line pressure with the stroke as its input, and a stroke loop), with a PI
+    /// baseline run on an identical plant in the same run. Unset settings take the
+    /// defaults of `CascadeSettings` (tuned once, on the nominal plant).
+    RhonnAdaptive {
+        /// Pressure set-point \[MPa\].
+        setpoint_mpa: SignalSpec,
+        /// Closed-loop pressure pole lambda \[1/s\] (100).
+        #[serde(default)]
+        lambda_per_s: Option<f64>,
+        /// lambda during the identification phase \[1/s\] (10).
+        #[serde(default)]
+        lambda_ident_per_s: Option<f64>,
+        /// Identification phase \[s\] (2).
+        #[serde(default)]
+        identification_s: Option<f64>,
+        /// Stroke feedback gain g (5).
+        #[serde(default)]
+        stroke_gain: Option<f64>,
+        /// Lead on the stroke reference \[s\] (0.06).
+        #[serde(default)]
+        lead_s: Option<f64>,
+        /// Identifier filter pole a \[1/s\] (280).
+        #[serde(default)]
+        observer_pole_per_s: Option<f64>,
+        /// Learning rate of the drift weights (4e4).
+        #[serde(default)]
+        gamma_w: Option<f64>,
+        /// Learning rate of the gain weights (10).
+        #[serde(default)]
+        gamma_w1: Option<f64>,
+        /// Radius of the gain weights' ball as a fraction of the largest safe radius, in (0, 1) (0.5).
+        #[serde(default)]
+        ball_fraction: Option<f64>,
+        /// The PI baseline's proportional gain \[A/MPa\] (0.15).
+        #[serde(default)]
+        baseline_kp_a_per_mpa: Option<f64>,
+        /// The PI baseline's integral time \[s\] (0.15).
+        #[serde(default)]
+        baseline_ti_s: Option<f64>,
     },
 }
 
@@ -154,6 +204,17 @@ pub struct PiSettings {
     pub dither: Option<Signal>,
 }
 
+/// A checked adaptive controller and its PI baseline (SI).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AdaptiveSettings {
+    /// Set-point \[Pa\].
+    pub setpoint: Signal,
+    /// The cascade's settings.
+    pub cascade: CascadeSettings,
+    /// The PI baseline run beside it on an identical plant (same set-point).
+    pub baseline: PiSettings,
+}
+
 /// How the current is produced.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Drive {
@@ -161,6 +222,19 @@ pub enum Drive {
     OpenLoop(Signal),
     /// A PI regulator.
     Pi(PiSettings),
+    /// The RHONN adaptive cascade, compared with a PI baseline in the same run.
+    Adaptive(Box<AdaptiveSettings>),
+}
+
+impl Drive {
+    /// The set-point of a regulated run.
+    pub fn setpoint(&self) -> Option<&Signal> {
+        match self {
+            Drive::OpenLoop(_) => None,
+            Drive::Pi(s) => Some(&s.setpoint),
+            Drive::Adaptive(a) => Some(&a.setpoint),
+        }
+    }
 }
 
 /// Checked solver settings (SI).
@@ -193,6 +267,8 @@ pub struct Scenario {
     pub demand: Signal,
     /// Noise standard deviation \[Pa\].
     pub noise_std_pa: f64,
+    /// Noise on the measured stroke \[m\].
+    pub stroke_noise_std_m: f64,
     /// Output interval \[s\].
     pub output_interval_s: f64,
     /// Solver.
@@ -203,7 +279,60 @@ pub struct Scenario {
     pub warnings: Vec<String>,
 }
 
+/// Check a PI's gains (fields named `<prefix>kp_a_per_mpa` ...) and convert to SI.
+fn check_pi(
+    kp_a_per_mpa: f64,
+    ti_s: f64,
+    bias_a: Option<f64>,
+    setpoint: Signal,
+    params: &PumpParams,
+    prefix: &str,
+) -> Result<PiSettings> {
+    if !(kp_a_per_mpa.is_finite() && kp_a_per_mpa >= 0.0) {
+        return Err(invalid(
+            format!("{prefix}kp_a_per_mpa"),
+            kp_a_per_mpa,
+            "a finite number >= 0",
+        ));
+    }
+    if !(ti_s.is_finite() && ti_s > 0.0) {
+        return Err(invalid(format!("{prefix}ti_s"), ti_s, "a number > 0"));
+    }
+    let bias = bias_a.unwrap_or(params.k_a * params.q_0 / (params.k_l * params.omega * params.phi));
+    if !(bias.is_finite() && (0.0..=params.i_max).contains(&bias)) {
+        return Err(invalid(
+            format!("{prefix}bias_a"),
+            bias,
+            format!("a current in [0, {}] A", params.i_max),
+        ));
+    }
+    Ok(PiSettings {
+        setpoint,
+        kp: kp_a_per_mpa / PA_PER_MPA,
+        ti_s,
+        bias,
+        dither: None,
+    })
+}
+
 impl ScenarioSpec {
+    fn check_setpoint(&self, setpoint_mpa: &SignalSpec, params: &PumpParams) -> Result<Signal> {
+        let lim =
+            crate::signal::spec_limits(params.p_min / PA_PER_MPA, params.p_max / PA_PER_MPA, None, None);
+        let setpoint = setpoint_mpa.build("controller.setpoint_mpa", PA_PER_MPA, lim)?;
+        if setpoint.clips_on(self.duration_s) {
+            return Err(invalid(
+                "controller.setpoint_mpa",
+                "a set-point",
+                format!(
+                    "within [{}, {}] MPa (P_min, P_max) at all times",
+                    self.plant.p_min_mpa, self.plant.p_max_mpa
+                ),
+            ));
+        }
+        Ok(setpoint)
+    }
+
     /// Parse TOML; `source_name` names the file in errors.
     pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
         toml::from_str(text).map_err(|e| Error::Parse {
@@ -319,54 +448,86 @@ impl ScenarioSpec {
                     dither_a,
                 }),
             ) => {
-                let lim = crate::signal::spec_limits(
-                    params.p_min / PA_PER_MPA,
-                    params.p_max / PA_PER_MPA,
-                    None,
-                    None,
-                );
-                let setpoint = setpoint_mpa.build("controller.setpoint_mpa", PA_PER_MPA, lim)?;
-                if setpoint.clips_on(self.duration_s) {
-                    return Err(invalid(
-                        "controller.setpoint_mpa",
-                        "a set-point",
-                        format!(
-                            "within [{}, {}] MPa (P_min, P_max) at all times",
-                            self.plant.p_min_mpa, self.plant.p_max_mpa
-                        ),
-                    ));
-                }
-                if !(kp_a_per_mpa.is_finite() && *kp_a_per_mpa >= 0.0) {
-                    return Err(invalid(
-                        "controller.kp_a_per_mpa",
-                        kp_a_per_mpa,
-                        "a finite number >= 0",
-                    ));
-                }
-                if !(ti_s.is_finite() && *ti_s > 0.0) {
-                    return Err(invalid("controller.ti_s", ti_s, "a number > 0"));
-                }
-                let bias =
-                    bias_a.unwrap_or(params.k_a * params.q_0 / (params.k_l * params.omega * params.phi));
-                if !(bias.is_finite() && (0.0..=params.i_max).contains(&bias)) {
-                    return Err(invalid(
-                        "controller.bias_a",
-                        bias,
-                        format!("a current in [0, {}] A", params.i_max),
-                    ));
-                }
+                let setpoint = self.check_setpoint(setpoint_mpa, &params)?;
+                let mut pi = check_pi(*kp_a_per_mpa, *ti_s, *bias_a, setpoint, &params, "controller.")?;
                 let no_clip = crate::signal::spec_limits(f64::NEG_INFINITY, f64::INFINITY, None, None);
-                let dither = dither_a
+                pi.dither = dither_a
                     .as_ref()
                     .map(|d| d.build("controller.dither_a", 1.0, no_clip))
                     .transpose()?;
-                Drive::Pi(PiSettings {
+                Drive::Pi(pi)
+            }
+            (
+                None,
+                Some(ControllerSpec::RhonnAdaptive {
+                    setpoint_mpa,
+                    lambda_per_s,
+                    lambda_ident_per_s,
+                    identification_s,
+                    stroke_gain,
+                    lead_s,
+                    observer_pole_per_s,
+                    gamma_w,
+                    gamma_w1,
+                    ball_fraction,
+                    baseline_kp_a_per_mpa,
+                    baseline_ti_s,
+                }),
+            ) => {
+                let setpoint = self.check_setpoint(setpoint_mpa, &params)?;
+                let d = CascadeSettings::default();
+                let pos = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
+                    let v = v.unwrap_or(default);
+                    if v.is_finite() && v > 0.0 {
+                        Ok(v)
+                    } else {
+                        Err(invalid(format!("controller.{name}"), v, "a finite number > 0"))
+                    }
+                };
+                let non_neg = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
+                    let v = v.unwrap_or(default);
+                    if v.is_finite() && v >= 0.0 {
+                        Ok(v)
+                    } else {
+                        Err(invalid(format!("controller.{name}"), v, "a finite number >= 0"))
+                    }
+                };
+                let cascade = CascadeSettings {
+                    lambda_per_s: pos("lambda_per_s", *lambda_per_s, d.lambda_per_s)?,
+                    lambda_ident_per_s: pos("lambda_ident_per_s", *lambda_ident_per_s, d.lambda_ident_per_s)?,
+                    identification_s: non_neg("identification_s", *identification_s, d.identification_s)?,
+                    stroke_gain: non_neg("stroke_gain", *stroke_gain, d.stroke_gain)?,
+                    lead_s: non_neg("lead_s", *lead_s, d.lead_s)?,
+                    observer_pole_per_s: pos(
+                        "observer_pole_per_s",
+                        *observer_pole_per_s,
+                        d.observer_pole_per_s,
+                    )?,
+                    gamma_w: non_neg("gamma_w", *gamma_w, d.gamma_w)?,
+                    gamma_w1: non_neg("gamma_w1", *gamma_w1, d.gamma_w1)?,
+                    ball_fraction: ball_fraction.unwrap_or(d.ball_fraction),
+                    p_scale_mpa: d.p_scale_mpa,
+                };
+                if !(cascade.ball_fraction > 0.0 && cascade.ball_fraction < 1.0) {
+                    return Err(invalid(
+                        "controller.ball_fraction",
+                        cascade.ball_fraction,
+                        "a number in (0, 1) (1 would let W_1 S' reach zero)",
+                    ));
+                }
+                let baseline = check_pi(
+                    baseline_kp_a_per_mpa.unwrap_or(0.15),
+                    baseline_ti_s.unwrap_or(0.15),
+                    None,
+                    setpoint.clone(),
+                    &params,
+                    "controller.baseline_",
+                )?;
+                Drive::Adaptive(Box::new(AdaptiveSettings {
                     setpoint,
-                    kp: kp_a_per_mpa / PA_PER_MPA,
-                    ti_s: *ti_s,
-                    bias,
-                    dither,
-                })
+                    cascade,
+                    baseline,
+                }))
             }
         };
         let demand_lim = crate::signal::spec_limits(
@@ -384,6 +545,14 @@ impl ScenarioSpec {
                 "demand_dm3_s",
                 "a profile",
                 "a demanded flow >= 0 at all times",
+            ));
+        }
+        let xn = self.measurement.stroke_noise_std_mm;
+        if !(xn.is_finite() && xn >= 0.0) {
+            return Err(invalid(
+                "measurement.stroke_noise_std_mm",
+                xn,
+                "a finite number >= 0",
             ));
         }
         let noise = self.measurement.noise_std_mpa;
@@ -431,6 +600,13 @@ impl ScenarioSpec {
                 "a number > 0 (ms)",
             ));
         }
+        if self.identifier.is_some() && matches!(drive, Drive::Adaptive(_)) {
+            return Err(invalid(
+                "identifier",
+                "a section",
+                "absent with controller kind `rhonn-adaptive` (it identifies its own model online)",
+            ));
+        }
         Ok(Scenario {
             spec: self.clone(),
             params,
@@ -438,6 +614,7 @@ impl ScenarioSpec {
             drive,
             demand,
             noise_std_pa: noise * PA_PER_MPA,
+            stroke_noise_std_m: xn * M_PER_MM,
             output_interval_s: dt,
             solver,
             identifier: self.identifier.as_ref().map(|i| i.check()).transpose()?,

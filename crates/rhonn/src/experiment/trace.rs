@@ -20,6 +20,21 @@ pub struct Sample {
     pub p_meas: Option<f64>,
     /// An identifier's estimates of `[p_line, stroke]` \[Pa, m\] (identified states only).
     pub hat: [Option<f64>; 2],
+    /// The adaptive controller's state at the last control instant.
+    pub control: Option<crate::control::CascadeState>,
+    /// The PI baseline's plant at the same instant (adaptive runs).
+    pub baseline: Option<BaselineSample>,
+}
+
+/// The baseline's plant in an adaptive run (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BaselineSample {
+    /// Line pressure \[Pa\].
+    pub p_line: f64,
+    /// Stroke \[m\].
+    pub stroke: f64,
+    /// Current \[A\].
+    pub current: f64,
 }
 
 /// Receives the output samples of a run, in time order.
@@ -104,6 +119,17 @@ impl Recorder for Trace {
             if s.hat[1].is_some() {
                 cols.push(("stroke_hat", "m"));
             }
+            if s.control.is_some() {
+                cols.extend([
+                    ("stroke_ref", "m"),
+                    ("p_line_model", "Pa"),
+                    ("w_norm", "MPa/s"),
+                    ("w1_norm", "MPa/(s mm)"),
+                ]);
+            }
+            if s.baseline.is_some() {
+                cols.extend([("p_line_pi", "Pa"), ("stroke_pi", "m"), ("current_pi", "A")]);
+            }
             self.columns = cols
                 .into_iter()
                 .map(|(name, unit)| Column {
@@ -123,6 +149,13 @@ impl Recorder for Trace {
             s.p_meas,
             s.hat[0],
             s.hat[1],
+            s.control.map(|c| c.stroke_ref),
+            s.control.map(|c| c.p_hat),
+            s.control.map(|c| c.w_norm),
+            s.control.map(|c| c.w1_norm),
+            s.baseline.map(|b| b.p_line),
+            s.baseline.map(|b| b.stroke),
+            s.baseline.map(|b| b.current),
         ];
         for (col, v) in self.columns.iter_mut().zip(vals.into_iter().flatten()) {
             col.values.push(v);

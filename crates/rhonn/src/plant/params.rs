@@ -56,6 +56,9 @@ pub struct PumpParams {
     /// Time constant of a first-order lag on the solenoid current \[s\] (0: none). An
     /// unmodeled dynamic for robustness studies (SPEC.md section 3).
     pub solenoid_lag: f64,
+    /// Transport delay between a controller's output and the solenoid, in control
+    /// periods (0: none). An unmodeled dynamic for robustness studies.
+    pub delay_periods: u32,
 }
 
 impl Default for PumpParams {
@@ -137,6 +140,8 @@ pub struct PumpParamsSpec {
     pub p_min_mpa: f64,
     /// First-order lag on the solenoid current \[ms\] (0: none; SPEC.md section 3).
     pub solenoid_lag_ms: f64,
+    /// Transport delay from a controller's output to the solenoid \[control periods\] (0).
+    pub transport_delay_periods: u32,
 }
 
 impl Default for PumpParamsSpec {
@@ -165,6 +170,7 @@ impl Default for PumpParamsSpec {
             p_0_mpa: 0.4,
             p_min_mpa: 1.0,
             solenoid_lag_ms: 0.0,
+            transport_delay_periods: 0,
         }
     }
 }
@@ -213,6 +219,13 @@ impl PumpParamsSpec {
         if !(self.gamma_l >= 0.0 && self.gamma_l < 1.0) {
             return Err(invalid("plant.gamma_l", self.gamma_l, "a number in [0, 1)"));
         }
+        if self.transport_delay_periods > 1000 {
+            return Err(invalid(
+                "plant.transport_delay_periods",
+                self.transport_delay_periods,
+                "an integer in [0, 1000]",
+            ));
+        }
         if self.p_min_mpa >= self.p_max_mpa {
             return Err(invalid(
                 "plant.p_min_mpa",
@@ -244,6 +257,7 @@ impl PumpParamsSpec {
             p_0: self.p_0_mpa * PA_PER_MPA,
             p_min: self.p_min_mpa * PA_PER_MPA,
             solenoid_lag: self.solenoid_lag_ms * S_PER_MS,
+            delay_periods: self.transport_delay_periods,
         })
     }
 }

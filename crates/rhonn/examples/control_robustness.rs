@@ -1,0 +1,76 @@
+//! The adaptive cascade against the PI baseline on the nominal plant, the lagged and
+//! delayed solenoids, and every corner of the thesis's uncertainty box (beta, mu_1,
+//! mu_2 +-20 %, Q_0 +-10 %, demand slew +-10 %); controllers tuned once, on the
+//! nominal plant. `cargo run --release -p rhonn --example control_robustness`
+
+use rhonn::experiment::{preset, run_full, NoRecorder, ScenarioSpec};
+
+/// The plants of the robustness study: a name and how it changes the scenario.
+pub fn cases() -> Vec<(String, Box<dyn Fn(&mut ScenarioSpec)>)> {
+    let mut v: Vec<(String, Box<dyn Fn(&mut ScenarioSpec)>)> = vec![("nominal".into(), Box::new(|_| {}))];
+    for lag in [1.0, 5.0, 20.0] {
+        v.push((
+            format!("solenoid lag {lag} ms"),
+            Box::new(move |s| s.plant.solenoid_lag_ms = lag),
+        ));
+    }
+    v.push((
+        "transport delay 1 period".into(),
+        Box::new(|s| s.plant.transport_delay_periods = 1),
+    ));
+    for k in 0..32u32 {
+        let sign = |b: u32| if k >> b & 1 == 1 { 1.0 } else { -1.0 };
+        let (b, m1, m2, q, sl) = (sign(0), sign(1), sign(2), sign(3), sign(4));
+        v.push((
+            format!(
+                "beta {:+.0}% mu1 {:+.0}% mu2 {:+.0}% Q0 {:+.0}% slew {:+.0}%",
+                20.0 * b,
+                20.0 * m1,
+                20.0 * m2,
+                10.0 * q,
+                10.0 * sl
+            ),
+            Box::new(move |s| {
+                s.plant.beta_mpa *= 1.0 + 0.2 * b;
+                s.plant.mu_1 *= 1.0 + 0.2 * m1;
+                s.plant.mu_2 *= 1.0 + 0.2 * m2;
+                s.plant.q_0_dm3_s *= 1.0 + 0.1 * q;
+                s.plant.qdot_max_dm3_s2 *= 1.0 + 0.1 * sl;
+                if let Some(rhonn::signal::SignalSpec::Trapezoids { slew_per_s, .. }) =
+                    s.demand_dm3_s.as_mut()
+                {
+                    *slew_per_s *= 1.0 + 0.1 * sl;
+                }
+            }),
+        ));
+    }
+    v
+}
+
+fn main() -> Result<(), rhonn::Error> {
+    println!(
+        "| plant | adaptive ISE | PI ISE | adaptive max dev | PI max dev | adaptive below P_min | PI below P_min | adaptive better |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    for (name, f) in cases() {
+        let mut spec = preset::load("control-adaptive")?;
+        f(&mut spec);
+        let sc = spec.check()?;
+        let out = run_full(&sc, &mut NoRecorder)?;
+        let fa = &out.summary.figures;
+        let c = out.summary.control.as_ref().expect("an adaptive run");
+        let fb = &c.baseline.figures;
+        let (ra, rb) = (fa.regulation.as_ref().unwrap(), fb.regulation.as_ref().unwrap());
+        println!(
+            "| {name} | {:.1} | {:.1} | {:.2} | {:.2} | {:.3} | {:.3} | {} |",
+            ra.ise_mpa2_s,
+            rb.ise_mpa2_s,
+            ra.max_abs_deviation_settled_mpa,
+            rb.max_abs_deviation_settled_mpa,
+            fa.time_below_p_min_after_1s_s,
+            fb.time_below_p_min_after_1s_s,
+            if c.adaptive_better(fa) { "yes" } else { "**no**" }
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,419 @@
+//! RHONN indirect adaptive control (SPEC.md section 4, thesis 4.5.2): an affine RHONN
+//! neuron identified online, with a projection that keeps its input gain away from zero,
+//! and the certainty-equivalence control law computed from it.
+//!
+//! # The design for the pump
+//!
+//! The pump is not square-affine in the current (current -> pilot valve -> stroke ->
+//! pressure), so the controller is a cascade:
+//!
+//! * **Outer loop, adaptive.** The line pressure is modelled by one affine RHONN neuron
+//!   with the stroke `x` as its (virtual) input, in MPa, mm and s:
+//!
+//!   `dp^/dt = -a (p^ - p) + W S(p) + (W_1 S'(p)) x`,  `S(p) = [1, s(p/p_n)]`, `S'(p) = [1, s(p/p_n)]`
+//!
+//!   which has the plant's structure: `dP_l/dt = beta/V_l (k_l omega x - Q - Q_0)` is
+//!   affine in `x`, with a gain `W_1 S'` that falls with the pressure (the line volume
+//!   grows) and a drift `W S` holding the unknown demand. Learning laws (filtered-error
+//!   gradient, thesis eq. 4.5x): `dW/dt = -Gamma e S`, `dW_1/dt = -Gamma_1 e S' x`, with
+//!   `e = p^ - p`; `W_1` is projected onto a ball around its identified value whose
+//!   radius keeps `W_1 S'` positive for every `S'` (so the law below never divides by
+//!   zero), and `W` onto a large ball (bounded weights whatever the noise).
+//!   Control (certainty equivalence, shifted to a set-point): the stroke that makes the
+//!   model's pressure follow `dp/dt = -lambda (p - p_ref)`:
+//!   `x_d = (-lambda (p - p_ref) - W S) / (W_1 S')`.
+//! * **Inner loop, the pilot valve's static inverse plus feedback.** At rest the stroke
+//!   is `x = phi I / K_a`, so `I = K_a/phi (x_d + g (x_d - x) + tau_lead dx_d/dt)`, with
+//!   `dx_d/dt` computed analytically from the model and the learning law (no numerical
+//!   differentiation of the noisy pressure), clipped to `[0, I_max]`.
+//!
+//! Assumptions, stated: the stroke is measured (variable-displacement pumps with
+//! electronic displacement control carry a swash-plate angle sensor); the pressure is
+//! measured with noise; both are sampled every control period T and the current is
+//! held over it (zero-order hold). The identifier runs one period behind, on the
+//! measurements interpolated linearly between samples, so that it compares its model
+//! with the plant at the same instants (a model integrated against a held sample is
+//! biased by the sample's staleness). Anti-windup: the controller has no integrator
+//! driven by its own output: the weights are driven by the measured pressure and
+//! stroke only, so a saturated current cannot wind them up. While the measured
+//! pressure sits on a bound of the limited integrator (near 0 or P_max) the model's
+//! derivative is not the plant's, and adaptation pauses.
+//!
+//! Identification phase (thesis 4.5.1): for the first `identification_s` the same law
+//! runs with a gentle `lambda_ident` around the first set-point while the weights
+//! learn; then the ball's centre is set to the identified `W_1` and the full `lambda`
+//! takes over.
+
+use crate::net::Sigmoid;
+
+/// Number of drift terms `S(p)`.
+pub const L_DRIFT: usize = 2;
+/// Number of gain terms `S'(p)`.
+pub const L_GAIN: usize = 2;
+
+/// One neuron of an affine RHONN, `dx^/dt = -a (x^ - x) + W S + (W_1 S') u`, with the
+/// filtered-error gradient laws and projection (see the module docs). Units are the
+/// caller's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AffineNeuron<const L: usize, const L1: usize> {
+    /// Filter pole a > 0.
+    pub a: f64,
+    /// Learning rate of `W`.
+    pub gamma: f64,
+    /// Learning rate of `W_1`.
+    pub gamma1: f64,
+    /// Drift weights.
+    pub w: [f64; L],
+    /// Gain weights.
+    pub w1: [f64; L1],
+    /// Centre of `W_1`'s ball.
+    pub center: [f64; L1],
+    /// Radius of `W_1`'s ball.
+    pub radius: f64,
+    /// Radius of `W`'s ball (around 0).
+    pub w_bound: f64,
+    /// The model's state.
+    pub xh: f64,
+}
+
+/// Project `v` onto the ball of `radius` around `c`; true when it had to.
+#[inline]
+fn project<const N: usize>(v: &mut [f64; N], c: &[f64; N], radius: f64) -> bool {
+    let d2: f64 = v.iter().zip(c).map(|(a, b)| (a - b) * (a - b)).sum();
+    if d2 <= radius * radius {
+        return false;
+    }
+    let k = radius / d2.sqrt();
+    for (a, b) in v.iter_mut().zip(c) {
+        *a = b + (*a - b) * k;
+    }
+    true
+}
+
+#[inline]
+fn dot<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+impl<const L: usize, const L1: usize> AffineNeuron<L, L1> {
+    /// The model's derivative `W S + (W_1 S') u` (without the filter term).
+    #[inline]
+    pub fn drift_and_gain(&self, s: &[f64; L], s1: &[f64; L1]) -> (f64, f64) {
+        (dot(&self.w, s), dot(&self.w1, s1))
+    }
+
+    /// Integrate the identifier over `dt` with the plant's state going linearly from
+    /// `x0` to `x1` and the input from `u0` to `u1`; `features(x)` gives `(S, S')`.
+    /// Classical RK4 with `n_sub` substeps; the weights are projected after each.
+    /// Returns whether a projection acted.
+    #[allow(clippy::too_many_arguments)]
+    pub fn advance(
+        &mut self,
+        dt: f64,
+        n_sub: usize,
+        (x0, x1): (f64, f64),
+        (u0, u1): (f64, f64),
+        adapt: bool,
+        features: impl Fn(f64) -> ([f64; L], [f64; L1]),
+    ) -> bool {
+        let h = dt / n_sub as f64;
+        let mut projected = false;
+        // The state is (xh, W, W_1); its derivative at fraction `f` of the period.
+        let deriv = |f: f64, xh: f64, w: &[f64; L], w1: &[f64; L1]| {
+            let x = x0 + (x1 - x0) * f;
+            let u = u0 + (u1 - u0) * f;
+            let (s, s1) = features(x);
+            let e = xh - x;
+            let dxh = -self.a * e + dot(w, &s) + dot(w1, &s1) * u;
+            let mut dw = [0.0; L];
+            let mut dw1 = [0.0; L1];
+            if adapt {
+                for k in 0..L {
+                    dw[k] = -self.gamma * e * s[k];
+                }
+                for k in 0..L1 {
+                    dw1[k] = -self.gamma1 * e * s1[k] * u;
+                }
+            }
+            (dxh, dw, dw1)
+        };
+        let axpy = |w: &[f64; L], k: &[f64; L], c: f64| {
+            let mut r = *w;
+            for i in 0..L {
+                r[i] += c * k[i];
+            }
+            r
+        };
+        let axpy1 = |w: &[f64; L1], k: &[f64; L1], c: f64| {
+            let mut r = *w;
+            for i in 0..L1 {
+                r[i] += c * k[i];
+            }
+            r
+        };
+        for j in 0..n_sub {
+            let f0 = j as f64 / n_sub as f64;
+            let fh = 0.5 / n_sub as f64;
+            let (xh, w, w1) = (self.xh, self.w, self.w1);
+            let k1 = deriv(f0, xh, &w, &w1);
+            let k2 = deriv(
+                f0 + fh,
+                xh + 0.5 * h * k1.0,
+                &axpy(&w, &k1.1, 0.5 * h),
+                &axpy1(&w1, &k1.2, 0.5 * h),
+            );
+            let k3 = deriv(
+                f0 + fh,
+                xh + 0.5 * h * k2.0,
+                &axpy(&w, &k2.1, 0.5 * h),
+                &axpy1(&w1, &k2.2, 0.5 * h),
+            );
+            let k4 = deriv(
+                f0 + 2.0 * fh,
+                xh + h * k3.0,
+                &axpy(&w, &k3.1, h),
+                &axpy1(&w1, &k3.2, h),
+            );
+            self.xh += h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
+            for i in 0..L {
+                self.w[i] += h / 6.0 * (k1.1[i] + 2.0 * k2.1[i] + 2.0 * k3.1[i] + k4.1[i]);
+            }
+            for i in 0..L1 {
+                self.w1[i] += h / 6.0 * (k1.2[i] + 2.0 * k2.2[i] + 2.0 * k3.2[i] + k4.2[i]);
+            }
+            projected |= project(&mut self.w1, &self.center, self.radius);
+            projected |= project(&mut self.w, &[0.0; L], self.w_bound);
+        }
+        projected
+    }
+
+    /// |W|.
+    pub fn w_norm(&self) -> f64 {
+        dot(&self.w, &self.w).sqrt()
+    }
+
+    /// |W_1|.
+    pub fn w1_norm(&self) -> f64 {
+        dot(&self.w1, &self.w1).sqrt()
+    }
+
+    /// |W_1 - centre|.
+    pub fn w1_distance(&self) -> f64 {
+        self.w1
+            .iter()
+            .zip(&self.center)
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum::<f64>()
+            .sqrt()
+    }
+}
+
+/// Settings of the cascade (display units where named so; see the module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CascadeSettings {
+    /// Closed-loop pressure pole lambda \[1/s\].
+    pub lambda_per_s: f64,
+    /// lambda during the identification phase \[1/s\].
+    pub lambda_ident_per_s: f64,
+    /// Length of the identification phase \[s\].
+    pub identification_s: f64,
+    /// Stroke feedback gain g \[-\].
+    pub stroke_gain: f64,
+    /// Lead on the stroke reference tau_lead \[s\].
+    pub lead_s: f64,
+    /// Identifier filter pole a \[1/s\].
+    pub observer_pole_per_s: f64,
+    /// Learning rate of the drift weights W \[1/s^2\] (the model is in MPa, mm, s).
+    pub gamma_w: f64,
+    /// Learning rate of the gain weights W_1.
+    pub gamma_w1: f64,
+    /// Radius of W_1's ball as a fraction of |centre| (< 1 keeps W_1 S' > 0).
+    pub ball_fraction: f64,
+    /// Pressure scale of the sigmoid p_n \[MPa\].
+    pub p_scale_mpa: f64,
+}
+
+impl Default for CascadeSettings {
+    fn default() -> Self {
+        CascadeSettings {
+            lambda_per_s: 100.0,
+            lambda_ident_per_s: 10.0,
+            identification_s: 2.0,
+            stroke_gain: 5.0,
+            lead_s: 0.06,
+            observer_pole_per_s: 280.0,
+            gamma_w: 4e4,
+            gamma_w1: 10.0,
+            ball_fraction: 0.5,
+            p_scale_mpa: 10.0,
+        }
+    }
+}
+
+/// What the controller shows of itself at a control instant.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CascadeState {
+    /// Stroke reference x_d \[m\].
+    pub stroke_ref: f64,
+    /// The model's pressure p^ \[Pa\].
+    pub p_hat: f64,
+    /// |W| (MPa/s units).
+    pub w_norm: f64,
+    /// |W_1| (MPa/(s mm) units).
+    pub w1_norm: f64,
+}
+
+/// The pump's RHONN cascade controller: call [`RhonnCascade::update`] every period.
+#[derive(Debug, Clone)]
+pub struct RhonnCascade {
+    /// Settings.
+    pub settings: CascadeSettings,
+    /// The pressure neuron (MPa, mm, s).
+    pub neuron: AffineNeuron<L_DRIFT, L_GAIN>,
+    sigmoid: Sigmoid,
+    period_s: f64,
+    /// K_a / phi \[A/mm\].
+    amp_per_mm: f64,
+    i_max: f64,
+    x_max_mm: f64,
+    p_max_mpa: f64,
+    prev: Option<(f64, f64)>,
+    ball_set: bool,
+    x_d: f64,
+    projections: u64,
+}
+
+impl RhonnCascade {
+    /// A controller for a pump with feedback spring `k_a` \[N/m\], solenoid gain `phi`
+    /// \[N/A\], current range `[0, i_max]` \[A\], stroke range `[0, x_max]` \[m\], pressure
+    /// bound `p_max` \[Pa\], period `period_s`; the gain weights start at
+    /// `w1_initial` (the nominal plant's `beta k_l omega / V_l` in MPa/(s mm), split
+    /// over `S'`), the drift weights at 0, the model at `p0` \[Pa\].
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        settings: CascadeSettings,
+        k_a: f64,
+        phi: f64,
+        i_max: f64,
+        x_max: f64,
+        p_max: f64,
+        period_s: f64,
+        w1_initial: f64,
+        p0: f64,
+    ) -> Self {
+        let w1 = [w1_initial, 0.0];
+        let radius = settings.ball_fraction * Self::safe_radius(&w1);
+        let neuron = AffineNeuron {
+            a: settings.observer_pole_per_s,
+            gamma: settings.gamma_w,
+            gamma1: settings.gamma_w1,
+            w: [0.0; L_DRIFT],
+            w1,
+            center: w1,
+            radius,
+            w_bound: 1e6,
+            xh: p0 * 1e-6,
+        };
+        RhonnCascade {
+            settings,
+            neuron,
+            sigmoid: Sigmoid::LOGISTIC,
+            period_s,
+            amp_per_mm: k_a / phi * 1e-3,
+            i_max,
+            x_max_mm: x_max * 1e3,
+            p_max_mpa: p_max * 1e-6,
+            prev: None,
+            ball_set: false,
+            x_d: 0.0,
+            projections: 0,
+        }
+    }
+
+    /// The largest radius around `c` on which `W_1 S' > 0` for every `S' = [1, s - 1/2]`,
+    /// `s` in \[0, 1\]: `W_1 S' >= c_0 - |c_1|/2 - r |S'|` and `|S'| <= sqrt(5)/2`.
+    pub fn safe_radius(c: &[f64; L_GAIN]) -> f64 {
+        ((c[0] - 0.5 * c[1].abs()) / (1.25f64).sqrt()).max(0.0)
+    }
+
+    #[inline]
+    fn features(sig: Sigmoid, scale: f64, p_mpa: f64) -> ([f64; L_DRIFT], [f64; L_GAIN]) {
+        let s = sig.eval(p_mpa / scale);
+        ([1.0, s], [1.0, s - 0.5])
+    }
+
+    /// One control instant at time `t` \[s\] with the measured pressure \[Pa\] and
+    /// stroke \[m\] and the set-point \[Pa\]: returns the current \[A\].
+    pub fn update(&mut self, t: f64, p_meas: f64, x_meas: f64, p_ref: f64) -> f64 {
+        let (p, x, r) = (p_meas * 1e-6, x_meas * 1e3, p_ref * 1e-6);
+        let (sig, scale) = (self.sigmoid, self.settings.p_scale_mpa);
+        // The identifier catches up over the last period, on interpolated measurements.
+        if let Some((p0, x0)) = self.prev {
+            let margin = 0.2;
+            let adapt = p0.min(p) > margin && p0.max(p) < self.p_max_mpa - margin;
+            let projected = self
+                .neuron
+                .advance(self.period_s, 2, (p0, p), (x0, x), adapt, |pm| {
+                    Self::features(sig, scale, pm)
+                });
+            self.projections += projected as u64;
+        }
+        self.prev = Some((p, x));
+        let ident = t < self.settings.identification_s;
+        if !ident && !self.ball_set {
+            // The identified gain becomes the centre of the projection's ball.
+            self.neuron.center = self.neuron.w1;
+            self.neuron.radius = self.settings.ball_fraction * Self::safe_radius(&self.neuron.w1);
+            self.ball_set = true;
+        }
+        let lambda = if ident {
+            self.settings.lambda_ident_per_s
+        } else {
+            self.settings.lambda_per_s
+        };
+        let (s, s1) = Self::features(sig, scale, p);
+        let (f, g) = self.neuron.drift_and_gain(&s, &s1);
+        let g = g.max(1e-9);
+        let x_d = ((-lambda * (p - r) - f) / g).clamp(0.0, self.x_max_mm);
+        // dx_d/dt from the model: d/dt of (-lambda (p - r) - W S) / (W_1 S'), with the
+        // weights' rates from the learning law (S, S' and r taken as constant).
+        let e = self.neuron.xh - p;
+        let p_dot = f + g * x;
+        let w_dot_s: f64 = -self.settings.gamma_w * e * dot(&s, &s);
+        let w1_dot_s1: f64 = -self.settings.gamma_w1 * e * x * dot(&s1, &s1);
+        let x_d_dot = (-lambda * p_dot - w_dot_s - w1_dot_s1 * x_d) / g;
+        self.x_d = x_d;
+        let st = &self.settings;
+        let i = self.amp_per_mm * (x_d + st.stroke_gain * (x_d - x) + st.lead_s * x_d_dot);
+        i.clamp(0.0, self.i_max)
+    }
+
+    /// Internal state for the trace.
+    pub fn state(&self) -> CascadeState {
+        CascadeState {
+            stroke_ref: self.x_d * 1e-3,
+            p_hat: self.neuron.xh * 1e6,
+            w_norm: self.neuron.w_norm(),
+            w1_norm: self.neuron.w1_norm(),
+        }
+    }
+
+    /// How many substeps ended with a projection.
+    pub fn projections(&self) -> u64 {
+        self.projections
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn projection_lands_on_the_sphere() {
+        let mut v = [3.0, 4.0];
+        assert!(project(&mut v, &[0.0, 0.0], 1.0));
+        assert!(((v[0] * v[0] + v[1] * v[1]).sqrt() - 1.0).abs() < 1e-12);
+        let mut v = [0.1, 0.1];
+        assert!(!project(&mut v, &[0.0, 0.0], 1.0));
+    }
+}

@@ -1,0 +1,306 @@
+//! Issue 5: RHONN indirect adaptive control. Tests of the theory (an affine RHONN plant
+//! with known weights; the projection), and the pump: the adaptive cascade against the
+//! PI baseline on the nominal plant, lagged and delayed solenoids, and every corner of
+//! the thesis's uncertainty box.
+
+use rhonn::control::AffineNeuron;
+use rhonn::experiment::{preset, run_full, NoRecorder, RunOutput, ScenarioSpec, Trace};
+use rhonn::net::Sigmoid;
+use rhonn::signal::SignalSpec;
+
+fn features(x: f64) -> ([f64; 2], [f64; 2]) {
+    let s = Sigmoid::LOGISTIC.eval(x);
+    ([1.0, s], [1.0, s - 0.5])
+}
+
+/// A plant that is an affine RHONN with known weights, `dx/dt = w* S(x) + (w1* S'(x)) u`,
+/// regulated by the certainty-equivalence law `u = (-lambda x - W S) / (W_1 S')` of a
+/// neuron that learns online from `W = 0` and a wrong `W_1`. Returns the final
+/// `(x, x^, e)` and the largest `|W_1 - centre|`.
+fn regulate(
+    w_star: [f64; 2],
+    w1_star: [f64; 2],
+    w1_0: [f64; 2],
+    radius: f64,
+    t_end: f64,
+) -> (f64, f64, f64, f64) {
+    let mut nn = AffineNeuron::<2, 2> {
+        a: 5.0,
+        gamma: 20.0,
+        gamma1: 20.0,
+        w: [0.0; 2],
+        w1: w1_0,
+        center: w1_0,
+        radius,
+        w_bound: 1e3,
+        xh: 1.0,
+    };
+    let lambda = 2.0;
+    let dt = 1e-3;
+    let mut x: f64 = 1.0;
+    let mut dist_max: f64 = 0.0;
+    let plant = |x: f64, u: f64| {
+        let (s, s1) = features(x);
+        w_star[0] * s[0] + w_star[1] * s[1] + (w1_star[0] * s1[0] + w1_star[1] * s1[1]) * u
+    };
+    let steps = (t_end / dt) as usize;
+    for _ in 0..steps {
+        let (s, s1) = features(x);
+        let (f, g) = nn.drift_and_gain(&s, &s1);
+        let u = (-lambda * x - f) / g;
+        // The plant over one step (RK4, input held), then the identifier over the same
+        // step on the plant's start and end states.
+        let k1 = plant(x, u);
+        let k2 = plant(x + 0.5 * dt * k1, u);
+        let k3 = plant(x + 0.5 * dt * k2, u);
+        let k4 = plant(x + dt * k3, u);
+        let x1 = x + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        nn.advance(dt, 1, (x, x1), (u, u), true, features);
+        x = x1;
+        dist_max = dist_max.max(nn.w1_distance());
+        assert!(x.is_finite() && nn.w_norm().is_finite());
+    }
+    (x, nn.xh, nn.xh - x, dist_max)
+}
+
+#[test]
+fn the_closed_loop_drives_the_state_the_model_and_the_error_to_zero() {
+    // The plant would leave 0 on its own (positive drift); the neuron starts knowing
+    // nothing of the drift and with a gain 40 % off.
+    let (x, xh, e, dist) = regulate([0.6, 1.5], [2.0, 0.4], [1.2, 0.0], 1.0, 30.0);
+    assert!(x.abs() < 1e-3, "x = {x}");
+    assert!(xh.abs() < 1e-3, "x^ = {xh}");
+    assert!(e.abs() < 1e-4, "e = {e}");
+    assert!(dist <= 1.0 + 1e-12);
+    // Without learning the same loop does not reach zero: the test can fail.
+    let mut frozen = AffineNeuron::<2, 2> {
+        a: 5.0,
+        gamma: 0.0,
+        gamma1: 0.0,
+        w: [0.0; 2],
+        w1: [1.2, 0.0],
+        center: [1.2, 0.0],
+        radius: 1.0,
+        w_bound: 1e3,
+        xh: 1.0,
+    };
+    let mut x: f64 = 1.0;
+    for _ in 0..30_000 {
+        let (s, s1) = features(x);
+        let (f, g) = frozen.drift_and_gain(&s, &s1);
+        let u = (-2.0 * x - f) / g;
+        let dx = 0.6 + 1.5 * s[1] + (2.0 + 0.4 * s1[1]) * u;
+        x += 1e-3 * dx;
+        frozen.xh = x;
+    }
+    assert!(x.abs() > 0.1, "a frozen wrong model leaves an offset: x = {x}");
+}
+
+#[test]
+fn the_projection_keeps_the_gain_weights_in_their_ball() {
+    // The true gain is 3 times the ball's centre and the input is exciting: the
+    // learning law pushes W_1 out of the ball; the projection must hold it on the
+    // sphere at every step.
+    let (w_star, w1_star, c, radius) = ([0.3, 0.5], [3.6, 0.6], [1.2, 0.0], 0.5);
+    let mut nn = AffineNeuron::<2, 2> {
+        a: 5.0,
+        gamma: 20.0,
+        gamma1: 20.0,
+        w: [0.0; 2],
+        w1: c,
+        center: c,
+        radius,
+        w_bound: 1e3,
+        xh: 0.0,
+    };
+    let plant = |x: f64, u: f64| {
+        let (s, s1) = features(x);
+        w_star[0] * s[0] + w_star[1] * s[1] + (w1_star[0] * s1[0] + w1_star[1] * s1[1]) * u
+    };
+    let (dt, mut x, mut dist_max, mut projected) = (1e-3, 0.0f64, 0.0f64, false);
+    for k in 0..20_000 {
+        let t = k as f64 * dt;
+        // Bounded by a feedback of its own, exciting by the sine.
+        let u = -x - 0.2 + (2.0 * t).sin();
+        let k1 = plant(x, u);
+        let k2 = plant(x + 0.5 * dt * k1, u);
+        let k3 = plant(x + 0.5 * dt * k2, u);
+        let k4 = plant(x + dt * k3, u);
+        let x1 = x + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        projected |= nn.advance(dt, 1, (x, x1), (u, u), true, features);
+        x = x1;
+        let d = nn.w1_distance();
+        assert!(d <= radius * (1.0 + 1e-12), "t = {t}: |W_1 - c| = {d} > {radius}");
+        dist_max = dist_max.max(d);
+    }
+    assert!(projected, "the projection never acted");
+    assert!(
+        dist_max > 0.999 * radius,
+        "the run did not push W_1 to the boundary: {dist_max}"
+    );
+    // W_1 S' stays away from zero on the whole sigmoid range.
+    for k in 0..=10 {
+        let s1 = [1.0, k as f64 / 10.0 - 0.5];
+        assert!(nn.w1[0] * s1[0] + nn.w1[1] * s1[1] > 0.5);
+    }
+    assert!(x.is_finite() && x.abs() < 10.0, "x = {x}");
+    // Without the projection the same run leaves the ball: the test can fail.
+    let mut free = AffineNeuron {
+        radius: 1e9,
+        ..nn.clone()
+    };
+    free.w1 = c;
+    free.center = c;
+    let mut x = 0.0f64;
+    for k in 0..20_000 {
+        let u = -x - 0.2 + (2.0 * k as f64 * dt).sin();
+        let x1 = x + dt * plant(x, u);
+        free.advance(dt, 1, (x, x1), (u, u), true, features);
+        x = x1;
+    }
+    assert!(
+        free.w1_distance() > radius,
+        "unprojected |W_1 - c| = {}",
+        free.w1_distance()
+    );
+}
+
+fn run_case(f: impl Fn(&mut ScenarioSpec)) -> RunOutput {
+    let mut spec = preset::load("control-adaptive").unwrap();
+    f(&mut spec);
+    run_full(&spec.check().unwrap(), &mut NoRecorder).unwrap()
+}
+
+/// (ISE, settled max deviation, time below P_min after 1 s, bounded) of both controllers.
+fn figures(out: &RunOutput) -> ([f64; 3], [f64; 3], bool, bool) {
+    let fa = &out.summary.figures;
+    let c = out.summary.control.as_ref().expect("an adaptive run");
+    let fb = &c.baseline.figures;
+    let (ra, rb) = (fa.regulation.as_ref().unwrap(), fb.regulation.as_ref().unwrap());
+    (
+        [
+            ra.ise_mpa2_s,
+            ra.max_abs_deviation_settled_mpa,
+            fa.time_below_p_min_after_1s_s,
+        ],
+        [
+            rb.ise_mpa2_s,
+            rb.max_abs_deviation_settled_mpa,
+            fb.time_below_p_min_after_1s_s,
+        ],
+        ra.signals_bounded,
+        rb.signals_bounded,
+    )
+}
+
+#[test]
+fn nominal_plant_adaptive_beats_pi_in_the_same_run() {
+    let mut spec = preset::load("control-adaptive").unwrap();
+    spec.duration_s = 60.0;
+    let sc = spec.check().unwrap();
+    let mut trace = Trace::default();
+    let out = run_full(&sc, &mut trace).unwrap();
+    for col in [
+        "p_line",
+        "p_line_pi",
+        "current",
+        "current_pi",
+        "p_ref",
+        "stroke_ref",
+        "w_norm",
+        "w1_norm",
+    ] {
+        assert!(trace.column(col).is_some(), "missing column {col}");
+    }
+    let (a, b, bounded_a, bounded_b) = figures(&out);
+    assert!(bounded_a && bounded_b);
+    assert!(a[0] < b[0], "ISE adaptive {} vs PI {}", a[0], b[0]);
+    assert!(a[1] < b[1], "max dev adaptive {} vs PI {}", a[1], b[1]);
+    assert_eq!(a[2], 0.0, "adaptive below P_min after the start");
+    let c = out.summary.control.as_ref().unwrap();
+    assert!(c.adaptive.w1_distance_max <= c.adaptive.w1_ball_radius);
+    assert!(c.adaptive_better(&out.summary.figures));
+    // The two plants saw the same demand and set-point, and differ only by controller.
+    let (p, p_pi) = (
+        trace.column("p_line").unwrap(),
+        trace.column("p_line_pi").unwrap(),
+    );
+    assert_eq!(p.len(), p_pi.len());
+    assert!(p.iter().zip(p_pi).any(|(a, b)| (a - b).abs() > 1e5));
+}
+
+#[test]
+fn fast_unmodeled_dynamics_and_a_delay_adaptive_stays_above_p_min_and_beats_pi() {
+    let cases: [(&str, Box<dyn Fn(&mut ScenarioSpec)>); 3] = [
+        ("lag 1 ms", Box::new(|s| s.plant.solenoid_lag_ms = 1.0)),
+        ("lag 5 ms", Box::new(|s| s.plant.solenoid_lag_ms = 5.0)),
+        (
+            "delay 1 period",
+            Box::new(|s| s.plant.transport_delay_periods = 1),
+        ),
+    ];
+    for (name, f) in cases {
+        let out = run_case(f);
+        let (a, b, ba, _) = figures(&out);
+        assert!(ba, "{name}: adaptive unbounded");
+        assert!(a[0] < b[0] && a[1] < b[1], "{name}: adaptive {a:?} PI {b:?}");
+        assert_eq!(a[2], 0.0, "{name}: adaptive below P_min {a:?}");
+    }
+}
+
+#[test]
+fn a_slow_solenoid_20_ms_adaptive_stays_bounded_and_beats_pi() {
+    // Documented in the README: with a 20 ms lag the adaptive controller spends about
+    // 1.2 s below P_min (the PI: 21 s); it stays bounded and has the lower ISE.
+    let out = run_case(|s| s.plant.solenoid_lag_ms = 20.0);
+    let (a, b, ba, _) = figures(&out);
+    assert!(ba);
+    assert!(
+        a[0] < b[0] && a[1] < b[1] && a[2] < b[2],
+        "adaptive {a:?} PI {b:?}"
+    );
+}
+
+#[test]
+fn every_corner_of_the_uncertainty_box_bounded_and_lower_ise_than_pi() {
+    let mut worse_max_dev = Vec::new();
+    let mut below = Vec::new();
+    for k in 0..32u32 {
+        let sign = |b: u32| if k >> b & 1 == 1 { 1.0 } else { -1.0 };
+        let out = run_case(|s| {
+            s.plant.beta_mpa *= 1.0 + 0.2 * sign(0);
+            s.plant.mu_1 *= 1.0 + 0.2 * sign(1);
+            s.plant.mu_2 *= 1.0 + 0.2 * sign(2);
+            s.plant.q_0_dm3_s *= 1.0 + 0.1 * sign(3);
+            s.plant.qdot_max_dm3_s2 *= 1.0 + 0.1 * sign(4);
+            if let Some(SignalSpec::Trapezoids { slew_per_s, .. }) = s.demand_dm3_s.as_mut() {
+                *slew_per_s *= 1.0 + 0.1 * sign(4);
+            }
+        });
+        let (a, b, ba, _) = figures(&out);
+        assert!(ba, "corner {k}: adaptive unbounded");
+        assert!(a[0] < b[0], "corner {k}: ISE adaptive {} PI {}", a[0], b[0]);
+        assert!(
+            a[2] <= b[2],
+            "corner {k}: below P_min adaptive {} PI {}",
+            a[2],
+            b[2]
+        );
+        if a[1] >= b[1] {
+            worse_max_dev.push(k);
+        }
+        if a[2] > 0.0 {
+            below.push(k);
+        }
+    }
+    // The README's table: only the corners with a slow pilot valve (mu_1 -20 %), more
+    // leakage (Q_0 +10 %) and faster demand ramps (+10 %) reach P_min — the valve cannot
+    // move the stroke as fast as the 1.8 dm^3/s ramp needs near its end — and two of
+    // them tie with the PI on the worst deviation.
+    let slow_valve_fast_ramp = |k: &u32| k >> 1 & 1 == 0 && k >> 3 & 1 == 1 && k >> 4 & 1 == 1;
+    assert!(below.iter().all(slow_valve_fast_ramp), "below P_min: {below:?}");
+    assert!(
+        worse_max_dev.iter().all(slow_valve_fast_ramp),
+        "max dev not lower: {worse_max_dev:?}"
+    );
+}
