@@ -560,3 +560,118 @@ fn bench_prints_json_figures_per_scenario() {
         stderr(&o)
     );
 }
+
+fn read(p: std::path::PathBuf) -> String {
+    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+#[test]
+fn a_campaign_is_the_same_on_one_thread_sharded_and_merged() {
+    let d = tempfile::tempdir().unwrap();
+    let base = ["campaign", "thesis-ch3", "--runs", "40", "--seed", "5"];
+    let ok = |args: &[&str]| {
+        let o = rhonn(d.path(), args);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    };
+    ok(&[&base[..], &["--out", "all"]].concat());
+    ok(&[&base[..], &["--threads", "1", "--out", "one"]].concat());
+    for k in 1..=3 {
+        let shard = format!("{k}/3");
+        let out = format!("s{k}");
+        ok(&[&base[..], &["--shard", &shard, "--out", &out]].concat());
+    }
+    ok(&["merge", "s1", "s2", "s3", "--out", "merged"]);
+    let all = read(d.path().join("all/runs.csv"));
+    assert_eq!(all.lines().count(), 41);
+    assert!(all
+        .lines()
+        .next()
+        .unwrap()
+        .starts_with("run,beta_mpa,mu_1,mu_2,q_0_dm3_s,qdot_max_dm3_s2,status"));
+    assert_eq!(
+        all,
+        read(d.path().join("one/runs.csv")),
+        "thread count changed runs.csv"
+    );
+    assert_eq!(
+        all,
+        read(d.path().join("merged/runs.csv")),
+        "merge differs from the unsharded run"
+    );
+    assert_eq!(
+        read(d.path().join("all/summary.json")),
+        read(d.path().join("merged/summary.json"))
+    );
+    // The draws differ between runs and stay within the tolerances.
+    let betas: Vec<f64> = all
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert!(betas.iter().all(|b| (960.0..=1440.0).contains(b)));
+    assert!(betas.windows(2).any(|w| w[0] != w[1]));
+    // An incomplete merge is refused.
+    let o = rhonn(d.path(), &["merge", "s1", "s3", "--out", "bad"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("some shard is missing"), "{}", stderr(&o));
+    let o = rhonn(d.path(), &[&base[..], &["--shard", "4/3", "--out", "x"]].concat());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("--shard \"4/3\" is not allowed"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn a_killed_campaign_resumes_to_the_same_runs_csv() {
+    let d = tempfile::tempdir().unwrap();
+    let args = [
+        "campaign",
+        "regulated-pi",
+        "--runs",
+        "200",
+        "--seed",
+        "9",
+        "--threads",
+        "1",
+    ];
+    let o = rhonn(d.path(), &[&args[..], &["--out", "full"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Start the same campaign elsewhere and kill it once some runs are on disk.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rhonn"))
+        .args([&args[..], &["--out", "cut"]].concat())
+        .current_dir(d.path())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let partial = d.path().join("cut/runs.partial.csv");
+    let t0 = std::time::Instant::now();
+    loop {
+        let n = std::fs::read_to_string(&partial)
+            .map(|s| s.lines().count())
+            .unwrap_or(0);
+        if n > 5 || t0.elapsed().as_secs() > 60 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let done_before = std::fs::read_to_string(&partial)
+        .map(|s| s.lines().count())
+        .unwrap_or(0);
+    assert!(
+        !d.path().join("cut/runs.csv").exists(),
+        "the campaign finished before the kill"
+    );
+    assert!(done_before > 1, "nothing was flushed before the kill");
+    let o = rhonn(d.path(), &[&args[..], &["--out", "cut"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("resuming"), "{}", stderr(&o));
+    assert_eq!(
+        read(d.path().join("full/runs.csv")),
+        read(d.path().join("cut/runs.csv"))
+    );
+    assert!(!partial.exists());
+}

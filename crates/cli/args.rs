@@ -130,6 +130,43 @@ pub enum Command {
         #[arg(long, default_value_t = 1.0)]
         seconds: f64,
     },
+    /// Monte Carlo campaign over the thesis's tolerances (beta, mu_1, mu_2 +-20 %, Q_0 +-10 %,
+    /// demand slew +-10 %, uniform draws), every core busy. Writes DIR/runs.csv (one row per
+    /// run: drawn parameters, status, figures), DIR/summary.json (per figure min, quantiles,
+    /// max, failures) and DIR/campaign.json. Finished runs are appended to
+    /// DIR/runs.partial.csv as they end: rerunning the same command resumes an interrupted
+    /// campaign. Each run's draw depends only on (seed, run index).
+    #[command(verbatim_doc_comment)]
+    Campaign {
+        /// A shipped scenario's name or a path to a TOML file.
+        scenario: String,
+        /// Number of runs.
+        #[arg(long, default_value_t = 100)]
+        runs: u64,
+        /// Seed of the draws.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Run only the K-th of M contiguous slices of the runs (merge them with `rhonn merge`).
+        #[arg(long, value_name = "K/M", default_value = "1/1")]
+        shard: String,
+        /// Every corner of the tolerance box instead of random draws (32 runs; --runs ignored).
+        #[arg(long)]
+        corners: bool,
+        /// Worker threads (default: every core).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Output folder (default out/campaign-<scenario>).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
+    /// Merge finished campaign shards into one campaign (identical to the unsharded run).
+    Merge {
+        /// Shard folders.
+        dirs: Vec<PathBuf>,
+        /// Output folder.
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+    },
     /// List the shipped scenarios with a one-line description each.
     Scenarios,
     /// Print a scenario's TOML (a shipped one as it ships: copy it to start your own).

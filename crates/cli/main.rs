@@ -3,6 +3,7 @@
 //! call that a test can make.
 
 mod args;
+mod campaign;
 
 use anyhow::{Context, Result};
 use args::{Cli, Command};
@@ -55,6 +56,28 @@ fn dispatch(cli: Cli) -> Result<()> {
             json,
             seconds,
         } => cmd_bench(&scenarios, json, seconds),
+        Command::Campaign {
+            scenario,
+            runs,
+            seed,
+            shard,
+            corners,
+            threads,
+            out,
+        } => {
+            let shard = campaign::parse_shard(&shard)?;
+            let go = || campaign::cmd_campaign(&scenario, runs, seed, shard, corners, out);
+            match threads {
+                Some(0) => anyhow::bail!("--threads 0 is not allowed: give 1 or more"),
+                Some(n) => rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .context("cannot start the worker threads")?
+                    .install(go),
+                None => go(),
+            }
+        }
+        Command::Merge { dirs, out } => campaign::cmd_merge(&dirs, &out),
         Command::Reproduce { out } => {
             let root = out.unwrap_or_else(|| PathBuf::from("out"));
             for name in ["thesis-ch3", "thesis-ch5", "regulated-pi", "control-adaptive"] {

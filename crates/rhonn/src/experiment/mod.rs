@@ -1,6 +1,7 @@
 //! Experiments: scenario files, running them, recording what they produce.
 
 mod bench;
+pub mod campaign;
 pub mod preset;
 mod run;
 mod scenario;
