@@ -5,9 +5,12 @@
 
 use rhonn::experiment::{preset, run_full, NoRecorder, ScenarioSpec};
 
-/// The plants of the robustness study: a name and how it changes the scenario.
-pub fn cases() -> Vec<(String, Box<dyn Fn(&mut ScenarioSpec)>)> {
-    let mut v: Vec<(String, Box<dyn Fn(&mut ScenarioSpec)>)> = vec![("nominal".into(), Box::new(|_| {}))];
+/// A plant of the study: its name and how it changes the scenario.
+type Case = (String, Box<dyn Fn(&mut ScenarioSpec)>);
+
+/// The plants of the robustness study.
+pub fn cases() -> Vec<Case> {
+    let mut v: Vec<Case> = vec![("nominal".into(), Box::new(|_| {}))];
     for lag in [1.0, 5.0, 20.0] {
         v.push((
             format!("solenoid lag {lag} ms"),

@@ -231,7 +231,8 @@ fn nominal_plant_adaptive_beats_pi_in_the_same_run() {
 
 #[test]
 fn fast_unmodeled_dynamics_and_a_delay_adaptive_stays_above_p_min_and_beats_pi() {
-    let cases: [(&str, Box<dyn Fn(&mut ScenarioSpec)>); 3] = [
+    type Change = Box<dyn Fn(&mut ScenarioSpec)>;
+    let cases: [(&str, Change); 3] = [
         ("lag 1 ms", Box::new(|s| s.plant.solenoid_lag_ms = 1.0)),
         ("lag 5 ms", Box::new(|s| s.plant.solenoid_lag_ms = 5.0)),
         (
