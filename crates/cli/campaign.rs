@@ -191,6 +191,48 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
         serde_json::to_writer_pretty(&mut *w, file).map_err(std::io::Error::other)?;
         writeln!(w)
     })?;
+    // Histograms of the figures that judge a controller (or every figure otherwise).
+    let key = |n: &str| {
+        [
+            "ise_mpa2_s",
+            "max_abs_deviation_settled_mpa",
+            "time_below_p_min_after_1s_s",
+            "pi_ise_mpa2_s",
+            "pi_max_abs_deviation_settled_mpa",
+            "pi_time_below_p_min_after_1s_s",
+        ]
+        .contains(&n)
+            || n.ends_with("fit_percent")
+    };
+    let mut panels: Vec<rhonn_report::Histogram> = names
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| key(n))
+        .map(|(k, n)| rhonn_report::Histogram {
+            title: format!("{}: {n}", file.scenario),
+            x_label: n.clone(),
+            values: rows
+                .iter()
+                .filter_map(|r| r.outcome.as_ref().ok().map(|f| f[k]))
+                .collect(),
+        })
+        .collect();
+    if panels.is_empty() {
+        panels = names
+            .iter()
+            .enumerate()
+            .map(|(k, n)| rhonn_report::Histogram {
+                title: format!("{}: {n}", file.scenario),
+                x_label: n.clone(),
+                values: rows
+                    .iter()
+                    .filter_map(|r| r.outcome.as_ref().ok().map(|f| f[k]))
+                    .collect(),
+            })
+            .collect();
+    }
+    let svg = rhonn_report::Histogram::render(&panels, 3, 30);
+    out.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
     out.commit()?;
     let partial = dir.join("runs.partial.csv");
     if partial.exists() {

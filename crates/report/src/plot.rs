@@ -152,6 +152,93 @@ impl TimePlot {
     }
 }
 
+/// A histogram panel: how many values fall in each of `bins` equal bins.
+#[derive(Debug, Clone)]
+pub struct Histogram {
+    /// Caption.
+    pub title: String,
+    /// X axis label, with unit.
+    pub x_label: String,
+    /// The values (non-finite ones are left out).
+    pub values: Vec<f64>,
+}
+
+/// Bin edges and counts of `values` over `bins` equal bins spanning their range.
+pub fn bin_counts(values: &[f64], bins: usize) -> (f64, f64, Vec<usize>) {
+    let v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if v.is_empty() {
+        return (0.0, 1.0, vec![0; bins]);
+    }
+    let hi = if hi > lo {
+        hi
+    } else {
+        lo + 1e-9_f64.max(lo.abs() * 1e-9)
+    };
+    let mut counts = vec![0; bins];
+    for x in v {
+        let k = (((x - lo) / (hi - lo)) * bins as f64) as usize;
+        counts[k.min(bins - 1)] += 1;
+    }
+    (lo, hi, counts)
+}
+
+fn draw_histogram<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    h: &Histogram,
+    bins: usize,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let (lo, hi, counts) = bin_counts(&h.values, bins);
+    let top = counts.iter().copied().max().unwrap_or(1).max(1) as f64 * 1.05;
+    let mut chart = ChartBuilder::on(area)
+        .caption(&h.title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(lo..hi, 0.0..top)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc(h.x_label.as_str())
+        .y_desc("runs")
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let w = (hi - lo) / bins as f64;
+    chart
+        .draw_series(counts.iter().enumerate().map(|(k, &c)| {
+            let x0 = lo + k as f64 * w;
+            Rectangle::new([(x0, 0.0), (x0 + w, c as f64)], COLORS[0].mix(0.7).filled())
+        }))
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+impl Histogram {
+    /// Render panels in a grid of `cols` columns into one SVG document.
+    pub fn render(panels: &[Histogram], cols: usize, bins: usize) -> String {
+        let cols = cols.max(1);
+        let rows = panels.len().div_ceil(cols).max(1);
+        let mut svg = String::new();
+        {
+            let root =
+                SVGBackend::with_string(&mut svg, (450 * cols as u32, 300 * rows as u32)).into_drawing_area();
+            root.fill(&WHITE).expect("filling an SVG string");
+            let areas = root.split_evenly((rows, cols));
+            for (area, h) in areas.iter().zip(panels) {
+                // As for time plots: a layout error leaves that panel blank.
+                let _ = draw_histogram(area, h, bins);
+            }
+            root.present().expect("presenting an SVG string");
+        }
+        svg
+    }
+}
+
 /// The plots of a run: `pressure.svg` (line pressure, set-point, P_min), `stroke.svg`,
 /// `inputs.svg` (current and demand); adaptive runs show the PI baseline beside the
 /// adaptive controller in each, the stroke reference, and `weights.svg` (the adaptive
@@ -436,6 +523,23 @@ pub fn plot_identification(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bins_count_every_value_once() {
+        let (lo, hi, c) = bin_counts(&[0.0, 0.5, 1.0, 1.0, f64::NAN, 0.26], 4);
+        assert_eq!((lo, hi), (0.0, 1.0));
+        assert_eq!(c, vec![1, 1, 1, 2]);
+        let svg = Histogram::render(
+            &[Histogram {
+                title: "ISE".into(),
+                x_label: "ISE [MPa^2 s]".into(),
+                values: vec![1.0, 2.0, 2.5],
+            }],
+            1,
+            10,
+        );
+        assert!(svg.contains("ISE [MPa^2 s]") && svg.contains("runs"));
+    }
 
     #[test]
     fn decimation_keeps_extremes() {
