@@ -46,16 +46,19 @@ fn header(spec: &ScenarioSpec) -> Vec<String> {
     h
 }
 
+/// The scenario's values of the uncertain parameters (display units, [`TOLERANCES`] order).
+fn base_values(spec: &ScenarioSpec) -> [f64; 5] {
+    let p = &spec.plant;
+    [p.beta_mpa, p.mu_1, p.mu_2, p.q_0_dm3_s, p.qdot_max_dm3_s2]
+}
+
 /// The parameter values of a run (display units, as the scenario's `[plant]` keys).
 fn parameter_values(spec: &ScenarioSpec, f: &[f64; 5]) -> [f64; 5] {
-    let p = &spec.plant;
-    [
-        p.beta_mpa * f[0],
-        p.mu_1 * f[1],
-        p.mu_2 * f[2],
-        p.q_0_dm3_s * f[3],
-        p.qdot_max_dm3_s2 * f[4],
-    ]
+    let mut v = base_values(spec);
+    for (x, fj) in v.iter_mut().zip(f) {
+        *x *= fj;
+    }
+    v
 }
 
 fn record(spec: &ScenarioSpec, r: &RunRow) -> Vec<String> {
@@ -110,14 +113,7 @@ fn read_rows(path: &Path, spec: &ScenarioSpec) -> Result<Vec<Row>> {
             .parse()
             .with_context(|| format!("{} line {}", path.display(), line + 2))?;
         let mut factors = [1.0; 5];
-        for (j, fj) in factors.iter_mut().enumerate() {
-            let base = [
-                spec.plant.beta_mpa,
-                spec.plant.mu_1,
-                spec.plant.mu_2,
-                spec.plant.q_0_dm3_s,
-                spec.plant.qdot_max_dm3_s2,
-            ][j];
+        for (j, (fj, base)) in factors.iter_mut().zip(base_values(spec)).enumerate() {
             *fj = num(&rec[1 + j])? / base;
         }
         let outcome = match &rec[6] {
@@ -204,10 +200,11 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
         .contains(&n)
             || n.ends_with("fit_percent")
     };
-    let mut panels: Vec<rhonn_report::Histogram> = names
+    let any_key = names.iter().any(|n| key(n));
+    let panels: Vec<rhonn_report::Histogram> = names
         .iter()
         .enumerate()
-        .filter(|(_, n)| key(n))
+        .filter(|(_, n)| !any_key || key(n))
         .map(|(k, n)| rhonn_report::Histogram {
             title: format!("{}: {n}", file.scenario),
             x_label: n.clone(),
@@ -217,20 +214,6 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
                 .collect(),
         })
         .collect();
-    if panels.is_empty() {
-        panels = names
-            .iter()
-            .enumerate()
-            .map(|(k, n)| rhonn_report::Histogram {
-                title: format!("{}: {n}", file.scenario),
-                x_label: n.clone(),
-                values: rows
-                    .iter()
-                    .filter_map(|r| r.outcome.as_ref().ok().map(|f| f[k]))
-                    .collect(),
-            })
-            .collect();
-    }
     let svg = rhonn_report::Histogram::render(&panels, 3, 30);
     out.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
     out.commit()?;

@@ -3,6 +3,7 @@
 //! mu_2 +-20 %, Q_0 +-10 %, demand slew +-10 %); controllers tuned once, on the
 //! nominal plant. `cargo run --release -p rhonn --example control_robustness`
 
+use rhonn::experiment::campaign::{apply, draw, Sampling};
 use rhonn::experiment::{preset, run_full, NoRecorder, ScenarioSpec};
 
 /// A plant of the study: its name and how it changes the scenario.
@@ -21,30 +22,19 @@ pub fn cases() -> Vec<Case> {
         "transport delay 1 period".into(),
         Box::new(|s| s.plant.transport_delay_periods = 1),
     ));
-    for k in 0..32u32 {
-        let sign = |b: u32| if k >> b & 1 == 1 { 1.0 } else { -1.0 };
-        let (b, m1, m2, q, sl) = (sign(0), sign(1), sign(2), sign(3), sign(4));
+    for k in 0..32u64 {
+        let f = draw(0, k, Sampling::Corners);
+        let pct = |j: usize| 100.0 * (f[j] - 1.0);
         v.push((
             format!(
                 "beta {:+.0}% mu1 {:+.0}% mu2 {:+.0}% Q0 {:+.0}% slew {:+.0}%",
-                20.0 * b,
-                20.0 * m1,
-                20.0 * m2,
-                10.0 * q,
-                10.0 * sl
+                pct(0),
+                pct(1),
+                pct(2),
+                pct(3),
+                pct(4)
             ),
-            Box::new(move |s| {
-                s.plant.beta_mpa *= 1.0 + 0.2 * b;
-                s.plant.mu_1 *= 1.0 + 0.2 * m1;
-                s.plant.mu_2 *= 1.0 + 0.2 * m2;
-                s.plant.q_0_dm3_s *= 1.0 + 0.1 * q;
-                s.plant.qdot_max_dm3_s2 *= 1.0 + 0.1 * sl;
-                if let Some(rhonn::signal::SignalSpec::Trapezoids { slew_per_s, .. }) =
-                    s.demand_dm3_s.as_mut()
-                {
-                    *slew_per_s *= 1.0 + 0.1 * sl;
-                }
-            }),
+            Box::new(move |s| *s = apply(s, &f)),
         ));
     }
     v

@@ -4,9 +4,9 @@
 //! the thesis's uncertainty box.
 
 use rhonn::control::AffineNeuron;
+use rhonn::experiment::campaign::{apply, draw, Sampling};
 use rhonn::experiment::{preset, run_full, NoRecorder, RunOutput, ScenarioSpec, Trace};
 use rhonn::net::Sigmoid;
-use rhonn::signal::SignalSpec;
 
 fn features(x: f64) -> ([f64; 2], [f64; 2]) {
     let s = Sigmoid::LOGISTIC.eval(x);
@@ -266,18 +266,10 @@ fn a_slow_solenoid_20_ms_adaptive_stays_bounded_and_beats_pi() {
 fn every_corner_of_the_uncertainty_box_bounded_and_lower_ise_than_pi() {
     let mut worse_max_dev = Vec::new();
     let mut below = Vec::new();
-    for k in 0..32u32 {
-        let sign = |b: u32| if k >> b & 1 == 1 { 1.0 } else { -1.0 };
-        let out = run_case(|s| {
-            s.plant.beta_mpa *= 1.0 + 0.2 * sign(0);
-            s.plant.mu_1 *= 1.0 + 0.2 * sign(1);
-            s.plant.mu_2 *= 1.0 + 0.2 * sign(2);
-            s.plant.q_0_dm3_s *= 1.0 + 0.1 * sign(3);
-            s.plant.qdot_max_dm3_s2 *= 1.0 + 0.1 * sign(4);
-            if let Some(SignalSpec::Trapezoids { slew_per_s, .. }) = s.demand_dm3_s.as_mut() {
-                *slew_per_s *= 1.0 + 0.1 * sign(4);
-            }
-        });
+    for k in 0..32u64 {
+        // Bit j of k picks the sign of tolerance j (beta, mu_1, mu_2, Q_0, slew).
+        let f = draw(0, k, Sampling::Corners);
+        let out = run_case(|s| *s = apply(s, &f));
         let (a, b, ba, _) = figures(&out);
         assert!(ba, "corner {k}: adaptive unbounded");
         assert!(a[0] < b[0], "corner {k}: ISE adaptive {} PI {}", a[0], b[0]);
@@ -298,7 +290,7 @@ fn every_corner_of_the_uncertainty_box_bounded_and_lower_ise_than_pi() {
     // leakage (Q_0 +10 %) and faster demand ramps (+10 %) reach P_min — the valve cannot
     // move the stroke as fast as the 1.8 dm^3/s ramp needs near its end — and two of
     // them tie with the PI on the worst deviation.
-    let slow_valve_fast_ramp = |k: &u32| k >> 1 & 1 == 0 && k >> 3 & 1 == 1 && k >> 4 & 1 == 1;
+    let slow_valve_fast_ramp = |k: &u64| k >> 1 & 1 == 0 && k >> 3 & 1 == 1 && k >> 4 & 1 == 1;
     assert!(below.iter().all(slow_valve_fast_ramp), "below P_min: {below:?}");
     assert!(
         worse_max_dev.iter().all(slow_valve_fast_ramp),
