@@ -602,6 +602,41 @@ fn a_campaign_is_the_same_on_one_thread_sharded_and_merged() {
         read(d.path().join("all/summary.json")),
         read(d.path().join("merged/summary.json"))
     );
+    // The envelope: kept traces and their quantiles, the same whatever the threads and shards.
+    for f in ["traces.csv", "envelope.csv"] {
+        let a = read(d.path().join("all").join(f));
+        assert_eq!(a, read(d.path().join("one").join(f)), "{f}: thread count");
+        assert_eq!(a, read(d.path().join("merged").join(f)), "{f}: merge");
+    }
+    assert_eq!(read(d.path().join("all/traces.csv")).lines().count(), 41);
+    let env = read(d.path().join("all/envelope.csv"));
+    assert!(
+        env.starts_with("t,p_line_min_mpa,p_line_q05_mpa,p_line_median_mpa,p_line_q95_mpa,p_line_max_mpa\n")
+    );
+    let rows: Vec<Vec<f64>> = env
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert!(
+        rows.len() > 300 && rows.len() <= 600,
+        "{} envelope points",
+        rows.len()
+    );
+    assert!(rows
+        .iter()
+        .all(|r| r[1] <= r[2] && r[2] <= r[3] && r[3] <= r[4] && r[4] <= r[5]));
+    // thesis-ch3 ends at 0.8 A held then ramped down: the runs spread out (beta, mu differ).
+    assert!(
+        rows.iter().any(|r| r[5] - r[1] > 0.1),
+        "the envelope has no width"
+    );
+    assert!(read(d.path().join("all/envelope.svg")).contains("<svg"));
+    ok(&[&base[..], &["--envelope-runs", "7", "--out", "seven"]].concat());
+    assert_eq!(read(d.path().join("seven/traces.csv")).lines().count(), 8);
+    assert_eq!(read(d.path().join("seven/runs.csv")), all);
+    ok(&[&base[..], &["--envelope-runs", "0", "--out", "none"]].concat());
+    assert!(!d.path().join("none/envelope.svg").exists());
     // The draws differ between runs and stay within the tolerances.
     let betas: Vec<f64> = all
         .lines()
@@ -669,9 +704,89 @@ fn a_killed_campaign_resumes_to_the_same_runs_csv() {
     let o = rhonn(d.path(), &[&args[..], &["--out", "cut"]].concat());
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("resuming"), "{}", stderr(&o));
-    assert_eq!(
-        read(d.path().join("full/runs.csv")),
-        read(d.path().join("cut/runs.csv"))
-    );
+    for f in ["runs.csv", "traces.csv", "envelope.csv", "summary.json"] {
+        assert_eq!(
+            read(d.path().join("full").join(f)),
+            read(d.path().join("cut").join(f)),
+            "{f} differs after the resume"
+        );
+    }
     assert!(!partial.exists());
+    assert!(!d.path().join("cut/traces.partial.csv").exists());
+}
+
+fn read_preset(name: &str) -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_rhonn"))
+        .args(["show", name])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    String::from_utf8(o.stdout).unwrap()
+}
+
+#[test]
+fn a_scenario_file_overrides_the_campaign_distributions() {
+    let d = tempfile::tempdir().unwrap();
+    let toml = read_preset("thesis-ch3").replace("name = \"thesis-ch3\"", "name = \"ch3-campaign\"")
+        + r#"
+[campaign]
+beta_mpa = { min = 1000.0, max = 1100.0 }
+mu_1 = { distribution = "normal", std_relative = 0.05, relative = 0.1 }
+q_0_dm3_s = { distribution = "fixed" }
+qdot_max_dm3_s2 = { distribution = "fixed" }
+"#;
+    std::fs::write(d.path().join("c.toml"), &toml).unwrap();
+    let o = rhonn(d.path(), &["campaign", "c.toml", "--corners", "--out", "corners"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let runs = read(d.path().join("corners/runs.csv"));
+    let rows: Vec<Vec<String>> = runs
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    // Three parameters vary: 2^3 corners; the fixed ones keep the scenario's values.
+    assert_eq!(rows.len(), 8);
+    let col = |j: usize| {
+        rows.iter()
+            .map(|r| r[j].parse::<f64>().unwrap())
+            .collect::<Vec<_>>()
+    };
+    assert!(col(1).iter().all(|b| *b == 1000.0 || *b == 1100.0));
+    assert!(
+        col(2)
+            .iter()
+            .all(|m| ((m / 78e-6 - 1.0).abs() - 0.1).abs() < 1e-9),
+        "{:?}",
+        col(2)
+    );
+    assert!(
+        col(4).iter().all(|q| *q == 0.13) && col(5).iter().all(|q| *q == 2.0),
+        "{runs}"
+    );
+    let summary = read(d.path().join("corners/summary.json"));
+    assert!(summary.contains("\"distribution\": \"normal\""), "{summary}");
+    let o = rhonn(
+        d.path(),
+        &["campaign", "c.toml", "--runs", "30", "--out", "random"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let runs = read(d.path().join("random/runs.csv"));
+    for l in runs.lines().skip(1) {
+        let v: Vec<f64> = l.split(',').take(6).map(|x| x.parse().unwrap()).collect();
+        assert!(
+            (1000.0..=1100.0).contains(&v[1]) && (v[2] / 78e-6 - 1.0).abs() <= 0.1 + 1e-12,
+            "{l}"
+        );
+    }
+    // A bad entry names its field and value; nothing is written.
+    let bad = toml.replace("std_relative = 0.05", "std_relative = -1.0");
+    std::fs::write(d.path().join("bad.toml"), bad).unwrap();
+    let o = rhonn(d.path(), &["campaign", "bad.toml", "--runs", "3", "--out", "bad"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("campaign.mu_1.std_relative") && stderr(&o).contains("-1"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!d.path().join("bad").exists());
 }

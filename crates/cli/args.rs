@@ -149,9 +149,14 @@ pub enum Command {
         /// Run only the K-th of M contiguous slices of the runs (merge them with `rhonn merge`).
         #[arg(long, value_name = "K/M", default_value = "1/1")]
         shard: String,
-        /// Every corner of the tolerance box instead of random draws (32 runs; --runs ignored).
+        /// Every corner of the parameters' ranges instead of random draws (2^k runs for k
+        /// varying parameters, 32 by default; --runs ignored).
         #[arg(long)]
         corners: bool,
+        /// Keep the pressure traces of the runs with index below N for the envelope plot
+        /// (traces.csv, envelope.csv, envelope.svg); 0 for none.
+        #[arg(long, value_name = "N", default_value_t = 1000)]
+        envelope_runs: u64,
         /// Worker threads (default: every core).
         #[arg(long)]
         threads: Option<usize>,

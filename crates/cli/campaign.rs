@@ -9,10 +9,12 @@
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use rhonn::experiment::campaign::{
-    figure_names, run_one, statistics, FigureStats, RunRow, Sampling, TOLERANCES,
+    envelope_grid, figure_names, run_one, statistics, Envelope, FigureStats, Plan, RunRow, RunTraces,
+    Sampling, TOLERANCES,
 };
 use rhonn::experiment::{preset, ScenarioSpec};
 use serde::{Deserialize, Serialize};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
@@ -28,8 +30,10 @@ pub struct CampaignFile {
     pub seed: u64,
     /// Runs of the whole campaign.
     pub runs: u64,
-    /// `uniform` or `corners`.
+    /// `random` (each parameter from its distribution) or `corners`.
     pub sampling: String,
+    /// The pressure traces of runs with index below this are kept for the envelope.
+    pub envelope_runs: u64,
     /// This folder's shard `[k, m]` (1-based k).
     pub shard: [u64; 2],
     /// Run indices of this shard: `[first, end)`.
@@ -46,24 +50,31 @@ fn header(spec: &ScenarioSpec) -> Vec<String> {
     h
 }
 
-/// The scenario's values of the uncertain parameters (display units, [`TOLERANCES`] order).
-fn base_values(spec: &ScenarioSpec) -> [f64; 5] {
-    let p = &spec.plant;
-    [p.beta_mpa, p.mu_1, p.mu_2, p.q_0_dm3_s, p.qdot_max_dm3_s2]
+/// `traces.csv`'s header: the run, the series, then the envelope grid's times [s].
+fn traces_header(spec: &ScenarioSpec) -> Vec<String> {
+    let mut h = vec!["run".to_string(), "series".to_string()];
+    h.extend(envelope_grid(spec).1.iter().map(|t| t.to_string()));
+    h
 }
 
-/// The parameter values of a run (display units, as the scenario's `[plant]` keys).
-fn parameter_values(spec: &ScenarioSpec, f: &[f64; 5]) -> [f64; 5] {
-    let mut v = base_values(spec);
-    for (x, fj) in v.iter_mut().zip(f) {
-        *x *= fj;
+/// A run's trace rows (MPa, 0.1 kPa resolution: the envelope is computed from these
+/// strings, so a fresh, a resumed and a merged campaign give the same bytes).
+fn trace_records(index: u64, tr: &RunTraces) -> Vec<Vec<String>> {
+    let mut out = Vec::new();
+    for (name, v) in [("p_line", &tr.p_line), ("p_line_pi", &tr.p_line_pi)] {
+        if v.is_empty() {
+            continue;
+        }
+        let mut r = vec![index.to_string(), name.to_string()];
+        r.extend(v.iter().map(|x| format!("{x:.4}")));
+        out.push(r);
     }
-    v
+    out
 }
 
 fn record(spec: &ScenarioSpec, r: &RunRow) -> Vec<String> {
     let mut v = vec![r.index.to_string()];
-    v.extend(parameter_values(spec, &r.factors).iter().map(|x| x.to_string()));
+    v.extend(r.values.iter().map(|x| x.to_string()));
     match &r.outcome {
         Ok(figs) => {
             v.push("ok".into());
@@ -79,9 +90,9 @@ fn record(spec: &ScenarioSpec, r: &RunRow) -> Vec<String> {
     v
 }
 
-/// A run's row and its CSV fields (kept as read, so that a merge or a resume writes the
-/// same bytes).
-type Row = (RunRow, Vec<String>);
+/// A run's row, its CSV fields, and its trace rows (kept as read, so that a merge or a
+/// resume writes the same bytes).
+type Row = (RunRow, Vec<String>, Vec<Vec<String>>);
 
 /// Read the rows of a `runs.csv` or `runs.partial.csv` (the header must match).
 fn read_rows(path: &Path, spec: &ScenarioSpec) -> Result<Vec<Row>> {
@@ -112,9 +123,9 @@ fn read_rows(path: &Path, spec: &ScenarioSpec) -> Result<Vec<Row>> {
         let index: u64 = rec[0]
             .parse()
             .with_context(|| format!("{} line {}", path.display(), line + 2))?;
-        let mut factors = [1.0; 5];
-        for (j, (fj, base)) in factors.iter_mut().zip(base_values(spec)).enumerate() {
-            *fj = num(&rec[1 + j])? / base;
+        let mut values = [0.0; 5];
+        for (j, vj) in values.iter_mut().enumerate() {
+            *vj = num(&rec[1 + j]).with_context(|| format!("{} line {}", path.display(), line + 2))?;
         }
         let outcome = match &rec[6] {
             "ok" => Ok((8..rec.len())
@@ -126,13 +137,62 @@ fn read_rows(path: &Path, spec: &ScenarioSpec) -> Result<Vec<Row>> {
         rows.push((
             RunRow {
                 index,
-                factors,
+                values,
                 outcome,
             },
             rec.iter().map(String::from).collect(),
+            Vec::new(),
         ));
     }
     Ok(rows)
+}
+
+/// Attach the rows of a `traces.csv` or `traces.partial.csv` (if it exists) to their
+/// runs; rows of runs not in `rows` are dropped (a kill between the two files).
+fn attach_traces(path: &Path, spec: &ScenarioSpec, rows: &mut [Row]) -> Result<()> {
+    if !path.exists() {
+        return Ok(());
+    }
+    let mut rd = csv::ReaderBuilder::new()
+        .flexible(false)
+        .from_path(path)
+        .with_context(|| format!("cannot read {}", path.display()))?;
+    let got: Vec<String> = rd.headers()?.iter().map(String::from).collect();
+    if got != traces_header(spec) {
+        bail!(
+            "{}: the header does not match this campaign's scenario",
+            path.display()
+        );
+    }
+    let at: std::collections::HashMap<u64, usize> =
+        rows.iter().enumerate().map(|(k, r)| (r.0.index, k)).collect();
+    for rec in rd.records() {
+        let Ok(rec) = rec else { break };
+        let Ok(index) = rec[0].parse::<u64>() else { break };
+        if let Some(&k) = at.get(&index) {
+            rows[k].2.push(rec.iter().map(String::from).collect());
+        }
+    }
+    Ok(())
+}
+
+/// The envelope of the kept traces, per series, from their CSV fields.
+fn envelopes(rows: &[Row], points: usize) -> Vec<(String, Envelope, usize)> {
+    let mut out = Vec::new();
+    for name in ["p_line", "p_line_pi"] {
+        let traces: Vec<Vec<f64>> = rows
+            .iter()
+            .flat_map(|r| r.2.iter())
+            .filter(|t| t.get(1).map(String::as_str) == Some(name))
+            .map(|t| t[2..].iter().map(|x| x.parse().unwrap_or(f64::NAN)).collect())
+            .collect();
+        if traces.is_empty() {
+            continue;
+        }
+        let refs: Vec<&[f64]> = traces.iter().map(Vec::as_slice).collect();
+        out.push((name.to_string(), Envelope::of(&refs, points), traces.len()));
+    }
+    out
 }
 
 /// What `summary.json` holds.
@@ -143,7 +203,11 @@ struct CampaignSummary<'a> {
     runs_failed: usize,
     /// Failure reasons and how many runs gave each.
     failures: Vec<(String, usize)>,
+    /// The parameters' distributions as drawn.
+    plan: Plan,
     figures: Vec<FigureStats>,
+    /// Runs whose pressure traces make the envelope, per series.
+    envelope_runs: Vec<(String, usize)>,
 }
 
 /// Write `runs.csv` (sorted) and `summary.json` atomically, then drop the partial file.
@@ -153,11 +217,95 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
     {
         let mut w = csv::Writer::from_writer(&mut buf);
         w.write_record(header(spec))?;
-        for (_, rec) in &rows {
+        for (_, rec, _) in &rows {
             w.write_record(rec)?;
         }
         w.flush()?;
     }
+    let (_, grid) = envelope_grid(spec);
+    let env = envelopes(&rows, grid.len());
+    let mut traces_buf = Vec::new();
+    let mut env_buf = Vec::new();
+    let mut env_svg = None;
+    if !env.is_empty() {
+        let mut w = csv::Writer::from_writer(&mut traces_buf);
+        w.write_record(traces_header(spec))?;
+        for t in rows.iter().flat_map(|r| r.2.iter()) {
+            w.write_record(t)?;
+        }
+        w.flush()?;
+        drop(w);
+        let sc = spec.check()?;
+        let p_ref: Option<Vec<f64>> = sc.drive.setpoint().map(|sp| {
+            grid.iter()
+                .map(|&t| sp.eval(t) / rhonn::units::PA_PER_MPA)
+                .collect()
+        });
+        let mut w = csv::Writer::from_writer(&mut env_buf);
+        let mut h = vec!["t".to_string()];
+        for (name, _, _) in &env {
+            for q in ["min", "q05", "median", "q95", "max"] {
+                h.push(format!("{name}_{q}_mpa"));
+            }
+        }
+        if p_ref.is_some() {
+            h.push("p_ref_mpa".into());
+        }
+        w.write_record(&h)?;
+        for (k, t) in grid.iter().enumerate() {
+            let mut r = vec![t.to_string()];
+            for (_, e, _) in &env {
+                for v in [&e.min, &e.q05, &e.median, &e.q95, &e.max] {
+                    r.push(format!("{:.4}", v[k]));
+                }
+            }
+            if let Some(p) = &p_ref {
+                r.push(p[k].to_string());
+            }
+            w.write_record(&r)?;
+        }
+        w.flush()?;
+        drop(w);
+        let label = |n: &str| match n {
+            "p_line" if p_ref.is_some() && env.len() > 1 => "p_line (RHONN adaptive)".to_string(),
+            "p_line_pi" => "p_line (PI baseline)".to_string(),
+            n => n.to_string(),
+        };
+        // The PI first, so that the adaptive controller's band lies on top.
+        let mut bands: Vec<rhonn_report::Band> = env
+            .iter()
+            .map(|(n, e, _)| rhonn_report::Band {
+                label: label(n),
+                envelope: e.clone(),
+            })
+            .collect();
+        bands.reverse();
+        let mut lines = Vec::new();
+        if let Some(p) = &p_ref {
+            lines.push(rhonn_report::Series {
+                label: "set-point".into(),
+                y: p.clone(),
+                dashed: true,
+            });
+        }
+        lines.push(rhonn_report::Series {
+            label: "P_min".into(),
+            y: vec![spec.plant.p_min_mpa; grid.len()],
+            dashed: true,
+        });
+        let n_tr = env[0].2;
+        env_svg = Some(
+            rhonn_report::EnvelopePlot {
+                title: format!("{}: line pressure over {n_tr} runs", file.scenario),
+                y_label: "line pressure [MPa]".into(),
+                t: grid.clone(),
+                bands,
+                lines,
+            }
+            .render(1200, 600),
+        );
+    }
+    let envelope_runs = env.iter().map(|(n, _, k)| (n.clone(), *k)).collect();
     let rows: Vec<RunRow> = rows.into_iter().map(|r| r.0).collect();
     let names = figure_names(spec);
     let mut failures: Vec<(String, usize)> = Vec::new();
@@ -175,7 +323,9 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
         runs_ok: ok,
         runs_failed: rows.len() - ok,
         failures,
+        plan: Plan::of(spec)?,
         figures: statistics(&names, &rows),
+        envelope_runs,
     };
     let mut out = rhonn_report::OutputSet::new(dir)?;
     out.write("runs.csv", |w| w.write_all(&buf))?;
@@ -216,10 +366,17 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
         .collect();
     let svg = rhonn_report::Histogram::render(&panels, 3, 30);
     out.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
+    if let Some(svg) = env_svg {
+        out.write("traces.csv", |w| w.write_all(&traces_buf))?;
+        out.write("envelope.csv", |w| w.write_all(&env_buf))?;
+        out.write("envelope.svg", |w| w.write_all(svg.as_bytes()))?;
+    }
     out.commit()?;
-    let partial = dir.join("runs.partial.csv");
-    if partial.exists() {
-        std::fs::remove_file(&partial)?;
+    for name in ["runs.partial.csv", "traces.partial.csv"] {
+        let partial = dir.join(name);
+        if partial.exists() {
+            std::fs::remove_file(&partial)?;
+        }
     }
     println!(
         "campaign {}: {} runs, {} failed; wrote {}",
@@ -245,53 +402,120 @@ pub fn parse_shard(s: &str) -> Result<[u64; 2]> {
     Ok([k, m])
 }
 
+/// What `rhonn campaign` was asked for.
+#[derive(Debug, Clone)]
+pub struct CampaignOptions {
+    /// Runs (random draws).
+    pub runs: u64,
+    /// Seed.
+    pub seed: u64,
+    /// `[k, m]`.
+    pub shard: [u64; 2],
+    /// Full-factorial corners instead of random draws.
+    pub corners: bool,
+    /// Keep the traces of runs with index below this.
+    pub envelope_runs: u64,
+}
+
+/// Where the progress goes: a bar on a terminal, periodic lines otherwise.
+enum Reporter {
+    Bar(indicatif::ProgressBar),
+    Lines { last: Instant },
+}
+
+impl Reporter {
+    fn new(total: usize, name: &str) -> Self {
+        if std::io::stderr().is_terminal() {
+            let bar = indicatif::ProgressBar::new(total as u64);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{msg} [{bar:40}] {pos}/{len} runs, {per_sec}, ETA {eta}",
+                )
+                .expect("a valid template")
+                .progress_chars("=> "),
+            );
+            bar.set_message(format!("campaign {name}"));
+            Reporter::Bar(bar)
+        } else {
+            Reporter::Lines { last: Instant::now() }
+        }
+    }
+
+    fn update(&mut self, name: &str, n: usize, total: usize, failed: usize, start: Instant) {
+        match self {
+            Reporter::Bar(bar) => {
+                bar.set_position(n as u64);
+                if failed > 0 {
+                    bar.set_message(format!("campaign {name} ({failed} failed)"));
+                }
+            }
+            Reporter::Lines { last } => {
+                if last.elapsed().as_secs_f64() >= 1.0 || n == total {
+                    *last = Instant::now();
+                    let rate = n as f64 / start.elapsed().as_secs_f64();
+                    eprintln!(
+                        "campaign {name}: {n}/{total} runs, {failed} failed, {rate:.1} runs/s, ETA {:.0} s",
+                        (total - n) as f64 / rate.max(1e-9)
+                    );
+                }
+            }
+        }
+    }
+
+    fn finish(self) {
+        if let Reporter::Bar(bar) = self {
+            bar.finish();
+        }
+    }
+}
+
 /// `rhonn campaign`.
-pub fn cmd_campaign(
-    scenario: &str,
-    runs: u64,
-    seed: u64,
-    shard: [u64; 2],
-    corners: bool,
-    out: Option<PathBuf>,
-) -> Result<()> {
+pub fn cmd_campaign(scenario: &str, o: &CampaignOptions, out: Option<PathBuf>) -> Result<()> {
     let spec = preset::load(scenario)?;
     spec.check()?;
-    let sampling = if corners {
+    let plan = Plan::of(&spec)?;
+    let sampling = if o.corners {
         Sampling::Corners
     } else {
-        Sampling::Uniform
+        Sampling::Random
     };
-    let runs = if corners { 1 << TOLERANCES.len() } else { runs };
+    let runs = if o.corners { plan.corner_runs() } else { o.runs };
     if runs == 0 || runs > 10_000_000 {
         bail!("--runs {runs} is not allowed: give a number in [1, 10000000]");
     }
-    let [k, m] = shard;
+    let [k, m] = o.shard;
     let indices = [runs * (k - 1) / m, runs * k / m];
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("campaign-{}", spec.name)));
     let file = CampaignFile {
         scenario_toml: spec.to_toml(),
         scenario: spec.name.clone(),
-        seed,
+        seed: o.seed,
         runs,
-        sampling: if corners { "corners" } else { "uniform" }.into(),
-        shard,
+        sampling: if o.corners { "corners" } else { "random" }.into(),
+        envelope_runs: o.envelope_runs,
+        shard: o.shard,
         indices,
     };
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let meta = dir.join("campaign.json");
     let partial = dir.join("runs.partial.csv");
+    let partial_tr = dir.join("traces.partial.csv");
     let mut done: Vec<Row> = Vec::new();
+    let wants_traces = |r: &RunRow| r.index < o.envelope_runs && r.outcome.is_ok();
     if meta.exists() {
         let old: CampaignFile = serde_json::from_str(&std::fs::read_to_string(&meta)?)
             .with_context(|| format!("{} is not a campaign file", meta.display()))?;
         if old != file {
             bail!(
-                "{} holds another campaign (scenario, seed, runs, sampling or shard differ): give another --out",
+                "{} holds another campaign (scenario, seed, runs, sampling, envelope runs or shard differ): give another --out",
                 dir.display()
             );
         }
         if partial.exists() {
             done = read_rows(&partial, &spec)?;
+            attach_traces(&partial_tr, &spec, &mut done)?;
+            // A run whose traces were lost is run again.
+            done.retain(|r| !wants_traces(&r.0) || !r.2.is_empty());
             eprintln!("resuming: {} runs already done", done.len());
         } else if dir.join("runs.csv").exists() {
             println!("campaign already complete in {}", dir.display());
@@ -307,65 +531,72 @@ pub fn cmd_campaign(
     let todo: Vec<u64> = (indices[0]..indices[1])
         .filter(|i| !finished.contains(i))
         .collect();
-    // Rewrite the partial file from its complete rows (a row cut by a kill is dropped),
-    // then append each finished run and flush it.
+    // Rewrite the partial files from their complete rows (a row cut by a kill is
+    // dropped), then append each finished run, its traces first, and flush.
     {
         let mut w = csv::Writer::from_path(&partial)?;
         w.write_record(header(&spec))?;
-        for (_, rec) in &done {
+        let mut wt = csv::Writer::from_path(&partial_tr)?;
+        wt.write_record(traces_header(&spec))?;
+        for (_, rec, tr) in &done {
             w.write_record(rec)?;
+            for t in tr {
+                wt.write_record(t)?;
+            }
         }
         w.flush()?;
+        wt.flush()?;
     }
-    let writer = std::fs::OpenOptions::new().append(true).open(&partial)?;
+    let append = |p: &Path| -> Result<csv::Writer<std::fs::File>> {
+        let f = std::fs::OpenOptions::new().append(true).open(p)?;
+        Ok(csv::WriterBuilder::new().has_headers(false).from_writer(f))
+    };
     struct Progress {
         w: csv::Writer<std::fs::File>,
+        wt: csv::Writer<std::fs::File>,
         n: usize,
         failed: usize,
-        last: Instant,
+        reporter: Reporter,
         err: Option<std::io::Error>,
     }
     let start = Instant::now();
     let total = todo.len();
     let state = Mutex::new(Progress {
-        w: csv::WriterBuilder::new().has_headers(false).from_writer(writer),
+        w: append(&partial)?,
+        wt: append(&partial_tr)?,
         n: 0,
         failed: 0,
-        last: start,
+        reporter: Reporter::new(total, &spec.name),
         err: None,
     });
     let new_rows: Vec<Row> = todo
         .par_iter()
         .map(|&i| {
-            let row = run_one(&spec, seed, i, sampling);
+            let (row, tr) = run_one(&spec, &plan, o.seed, i, sampling, i < o.envelope_runs);
             let rec = record(&spec, &row);
-            let mut p = state.lock().expect("no panic while holding the lock");
-            let res =
-                p.w.write_record(&rec)
-                    .map_err(std::io::Error::other)
-                    .and_then(|_| p.w.flush());
+            let trs = tr.map(|t| trace_records(i, &t)).unwrap_or_default();
+            let mut guard = state.lock().expect("no panic while holding the lock");
+            let p = &mut *guard;
+            let mut res = Ok(());
+            for t in &trs {
+                res = res.and(p.wt.write_record(t).map_err(std::io::Error::other));
+            }
+            res = res
+                .and_then(|_| p.wt.flush())
+                .and_then(|_| p.w.write_record(&rec).map_err(std::io::Error::other))
+                .and_then(|_| p.w.flush());
             if let Err(e) = res {
                 p.err.get_or_insert(e);
             }
             p.n += 1;
             p.failed += row.outcome.is_err() as usize;
-            if p.last.elapsed().as_secs_f64() >= 1.0 || p.n == total {
-                p.last = Instant::now();
-                let rate = p.n as f64 / start.elapsed().as_secs_f64();
-                eprintln!(
-                    "campaign {}: {}/{} runs, {} failed, {:.1} runs/s, ETA {:.0} s",
-                    spec.name,
-                    p.n,
-                    total,
-                    p.failed,
-                    rate,
-                    (total - p.n) as f64 / rate.max(1e-9)
-                );
-            }
-            (row, rec)
+            p.reporter.update(&spec.name, p.n, total, p.failed, start);
+            (row, rec, trs)
         })
         .collect();
-    if let Some(e) = state.into_inner().expect("no panic while holding the lock").err {
+    let p = state.into_inner().expect("no panic while holding the lock");
+    p.reporter.finish();
+    if let Some(e) = p.err {
         return Err(e).context(format!("cannot append to {}", partial.display()));
     }
     done.extend(new_rows);
@@ -391,8 +622,14 @@ pub fn cmd_merge(dirs: &[PathBuf], out: &Path) -> Result<()> {
     }
     let first = &files[0];
     for (d, f) in dirs.iter().zip(&files) {
-        if (&f.scenario_toml, f.seed, f.runs, &f.sampling)
-            != (&first.scenario_toml, first.seed, first.runs, &first.sampling)
+        if (&f.scenario_toml, f.seed, f.runs, &f.sampling, f.envelope_runs)
+            != (
+                &first.scenario_toml,
+                first.seed,
+                first.runs,
+                &first.sampling,
+                first.envelope_runs,
+            )
         {
             bail!(
                 "{} is a different campaign from {}",
@@ -404,7 +641,9 @@ pub fn cmd_merge(dirs: &[PathBuf], out: &Path) -> Result<()> {
     let spec = ScenarioSpec::from_toml(&first.scenario_toml, "campaign.json")?;
     let mut rows = Vec::new();
     for d in dirs {
-        rows.extend(read_rows(&d.join("runs.csv"), &spec)?);
+        let mut r = read_rows(&d.join("runs.csv"), &spec)?;
+        attach_traces(&d.join("traces.csv"), &spec, &mut r)?;
+        rows.extend(r);
     }
     rows.sort_by_key(|r| r.0.index);
     for w in rows.windows(2) {

@@ -62,11 +62,19 @@ fn dispatch(cli: Cli) -> Result<()> {
             seed,
             shard,
             corners,
+            envelope_runs,
             threads,
             out,
         } => {
             let shard = campaign::parse_shard(&shard)?;
-            let go = || campaign::cmd_campaign(&scenario, runs, seed, shard, corners, out);
+            let opts = campaign::CampaignOptions {
+                runs,
+                seed,
+                shard,
+                corners,
+                envelope_runs,
+            };
+            let go = || campaign::cmd_campaign(&scenario, &opts, out);
             match threads {
                 Some(0) => anyhow::bail!("--threads 0 is not allowed: give 1 or more"),
                 Some(n) => rayon::ThreadPoolBuilder::new()

@@ -23,7 +23,7 @@ mod plot;
 pub use atomic::OutputSet;
 pub use csv_out::write_trace_csv;
 pub use data_in::{read_record, DataError};
-pub use plot::{bin_counts, plot_identification, plot_run, Histogram, Series, TimePlot};
+pub use plot::{bin_counts, plot_identification, plot_run, Band, EnvelopePlot, Histogram, Series, TimePlot};
 
 use rhonn::experiment::{RunOutput, Trace};
 use std::path::{Path, PathBuf};

@@ -239,6 +239,136 @@ impl Histogram {
     }
 }
 
+/// One quantity's spread over a campaign's runs.
+#[derive(Debug, Clone)]
+pub struct Band {
+    /// Legend label of the median.
+    pub label: String,
+    /// Per-point quantiles (display units).
+    pub envelope: rhonn::experiment::campaign::Envelope,
+}
+
+/// An envelope plot: for each band, min to max shaded lightly, 5 % to 95 % darker, the
+/// median as a line; dashed reference lines on top.
+#[derive(Debug, Clone)]
+pub struct EnvelopePlot {
+    /// Caption.
+    pub title: String,
+    /// Y axis label, with unit.
+    pub y_label: String,
+    /// Times \[s\].
+    pub t: Vec<f64>,
+    /// Bands.
+    pub bands: Vec<Band>,
+    /// Dashed lines (set-point, limits).
+    pub lines: Vec<Series>,
+}
+
+fn draw_envelope<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    p: &EnvelopePlot,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let t0 = p.t.first().copied().unwrap_or(0.0);
+    let t1 = p.t.last().copied().unwrap_or(1.0).max(t0 + 1e-9);
+    let finite = |v: &[f64]| v.iter().copied().filter(|x| x.is_finite()).collect::<Vec<_>>();
+    let mut all: Vec<f64> = Vec::new();
+    for b in &p.bands {
+        all.extend(finite(&b.envelope.min));
+        all.extend(finite(&b.envelope.max));
+    }
+    for s in &p.lines {
+        all.extend(finite(&s.y));
+    }
+    let lo = all.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = all.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
+    let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
+    let mut chart = ChartBuilder::on(area)
+        .caption(&p.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(t0..t1, (lo - pad)..(hi + pad))
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("time [s]")
+        .y_desc(p.y_label.as_str())
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let area_of = |lower: &[f64], upper: &[f64]| {
+        let mut pts: Vec<(f64, f64)> = p.t.iter().copied().zip(upper.iter().copied()).collect();
+        pts.extend(p.t.iter().copied().zip(lower.iter().copied()).rev());
+        pts.retain(|(_, y)| y.is_finite());
+        pts
+    };
+    for (k, b) in p.bands.iter().enumerate() {
+        let color = COLORS[k % COLORS.len()];
+        let e = &b.envelope;
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                area_of(&e.min, &e.max),
+                color.mix(0.15).filled(),
+            )))
+            .map_err(|e| e.to_string())?;
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                area_of(&e.q05, &e.q95),
+                color.mix(0.3).filled(),
+            )))
+            .map_err(|e| e.to_string())?;
+    }
+    for (k, b) in p.bands.iter().enumerate() {
+        let color = COLORS[k % COLORS.len()];
+        let pts: Vec<(f64, f64)> =
+            p.t.iter()
+                .copied()
+                .zip(b.envelope.median.iter().copied())
+                .collect();
+        chart
+            .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+            .map_err(|e| e.to_string())?
+            .label(format!("{} (median; 5-95 %, min-max shaded)", b.label))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+    }
+    for (k, s) in p.lines.iter().enumerate() {
+        let color = COLORS[(p.bands.len() + k) % COLORS.len()];
+        let pts: Vec<(f64, f64)> = p.t.iter().copied().zip(s.y.iter().copied()).collect();
+        chart
+            .draw_series(DashedLineSeries::new(pts, 6, 4, color.stroke_width(1)))
+            .map_err(|e| e.to_string())?
+            .label(s.label.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(1)));
+    }
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.85))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+impl EnvelopePlot {
+    /// Render into one SVG document.
+    pub fn render(&self, width: u32, height: u32) -> String {
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
+            root.fill(&WHITE).expect("filling an SVG string");
+            // As for time plots: a layout error leaves the plot blank.
+            let _ = draw_envelope(&root, self);
+            root.present().expect("presenting an SVG string");
+        }
+        svg
+    }
+}
+
 /// The plots of a run: `pressure.svg` (line pressure, set-point, P_min), `stroke.svg`,
 /// `inputs.svg` (current and demand); adaptive runs show the PI baseline beside the
 /// adaptive controller in each, the stroke reference, and `weights.svg` (the adaptive

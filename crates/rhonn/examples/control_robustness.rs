@@ -3,7 +3,7 @@
 //! mu_2 +-20 %, Q_0 +-10 %, demand slew +-10 %); controllers tuned once, on the
 //! nominal plant. `cargo run --release -p rhonn --example control_robustness`
 
-use rhonn::experiment::campaign::{apply, draw, Sampling};
+use rhonn::experiment::campaign::{apply, base_values, draw, Plan, Sampling};
 use rhonn::experiment::{preset, run_full, NoRecorder, ScenarioSpec};
 
 /// A plant of the study: its name and how it changes the scenario.
@@ -11,6 +11,11 @@ type Case = (String, Box<dyn Fn(&mut ScenarioSpec)>);
 
 /// The plants of the robustness study.
 pub fn cases() -> Vec<Case> {
+    let nominal = preset::load("control-adaptive").expect("a shipped preset");
+    let (plan, base) = (
+        Plan::of(&nominal).expect("the preset's plan"),
+        base_values(&nominal),
+    );
     let mut v: Vec<Case> = vec![("nominal".into(), Box::new(|_| {}))];
     for lag in [1.0, 5.0, 20.0] {
         v.push((
@@ -23,8 +28,8 @@ pub fn cases() -> Vec<Case> {
         Box::new(|s| s.plant.transport_delay_periods = 1),
     ));
     for k in 0..32u64 {
-        let f = draw(0, k, Sampling::Corners);
-        let pct = |j: usize| 100.0 * (f[j] - 1.0);
+        let f = draw(&plan, 0, k, Sampling::Corners);
+        let pct = |j: usize| 100.0 * (f[j] / base[j] - 1.0);
         v.push((
             format!(
                 "beta {:+.0}% mu1 {:+.0}% mu2 {:+.0}% Q0 {:+.0}% slew {:+.0}%",

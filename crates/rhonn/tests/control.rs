@@ -4,7 +4,7 @@
 //! the thesis's uncertainty box.
 
 use rhonn::control::AffineNeuron;
-use rhonn::experiment::campaign::{apply, draw, Sampling};
+use rhonn::experiment::campaign::{apply, draw, Plan, Sampling};
 use rhonn::experiment::{preset, run_full, NoRecorder, RunOutput, ScenarioSpec, Trace};
 use rhonn::net::Sigmoid;
 
@@ -268,8 +268,10 @@ fn every_corner_of_the_uncertainty_box_bounded_and_lower_ise_than_pi() {
     let mut below = Vec::new();
     for k in 0..32u64 {
         // Bit j of k picks the sign of tolerance j (beta, mu_1, mu_2, Q_0, slew).
-        let f = draw(0, k, Sampling::Corners);
-        let out = run_case(|s| *s = apply(s, &f));
+        let out = run_case(|s| {
+            let plan = Plan::of(s).expect("the preset's plan");
+            *s = apply(s, &draw(&plan, 0, k, Sampling::Corners));
+        });
         let (a, b, ba, _) = figures(&out);
         assert!(ba, "corner {k}: adaptive unbounded");
         assert!(a[0] < b[0], "corner {k}: ISE adaptive {} PI {}", a[0], b[0]);

@@ -183,6 +183,10 @@ pub struct ScenarioSpec {
     /// A RHONN identifier running along with the plant.
     #[serde(default)]
     pub identifier: Option<IdentifierSpec>,
+    /// `rhonn campaign`'s distributions of the uncertain parameters (default: uniform
+    /// within the thesis's tolerances); ignored by `rhonn run`, but checked.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub campaign: Option<super::campaign::CampaignSpec>,
 }
 
 fn default_output_ms() -> f64 {
@@ -606,6 +610,9 @@ impl ScenarioSpec {
                 "a section",
                 "absent with controller kind `rhonn-adaptive` (it identifies its own model online)",
             ));
+        }
+        if self.campaign.is_some() {
+            super::campaign::Plan::of(self)?;
         }
         Ok(Scenario {
             spec: self.clone(),
