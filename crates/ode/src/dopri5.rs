@@ -295,6 +295,20 @@ impl<Sys: System> Dopri5<Sys> {
         Self::dense_eval(&self.dense, theta, out);
     }
 
+    /// Component `i` of the dense output at the fraction `theta` in `[0, 1]` of the last
+    /// step (theta = 0 at `t_prev()`, 1 at `t()`): for quadrature at fixed nodes of
+    /// each step, without a division per point.
+    #[inline]
+    pub fn dense_at(&self, theta: f64, i: usize) -> f64 {
+        if self.h_step == 0.0 {
+            return self.x.as_slice()[i];
+        }
+        let t1 = 1.0 - theta;
+        let d = &self.dense;
+        let r = |k: usize| d[k].as_slice()[i];
+        r(0) + theta * (r(1) + t1 * (r(2) + theta * (r(3) + t1 * r(4))))
+    }
+
     /// As [`Dopri5::interpolate`], for the first `out.len()` components only.
     #[inline]
     pub fn interpolate_first(&self, t: f64, out: &mut [f64]) {
@@ -601,11 +615,12 @@ impl<Sys: System> Dopri5<Sys> {
     fn try_step(&mut self, h: f64) -> f64 {
         let n = self.x.dim();
         let t = self.t;
-        let x = self.x.as_slice();
+        // Every slice cut to n up front: the loops below then carry no bounds checks.
+        let x = &self.x.as_slice()[..n];
         let (sys, stats, hb) = (&self.sys, &mut self.stats, self.has_bounds);
         let (mode, unc) = (&self.mode, &mut self.unclamped);
         let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
-        let y = self.scratch.as_mut_slice();
+        let y = &mut self.scratch.as_mut_slice()[..n];
         macro_rules! stage {
             ($c:expr, $out:expr, |$i:ident| $e:expr) => {{
                 for $i in 0..n {
@@ -623,31 +638,31 @@ impl<Sys: System> Dopri5<Sys> {
                 );
             }};
         }
-        let a1 = k1.as_slice();
+        let a1 = &k1.as_slice()[..n];
         stage!(C2, k2, |i| x[i] + h * A21 * a1[i]);
-        let a2 = k2.as_slice();
+        let a2 = &k2.as_slice()[..n];
         stage!(C3, k3, |i| x[i] + h * (A31 * a1[i] + A32 * a2[i]));
-        let a3 = k3.as_slice();
+        let a3 = &k3.as_slice()[..n];
         stage!(C4, k4, |i| x[i] + h * (A41 * a1[i] + A42 * a2[i] + A43 * a3[i]));
-        let a4 = k4.as_slice();
+        let a4 = &k4.as_slice()[..n];
         stage!(C5, k5, |i| x[i]
             + h * (A51 * a1[i] + A52 * a2[i] + A53 * a3[i] + A54 * a4[i]));
-        let a5 = k5.as_slice();
+        let a5 = &k5.as_slice()[..n];
         stage!(1.0, k6, |i| x[i]
             + h * (A61 * a1[i]
                 + A62 * a2[i]
                 + A63 * a3[i]
                 + A64 * a4[i]
                 + A65 * a5[i]));
-        let a6 = k6.as_slice();
-        let xn = self.x_new.as_mut_slice();
+        let a6 = &k6.as_slice()[..n];
+        let xn = &mut self.x_new.as_mut_slice()[..n];
         for i in 0..n {
             xn[i] = x[i] + h * (B1 * a1[i] + B3 * a3[i] + B4 * a4[i] + B5 * a5[i] + B6 * a6[i]);
         }
         Self::eval(sys, stats, hb, mode, unc, t + h, xn, k7.as_mut_slice());
-        let a7 = k7.as_slice();
-        let rtol = self.opts.rtol.as_slice();
-        let atol = self.opts.atol.as_slice();
+        let a7 = &k7.as_slice()[..n];
+        let rtol = &self.opts.rtol.as_slice()[..n];
+        let atol = &self.opts.atol.as_slice()[..n];
         match self.opts.profile {
             Profile::Hairer => {
                 let mut sum = 0.0;

@@ -57,6 +57,8 @@ pub struct Terms {
     offsets: Vec<usize>,
     idx: Vec<usize>,
     exp: Vec<i32>,
+    /// Every term is one factor to the first power (z_k = y_{idx_k}), as in the thesis.
+    plain: bool,
 }
 
 impl Terms {
@@ -104,7 +106,18 @@ impl Terms {
             }
             t.offsets.push(t.idx.len());
         }
+        t.set_plain();
         Ok(t)
+    }
+
+    fn set_plain(&mut self) {
+        self.plain = self.idx.len() == self.len() && self.exp.iter().all(|&d| d == 1);
+    }
+
+    /// When every term is one factor to the first power (z_k = y_{j_k}), the indices j_k.
+    #[inline]
+    pub fn plain_indices(&self) -> Option<&[usize]> {
+        self.plain.then_some(&self.idx[..])
     }
 
     /// Every monomial of `y` (length `n_y`) of total degree 1 to `degree` with at most
@@ -149,6 +162,7 @@ impl Terms {
             }
             t.offsets.push(t.idx.len());
         }
+        t.set_plain();
         t
     }
 
