@@ -494,24 +494,28 @@ pub struct RunTraces {
     pub p_line_pi: Vec<f64>,
 }
 
-/// Keeps every `stride`-th output sample's pressures, up to `points` of them (an
-/// identification run records its last training epoch only).
+/// Keeps the pressures of the samples it is given (every `stride`-th output sample), up
+/// to `points` of them; needs no validation runs' samples.
 struct PressureSampler {
     stride: usize,
     points: usize,
-    k: usize,
     traces: RunTraces,
 }
 
 impl super::trace::Recorder for PressureSampler {
     fn record(&mut self, s: &super::trace::Sample) {
-        if self.k % self.stride == 0 && self.traces.p_line.len() < self.points {
+        if self.traces.p_line.len() < self.points {
             self.traces.p_line.push(s.p_line / crate::units::PA_PER_MPA);
             if let Some(b) = &s.baseline {
                 self.traces.p_line_pi.push(b.p_line / crate::units::PA_PER_MPA);
             }
         }
-        self.k += 1;
+    }
+    fn stride(&self) -> u64 {
+        self.stride as u64
+    }
+    fn wants_validation(&self) -> bool {
+        false
     }
 }
 
@@ -532,7 +536,6 @@ pub fn run_one(
         let mut rec = PressureSampler {
             stride,
             points: grid.len(),
-            k: 0,
             traces: RunTraces::default(),
         };
         let out = sc.and_then(|sc| run_full(&sc, &mut rec));

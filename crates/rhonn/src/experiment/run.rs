@@ -662,6 +662,7 @@ fn simulate<S: Plant>(
         k_ctl = 1;
     }
     let wants = rec.wants_samples();
+    let stride = rec.stride().max(1);
     let bounds = [(0.0, p.p_max), (0.0, p.x_max)];
     let mut full = S::State::zeros(dim);
     loop {
@@ -683,6 +684,10 @@ fn simulate<S: Plant>(
             let t = out_time(k_out);
             if t > solver.t() || (!done && t >= solver.t()) {
                 break;
+            }
+            if k_out % stride != 0 {
+                k_out += 1;
+                continue;
             }
             solver.interpolate(t, full.as_mut_slice());
             let xs = full.as_slice();
@@ -767,11 +772,15 @@ impl<R: Recorder> Recorder for WithBaseline<'_, R> {
     fn wants_samples(&self) -> bool {
         self.inner.wants_samples()
     }
+    fn stride(&self) -> u64 {
+        self.inner.stride()
+    }
 }
 
 /// Keeps the baseline run's plant, sample by sample.
 struct BaselineCollector {
     wants: bool,
+    stride: u64,
     samples: Vec<super::trace::BaselineSample>,
 }
 
@@ -786,6 +795,9 @@ impl Recorder for BaselineCollector {
     fn wants_samples(&self) -> bool {
         self.wants
     }
+    fn stride(&self) -> u64 {
+        self.stride
+    }
 }
 
 /// An adaptive run: the PI baseline on an identical plant (same set-point, demand,
@@ -795,6 +807,7 @@ fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) ->
     base_sc.drive = Drive::Pi(a.baseline.clone());
     let mut base = BaselineCollector {
         wants: rec.wants_samples(),
+        stride: rec.stride(),
         samples: Vec::new(),
     };
     let (st_b, fig_b, _, _, _) = simulate(
@@ -941,7 +954,7 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
             model: None,
         });
     };
-    let wants = rec.wants_samples();
+    let wants = rec.wants_validation();
     // Small identifiers (the thesis's: 9 states) run on stack arrays, so that the
     // solver's loops have a constant length and unroll: 14 % faster on thesis-ch5
     // (1.41 -> 1.22 ms); larger ones on a Vec.
@@ -1061,7 +1074,7 @@ fn ident_runs<St: State>(sc: &Scenario, is: &IdentSettings, rec: &mut impl Recor
         let sys = IdentifiedPump::<St>::new(pump_system(sc), ident, is.states.clone(), is.inputs.clone());
         (sys, x0)
     };
-    let wants = rec.wants_samples();
+    let wants = rec.wants_validation();
     let mut weights: Option<Vec<Vec<f64>>> = None;
     let mut total = Stats::default();
     let mut train = None;

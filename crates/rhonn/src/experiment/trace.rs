@@ -45,6 +45,16 @@ pub trait Recorder {
     fn wants_samples(&self) -> bool {
         true
     }
+    /// Produce only every `stride()`-th output sample (those with `k % stride == 0`; a
+    /// campaign's envelope needs a few hundred points, not every millisecond).
+    fn stride(&self) -> u64 {
+        1
+    }
+    /// Whether an identification run should also collect its frozen-weight validation
+    /// runs sample by sample (for `validation.csv`).
+    fn wants_validation(&self) -> bool {
+        self.wants_samples()
+    }
 }
 
 /// Keeps nothing (a campaign that needs only the summary).
