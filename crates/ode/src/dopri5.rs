@@ -138,6 +138,8 @@ pub struct Dopri5<Sys: System> {
     g_new: [f64; MAX_EVENTS],
     needs_restart: bool,
     facold: f64,
+    /// facold^0.04, computed when facold changes (one pow per step saved).
+    facold_beta: f64,
     steps: u64,
     stats: Stats,
     last_event_t: f64,
@@ -211,6 +213,7 @@ impl<Sys: System> Dopri5<Sys> {
             g_new: [0.0; MAX_EVENTS],
             needs_restart: true,
             facold: 1e-4,
+            facold_beta: powf(1e-4, 0.04),
             steps: 0,
             stats: Stats::default(),
             last_event_t: f64::NEG_INFINITY,
@@ -295,9 +298,20 @@ impl<Sys: System> Dopri5<Sys> {
         Self::dense_eval(&self.dense, theta, out);
     }
 
-    /// Component `i` of the dense output at the fraction `theta` in `[0, 1]` of the last
-    /// step (theta = 0 at `t_prev()`, 1 at `t()`): for quadrature at fixed nodes of
-    /// each step, without a division per point.
+    /// The part of the last attempted step that was kept: `(t() - t_prev()) / h`, 1
+    /// unless the step was cut at an event.
+    #[inline]
+    pub fn step_fraction(&self) -> f64 {
+        if self.h_step == 0.0 {
+            0.0
+        } else {
+            (self.t - self.t_prev) / self.h_step
+        }
+    }
+
+    /// Component `i` of the dense output at `theta` of the last step (theta = 0 at
+    /// `t_prev()`, `step_fraction()` at `t()`): for quadrature at fixed nodes of each
+    /// step, without a division per point.
     #[inline]
     pub fn dense_at(&self, theta: f64, i: usize) -> f64 {
         if self.h_step == 0.0 {
@@ -700,9 +714,10 @@ impl<Sys: System> Dopri5<Sys> {
                 const SAFE: f64 = 0.9;
                 let expo1 = 0.2 - BETA * 0.75;
                 let fac11 = powf(err, expo1);
-                let mut fac = fac11 / powf(self.facold, BETA);
+                let mut fac = fac11 / self.facold_beta;
                 fac = (1.0 / 10.0f64).max((1.0 / 0.2f64).min(fac / SAFE));
                 self.facold = err.max(1e-4);
+                self.facold_beta = powf(self.facold, BETA);
                 let hn = h / fac;
                 if rejected {
                     hn.min(h)

@@ -120,6 +120,17 @@ fn figures_integrated_on_the_dense_output_agree_with_the_sample_formulas() {
             "{col}: {} vs {fit}",
             f.fit_percent
         );
+        // The band is 1 % of the state's range over the run: a quadrature point past a
+        // step cut at an event (the pressure held at P_max) would widen it.
+        let (lo, hi) = y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+        let band = 0.01 * (hi - lo) / scale;
+        assert!(
+            (f.convergence_band - band).abs() < 1e-3 * band,
+            "{col}: band {} vs 1 % of the sampled range {band}",
+            f.convergence_band
+        );
     }
 }
 

@@ -549,6 +549,7 @@ fn simulate<S: Plant>(
     rec: &mut impl Recorder,
     mut ident_acc: Option<&mut IdentAcc>,
     mut ctl: Ctl,
+    plant_figures: bool,
 ) -> Result<Simulated<S>> {
     let p = &sc.params;
     let dim = sys.dim();
@@ -674,7 +675,11 @@ fn simulate<S: Plant>(
         let r = solver
             .step(t_stop)
             .map_err(|e| solver_error(e, solver.t(), solver.state()))?;
-        acc.add_step(&solver);
+        // (Runs whose plant figures nobody reads, the earlier training epochs and the
+        // frozen-weight validations, skip them: a fifth of thesis-ch5's time.)
+        if plant_figures {
+            acc.add_step(&solver);
+        }
         if let Some(ia) = ident_acc.as_deref_mut() {
             ia.add_step(&solver);
         }
@@ -817,6 +822,7 @@ fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) ->
         &mut base,
         None,
         Ctl::of(&base_sc),
+        true,
     )?;
     let mut inj = WithBaseline {
         inner: rec,
@@ -830,6 +836,7 @@ fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) ->
         &mut inj,
         None,
         Ctl::of(sc),
+        true,
     )?;
     let adaptive = adaptive.expect("an adaptive run reports its weights");
     let mut total = st;
@@ -947,7 +954,7 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
             return run_adaptive(sc, a, rec);
         }
         let sys = pump_system(sc);
-        let (st, fig, _, _, _) = simulate(sc, sys, plant_initial(sc), rec, None, Ctl::of(sc))?;
+        let (st, fig, _, _, _) = simulate(sc, sys, plant_initial(sc), rec, None, Ctl::of(sc), true)?;
         return Ok(RunOutput {
             summary: report(sc, st, fig, None),
             validation: None,
@@ -1083,9 +1090,9 @@ fn ident_runs<St: State>(sc: &Scenario, is: &IdentSettings, rec: &mut impl Recor
         let last = epoch == is.epochs;
         let mut ia = IdentAcc::new(is, sys.dim());
         let (st, fig, xf, sys, _) = if last {
-            simulate(sc, sys, x0, rec, Some(&mut ia), Ctl::of(sc))?
+            simulate(sc, sys, x0, rec, Some(&mut ia), Ctl::of(sc), true)?
         } else {
-            simulate(sc, sys, x0, &mut NoRecorder, None, Ctl::of(sc))?
+            simulate(sc, sys, x0, &mut NoRecorder, None, Ctl::of(sc), false)?
         };
         add_stats(&mut total, st);
         weights = Some(sys.ident.weights(&xf.as_slice()[PLANT_DIM..]));
@@ -1106,7 +1113,7 @@ fn ident_runs<St: State>(sc: &Scenario, is: &IdentSettings, rec: &mut impl Recor
         let (sys, x0) = make(mode, Some(&weights));
         let mut ia = IdentAcc::new(is, sys.dim());
         let mut coll = Collector::new(is, wants);
-        let (st, _, _, _, _) = simulate(sc, sys, x0, &mut coll, Some(&mut ia), Ctl::of(sc))?;
+        let (st, _, _, _, _) = simulate(sc, sys, x0, &mut coll, Some(&mut ia), Ctl::of(sc), false)?;
         add_stats(&mut total, st);
         val.push(coll);
         val_acc.push(ia);
@@ -1237,7 +1244,9 @@ impl IdentAcc {
         let hi = solver.system().hat_indices();
         if self.states.iter().all(|&i| hi[i].is_some()) {
             // Only the identified states and their estimates.
-            let thetas = [0.0, GAUSS[0].0, GAUSS[1].0, GAUSS[2].0, 1.0];
+            // A step cut at an event ends before its dense output's end.
+            let r = solver.step_fraction();
+            let thetas = [0.0, GAUSS[0].0 * r, GAUSS[1].0 * r, GAUSS[2].0 * r, r];
             for (p, &th) in thetas.iter().enumerate() {
                 for (k, &i) in self.states.iter().enumerate() {
                     let j = hi[i].expect("checked above");
