@@ -65,6 +65,54 @@ fn decimate(t: &[f64], y: &[f64], buckets: usize) -> Vec<(f64, f64)> {
     out
 }
 
+type TimeChart<'a, DB> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// A captioned chart of time [s] against `y_label` on `[t0, t1] x [lo, hi]`, with its mesh.
+fn time_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    y_label: &str,
+    (t0, t1): (f64, f64),
+    (lo, hi): (f64, f64),
+) -> Result<TimeChart<'a, DB>, String>
+where
+    DB::ErrorType: 'static,
+{
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(t0..t1, lo..hi)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("time [s]")
+        .y_desc(y_label)
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(chart)
+}
+
+/// The legend box, upper right.
+fn draw_legend<'a, DB: DrawingBackend + 'a>(chart: &mut TimeChart<'a, DB>) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.85))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|e| e.to_string())
+}
+
 fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     p: &TimePlot,
@@ -88,20 +136,7 @@ where
     }
     let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
     let (lo, hi) = (lo - pad, hi + pad);
-    let mut chart = ChartBuilder::on(area)
-        .caption(&p.title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d(t0..t1, lo..hi)
-        .map_err(|e| e.to_string())?;
-    chart
-        .configure_mesh()
-        .x_desc("time [s]")
-        .y_desc(p.y_label.as_str())
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()
-        .map_err(|e| e.to_string())?;
+    let mut chart = time_chart(area, &p.title, &p.y_label, (t0, t1), (lo, hi))?;
     for (k, s) in p.series.iter().enumerate() {
         let color = COLORS[k % COLORS.len()];
         let pts = decimate(&p.t, &s.y, 2000);
@@ -122,14 +157,7 @@ where
         anno.label(s.label.as_str())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
     }
-    chart
-        .configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.85))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(|e| e.to_string())?;
-    Ok(())
+    draw_legend(&mut chart)
 }
 
 impl TimePlot {
@@ -286,20 +314,7 @@ where
     let hi = all.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
     let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
-    let mut chart = ChartBuilder::on(area)
-        .caption(&p.title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d(t0..t1, (lo - pad)..(hi + pad))
-        .map_err(|e| e.to_string())?;
-    chart
-        .configure_mesh()
-        .x_desc("time [s]")
-        .y_desc(p.y_label.as_str())
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()
-        .map_err(|e| e.to_string())?;
+    let mut chart = time_chart(area, &p.title, &p.y_label, (t0, t1), (lo - pad, hi + pad))?;
     let area_of = |lower: &[f64], upper: &[f64]| {
         let mut pts: Vec<(f64, f64)> = p.t.iter().copied().zip(upper.iter().copied()).collect();
         pts.extend(p.t.iter().copied().zip(lower.iter().copied()).rev());
@@ -344,14 +359,7 @@ where
             .label(s.label.as_str())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(1)));
     }
-    chart
-        .configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.85))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(|e| e.to_string())?;
-    Ok(())
+    draw_legend(&mut chart)
 }
 
 impl EnvelopePlot {
