@@ -133,6 +133,11 @@ pub struct Dopri5<Sys: System> {
     lo: Sys::State,
     hi: Sys::State,
     has_bounds: bool,
+    /// The span of the components with a finite bound, first to last (the bound events
+    /// look only there).
+    bounded: core::ops::Range<usize>,
+    /// Whether some component is held at a bound now (else the stages skip the mask).
+    any_held: bool,
     n_events: usize,
     g_old: [f64; MAX_EVENTS],
     g_new: [f64; MAX_EVENTS],
@@ -144,6 +149,22 @@ pub struct Dopri5<Sys: System> {
     stats: Stats,
     last_event_t: f64,
     chatter: u32,
+}
+
+/// One component's dense output over the last step (see [`Dopri5::dense_component`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DenseComponent {
+    r: [f64; 5],
+}
+
+impl DenseComponent {
+    /// Value at `theta` (0 at the step's start, 1 at its planned end).
+    #[inline(always)]
+    pub fn at(&self, theta: f64) -> f64 {
+        let t1 = 1.0 - theta;
+        let r = &self.r;
+        r[0] + theta * (r[1] + t1 * (r[2] + theta * (r[3] + t1 * r[4])))
+    }
 }
 
 impl<Sys: System> Dopri5<Sys> {
@@ -190,6 +211,9 @@ impl<Sys: System> Dopri5<Sys> {
                 });
             }
         }
+        let is_bounded = |i: &usize| lo.as_slice()[*i].is_finite() || hi.as_slice()[*i].is_finite();
+        let first = (0..n).find(is_bounded).unwrap_or(0);
+        let bounded = first..(0..n).rev().find(is_bounded).map_or(0, |l| l + 1);
         let z = Sys::State::zeros(n);
         let mut s = Dopri5 {
             sys,
@@ -208,6 +232,8 @@ impl<Sys: System> Dopri5<Sys> {
             lo,
             hi,
             has_bounds,
+            bounded,
+            any_held: false,
             n_events,
             g_old: [0.0; MAX_EVENTS],
             g_new: [0.0; MAX_EVENTS],
@@ -323,6 +349,32 @@ impl<Sys: System> Dopri5<Sys> {
         r(0) + theta * (r(1) + t1 * (r(2) + theta * (r(3) + t1 * r(4))))
     }
 
+    /// Component `i`'s dense output of the last step as a polynomial in theta:
+    /// [`DenseComponent::at`] gives exactly [`Dopri5::dense_at`], with the coefficients
+    /// read once for many points.
+    #[inline]
+    pub fn dense_component(&self, i: usize) -> DenseComponent {
+        if self.h_step == 0.0 {
+            let x = self.x.as_slice()[i];
+            return DenseComponent {
+                r: [x, 0.0, 0.0, 0.0, 0.0],
+            };
+        }
+        DenseComponent {
+            r: core::array::from_fn(|k| self.dense[k].as_slice()[i]),
+        }
+    }
+
+    /// Theta of time `t` in the last step, as [`Dopri5::interpolate`] computes it.
+    #[inline]
+    pub fn theta_of(&self, t: f64) -> f64 {
+        if self.h_step == 0.0 {
+            0.0
+        } else {
+            (t - self.t_prev) / self.h_step
+        }
+    }
+
     /// As [`Dopri5::interpolate`], for the first `out.len()` components only.
     #[inline]
     pub fn interpolate_first(&self, t: f64, out: &mut [f64]) {
@@ -418,12 +470,13 @@ impl<Sys: System> Dopri5<Sys> {
                     break;
                 }
             }
+            self.any_held = self.mode.as_slice().iter().any(|&m| m != FREE);
         }
         let (k0, _) = self.k.split_at_mut(1);
         Self::eval(
             &self.sys,
             &mut self.stats,
-            self.has_bounds,
+            self.any_held,
             &self.mode,
             &mut self.unclamped,
             self.t,
@@ -486,7 +539,7 @@ impl<Sys: System> Dopri5<Sys> {
                 Self::eval(
                     &self.sys,
                     &mut self.stats,
-                    self.has_bounds,
+                    self.any_held,
                     &self.mode,
                     &mut self.unclamped,
                     self.t + h,
@@ -631,7 +684,7 @@ impl<Sys: System> Dopri5<Sys> {
         let t = self.t;
         // Every slice cut to n up front: the loops below then carry no bounds checks.
         let x = &self.x.as_slice()[..n];
-        let (sys, stats, hb) = (&self.sys, &mut self.stats, self.has_bounds);
+        let (sys, stats, hb) = (&self.sys, &mut self.stats, self.any_held);
         let (mode, unc) = (&self.mode, &mut self.unclamped);
         let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
         let y = &mut self.scratch.as_mut_slice()[..n];
@@ -840,8 +893,7 @@ impl<Sys: System> Dopri5<Sys> {
             }
         }
         if self.has_bounds {
-            let n = self.x.dim();
-            for i in 0..n {
+            for i in self.bounded.clone() {
                 let m = self.mode.as_slice()[i];
                 let (lo, hi) = (self.lo.as_slice()[i], self.hi.as_slice()[i]);
                 let x0 = self.x.as_slice()[i];

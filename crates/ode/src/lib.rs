@@ -75,7 +75,7 @@ mod stats;
 mod system;
 mod tableau;
 
-pub use dopri5::{Dopri5, EventKind, StepResult, MAX_EVENTS};
+pub use dopri5::{DenseComponent, Dopri5, EventKind, StepResult, MAX_EVENTS};
 pub use error::{Error, Snapshot};
 pub use options::{Options, Profile};
 pub use state::State;

@@ -427,3 +427,70 @@ fn a_breakpoint_a_rounding_error_after_the_stop_time_is_no_step_underflow() {
     s.solve_to(10.0, |_, _| {}).unwrap();
     assert!((s.state()[0] - (1.0 - 10.0f64.cos())).abs() < 1e-6);
 }
+
+/// Free, limited to \[-0.5, 0.5\], free, limited to \[-0.25, 0.25\]: the limited ones
+/// are `dx/dt = cos t`, the free ones decay.
+struct TwoLimited;
+impl System for TwoLimited {
+    type State = [f64; 4];
+    fn dim(&self) -> usize {
+        4
+    }
+    fn rhs(&self, t: f64, x: &[f64], dx: &mut [f64]) {
+        dx[0] = -x[0];
+        dx[1] = t.cos();
+        dx[2] = -2.0 * x[2];
+        dx[3] = t.cos();
+    }
+    fn bounds(&self, i: usize) -> (f64, f64) {
+        match i {
+            1 => (-0.5, 0.5),
+            3 => (-0.25, 0.25),
+            _ => (f64::NEG_INFINITY, f64::INFINITY),
+        }
+    }
+}
+
+#[test]
+fn limited_states_among_free_ones_are_each_held_at_their_own_bounds() {
+    let mut opts = Options::uniform(4, 1e-9, 1e-12);
+    opts.h_max_s = 0.2;
+    let mut s = Dopri5::new(TwoLimited, 0.0, [1.0, 0.0, 1.0, 0.0], opts).unwrap();
+    let mut events = vec![];
+    let mut dense_checked = 0;
+    s.solve_to(3.0, |s, r| {
+        if let StepResult::Event { t, kind } = r {
+            events.push((t, kind));
+        }
+        // One component's dense polynomial gives what dense_at gives, bit for bit.
+        for i in 0..4 {
+            let c = s.dense_component(i);
+            for th in [0.0, 0.3, 0.77, s.step_fraction()] {
+                assert_eq!(c.at(th).to_bits(), s.dense_at(th, i).to_bits());
+                dense_checked += 1;
+            }
+        }
+    })
+    .unwrap();
+    let expected = [
+        (0.25f64.asin(), EventKind::Upper(3)),
+        (PI / 6.0, EventKind::Upper(1)),
+        // Both held states turn inward at pi/2: one release is located, the restart
+        // after it frees the other (its unclamped derivative already points inward).
+        (PI / 2.0, EventKind::Released(3)),
+        (5.0 * PI / 6.0, EventKind::Lower(3)),
+    ];
+    assert_eq!(events.len(), expected.len(), "{events:?}");
+    for ((t, k), (te, ke)) in events.iter().zip(expected) {
+        assert_eq!(*k, ke);
+        assert!((t - te).abs() < 1e-8, "{k:?} at {t} vs {te}");
+    }
+    // At 3 s: the first limited state runs sin t - 1/2 since its release, the second
+    // is held at its lower bound; the free ones decayed untouched by the others' holds.
+    let x = s.state();
+    assert!((x[0] - (-3.0f64).exp()).abs() < 1e-8, "{}", x[0]);
+    assert!((x[1] - (3.0f64.sin() - 0.5)).abs() < 1e-8, "{}", x[1]);
+    assert!((x[2] - (-6.0f64).exp()).abs() < 1e-8, "{}", x[2]);
+    assert_eq!(x[3], -0.25);
+    assert!(dense_checked > 40);
+}

@@ -54,6 +54,7 @@ mod tests {
                 p_ref: None,
                 p_meas: None,
                 hat: [None, None],
+                hat_parallel: [None, None],
                 control: None,
                 baseline: None,
             });

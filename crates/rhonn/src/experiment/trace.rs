@@ -20,6 +20,9 @@ pub struct Sample {
     pub p_meas: Option<f64>,
     /// An identifier's estimates of `[p_line, stroke]` \[Pa, m\] (identified states only).
     pub hat: [Option<f64>; 2],
+    /// A frozen model's free-run (parallel) estimates, in the validation runs, which
+    /// integrate the series-parallel (`hat`) and the parallel model together.
+    pub hat_parallel: [Option<f64>; 2],
     /// The adaptive controller's state at the last control instant.
     pub control: Option<crate::control::CascadeState>,
     /// The PI baseline's plant at the same instant (adaptive runs).

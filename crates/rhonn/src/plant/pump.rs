@@ -1,7 +1,7 @@
 //! The pump's equations as a [`rhonn_ode::System`].
 
 use super::PumpParams;
-use crate::signal::Signal;
+use crate::signal::{Affine, Signal};
 use rhonn_ode::{Direction, System};
 
 /// Index of the line pressure P_l \[Pa\] in the state.
@@ -49,6 +49,12 @@ impl Input {
             Input::Held(_) => f64::INFINITY,
         }
     }
+    fn affine_in(&self, seg: usize) -> Option<Affine> {
+        match self {
+            Input::Signal(s) => s.affine_in(seg),
+            Input::Held(v) => Some(Affine::constant(*v)),
+        }
+    }
 }
 
 /// The pump and line (states `[P_l, x, i]`, SI) driven by a solenoid current \[A\] and a
@@ -69,6 +75,10 @@ pub struct PumpSystem {
     pub demand: Input,
     seg_i: usize,
     seg_q: usize,
+    /// The inputs' formulas in their segments (None: a multisine, evaluated in full),
+    /// set with the segments.
+    lin_i: Option<Affine>,
+    lin_q: Option<Affine>,
     branch_neg: bool,
     dpa_pos: bool,
 }
@@ -87,12 +97,15 @@ pub struct Pilot {
 impl PumpSystem {
     /// A pump with the given inputs.
     pub fn new(params: PumpParams, current: Input, demand: Input) -> Self {
+        let (lin_i, lin_q) = (current.affine_in(0), demand.affine_in(0));
         PumpSystem {
             params,
             current,
             demand,
             seg_i: 0,
             seg_q: 0,
+            lin_i,
+            lin_q,
             branch_neg: false,
             dpa_pos: true,
         }
@@ -101,18 +114,26 @@ impl PumpSystem {
     /// Solenoid current at `t` in the current modes \[A\] (clipped).
     #[inline]
     pub fn current_at(&self, t: f64) -> f64 {
-        self.current.eval_in(self.seg_i, t).clamp(0.0, self.params.i_max)
+        match &self.lin_i {
+            Some(a) => a.at(t),
+            None => self.current.eval_in(self.seg_i, t),
+        }
+        .clamp(0.0, self.params.i_max)
     }
 
     /// Demanded flow at `t` in the current modes \[m^3/s\].
     #[inline]
     pub fn demand_at(&self, t: f64) -> f64 {
-        self.demand.eval_in(self.seg_q, t)
+        match &self.lin_q {
+            Some(a) => a.at(t),
+            None => self.demand.eval_in(self.seg_q, t),
+        }
     }
 
     /// Set the held current (a sampled controller's output) \[A\].
     pub fn set_current(&mut self, i: f64) {
         self.current = Input::Held(i);
+        self.lin_i = self.current.affine_in(self.seg_i);
     }
 
     /// The pilot valve at `(P_l, x)` and current `i`, on the branch `neg` (s < 0).
@@ -203,6 +224,8 @@ impl System for PumpSystem {
     fn update_modes(&mut self, t: f64, x: &[f64]) {
         self.seg_i = self.current.segment(t);
         self.seg_q = self.demand.segment(t);
+        self.lin_i = self.current.affine_in(self.seg_i);
+        self.lin_q = self.demand.affine_in(self.seg_q);
         let i = self.acting_current(t, x);
         let s = self.pilot(x[P_LINE], x[STROKE], i, self.branch_neg).s;
         if s > 0.0 {

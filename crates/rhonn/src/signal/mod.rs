@@ -99,6 +99,42 @@ impl PiecewiseLinear {
     }
 }
 
+/// One segment of a signal without sines: `(v0 + slope (t - t0))` clipped to
+/// `[lo, hi]`, the arithmetic of [`Signal::eval_in`] in the same order (a solver's
+/// right-hand side evaluates it at every stage; the segment lookups once per step).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Affine {
+    /// Value at `t0`.
+    pub v0: f64,
+    /// Slope (per second).
+    pub slope: f64,
+    /// Start time \[s\].
+    pub t0: f64,
+    /// Clip range.
+    pub lo: f64,
+    /// Clip range.
+    pub hi: f64,
+}
+
+impl Affine {
+    /// A constant (not clipped).
+    pub fn constant(v: f64) -> Self {
+        Affine {
+            v0: v,
+            slope: 0.0,
+            t0: 0.0,
+            lo: f64::NEG_INFINITY,
+            hi: f64::INFINITY,
+        }
+    }
+
+    /// Value at `t`.
+    #[inline(always)]
+    pub fn at(&self, t: f64) -> f64 {
+        (self.v0 + self.slope * (t - self.t0)).clamp(self.lo, self.hi)
+    }
+}
+
 /// One sine of a multisine.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sine {
@@ -164,6 +200,30 @@ impl Signal {
         let s = self.pwl.segment(t);
         // The multisine's window edges are breakpoints too: encode "inside" in bit 0.
         (s << 1) | usize::from(!self.sines.is_empty() && t >= self.on_s && t < self.off_s)
+    }
+
+    /// Segment `seg`'s formula as an [`Affine`] (None where the multisine is on):
+    /// [`Affine::at`] then gives exactly [`Signal::eval_in`], without the lookups.
+    pub fn affine_in(&self, seg: usize) -> Option<Affine> {
+        if seg & 1 == 1 {
+            return None;
+        }
+        let (p, j) = (&self.pwl, seg >> 1);
+        let n = p.t.len();
+        let (v0, slope, t0) = if j == 0 {
+            (p.v[0], 0.0, 0.0)
+        } else if j >= n {
+            (p.v[n - 1], 0.0, 0.0)
+        } else {
+            (p.v[j - 1], p.slope[j], p.t[j - 1])
+        };
+        Some(Affine {
+            v0,
+            slope,
+            t0,
+            lo: self.lo,
+            hi: self.hi,
+        })
     }
 
     /// Value in segment `seg` at `t`, clipped.
@@ -255,5 +315,38 @@ mod tests {
         assert_eq!(s.next_breakpoint(0.0), 1.0);
         assert_eq!(s.next_breakpoint(1.0), 2.0);
         assert!(s.clips_on(3.0));
+    }
+
+    #[test]
+    fn a_segments_affine_form_gives_exactly_its_value_and_none_where_sines_act() {
+        let p = PiecewiseLinear::new(vec![(0.5, 0.1), (1.0, 0.7), (1.0, 0.2), (3.0, 0.9), (4.0, -0.3)]);
+        let s = Signal::piecewise(p, 0.0, 0.8).with_sines(
+            vec![Sine {
+                amplitude: 0.05,
+                freq_hz: 3.0,
+                phase: 0.2,
+            }],
+            3.5,
+            3.7,
+        );
+        let mut with_sines = 0;
+        for k in 0..=6000 {
+            let t = k as f64 * 1e-3 - 0.5;
+            let seg = s.segment(t);
+            match s.affine_in(seg) {
+                // Bit for bit, at the segment's own points and past its ends.
+                Some(a) => {
+                    for tt in [t, t + 0.37e-3, t + 0.1] {
+                        assert_eq!(a.at(tt).to_bits(), s.eval_in(seg, tt).to_bits(), "t = {tt}");
+                    }
+                }
+                None => {
+                    assert!((3.5..3.7).contains(&t), "t = {t}");
+                    with_sines += 1;
+                }
+            }
+        }
+        assert_eq!(with_sines, 200);
+        assert_eq!(Affine::constant(0.3).at(12.0), 0.3);
     }
 }
