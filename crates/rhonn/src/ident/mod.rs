@@ -693,6 +693,44 @@ impl<St> FrozenPair<St> {
         [x.clone(), x].concat()
     }
 
+    /// Both copies' `dx_hat` for `N` neurons and `L` single-factor terms known at compile
+    /// time (at most 2 inputs), in the arithmetic of [`FrozenPair::model`]: the loops
+    /// unroll and lose their bounds checks. Returns true (it always handles the call).
+    #[allow(clippy::too_many_arguments)] // the two copies' states and derivatives
+    #[inline(always)]
+    fn plain_fixed<const N: usize, const L: usize>(
+        &self,
+        idx: &[usize],
+        chi: &[f64; 2],
+        u: &[f64],
+        sp: &[f64],
+        par: &[f64],
+        dsp: &mut [f64],
+        dpar: &mut [f64],
+    ) -> bool {
+        let idx: &[usize; L] = idx.try_into().expect("L terms");
+        let w: &[f64] = &self.weights[..N * L];
+        let copy = |src: &[f64], xh: &[f64], dxh: &mut [f64]| {
+            let mut y = [0.0; 4];
+            for i in 0..N {
+                y[i] = self.net.sigmoid.eval(src[i] / self.net.state_scale[i]);
+            }
+            for (j, &uj) in u.iter().enumerate() {
+                y[N + j] = uj / self.net.input_scale[j];
+            }
+            for i in 0..N {
+                let mut acc = 0.0;
+                for k in 0..L {
+                    acc += w[i * L + k] * y[idx[k]];
+                }
+                dxh[i] = -self.net.a[i] * xh[i] + acc;
+            }
+        };
+        copy(&chi[..N], &sp[..N], &mut dsp[..N]);
+        copy(&par[..N], &par[..N], &mut dpar[..N]);
+        true
+    }
+
     /// `dx_hat = -a x_hat + W z(src, u)`.
     #[inline(always)]
     fn model(&self, src: &[f64], u: &[f64], xh: &[f64], dxh: &mut [f64], y: &mut [f64], z: &mut [f64]) {
@@ -747,6 +785,20 @@ impl<St: State> System for FrozenPair<St> {
         );
         let (sp, par) = x[PLANT_DIM..].split_at(n);
         let (dsp, dpar) = dx[PLANT_DIM..].split_at_mut(n);
+        if let Some(idx) = self.net.terms.plain_indices() {
+            // The thesis's sizes with their loop lengths known to the compiler.
+            let done = match (n, idx.len()) {
+                (1, 1) if m <= 2 => self.plain_fixed::<1, 1>(idx, &chi, &u[..m], sp, par, dsp, dpar),
+                (1, 2) if m <= 2 => self.plain_fixed::<1, 2>(idx, &chi, &u[..m], sp, par, dsp, dpar),
+                (2, 2) if m <= 2 => self.plain_fixed::<2, 2>(idx, &chi, &u[..m], sp, par, dsp, dpar),
+                (2, 3) if m <= 2 => self.plain_fixed::<2, 3>(idx, &chi, &u[..m], sp, par, dsp, dpar),
+                (2, 4) if m <= 2 => self.plain_fixed::<2, 4>(idx, &chi, &u[..m], sp, par, dsp, dpar),
+                _ => false,
+            };
+            if done {
+                return;
+            }
+        }
         let mut sc = self.scratch.borrow_mut();
         let (y, z) = &mut *sc;
         self.model(&chi[..n], &u[..m], sp, dsp, y, z);
