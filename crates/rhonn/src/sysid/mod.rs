@@ -99,6 +99,11 @@ pub struct ModelSpec {
     /// Keep at most this many high-order terms: train with all, keep those with the
     /// largest weights, train again (default: keep all).
     pub max_terms: Option<usize>,
+    /// The high-order terms take only the first this-many lags of each output and of
+    /// each input (and every filtered input): a long linear history (the memory of an
+    /// unmeasured state, such as the pump's stroke in the current's past) with a small
+    /// nonlinear part (default: every lag).
+    pub nonlinear_lags: Option<usize>,
 }
 
 impl Default for ModelSpec {
@@ -119,6 +124,7 @@ impl Default for ModelSpec {
             input_filters_s: vec![],
             output_lag_start: 1,
             max_terms: None,
+            nonlinear_lags: None,
         }
     }
 }
@@ -189,6 +195,9 @@ impl ModelSpec {
         if let Some(m) = self.max_terms {
             int_in("max_terms", m, 1, crate::net::MAX_TERMS)?;
         }
+        if let Some(m) = self.nonlinear_lags {
+            int_in("nonlinear_lags", m, 1, 50)?;
+        }
         if !(self.ridge.is_finite() && self.ridge >= 0.0) {
             return Err(invalid("model.ridge", self.ridge, "a number >= 0"));
         }
@@ -227,6 +236,21 @@ impl ModelSpec {
             .max(if self.nb > 0 { self.nk + self.nb - 1 } else { 0 })
             .max(self.nk)
     }
+}
+
+/// The regressors the high-order terms are made of (indices into phi): the first
+/// `nonlinear_lags` lags of each output and input, and every filtered input.
+fn nonlinear_regressors(spec: &ModelSpec, ni: usize, no: usize) -> Vec<usize> {
+    let nl = spec.nonlinear_lags.unwrap_or(usize::MAX);
+    let mut sub = Vec::new();
+    for j in 0..no {
+        sub.extend((0..spec.na.min(nl)).map(|i| j * spec.na + i));
+    }
+    for q in 0..ni {
+        sub.extend((0..spec.nb.min(nl)).map(|i| no * spec.na + q * spec.nb + i));
+    }
+    sub.extend(no * spec.na + ni * spec.nb..n_phi(spec, ni, no));
+    sub
 }
 
 /// Number of regressors for `ni` inputs and `no` outputs (without terms and bias).
@@ -578,8 +602,11 @@ fn fit_terms(
     let terms = match (spec.kind, given_terms) {
         (Kind::Rhonn, Some(t)) => t,
         (Kind::Rhonn, None) => {
-            let t = Terms::monomials(nphi, spec.degree, spec.max_factors);
-            (0..t.len()).map(|k| t.factors(k)).collect()
+            let sub = nonlinear_regressors(spec, ni, no);
+            let t = Terms::monomials(sub.len(), spec.degree, spec.max_factors);
+            (0..t.len())
+                .map(|k| t.factors(k).into_iter().map(|[i, e]| [sub[i], e]).collect())
+                .collect()
         }
         (Kind::Arx, _) => vec![],
     };
@@ -846,6 +873,38 @@ mod tests {
 
     fn names() -> (Vec<String>, Vec<String>) {
         (vec!["u".into()], vec!["y".into()])
+    }
+
+    #[test]
+    fn nonlinear_lags_limit_the_high_order_terms_to_the_newest_lags() {
+        let (i, o) = names();
+        let spec = ModelSpec {
+            na: 3,
+            nb: 4,
+            degree: 2,
+            max_factors: 2,
+            nonlinear_lags: Some(2),
+            input_filters_s: vec![1.0],
+            ..Default::default()
+        };
+        // phi = [y lags 1..3 (0, 1, 2), u lags 1..4 (3..7), filtered u (7)]
+        assert_eq!(nonlinear_regressors(&spec, 1, 1), vec![0, 1, 3, 4, 7]);
+        let m = fit(&spec, &[record(1, 400, true)], &i, &o).unwrap();
+        // 5 factors, degree 2: 5 linear + 5 squares + 10 products.
+        assert_eq!(m.terms.len(), 20);
+        let used: std::collections::BTreeSet<usize> = m.terms.iter().flatten().map(|f| f[0]).collect();
+        assert_eq!(used.into_iter().collect::<Vec<_>>(), vec![0, 1, 3, 4, 7]);
+        let all = ModelSpec {
+            nonlinear_lags: None,
+            ..spec.clone()
+        };
+        assert_eq!(nonlinear_regressors(&all, 1, 1), (0..8).collect::<Vec<_>>());
+        let bad = ModelSpec {
+            nonlinear_lags: Some(0),
+            ..spec
+        };
+        let e = bad.check().unwrap_err().to_string();
+        assert!(e.contains("model.nonlinear_lags") && e.contains("[1, 50]"), "{e}");
     }
 
     #[test]
