@@ -591,6 +591,9 @@ fn pump_model_predicts_the_validation_record_10_steps_ahead() {
     eprintln!("pump, 10 steps ahead on pump-validate: RHONN fit {fit:.2} %, ARX {arx:.2} %");
     assert!(fit >= 80.0, "RHONN fit {fit} %");
     assert!(fit > arx, "RHONN fit {fit} %, ARX {arx} %");
+    // rhonn's own SI columns are plotted in display units.
+    let svg = std::fs::read_to_string(d.path().join("p/prediction.svg")).unwrap();
+    assert!(svg.contains("p_meas [MPa]"), "no MPa axis");
 }
 
 #[test]

@@ -265,28 +265,34 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
         .iter()
         .enumerate()
         .map(|(j, name)| {
+            // Columns rhonn writes in SI are plotted in display units; others as they are.
+            let (k, y_label) = match display_unit(name) {
+                Some((k, unit)) => (k, format!("{name} [{unit}]")),
+                None => (1.0, name.clone()),
+            };
+            let scaled = |v: &[f64]| v.iter().map(|x| x * k).collect::<Vec<f64>>();
             let mut series = vec![
                 Series {
                     label: name.clone(),
-                    y: r.outputs[j].clone(),
+                    y: scaled(&r.outputs[j]),
                     dashed: false,
                 },
                 Series {
                     label: format!("{name}_hat ({mode})"),
-                    y: p[j].clone(),
+                    y: scaled(&p[j]),
                     dashed: true,
                 },
             ];
             if let Some((pb, _)) = &base {
                 series.push(Series {
                     label: "ARX baseline".into(),
-                    y: pb[j].clone(),
+                    y: scaled(&pb[j]),
                     dashed: true,
                 });
             }
             TimePlot {
                 title: format!("{name}: measured and predicted, {mode}"),
-                y_label: name.clone(),
+                y_label,
                 t: r.t.clone(),
                 series,
             }
@@ -416,4 +422,17 @@ fn cmd_run(scenario: &str, out: Option<PathBuf>) -> Result<()> {
         println!("  wrote {}", file.display());
     }
     Ok(())
+}
+
+/// The display unit of a column `rhonn run` writes in SI (`trajectory.csv`): pressures in
+/// Pa are shown in MPa, strokes in m in mm, flows in m^3/s in dm^3/s. None for any other
+/// column (measured data keeps its own units).
+fn display_unit(column: &str) -> Option<(f64, &'static str)> {
+    let base = column.strip_suffix("_pi").unwrap_or(column);
+    match base {
+        "p_line" | "p_meas" | "p_ref" | "p_line_model" => Some((1e-6, "MPa")),
+        "stroke" | "stroke_ref" => Some((1e3, "mm")),
+        "demand" => Some((1e3, "dm^3/s")),
+        _ => None,
+    }
 }

@@ -27,8 +27,8 @@ impl fmt::Display for InvalidValue {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
-    /// A scenario field has a value out of range.
-    #[error("invalid scenario{}: {value}", scenario.as_ref().map(|s| format!(" `{s}`")).unwrap_or_default())]
+    /// A field (of a scenario, a model spec, a command's option) has a value out of range.
+    #[error("invalid {}: {value}", scenario.as_ref().map(|s| format!("scenario `{s}`")).unwrap_or_else(|| "value".into()))]
     Invalid {
         /// The field, its value and what is allowed.
         value: InvalidValue,

@@ -288,7 +288,7 @@ mod tests {
         };
         assert_eq!(
             s.check().unwrap_err().to_string(),
-            "invalid scenario: `plant.beta_mpa` = -3 is not allowed: a finite number > 0"
+            "invalid value: `plant.beta_mpa` = -3 is not allowed: a finite number > 0"
         );
         let s = PumpParamsSpec {
             gamma_l: 1.0,

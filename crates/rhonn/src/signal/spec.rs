@@ -357,7 +357,7 @@ mod tests {
             .to_string();
         assert_eq!(
             e,
-            "invalid scenario: `demand_dm3_s.slew_per_s` = 2.5 is not allowed: at most 2 (Qdot_max)"
+            "invalid value: `demand_dm3_s.slew_per_s` = 2.5 is not allowed: at most 2 (Qdot_max)"
         );
         let too_high = SignalSpec::Trapezoids {
             slew_per_s: 2.0,

@@ -1,0 +1,85 @@
+#!/usr/bin/env python3
+"""Choose the cascaded-tanks model's structure on estimation.csv alone: 3-fold
+cross-validation over contiguous thirds (train on two thirds as two records, run free on
+the held-out third), lowest mean free-run RMS error, over a grid of structures. Prints
+every structure's folds and mean and writes the best as a model TOML. validation.csv is
+not read. Standard library only.
+
+Usage: python3 tools/select/tanks_cv.py [path/to/rhonn] [out.toml]
+"""
+import csv, json, os, subprocess, sys, tempfile
+
+exe = sys.argv[1] if len(sys.argv) > 1 else "target/release/rhonn"
+out_toml = sys.argv[2] if len(sys.argv) > 2 else None
+here = os.path.dirname(os.path.abspath(__file__))
+data = os.path.join(here, "..", "..", "..", "shared", "data", "cascaded-tanks", "estimation.csv")
+
+
+def toml(c):
+    lines = [f'kind = "{c["kind"]}"', f'na = {c["na"]}', f'nb = {c["nb"]}', "nk = 1",
+             f'law = "{c["law"]}"', "ridge = 1e-6"]
+    if c["kind"] == "rhonn":
+        lines += [f'degree = {c["degree"]}', f'max_factors = {c["mf"]}']
+    if c["filters"]:
+        lines.append(f'input_filters_s = [{", ".join(f"{v:.1f}" for v in c["filters"])}]')
+    return "\n".join(lines) + "\n"
+
+
+def grid():
+    for filters in ([], [40.0], [20.0, 80.0], [10.0, 40.0, 160.0]):
+        for na in (1, 2, 3, 4):
+            for nb in (1, 2, 3):
+                yield dict(kind="arx", na=na, nb=nb, law="batch-ls", filters=filters)
+                for degree, mf in ((2, 2), (3, 2), (3, 3)):
+                    for law in ("batch-ls", "simulation-error"):
+                        yield dict(kind="rhonn", na=na, nb=nb, degree=degree, mf=mf, law=law,
+                                   filters=filters)
+
+
+def main():
+    rows = list(csv.reader(open(data)))
+    head, body = rows[0], rows[1:]
+    n = len(body)
+    with tempfile.TemporaryDirectory() as d:
+        thirds = []
+        for f in range(3):
+            p = os.path.join(d, f"third{f}.csv")
+            with open(p, "w", newline="") as fh:
+                w = csv.writer(fh)
+                w.writerow(head)
+                w.writerows(body[f * n // 3:(f + 1) * n // 3])
+            thirds.append(p)
+        best = None
+        for c in grid():
+            spec = os.path.join(d, "m.toml")
+            open(spec, "w").write(toml(c))
+            errs = []
+            try:
+                for f in range(3):
+                    m, p = os.path.join(d, "model"), os.path.join(d, "pred")
+                    args = ["fit"]
+                    for g in range(3):
+                        if g != f:
+                            args += ["--data", thirds[g]]
+                    subprocess.run([exe, *args, "--inputs", "u", "--outputs", "y", "--model", spec,
+                                    "--out", m], check=True, capture_output=True, text=True)
+                    subprocess.run([exe, "predict", "--model", os.path.join(m, "model.json"),
+                                    "--data", thirds[f], "--out", p], check=True,
+                                   capture_output=True, text=True)
+                    s = json.load(open(os.path.join(p, "summary.json")))
+                    errs.append(s["outputs"][0]["rms_error"])
+            except subprocess.CalledProcessError as e:
+                print(f"{json.dumps(c)}: failed: {e.stderr.strip()}", flush=True)
+                continue
+            mean = sum(errs) / 3
+            print(f"{json.dumps(c)}: folds {' / '.join(f'{v:.3f}' for v in errs)}; mean {mean:.4f} V",
+                  flush=True)
+            if best is None or mean < best[0]:
+                best = (mean, c)
+        print(f"best: {json.dumps(best[1])}, mean free-run RMS error {best[0]:.4f} V")
+        if out_toml:
+            open(out_toml, "w").write(toml(best[1]))
+
+
+if __name__ == "__main__":
+    main()
