@@ -79,6 +79,10 @@ pub struct PumpSystem {
     /// set with the segments.
     lin_i: Option<Affine>,
     lin_q: Option<Affine>,
+    /// The inputs' next breakpoint after `bp_from`, found when the modes were chosen
+    /// there: the answer for every time in `[bp_from, bp_next)`.
+    bp_from: f64,
+    bp_next: f64,
     branch_neg: bool,
     dpa_pos: bool,
 }
@@ -106,6 +110,8 @@ impl PumpSystem {
             seg_q: 0,
             lin_i,
             lin_q,
+            bp_from: f64::INFINITY,
+            bp_next: f64::INFINITY,
             branch_neg: false,
             dpa_pos: true,
         }
@@ -130,10 +136,18 @@ impl PumpSystem {
         }
     }
 
+    /// First breakpoint of either input strictly after `t`.
+    fn inputs_next_breakpoint(&self, t: f64) -> f64 {
+        self.current
+            .next_breakpoint(t)
+            .min(self.demand.next_breakpoint(t))
+    }
+
     /// Set the held current (a sampled controller's output) \[A\].
     pub fn set_current(&mut self, i: f64) {
         self.current = Input::Held(i);
         self.lin_i = self.current.affine_in(self.seg_i);
+        self.bp_from = f64::INFINITY;
     }
 
     /// The pilot valve at `(P_l, x)` and current `i`, on the branch `neg` (s < 0).
@@ -226,6 +240,8 @@ impl System for PumpSystem {
         self.seg_q = self.demand.segment(t);
         self.lin_i = self.current.affine_in(self.seg_i);
         self.lin_q = self.demand.affine_in(self.seg_q);
+        self.bp_from = t;
+        self.bp_next = self.inputs_next_breakpoint(t);
         let i = self.acting_current(t, x);
         let s = self.pilot(x[P_LINE], x[STROKE], i, self.branch_neg).s;
         if s > 0.0 {
@@ -237,9 +253,13 @@ impl System for PumpSystem {
     }
 
     fn next_breakpoint(&self, t: f64) -> f64 {
-        self.current
-            .next_breakpoint(t)
-            .min(self.demand.next_breakpoint(t))
+        // Every breakpoint after t >= bp_from is one after bp_from, so none comes before
+        // bp_next: the cached answer is exact (a lookup per step fewer).
+        if t >= self.bp_from && t < self.bp_next {
+            self.bp_next
+        } else {
+            self.inputs_next_breakpoint(t)
+        }
     }
 
     fn bounds(&self, i: usize) -> (f64, f64) {
