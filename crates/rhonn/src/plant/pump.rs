@@ -270,3 +270,51 @@ impl System for PumpSystem {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::signal::PiecewiseLinear;
+
+    fn signal(points: &[(f64, f64)]) -> Input {
+        Input::Signal(Signal::piecewise(
+            PiecewiseLinear::new(points.to_vec()),
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+        ))
+    }
+
+    #[test]
+    fn cached_breakpoints_and_segment_formulas_answer_as_the_signals_do() {
+        let current = signal(&[(0.0, 0.1), (1.0, 0.5), (1.0, 0.3), (2.5, 0.6)]);
+        let demand = signal(&[(0.5, 0.0), (1.75, 1e-4), (3.0, 0.0)]);
+        let mut pump = PumpSystem::new(PumpParams::default(), current.clone(), demand.clone());
+        let x = [2e6, 1e-3, 0.0];
+        let direct = |t: f64| current.next_breakpoint(t).min(demand.next_breakpoint(t));
+        let mut checked = 0;
+        // Modes chosen at t0 (as the solver does at every restart), then asked at later
+        // times of the same interval and beyond it.
+        for k in 0..40 {
+            let t0 = k as f64 * 0.1;
+            pump.update_modes(t0, &x);
+            for dt in [0.0, 0.01, 0.049, 0.2, 0.9] {
+                let t = t0 + dt;
+                assert_eq!(pump.next_breakpoint(t), direct(t), "t0 {t0} t {t}");
+                checked += 1;
+            }
+            let t = t0 + 0.03;
+            let (si, sq) = (current.segment(t0), demand.segment(t0));
+            assert_eq!(
+                pump.current_at(t),
+                current.eval_in(si, t).clamp(0.0, pump.params.i_max)
+            );
+            assert_eq!(pump.demand_at(t), demand.eval_in(sq, t));
+        }
+        // A held current has no breakpoints of its own from then on.
+        pump.update_modes(0.2, &x);
+        pump.set_current(0.4);
+        assert_eq!(pump.next_breakpoint(0.3), demand.next_breakpoint(0.3));
+        assert_eq!(pump.current_at(0.3), 0.4);
+        assert_eq!(checked, 200);
+    }
+}
