@@ -594,6 +594,43 @@ fn pump_model_predicts_the_validation_record_10_steps_ahead() {
     // rhonn's own SI columns are plotted in display units.
     let svg = std::fs::read_to_string(d.path().join("p/prediction.svg")).unwrap();
     assert!(svg.contains("p_meas [MPa]"), "no MPa axis");
+    // The same record written every 1 ms is put on the model's 5 ms grid, with a note:
+    // the same prediction.
+    let o = rhonn(d.path(), &["show", "pump-validate"]);
+    let toml = String::from_utf8(o.stdout)
+        .unwrap()
+        .replace("output_interval_ms = 5.0", "output_interval_ms = 1.0");
+    assert!(toml.contains("output_interval_ms = 1.0"));
+    std::fs::write(d.path().join("v1.toml"), toml).unwrap();
+    let o = rhonn(d.path(), &["run", "v1.toml", "--out", "v1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "m/model.json",
+            "--data",
+            "v1/trajectory.csv",
+            "--out",
+            "p1",
+            "--steps-ahead",
+            "10",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("is sampled every 0.001 s; predicting on the model's grid of 0.005 s"),
+        "{}",
+        stderr(&o)
+    );
+    let s1: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("p1/summary.json")).unwrap()).unwrap();
+    let fit1 = s1["outputs"][0]["fit_percent"].as_f64().unwrap();
+    assert!(
+        (fit1 - fit).abs() < 0.05,
+        "1 ms record {fit1} %, 5 ms record {fit} %"
+    );
 }
 
 #[test]

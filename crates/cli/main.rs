@@ -225,7 +225,34 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
         &m.outputs,
         m.spec.max_lag() + steps.unwrap_or(1) + 1,
     )?;
-    let r = &recs[0];
+    // The model's lags are in its own samples: data sampled otherwise is put on the
+    // model's grid (inputs held, outputs interpolated) and said so.
+    let dt = recs[0].median_interval();
+    let resampled;
+    let r = if (dt - m.sample_time_s).abs() > 1e-6 * m.sample_time_s {
+        resampled = recs[0].uniform(m.sample_time_s);
+        let need = m.spec.max_lag() + steps.unwrap_or(1) + 1;
+        if resampled.len() < need {
+            anyhow::bail!(
+                "{}: {} samples on the model's {} s grid, the model needs at least {need}",
+                data.display(),
+                resampled.len(),
+                m.sample_time_s
+            );
+        }
+        // Intervals read off decimal times carry float noise: shown to the nanosecond.
+        let ns = |v: f64| (v * 1e9).round() / 1e9;
+        eprintln!(
+            "note: {} is sampled every {} s; predicting on the model's grid of {} s ({} samples)",
+            data.display(),
+            ns(dt),
+            ns(m.sample_time_s),
+            resampled.len()
+        );
+        &resampled
+    } else {
+        &recs[0]
+    };
     let (p, first) = m.predict(r, steps);
     let figs = m.figures(r, &p, first);
     let base = fitted.baseline.as_ref().map(|b| {

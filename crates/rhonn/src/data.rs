@@ -48,8 +48,12 @@ impl Record {
         let mut j = 0;
         let mut inputs = vec![Vec::with_capacity(n); self.inputs.len()];
         let mut outputs = vec![Vec::with_capacity(n); self.outputs.len()];
+        // A grid time within a millionth of an interval of a sample is that sample's time
+        // (grid times k dt and the file's decimal times differ in their last bits; taking
+        // the sample before would delay a held input by a whole sample).
+        let tol = 1e-6 * dt;
         for &t in &grid {
-            while j + 1 < self.len() && self.t[j + 1] <= t {
+            while j + 1 < self.len() && self.t[j + 1] <= t + tol {
                 j += 1;
             }
             for (c, col) in self.inputs.iter().enumerate() {
@@ -57,7 +61,7 @@ impl Record {
             }
             for (c, col) in self.outputs.iter().enumerate() {
                 let v = if j + 1 < self.len() {
-                    let f = (t - self.t[j]) / (self.t[j + 1] - self.t[j]);
+                    let f = ((t - self.t[j]) / (self.t[j + 1] - self.t[j])).max(0.0);
                     col[j] + f * (col[j + 1] - col[j])
                 } else {
                     col[j]
@@ -99,6 +103,29 @@ impl Record {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn resampling_to_a_coarser_grid_takes_the_samples_at_its_times() {
+        // 1 ms decimal times onto a 5 ms grid whose interval was read off float
+        // differences (4.999999999999893 ms): every grid point is a sample of the file.
+        let n = 12_001;
+        let t: Vec<f64> = (0..n).map(|k| k as f64 / 1000.0).collect();
+        let held: Vec<f64> = (0..n).map(|k| (k / 5) as f64).collect();
+        let ramp: Vec<f64> = (0..n).map(|k| k as f64).collect();
+        let r = Record {
+            source: "r".into(),
+            t,
+            inputs: vec![held],
+            outputs: vec![ramp],
+        };
+        let dt = 0.004_999_999_999_999_893;
+        let u = r.uniform(dt);
+        assert_eq!(u.len(), 2401);
+        for k in 0..u.len() {
+            assert_eq!(u.inputs[0][k], k as f64, "input at grid point {k}");
+            assert!((u.outputs[0][k] - 5.0 * k as f64).abs() < 1e-6, "output at {k}");
+        }
+    }
 
     #[test]
     fn resampling_holds_inputs_and_interpolates_outputs() {
