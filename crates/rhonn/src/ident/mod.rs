@@ -311,7 +311,7 @@ impl Identifier {
         let y = &mut y[..n + m];
         for i in 0..n {
             let src = if parallel { s[i * b] } else { chi[i] };
-            y[i] = self.net.sigmoid.eval(src / self.net.state_scale[i]);
+            y[i] = self.net.sigmoid.eval(self.net.scaled_state(i, src));
         }
         for j in 0..m {
             y[n + j] = u[j] / self.net.input_scale[j];
@@ -359,7 +359,7 @@ impl Identifier {
         let parallel = self.mode == Mode::Parallel;
         for i in 0..N {
             let src = if parallel { s[i * (1 + L)] } else { chi[i] };
-            y[i] = self.net.sigmoid.eval(src / self.net.state_scale[i]);
+            y[i] = self.net.sigmoid.eval(self.net.scaled_state(i, src));
         }
         for j in 0..m {
             y[N + j] = u[j] / self.net.input_scale[j];
@@ -713,7 +713,7 @@ impl<St> FrozenPair<St> {
         let copy = |src: &[f64], xh: &[f64], dxh: &mut [f64]| {
             let mut y = [0.0; 4];
             for i in 0..N {
-                y[i] = self.net.sigmoid.eval(src[i] / self.net.state_scale[i]);
+                y[i] = self.net.sigmoid.eval(self.net.scaled_state(i, src[i]));
             }
             for (j, &uj) in u.iter().enumerate() {
                 y[N + j] = uj / self.net.input_scale[j];
@@ -740,7 +740,7 @@ impl<St> FrozenPair<St> {
             // product loop.
             let (n, m) = (src.len(), u.len());
             for i in 0..n {
-                y[i] = self.net.sigmoid.eval(src[i] / self.net.state_scale[i]);
+                y[i] = self.net.sigmoid.eval(self.net.scaled_state(i, src[i]));
             }
             for j in 0..m {
                 y[n + j] = u[j] / self.net.input_scale[j];
