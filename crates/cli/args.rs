@@ -79,8 +79,9 @@ pub enum Command {
         #[arg(long, value_delimiter = ',', required = true)]
         outputs: Vec<String>,
         /// Model structure (TOML: kind, na, nb, nk, degree, max_factors, law, ridge,
-        /// epochs, gain, output_margin); defaults: a RHONN with na = nb = 2, nk = 1,
-        /// degree 2, batch least squares.
+        /// epochs, gain, output_margin, ...); defaults: a RHONN with na = nb = 2, nk = 1,
+        /// degree 2, batch least squares. An ensemble: [[members]] tables, each a
+        /// structure; it predicts the mean of its members' predictions.
         #[arg(long, value_name = "SPEC.toml")]
         model: Option<PathBuf>,
         /// Output folder.

@@ -10,7 +10,7 @@ use args::{Cli, Command};
 use clap::Parser;
 use rhonn::data::Record;
 use rhonn::experiment::{preset, run_full, Trace};
-use rhonn::sysid::{fit_with_baseline, FittedModel, Model, ModelSpec};
+use rhonn::sysid::{fit_ensemble, parse_spec_file, FittedModel, Model, ModelSpec};
 use rhonn_report::{Series, TimePlot};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -119,11 +119,15 @@ fn read_data(
     Ok(recs)
 }
 
-fn figures_json(m: &Model, recs: &[Record], steps: Option<usize>) -> serde_json::Value {
+fn figures_json(
+    m: &Model,
+    predict: impl Fn(&Record) -> (Vec<Vec<f64>>, usize),
+    recs: &[Record],
+) -> serde_json::Value {
     let per: Vec<_> = recs
         .iter()
         .map(|r| {
-            let (p, first) = m.predict(r, steps);
+            let (p, first) = predict(r);
             serde_json::json!({ "data": r.source, "outputs": m.figures(r, &p, first) })
         })
         .collect();
@@ -137,30 +141,57 @@ fn cmd_fit(
     model: Option<&Path>,
     out: &Path,
 ) -> Result<()> {
-    let spec: ModelSpec = match model {
-        None => ModelSpec::default(),
+    let specs: Vec<ModelSpec> = match model {
+        None => vec![ModelSpec::default()],
         Some(p) => {
             let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
-            toml::from_str(&text)
+            parse_spec_file(&text)
                 .map_err(|e| anyhow::anyhow!("cannot read model spec {}: {e}", p.display()))?
         }
     };
-    spec.check()?;
-    let recs = read_data(data, inputs, outputs, spec.max_lag() + 2)?;
-    let fitted = fit_with_baseline(&spec, &recs, inputs, outputs)?;
+    for (k, spec) in specs.iter().enumerate() {
+        spec.check().with_context(|| {
+            if specs.len() > 1 {
+                format!("in members[{k}]")
+            } else {
+                "in the model spec".to_string()
+            }
+        })?;
+    }
+    let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
+    let recs = read_data(data, inputs, outputs, max_lag + 2)?;
+    let fitted = fit_ensemble(&specs, &recs, inputs, outputs)?;
+    let spec = &specs[0];
+    let m = &fitted.model;
     let mut summary = serde_json::json!({
         "rhonn_version": env!("CARGO_PKG_VERSION"),
-        "model": fitted.model.spec,
-        "features": fitted.model.n_features(),
-        "high_order_terms": fitted.model.terms.len(),
-        "sample_time_s": fitted.model.sample_time_s,
-        "training": { "one_step": figures_json(&fitted.model, &recs, Some(1)), "free_run": figures_json(&fitted.model, &recs, None) },
+        "model": m.spec,
+        "features": m.n_features(),
+        "high_order_terms": m.terms.len(),
+        "sample_time_s": m.sample_time_s,
+        "training": {
+            "one_step": figures_json(m, |r| fitted.predict(r, Some(1)), &recs),
+            "free_run": figures_json(m, |r| fitted.predict(r, None), &recs),
+        },
     });
+    if !fitted.members.is_empty() {
+        // An ensemble: every member's structure and size; the figures are the mean's.
+        summary["members"] = fitted
+            .all_members()
+            .map(|m| {
+                serde_json::json!({
+                    "model": m.spec,
+                    "features": m.n_features(),
+                    "high_order_terms": m.terms.len(),
+                })
+            })
+            .collect();
+    }
     if let Some(b) = &fitted.baseline {
         summary["baseline_arx"] = serde_json::json!({
             "features": b.n_features(),
-            "one_step": figures_json(b, &recs, Some(1)),
-            "free_run": figures_json(b, &recs, None),
+            "one_step": figures_json(b, |r| b.predict(r, Some(1)), &recs),
+            "free_run": figures_json(b, |r| b.predict(r, None), &recs),
         });
     }
     let mut set = rhonn_report::OutputSet::new(out)?;
@@ -173,12 +204,21 @@ fn cmd_fit(
         writeln!(w)
     })?;
     let files = set.commit()?;
-    println!(
-        "fitted a {:?} model with {} features per output on {} record(s)",
-        spec.kind,
-        fitted.model.n_features(),
-        recs.len()
-    );
+    if fitted.members.is_empty() {
+        println!(
+            "fitted a {:?} model with {} features per output on {} record(s)",
+            spec.kind,
+            fitted.model.n_features(),
+            recs.len()
+        );
+    } else {
+        println!(
+            "fitted an ensemble of {} models ({} features per output in all) on {} record(s)",
+            1 + fitted.members.len(),
+            fitted.all_members().map(|m| m.n_features()).sum::<usize>(),
+            recs.len()
+        );
+    }
     print_training(&summary["training"]["free_run"], "free run (training data)");
     if fitted.baseline.is_some() {
         print_training(&summary["baseline_arx"]["free_run"], "ARX baseline, free run");
@@ -211,19 +251,14 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
         anyhow::bail!("--steps-ahead 0 is not allowed: give K >= 1, or leave it out for a free run");
     }
     fitted
-        .model
         .validate()
         .with_context(|| format!("{} is not a valid model", model.display()))?;
-    if let Some(b) = &fitted.baseline {
-        b.validate()
-            .with_context(|| format!("{}: the baseline is not a valid model", model.display()))?;
-    }
     let m = &fitted.model;
     let recs = read_data(
         &[data.to_path_buf()],
         &m.inputs,
         &m.outputs,
-        m.spec.max_lag() + steps.unwrap_or(1) + 1,
+        fitted.max_lag() + steps.unwrap_or(1) + 1,
     )?;
     // The model's lags are in its own samples: data sampled otherwise is put on the
     // model's grid (inputs held, outputs interpolated) and said so.
@@ -231,7 +266,7 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
     let resampled;
     let r = if (dt - m.sample_time_s).abs() > 1e-6 * m.sample_time_s {
         resampled = recs[0].uniform(m.sample_time_s);
-        let need = m.spec.max_lag() + steps.unwrap_or(1) + 1;
+        let need = fitted.max_lag() + steps.unwrap_or(1) + 1;
         if resampled.len() < need {
             anyhow::bail!(
                 "{}: {} samples on the model's {} s grid, the model needs at least {need}",
@@ -253,7 +288,7 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
     } else {
         &recs[0]
     };
-    let (p, first) = m.predict(r, steps);
+    let (p, first) = fitted.predict(r, steps);
     let figs = m.figures(r, &p, first);
     let base = fitted.baseline.as_ref().map(|b| {
         let (pb, fb) = b.predict(r, steps);

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""Choose the cascaded-tanks model's structure on estimation.csv alone: 3-fold
-cross-validation over contiguous thirds (train on two thirds as two records, run free on
-the held-out third), lowest mean free-run RMS error, over a grid of structures. Prints
-every structure's folds and mean and writes the best as a model TOML. validation.csv is
-not read. Standard library only.
+"""Choose the cascaded-tanks model on estimation.csv alone: 3-fold cross-validation over
+contiguous thirds (train on two thirds as two records, run free on the held-out third),
+lowest mean free-run RMS error, over a grid of structures; then over ensembles of the k
+best structures (k = 2..5, the mean of their free runs), judged by the same folds. Prints
+every candidate's folds and mean and writes the best (a structure or an ensemble) as a
+model TOML. validation.csv is not read. Standard library only.
 
 Usage: python3 tools/select/tanks_cv.py [path/to/rhonn] [out.toml]
 """
@@ -23,6 +24,10 @@ def toml(c):
     if c["filters"]:
         lines.append(f'input_filters_s = [{", ".join(f"{v:.1f}" for v in c["filters"])}]')
     return "\n".join(lines) + "\n"
+
+
+def ensemble_toml(cs):
+    return "\n".join("[[members]]\n" + toml(c) for c in cs)
 
 
 def grid():
@@ -49,10 +54,9 @@ def main():
                 w.writerow(head)
                 w.writerows(body[f * n // 3:(f + 1) * n // 3])
             thirds.append(p)
-        best = None
-        for c in grid():
+        def cv(text):
             spec = os.path.join(d, "m.toml")
-            open(spec, "w").write(toml(c))
+            open(spec, "w").write(text)
             errs = []
             try:
                 for f in range(3):
@@ -69,16 +73,36 @@ def main():
                     s = json.load(open(os.path.join(p, "summary.json")))
                     errs.append(s["outputs"][0]["rms_error"])
             except subprocess.CalledProcessError as e:
-                print(f"{json.dumps(c)}: failed: {e.stderr.strip()}", flush=True)
+                return None, e.stderr.strip()
+            return errs, None
+
+        scored = []
+        for c in grid():
+            errs, why = cv(toml(c))
+            if errs is None:
+                print(f"{json.dumps(c)}: failed: {why}", flush=True)
                 continue
             mean = sum(errs) / 3
             print(f"{json.dumps(c)}: folds {' / '.join(f'{v:.3f}' for v in errs)}; mean {mean:.4f} V",
                   flush=True)
-            if best is None or mean < best[0]:
-                best = (mean, c)
-        print(f"best: {json.dumps(best[1])}, mean free-run RMS error {best[0]:.4f} V")
+            scored.append((mean, c))
+        scored.sort(key=lambda s: s[0])
+        best = (scored[0][0], toml(scored[0][1]), "the best structure")
+        for k in range(2, 6):
+            text = ensemble_toml([c for _, c in scored[:k]])
+            errs, why = cv(text)
+            if errs is None:
+                print(f"ensemble of the {k} best: failed: {why}", flush=True)
+                continue
+            mean = sum(errs) / 3
+            print(f"ensemble of the {k} best: folds {' / '.join(f'{v:.3f}' for v in errs)}; "
+                  f"mean {mean:.4f} V", flush=True)
+            if mean < best[0]:
+                best = (mean, text, f"the ensemble of the {k} best structures")
+        print(f"chosen: {best[2]}, mean free-run RMS error {best[0]:.4f} V")
+        print(best[1])
         if out_toml:
-            open(out_toml, "w").write(toml(best[1]))
+            open(out_toml, "w").write(best[1])
 
 
 if __name__ == "__main__":

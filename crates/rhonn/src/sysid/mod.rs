@@ -794,17 +794,109 @@ fn recursive(rows: &[Vec<f64>], targets: &[Vec<f64>], epochs: usize, gain: Optio
         .collect()
 }
 
-/// What `rhonn fit` writes to `model.json`: the model and, for a RHONN, the ARX
-/// baseline with the same lags, trained on the same data.
+/// What `rhonn fit` writes to `model.json`: the model (with an ensemble's further
+/// members) and, for a RHONN, the ARX baseline with the same lags, trained on the same
+/// data.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FittedModel {
     /// rhonn's version.
     pub rhonn_version: String,
-    /// The model.
+    /// The model (an ensemble's first member).
     pub model: Model,
-    /// The linear baseline (None when the model is itself an ARX).
+    /// An ensemble's further members: its prediction is the mean of every member's own
+    /// prediction (free run or K steps ahead). Empty for a single model.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub members: Vec<Model>,
+    /// The linear baseline with the first member's lags (None when that is itself an
+    /// ARX).
     pub baseline: Option<Model>,
+}
+
+impl FittedModel {
+    /// Every member, the first one first.
+    pub fn all_members(&self) -> impl Iterator<Item = &Model> {
+        std::iter::once(&self.model).chain(&self.members)
+    }
+
+    /// Check every member (and that they share inputs, outputs and sample time) and the
+    /// baseline.
+    pub fn validate(&self) -> Result<()> {
+        for (k, m) in self.all_members().enumerate() {
+            m.validate()?;
+            if m.inputs != self.model.inputs
+                || m.outputs != self.model.outputs
+                || (m.sample_time_s - self.model.sample_time_s).abs() > 1e-9 * self.model.sample_time_s
+            {
+                return Err(invalid(
+                    format!("members[{k}]"),
+                    "other inputs, outputs or sample time",
+                    "the first member's",
+                ));
+            }
+        }
+        if let Some(b) = &self.baseline {
+            b.validate()?;
+        }
+        Ok(())
+    }
+
+    /// Samples needed before the first prediction, over every member.
+    pub fn max_lag(&self) -> usize {
+        self.all_members().map(|m| m.spec.max_lag()).max().unwrap_or(0)
+    }
+
+    /// The prediction of every output (see [`Model::predict`]): a single model's, or the
+    /// mean of an ensemble's members' predictions, from the latest member's first
+    /// predictable sample on (the measurement repeated before it).
+    pub fn predict(&self, r: &Record, steps_ahead: Option<usize>) -> (Vec<Vec<f64>>, usize) {
+        let (mut sum, mut first) = self.model.predict(r, steps_ahead);
+        for m in &self.members {
+            let (p, f) = m.predict(r, steps_ahead);
+            first = first.max(f);
+            for (s, pj) in sum.iter_mut().zip(&p) {
+                for (a, b) in s.iter_mut().zip(pj) {
+                    *a += b;
+                }
+            }
+        }
+        let k = (1 + self.members.len()) as f64;
+        for (j, s) in sum.iter_mut().enumerate() {
+            for (i, v) in s.iter_mut().enumerate() {
+                *v = if i < first { r.outputs[j][i] } else { *v / k };
+            }
+        }
+        (sum, first)
+    }
+}
+
+/// Read a model spec file: one structure, or an ensemble as `[[members]]` tables (each
+/// a structure; its prediction is the mean of the members'). Errors name the key.
+pub fn parse_spec_file(text: &str) -> std::result::Result<Vec<ModelSpec>, String> {
+    let v: toml::Value = toml::from_str(text).map_err(|e| e.to_string())?;
+    match v.get("members") {
+        None => Ok(vec![toml::from_str::<ModelSpec>(text).map_err(|e| e.to_string())?]),
+        Some(members) => {
+            let table = v.as_table().expect("a TOML document is a table");
+            if let Some(k) = table.keys().find(|k| *k != "members") {
+                return Err(format!(
+                    "`{k}` beside `members`: an ensemble file holds only `[[members]]` tables"
+                ));
+            }
+            let list = members
+                .as_array()
+                .filter(|a| !a.is_empty())
+                .ok_or("`members` must be a non-empty list of `[[members]]` tables")?;
+            list.iter()
+                .enumerate()
+                .map(|(i, m)| {
+                    m.clone()
+                        .try_into::<ModelSpec>()
+                        .map_err(|e| format!("members[{i}]: {e}"))
+                })
+                .collect()
+        }
+    }
 }
 
 /// Train `spec` and, for a RHONN, the ARX baseline with the same lags.
@@ -814,7 +906,25 @@ pub fn fit_with_baseline(
     inputs: &[String],
     outputs: &[String],
 ) -> Result<FittedModel> {
+    fit_ensemble(std::slice::from_ref(spec), records, inputs, outputs)
+}
+
+/// Train every structure of an ensemble (one structure: a single model) and, when the
+/// first is a RHONN, the ARX baseline with the first one's lags.
+pub fn fit_ensemble(
+    specs: &[ModelSpec],
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<FittedModel> {
+    let spec = specs
+        .first()
+        .ok_or_else(|| invalid("members", "[]", "at least one model structure"))?;
     let model = fit(spec, records, inputs, outputs)?;
+    let members = specs[1..]
+        .iter()
+        .map(|s| fit(s, records, inputs, outputs))
+        .collect::<Result<Vec<_>>>()?;
     let baseline = if spec.kind == Kind::Rhonn {
         let arx = ModelSpec {
             kind: Kind::Arx,
@@ -829,6 +939,7 @@ pub fn fit_with_baseline(
     Ok(FittedModel {
         rhonn_version: env!("CARGO_PKG_VERSION").to_string(),
         model,
+        members,
         baseline,
     })
 }
@@ -873,6 +984,69 @@ mod tests {
 
     fn names() -> (Vec<String>, Vec<String>) {
         (vec!["u".into()], vec!["y".into()])
+    }
+
+    #[test]
+    fn spec_files_hold_one_structure_or_an_ensemble() {
+        let one = parse_spec_file("na = 3\nnb = 1\n").unwrap();
+        assert_eq!(one.len(), 1);
+        assert_eq!((one[0].na, one[0].nb, one[0].kind), (3, 1, Kind::Rhonn));
+        let two = parse_spec_file("[[members]]\nna = 2\n[[members]]\nkind = \"arx\"\nna = 4\n").unwrap();
+        assert_eq!(two.len(), 2);
+        assert_eq!((two[0].na, two[1].na, two[1].kind), (2, 4, Kind::Arx));
+        for (text, says) in [
+            ("members = []\n", "non-empty list"),
+            ("na = 2\n[[members]]\nna = 3\n", "`na` beside `members`"),
+            ("[[members]]\nna = 2\n[[members]]\nnaa = 3\n", "members[1]"),
+            ("nope = 1\n", "nope"),
+        ] {
+            let e = parse_spec_file(text).unwrap_err();
+            assert!(e.contains(says), "{text:?}: {e}");
+        }
+    }
+
+    #[test]
+    fn an_ensemble_predicts_the_mean_of_its_members() {
+        let (i, o) = names();
+        let specs = [
+            ModelSpec {
+                na: 1,
+                nb: 1,
+                ..Default::default()
+            },
+            ModelSpec {
+                na: 3,
+                nb: 2,
+                degree: 1,
+                max_factors: 1,
+                ..Default::default()
+            },
+        ];
+        let rec = record(1, 400, true);
+        let ens = fit_ensemble(&specs, std::slice::from_ref(&rec), &i, &o).unwrap();
+        assert_eq!(ens.members.len(), 1);
+        ens.validate().unwrap();
+        assert_eq!(ens.max_lag(), 3);
+        let val = record(2, 300, true);
+        for steps in [None, Some(1), Some(4)] {
+            let (p, first) = ens.predict(&val, steps);
+            let (pa, fa) = ens.model.predict(&val, steps);
+            let (pb, fb) = ens.members[0].predict(&val, steps);
+            assert_eq!(first, fa.max(fb));
+            for k in 0..val.len() {
+                let want = if k < first {
+                    val.outputs[0][k]
+                } else {
+                    (pa[0][k] + pb[0][k]) / 2.0
+                };
+                assert!((p[0][k] - want).abs() < 1e-12, "{steps:?} sample {k}");
+            }
+        }
+        // A single structure is the one-member case, with no `members` in model.json.
+        let single = fit_with_baseline(&specs[0], std::slice::from_ref(&rec), &i, &o).unwrap();
+        assert!(single.members.is_empty());
+        assert!(!serde_json::to_string(&single).unwrap().contains("members"));
+        assert_eq!(single.predict(&val, None), single.model.predict(&val, None));
     }
 
     #[test]
