@@ -257,7 +257,7 @@ impl<'a> Accumulator<'a> {
         };
         let mid = 0.5 * (a + b);
         let seg = self.setpoint.map(|sp| (sp, sp.segment(mid)));
-        let settled = {
+        let settled = seg.is_some() && {
             let last_change = self
                 .changes
                 .iter()
@@ -270,18 +270,24 @@ impl<'a> Accumulator<'a> {
         let mut pts = [(a, 0.0); 5];
         let xa = state(a);
         pts[0] = (a, xa[P_LINE]);
+        // Extremes in locals (the same comparisons in the same order), stored once.
+        let mut x_hi = self.x_hi;
         for (j, (node, _)) in GAUSS.iter().enumerate() {
             let t = a + node * h;
             let x = state(t);
             pts[j + 1] = (t, x[P_LINE]);
-            self.x_hi = self.x_hi.max(x[STROKE]);
+            x_hi = x_hi.max(x[STROKE]);
         }
         let xb = state(b);
         pts[4] = (b, xb[P_LINE]);
-        self.x_hi = self.x_hi.max(xb[STROKE]).max(xa[STROKE]);
+        self.x_hi = x_hi.max(xb[STROKE]).max(xa[STROKE]);
+        let (mut p_lo, mut p_hi) = (self.p_lo, self.p_hi);
+        for &(_, p) in &pts {
+            p_lo = p_lo.min(p);
+            p_hi = p_hi.max(p);
+        }
+        (self.p_lo, self.p_hi) = (p_lo, p_hi);
         for &(t, p) in &pts {
-            self.p_lo = self.p_lo.min(p);
-            self.p_hi = self.p_hi.max(p);
             if let Some((sp, sg)) = seg {
                 let dev = mpa((p - sp.eval_in(sg, t)).abs());
                 self.max_dev = self.max_dev.max(dev);
