@@ -547,47 +547,50 @@ fn cascaded_tanks_free_run_beats_arx_on_validation() {
 fn pump_model_predicts_the_validation_record_10_steps_ahead() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let d = tempfile::tempdir().unwrap();
-    for sc in ["pump-identify", "pump-validate"] {
-        let o = rhonn(d.path(), &["run", sc, "--out", sc]);
+    // Run rhonn in d; it must succeed.
+    let ok = |args: &[&str]| {
+        let o = rhonn(d.path(), args);
         assert!(o.status.success(), "{}", stderr(&o));
-    }
-    let spec = root.join("models/pump.toml");
-    let o = rhonn(
-        d.path(),
-        &[
-            "fit",
-            "--data",
-            "pump-identify/trajectory.csv",
-            "--inputs",
-            "current,demand",
-            "--outputs",
-            "p_meas",
-            "--model",
-            spec.to_str().unwrap(),
-            "--out",
-            "m",
-        ],
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
-    let o = rhonn(
-        d.path(),
-        &[
+        o
+    };
+    // 10 steps ahead with the trained model on `data` into `out`: (model fit, ARX fit, run).
+    let predict = |data: &str, out: &str| {
+        let o = ok(&[
             "predict",
             "--model",
             "m/model.json",
             "--data",
-            "pump-validate/trajectory.csv",
+            data,
             "--out",
-            "p",
+            out,
             "--steps-ahead",
             "10",
-        ],
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(d.path().join("p/summary.json")).unwrap()).unwrap();
-    let fit = s["outputs"][0]["fit_percent"].as_f64().unwrap();
-    let arx = s["baseline_arx"][0]["fit_percent"].as_f64().unwrap();
+        ]);
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.path().join(out).join("summary.json")).unwrap())
+                .unwrap();
+        let fit = s["outputs"][0]["fit_percent"].as_f64().unwrap();
+        let arx = s["baseline_arx"][0]["fit_percent"].as_f64().unwrap();
+        (fit, arx, o)
+    };
+    for sc in ["pump-identify", "pump-validate"] {
+        ok(&["run", sc, "--out", sc]);
+    }
+    let spec = root.join("models/pump.toml");
+    ok(&[
+        "fit",
+        "--data",
+        "pump-identify/trajectory.csv",
+        "--inputs",
+        "current,demand",
+        "--outputs",
+        "p_meas",
+        "--model",
+        spec.to_str().unwrap(),
+        "--out",
+        "m",
+    ]);
+    let (fit, arx, _) = predict("pump-validate/trajectory.csv", "p");
     eprintln!("pump, 10 steps ahead on pump-validate: RHONN fit {fit:.2} %, ARX {arx:.2} %");
     assert!(fit >= 80.0, "RHONN fit {fit} %");
     assert!(fit > arx, "RHONN fit {fit} %, ARX {arx} %");
@@ -596,37 +599,19 @@ fn pump_model_predicts_the_validation_record_10_steps_ahead() {
     assert!(svg.contains("p_meas [MPa]"), "no MPa axis");
     // The same record written every 1 ms is put on the model's 5 ms grid, with a note:
     // the same prediction.
-    let o = rhonn(d.path(), &["show", "pump-validate"]);
+    let o = ok(&["show", "pump-validate"]);
     let toml = String::from_utf8(o.stdout)
         .unwrap()
         .replace("output_interval_ms = 5.0", "output_interval_ms = 1.0");
     assert!(toml.contains("output_interval_ms = 1.0"));
     std::fs::write(d.path().join("v1.toml"), toml).unwrap();
-    let o = rhonn(d.path(), &["run", "v1.toml", "--out", "v1"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let o = rhonn(
-        d.path(),
-        &[
-            "predict",
-            "--model",
-            "m/model.json",
-            "--data",
-            "v1/trajectory.csv",
-            "--out",
-            "p1",
-            "--steps-ahead",
-            "10",
-        ],
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
+    ok(&["run", "v1.toml", "--out", "v1"]);
+    let (fit1, _, o) = predict("v1/trajectory.csv", "p1");
     assert!(
         stderr(&o).contains("is sampled every 0.001 s; predicting on the model's grid of 0.005 s"),
         "{}",
         stderr(&o)
     );
-    let s1: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(d.path().join("p1/summary.json")).unwrap()).unwrap();
-    let fit1 = s1["outputs"][0]["fit_percent"].as_f64().unwrap();
     assert!(
         (fit1 - fit).abs() < 0.05,
         "1 ms record {fit1} %, 5 ms record {fit} %"
@@ -638,30 +623,8 @@ fn pump_model_predicts_the_validation_record_10_steps_ahead() {
         .enumerate()
     {
         let sc = root.join(format!("scenarios/stress/{name}.toml"));
-        let o = rhonn(d.path(), &["run", sc.to_str().unwrap(), "--out", name]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let data = format!("{name}/trajectory.csv");
-        let out = format!("s{k}");
-        let o = rhonn(
-            d.path(),
-            &[
-                "predict",
-                "--model",
-                "m/model.json",
-                "--data",
-                &data,
-                "--out",
-                &out,
-                "--steps-ahead",
-                "10",
-            ],
-        );
-        assert!(o.status.success(), "{}", stderr(&o));
-        let s: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(d.path().join(&out).join("summary.json")).unwrap())
-                .unwrap();
-        let fit = s["outputs"][0]["fit_percent"].as_f64().unwrap();
-        let arx = s["baseline_arx"][0]["fit_percent"].as_f64().unwrap();
+        ok(&["run", sc.to_str().unwrap(), "--out", name]);
+        let (fit, arx, _) = predict(&format!("{name}/trajectory.csv"), &format!("s{k}"));
         eprintln!("{name}: RHONN fit {fit:.2} %, ARX {arx:.2} %");
         assert!(fit > 75.0 && fit > arx, "{name}: RHONN {fit} %, ARX {arx} %");
     }

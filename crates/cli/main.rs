@@ -328,11 +328,11 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
         .enumerate()
         .map(|(j, name)| {
             // Columns rhonn writes in SI are plotted in display units; others as they are.
-            let (k, y_label) = match display_unit(name) {
-                Some((k, unit)) => (k, format!("{name} [{unit}]")),
-                None => (1.0, name.clone()),
+            let (to_display, y_label): (ToDisplay, String) = match display_unit(name) {
+                Some((f, unit)) => (f, format!("{name} [{unit}]")),
+                None => (|v| v, name.clone()),
             };
-            let scaled = |v: &[f64]| v.iter().map(|x| x * k).collect::<Vec<f64>>();
+            let scaled = |v: &[f64]| v.iter().map(|&x| to_display(x)).collect::<Vec<f64>>();
             let mut series = vec![
                 Series {
                     label: name.clone(),
@@ -486,15 +486,19 @@ fn cmd_run(scenario: &str, out: Option<PathBuf>) -> Result<()> {
     Ok(())
 }
 
+/// A conversion from SI to a display unit.
+type ToDisplay = fn(f64) -> f64;
+
 /// The display unit of a column `rhonn run` writes in SI (`trajectory.csv`): pressures in
 /// Pa are shown in MPa, strokes in m in mm, flows in m^3/s in dm^3/s. None for any other
 /// column (measured data keeps its own units).
-fn display_unit(column: &str) -> Option<(f64, &'static str)> {
+fn display_unit(column: &str) -> Option<(ToDisplay, &'static str)> {
+    use rhonn::units::{dm3_s, mm, mpa};
     let base = column.strip_suffix("_pi").unwrap_or(column);
     match base {
-        "p_line" | "p_meas" | "p_ref" | "p_line_model" => Some((1e-6, "MPa")),
-        "stroke" | "stroke_ref" => Some((1e3, "mm")),
-        "demand" => Some((1e3, "dm^3/s")),
+        "p_line" | "p_meas" | "p_ref" | "p_line_model" => Some((mpa, "MPa")),
+        "stroke" | "stroke_ref" => Some((mm, "mm")),
+        "demand" => Some((dm3_s, "dm^3/s")),
         _ => None,
     }
 }

@@ -7,7 +7,10 @@ record (pump-validate) is not read. Standard library only.
 
 Usage: python3 tools/select/pump_cv.py [path/to/rhonn] [out.toml]
 """
-import csv, itertools, json, os, subprocess, sys, tempfile
+import json, os, subprocess, sys, tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from folds import write_thirds  # noqa: E402
 
 exe = sys.argv[1] if len(sys.argv) > 1 else "target/release/rhonn"
 out_toml = sys.argv[2] if len(sys.argv) > 2 else None
@@ -30,17 +33,7 @@ def main():
     with tempfile.TemporaryDirectory() as d:
         rec = os.path.join(d, "identify")
         run("run", "pump-identify", "--out", rec)
-        rows = list(csv.reader(open(os.path.join(rec, "trajectory.csv"))))
-        head, body = rows[0], rows[1:]
-        n = len(body)
-        thirds = []
-        for f in range(3):
-            p = os.path.join(d, f"third{f}.csv")
-            with open(p, "w", newline="") as fh:
-                w = csv.writer(fh)
-                w.writerow(head)
-                w.writerows(body[f * n // 3:(f + 1) * n // 3])
-            thirds.append(p)
+        thirds = write_thirds(os.path.join(rec, "trajectory.csv"), d)
         grid = [dict(kind="arx", na=na, nb=nb) for na in (1, 2, 4, 8) for nb in (10, 20, 30, 40)]
         grid += [dict(kind="rhonn", na=na, nb=nb, degree=2, nl=nl)
                  for na in (2, 4, 8) for nb in (20, 30, 40) for nl in (1, 2, 3)]

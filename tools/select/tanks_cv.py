@@ -8,7 +8,10 @@ model TOML. validation.csv is not read. Standard library only.
 
 Usage: python3 tools/select/tanks_cv.py [path/to/rhonn] [out.toml]
 """
-import csv, json, os, subprocess, sys, tempfile
+import json, os, subprocess, sys, tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from folds import write_thirds  # noqa: E402
 
 exe = sys.argv[1] if len(sys.argv) > 1 else "target/release/rhonn"
 out_toml = sys.argv[2] if len(sys.argv) > 2 else None
@@ -42,18 +45,8 @@ def grid():
 
 
 def main():
-    rows = list(csv.reader(open(data)))
-    head, body = rows[0], rows[1:]
-    n = len(body)
     with tempfile.TemporaryDirectory() as d:
-        thirds = []
-        for f in range(3):
-            p = os.path.join(d, f"third{f}.csv")
-            with open(p, "w", newline="") as fh:
-                w = csv.writer(fh)
-                w.writerow(head)
-                w.writerows(body[f * n // 3:(f + 1) * n // 3])
-            thirds.append(p)
+        thirds = write_thirds(data, d)
         def cv(text):
             spec = os.path.join(d, "m.toml")
             open(spec, "w").write(text)

@@ -403,30 +403,14 @@ impl<St: State> Plant for IdentifiedPump<St> {
         let mut xh = [0.0; 2];
         let n = self.states.len();
         self.ident.outputs(&x[PLANT_DIM..], &mut xh[..n]);
-        let mut out = [None, None];
-        for (k, s) in self.states.iter().enumerate() {
-            match s {
-                PumpSignal::PLine => out[P_LINE] = Some(xh[k]),
-                PumpSignal::Stroke => out[STROKE] = Some(xh[k]),
-                _ => {}
-            }
-        }
-        out
+        by_plant_state(&self.states, |k| xh[k])
     }
     fn hat_indices(&self, slot: usize) -> [Option<usize>; 2] {
-        let mut out = [None, None];
         if slot != 0 || self.ident.law.structure != crate::law::Structure::FilteredError {
-            return out;
+            return [None, None];
         }
         let b = self.ident.block();
-        for (k, s) in self.states.iter().enumerate() {
-            match s {
-                PumpSignal::PLine => out[P_LINE] = Some(PLANT_DIM + k * b),
-                PumpSignal::Stroke => out[STROKE] = Some(PLANT_DIM + k * b),
-                _ => {}
-            }
-        }
-        out
+        by_plant_state(&self.states, |k| PLANT_DIM + k * b)
     }
 }
 
@@ -441,20 +425,26 @@ impl<St: State> Plant for FrozenPair<St> {
         self.hat_indices(slot).map(|i| i.map(|i| x[i]))
     }
     fn hat_indices(&self, slot: usize) -> [Option<usize>; 2] {
-        let mut out = [None, None];
         if slot > 1 {
-            return out;
+            return [None, None];
         }
         let off = PLANT_DIM + slot * self.states.len();
-        for (k, s) in self.states.iter().enumerate() {
-            match s {
-                PumpSignal::PLine => out[P_LINE] = Some(off + k),
-                PumpSignal::Stroke => out[STROKE] = Some(off + k),
-                _ => {}
-            }
-        }
-        out
+        by_plant_state(&self.states, |k| off + k)
     }
+}
+
+/// `[p_line, stroke]` from per-neuron values: neuron k's `value(k)` at the place of the
+/// plant state it identifies, None for a plant state no neuron identifies.
+fn by_plant_state<T>(states: &[PumpSignal], value: impl Fn(usize) -> T) -> [Option<T>; 2] {
+    let mut out = [None, None];
+    for (k, s) in states.iter().enumerate() {
+        match s {
+            PumpSignal::PLine => out[P_LINE] = Some(value(k)),
+            PumpSignal::Stroke => out[STROKE] = Some(value(k)),
+            _ => {}
+        }
+    }
+    out
 }
 
 fn solver_error(e: rhonn_ode::Error, t: f64, x: &[f64]) -> Error {
