@@ -486,12 +486,106 @@ fn bad_data_names_file_line_and_column_and_writes_nothing() {
     assert!(stderr(&o).contains("cannot read nope.json"));
 }
 
-/// The cascaded tanks benchmark with the shipped model structure (chosen on
-/// estimation.csv alone): the free-run RMS error on validation.csv is below the ARX
-/// baseline with the same lags by a wide margin. Skipped (with a message) when the shared
-/// data is not beside the repository.
+/// A `cascade` model (continuous-time RHONN with hidden states): bad structures are
+/// clear errors naming the key; it runs free, and a K-step prediction is refused with
+/// nothing written.
 #[test]
-fn cascaded_tanks_free_run_beats_arx_on_validation() {
+fn cascade_models_run_free_and_bad_cascade_specs_are_clear_errors() {
+    let d = tempfile::tempdir().unwrap();
+    write_record(&d.path().join("train.csv"), 1, 300);
+    let fit = |spec: &str, outputs: &str| {
+        std::fs::write(d.path().join("c.toml"), spec).unwrap();
+        rhonn(
+            d.path(),
+            &[
+                "fit",
+                "--data",
+                "train.csv",
+                "--inputs",
+                "u",
+                "--outputs",
+                outputs,
+                "--model",
+                "c.toml",
+                "--out",
+                "m",
+            ],
+        )
+    };
+    for (spec, outputs, expected) in [
+        (
+            "kind = \"cascade\"\nneurons = 9\n",
+            "y",
+            "`model.neurons` = 9 is not allowed: an integer in [1, 4]",
+        ),
+        (
+            "kind = \"cascade\"\nsettle = 1\n",
+            "y",
+            "`model.settle` = 1 is not allowed: an integer in [2, 1000]",
+        ),
+        (
+            "kind = \"cascade\"\ninput_filters_s = [10.0]\n",
+            "y",
+            "`model.input_filters_s`",
+        ),
+        (
+            "kind = \"cascade\"\n",
+            "y,u",
+            "exactly one output for a `cascade` model",
+        ),
+    ] {
+        let o = fit(spec, outputs);
+        assert_eq!(o.status.code(), Some(2), "{spec}");
+        assert!(
+            stderr(&o).contains(expected),
+            "expected `{expected}` in:\n{}",
+            stderr(&o)
+        );
+        assert!(!d.path().join("m").exists(), "{spec} wrote output");
+    }
+    let o = fit("kind = \"cascade\"\nstarts = 2\nepochs = 5\n", "y");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("m/summary.json")).unwrap()).unwrap();
+    assert!(s["training"]["one_step"].is_null());
+    assert!(
+        s["training"]["free_run"][0]["outputs"][0]["rms_error"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    let predict = |extra: &[&str]| {
+        let mut args = vec![
+            "predict",
+            "--model",
+            "m/model.json",
+            "--data",
+            "train.csv",
+            "--out",
+            "p",
+        ];
+        args.extend_from_slice(extra);
+        rhonn(d.path(), &args)
+    };
+    let o = predict(&["--steps-ahead", "3"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("free run only"), "{}", stderr(&o));
+    assert!(!d.path().join("p").exists());
+    let o = predict(&[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        files_in(&d.path().join("p")),
+        ["prediction.csv", "prediction.svg", "summary.json"]
+    );
+}
+
+/// The cascaded tanks benchmark with the shipped model structure (chosen on
+/// estimation.csv alone): the free-run RMS error on validation.csv is below the
+/// polynomial NARX's published 0.41 V (the target) and below the ARX baseline by
+/// a wide margin. Skipped (with a message) when the shared data is not beside the
+/// repository.
+#[test]
+fn cascaded_tanks_free_run_beats_narx_and_arx_on_validation() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let data = root.join("../shared/data/cascaded-tanks");
     if !data.join("estimation.csv").is_file() {
@@ -537,7 +631,8 @@ fn cascaded_tanks_free_run_beats_arx_on_validation() {
     let rms = s["outputs"][0]["rms_error"].as_f64().unwrap();
     let arx = s["baseline_arx"][0]["rms_error"].as_f64().unwrap();
     eprintln!("cascaded tanks free-run RMS error on validation: RHONN {rms:.4} V, ARX {arx:.4} V");
-    assert!(rms < 0.8 * arx, "RHONN {rms} V, ARX {arx} V");
+    assert!(rms < 0.41, "RHONN {rms} V");
+    assert!(rms < 0.5 * arx, "RHONN {rms} V, ARX {arx} V");
 }
 
 /// The pump with the shipped model structure (chosen on pump-identify alone): trained

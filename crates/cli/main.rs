@@ -10,7 +10,7 @@ use args::{Cli, Command};
 use clap::Parser;
 use rhonn::data::Record;
 use rhonn::experiment::{preset, run_full, Trace};
-use rhonn::sysid::{fit_ensemble, parse_spec_file, FittedModel, Model, ModelSpec};
+use rhonn::sysid::{fit_ensemble, parse_spec_file, FittedModel, Kind, Model, ModelSpec};
 use rhonn_report::{Series, TimePlot};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -121,17 +121,17 @@ fn read_data(
 
 fn figures_json(
     m: &Model,
-    predict: impl Fn(&Record) -> (Vec<Vec<f64>>, usize),
+    predict: impl Fn(&Record) -> rhonn::Result<(Vec<Vec<f64>>, usize)>,
     recs: &[Record],
-) -> serde_json::Value {
-    let per: Vec<_> = recs
+) -> Result<serde_json::Value> {
+    let per = recs
         .iter()
         .map(|r| {
-            let (p, first) = predict(r);
-            serde_json::json!({ "data": r.source, "outputs": m.figures(r, &p, first) })
+            let (p, first) = predict(r)?;
+            Ok(serde_json::json!({ "data": r.source, "outputs": m.figures(r, &p, first) }))
         })
-        .collect();
-    serde_json::Value::Array(per)
+        .collect::<Result<Vec<_>>>()?;
+    Ok(serde_json::Value::Array(per))
 }
 
 fn cmd_fit(
@@ -170,8 +170,13 @@ fn cmd_fit(
         "high_order_terms": m.terms.len(),
         "sample_time_s": m.sample_time_s,
         "training": {
-            "one_step": figures_json(m, |r| fitted.predict(r, Some(1)), &recs),
-            "free_run": figures_json(m, |r| fitted.predict(r, None), &recs),
+            // A `cascade` model has no measured lags to step from: free run only.
+            "one_step": if fitted.all_members().any(|m| m.spec.kind == Kind::Cascade) {
+                serde_json::Value::Null
+            } else {
+                figures_json(m, |r| fitted.predict(r, Some(1)), &recs)?
+            },
+            "free_run": figures_json(m, |r| fitted.predict(r, None), &recs)?,
         },
     });
     if !fitted.members.is_empty() {
@@ -190,8 +195,8 @@ fn cmd_fit(
     if let Some(b) = &fitted.baseline {
         summary["baseline_arx"] = serde_json::json!({
             "features": b.n_features(),
-            "one_step": figures_json(b, |r| b.predict(r, Some(1)), &recs),
-            "free_run": figures_json(b, |r| b.predict(r, None), &recs),
+            "one_step": figures_json(b, |r| b.predict(r, Some(1)), &recs)?,
+            "free_run": figures_json(b, |r| b.predict(r, None), &recs)?,
         });
     }
     let mut set = rhonn_report::OutputSet::new(out)?;
@@ -288,13 +293,16 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
     } else {
         &recs[0]
     };
-    let (p, first) = fitted.predict(r, steps);
+    let (p, first) = fitted.predict(r, steps)?;
     let figs = m.figures(r, &p, first);
-    let base = fitted.baseline.as_ref().map(|b| {
-        let (pb, fb) = b.predict(r, steps);
-        let f = b.figures(r, &pb, fb);
-        (pb, f)
-    });
+    let base = match &fitted.baseline {
+        Some(b) => {
+            let (pb, fb) = b.predict(r, steps)?;
+            let f = b.figures(r, &pb, fb);
+            Some((pb, f))
+        }
+        None => None,
+    };
     let mut trace = rhonn::experiment::Trace::default();
     let col = |name: String, values: Vec<f64>| rhonn::experiment::Column {
         name,

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Choose the cascaded-tanks model on estimation.csv alone: 3-fold cross-validation over
 contiguous thirds (train on two thirds as two records, run free on the held-out third),
-lowest mean free-run RMS error, over a grid of structures; then over ensembles of the k
-best structures (k = 2..5, the mean of their free runs), judged by the same folds. Prints
+lowest mean free-run RMS error, over a grid of structures (ARX, lagged RHONNs, and
+continuous-time `cascade` RHONNs with hidden states); then over ensembles of the k best
+structures (k = 2..5, the mean of their free runs), judged by the same folds. Prints
 every candidate's folds and mean and writes the best (a structure or an ensemble) as a
 model TOML. validation.csv is not read. Standard library only.
 
@@ -20,6 +21,11 @@ data = os.path.join(here, "..", "..", "..", "shared", "data", "cascaded-tanks", 
 
 
 def toml(c):
+    if c["kind"] == "cascade":
+        return "\n".join([
+            'kind = "cascade"', f'neurons = {c["neurons"]}',
+            f'free_exponents = {str(c["free_exponents"]).lower()}', f'settle = {c["settle"]}',
+            f'starts = {c["starts"]}', f'epochs = {c["epochs"]}']) + "\n"
     lines = [f'kind = "{c["kind"]}"', f'na = {c["na"]}', f'nb = {c["nb"]}', "nk = 1",
              f'law = "{c["law"]}"', "ridge = 1e-6"]
     if c["kind"] == "rhonn":
@@ -42,6 +48,12 @@ def grid():
                     for law in ("batch-ls", "simulation-error"):
                         yield dict(kind="rhonn", na=na, nb=nb, degree=degree, mf=mf, law=law,
                                    filters=filters)
+    for neurons in (2, 3):
+        for free in (True, False):
+            for settle in (5, 10):
+                for starts in (16, 32, 64):
+                    yield dict(kind="cascade", neurons=neurons, free_exponents=free,
+                               settle=settle, starts=starts, epochs=50)
 
 
 def main():

@@ -141,11 +141,49 @@ fn bench_sysid(c: &mut Criterion) {
     });
     let m = fit(&spec, std::slice::from_ref(&r), &i, &o).unwrap();
     c.bench_function("predict free run, 1,000 samples", |b| {
-        b.iter(|| m.predict(black_box(&r), None))
+        b.iter(|| m.predict(black_box(&r), None).unwrap())
     });
     c.bench_function("predict 10 steps ahead, 1,000 samples", |b| {
-        b.iter(|| m.predict(black_box(&r), Some(10)))
+        b.iter(|| m.predict(black_box(&r), Some(10)).unwrap())
     });
+    // A `cascade` model (continuous-time RHONN, two neurons, one hidden) on 1,000
+    // samples (4 s each) of two tanks with square-root outflows, the upper one
+    // overflowing at 10 V.
+    let mut x = (3.0f64, 2.0f64);
+    let mut yt = vec![0.0; n];
+    let ut: Vec<f64> = (0..n)
+        .map(|k| 0.5 + 5.0 * ((k / 40) as f64 * 0.618).fract())
+        .collect();
+    for k in 0..n {
+        yt[k] = x.1;
+        for _ in 0..100 {
+            let d1 = 0.08 * ut[k] - 0.06 * x.0.sqrt();
+            let over = if x.0 >= 10.0 { d1.max(0.0) } else { 0.0 };
+            let d2 = 0.05 * x.0.sqrt() - 0.05 * x.1.sqrt() + 0.4 * over;
+            x = ((x.0 + 0.04 * d1).clamp(0.0, 10.0), (x.1 + 0.04 * d2).max(0.0));
+        }
+    }
+    let tanks = Record {
+        source: "tanks".into(),
+        t: (0..n).map(|k| 4.0 * k as f64).collect(),
+        inputs: vec![ut],
+        outputs: vec![yt],
+    };
+    let cspec = ModelSpec {
+        kind: rhonn::sysid::Kind::Cascade,
+        epochs: 50,
+        ..Default::default()
+    };
+    let mut g = c.benchmark_group("cascade");
+    g.sample_size(10);
+    g.bench_function("fit cascade, 16 starts x 50 iterations, 1,000 samples", |b| {
+        b.iter(|| fit(black_box(&cspec), std::slice::from_ref(&tanks), &i, &o).unwrap())
+    });
+    let cm = fit(&cspec, std::slice::from_ref(&tanks), &i, &o).unwrap();
+    g.bench_function("predict cascade free run (settle + run), 1,000 samples", |b| {
+        b.iter(|| cm.predict(black_box(&tanks), None).unwrap())
+    });
+    g.finish();
 }
 
 /// One control period of the adaptive cascade: the identifier's update over the last

@@ -1,5 +1,7 @@
 //! Identification from measured data: discrete-time models of lagged outputs and inputs
-//! (a time-delay embedding), trained on records and run free or K steps ahead.
+//! (a time-delay embedding), trained on records and run free or K steps ahead; and
+//! continuous-time RHONNs with hidden states (`cascade`, see [`cascade`]'s docs), which
+//! run free.
 //!
 //! Two kinds share one regressor:
 //! - `arx`: `y(k) = theta^T [phi(k), 1]` — the linear baseline (least squares);
@@ -21,6 +23,8 @@
 //! from the least-squares weights, Levenberg-Marquardt on the free-run error — a model
 //! judged by free runs is trained on free runs).
 
+pub mod cascade;
+
 use crate::data::Record;
 use crate::error::{invalid, Result};
 use crate::metrics;
@@ -37,6 +41,9 @@ pub enum Kind {
     /// Discrete-time RHONN with lagged measurements.
     #[default]
     Rhonn,
+    /// Continuous-time RHONN with hidden states in a chain of limited integrators,
+    /// trained on the free-run error (see the `cascade` module).
+    Cascade,
 }
 
 /// Training law.
@@ -104,6 +111,17 @@ pub struct ModelSpec {
     /// unmeasured state, such as the pump's stroke in the current's past) with a small
     /// nonlinear part (default: every lag).
     pub nonlinear_lags: Option<usize>,
+    /// Neurons of a `cascade` model, the last one measured (default 2).
+    pub neurons: usize,
+    /// Learn each `cascade` neuron's activation exponent (default true; else 1/2).
+    pub free_exponents: bool,
+    /// Seeded random starts of a `cascade` model's training (default 16).
+    pub starts: usize,
+    /// Measured samples a `cascade` model settles its hidden states on before it runs
+    /// free (default 5).
+    pub settle: usize,
+    /// Seed of the random starts (default 1).
+    pub seed: u64,
 }
 
 impl Default for ModelSpec {
@@ -125,6 +143,11 @@ impl Default for ModelSpec {
             output_lag_start: 1,
             max_terms: None,
             nonlinear_lags: None,
+            neurons: 2,
+            free_exponents: true,
+            starts: 16,
+            settle: 5,
+            seed: 1,
         }
     }
 }
@@ -198,6 +221,18 @@ impl ModelSpec {
         if let Some(m) = self.nonlinear_lags {
             int_in("nonlinear_lags", m, 1, 50)?;
         }
+        if self.kind == Kind::Cascade {
+            int_in("neurons", self.neurons, 1, 4)?;
+            int_in("starts", self.starts, 1, 10_000)?;
+            int_in("settle", self.settle, 2, 1000)?;
+            if !self.input_filters_s.is_empty() {
+                return Err(invalid(
+                    "model.input_filters_s",
+                    format!("{:?}", self.input_filters_s),
+                    "none for a `cascade` model (its hidden neurons are the filters)",
+                ));
+            }
+        }
         if !(self.ridge.is_finite() && self.ridge >= 0.0) {
             return Err(invalid("model.ridge", self.ridge, "a number >= 0"));
         }
@@ -232,6 +267,9 @@ impl ModelSpec {
 
     /// Largest lag: samples needed before the first prediction.
     pub fn max_lag(&self) -> usize {
+        if self.kind == Kind::Cascade {
+            return self.settle;
+        }
         (self.output_lag_start + self.na - 1)
             .max(if self.nb > 0 { self.nk + self.nb - 1 } else { 0 })
             .max(self.nk)
@@ -336,6 +374,16 @@ impl Model {
                 ));
             }
         }
+        if self.spec.kind == Kind::Cascade {
+            if self.no() != 1 || self.weights.len() != 1 || self.weights[0].len() != self.n_features() {
+                return Err(invalid(
+                    "model.weights",
+                    format!("{} vectors", self.weights.len()),
+                    format!("one output and one vector of {} parameters", self.n_features()),
+                ));
+            }
+            return cascade::Params::from_stored(self.spec.neurons, self.ni(), &self.weights[0]).check();
+        }
         if !self.terms.is_empty() {
             Terms::from_lists(
                 &self.terms,
@@ -364,6 +412,9 @@ impl Model {
 
     /// Number of features (regressors, terms, bias).
     pub fn n_features(&self) -> usize {
+        if self.spec.kind == Kind::Cascade {
+            return cascade::n_params(self.spec.neurons, self.ni());
+        }
         n_phi(&self.spec, self.ni(), self.no()) + self.terms.len() + 1
     }
 
@@ -413,7 +464,21 @@ impl Model {
     /// the measurements up to k and the inputs, predict k + K). Returns the predictions
     /// (the first samples, which the model cannot predict, hold the measurements) and
     /// the index of the first genuine prediction.
-    pub fn predict(&self, r: &Record, steps_ahead: Option<usize>) -> (Vec<Vec<f64>>, usize) {
+    ///
+    /// A `cascade` model predicts free runs only (its hidden states are not measured, so
+    /// there is no K-step window to restart from); its simulation reports a solver
+    /// failure with the time and the levels.
+    pub fn predict(&self, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
+        if self.spec.kind == Kind::Cascade {
+            if let Some(k) = steps_ahead {
+                return Err(invalid(
+                    "--steps-ahead",
+                    k,
+                    "no K-step prediction for a `cascade` model (free run only: its hidden states are not measured)",
+                ));
+            }
+            return cascade::predict(self, r);
+        }
         let (un, yn) = self.normalise(r);
         let n = r.len();
         let lag = self.spec.max_lag();
@@ -477,7 +542,7 @@ impl Model {
             .zip(&self.output_norm)
             .map(|(c, (m, s))| c.iter().map(|v| v * s + m).collect())
             .collect();
-        (out, first)
+        Ok((out, first))
     }
 
     /// Figures per output of predictions against the record, from `first` on.
@@ -547,7 +612,45 @@ fn fit_terms(
     outputs: &[String],
     given_terms: Option<Vec<Vec<[usize; 2]>>>,
 ) -> Result<Model> {
+    let mut model = blank_model(spec, records, inputs, outputs)?;
+    if spec.kind == Kind::Cascade {
+        cascade::fit(spec, records, &mut model)?;
+        return Ok(model);
+    }
+    let (ni, no) = (inputs.len(), outputs.len());
+    let nphi = n_phi(spec, ni, no);
+    if nphi > 128 {
+        return Err(invalid(
+            "model.na",
+            spec.na,
+            "at most 128 lagged regressors in all (na * outputs + nb * inputs)",
+        ));
+    }
+    model.terms = match (spec.kind, given_terms) {
+        (Kind::Rhonn, Some(t)) => t,
+        (Kind::Rhonn, None) => {
+            let sub = nonlinear_regressors(spec, ni, no);
+            let t = Terms::monomials(sub.len(), spec.degree, spec.max_factors);
+            (0..t.len())
+                .map(|k| t.factors(k).into_iter().map(|[i, e]| [sub[i], e]).collect())
+                .collect()
+        }
+        _ => vec![],
+    };
+    fit_weights(model, records)
+}
+
+/// Check the spec and the records and make an untrained model: names, sample time,
+/// normalisation and output ranges.
+fn blank_model(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[String]) -> Result<Model> {
     spec.check()?;
+    if spec.kind == Kind::Cascade && outputs.len() != 1 {
+        return Err(invalid(
+            "--outputs",
+            outputs.join(","),
+            "exactly one output for a `cascade` model (its last neuron)",
+        ));
+    }
     if records.is_empty() {
         return Err(invalid("--data", "no files", "at least one CSV file"));
     }
@@ -591,26 +694,7 @@ fn fit_terms(
                 })
         })
         .collect();
-    let nphi = n_phi(spec, ni, no);
-    if nphi > 128 {
-        return Err(invalid(
-            "model.na",
-            spec.na,
-            "at most 128 lagged regressors in all (na * outputs + nb * inputs)",
-        ));
-    }
-    let terms = match (spec.kind, given_terms) {
-        (Kind::Rhonn, Some(t)) => t,
-        (Kind::Rhonn, None) => {
-            let sub = nonlinear_regressors(spec, ni, no);
-            let t = Terms::monomials(sub.len(), spec.degree, spec.max_factors);
-            (0..t.len())
-                .map(|k| t.factors(k).into_iter().map(|[i, e]| [sub[i], e]).collect())
-                .collect()
-        }
-        (Kind::Arx, _) => vec![],
-    };
-    let mut model = Model {
+    Ok(Model {
         spec: spec.clone(),
         inputs: inputs.to_vec(),
         outputs: outputs.to_vec(),
@@ -618,9 +702,17 @@ fn fit_terms(
         input_norm,
         output_norm,
         output_range,
-        terms,
+        terms: vec![],
         weights: vec![],
-    };
+    })
+}
+
+/// Train the weights of a lagged model (`arx` or `rhonn`) whose terms are set.
+fn fit_weights(mut model: Model, records: &[Record]) -> Result<Model> {
+    let spec = model.spec.clone();
+    let spec = &spec;
+    let no = model.no();
+    let lag = spec.max_lag();
     if model.terms.len() > crate::net::MAX_TERMS {
         return Err(invalid(
             "model.degree",
@@ -666,7 +758,9 @@ fn fit_terms(
 fn free_run_residuals(m: &Model, records: &[Record], horizon: Option<usize>, out: &mut Vec<f64>) {
     out.clear();
     for r in records {
-        let (p, first) = m.predict(r, horizon);
+        let (p, first) = m
+            .predict(r, horizon)
+            .expect("a lagged model predicts every record");
         for (j, (col, (_, sd))) in r.outputs.iter().zip(&m.output_norm).enumerate() {
             for k in first..r.len() {
                 out.push((p[j][k] - col[k]) / sd);
@@ -680,7 +774,6 @@ fn free_run_residuals(m: &Model, records: &[Record], horizon: Option<usize>, out
 /// that simpler and as fast as differentiating through the clipped recursion).
 fn simulation_error(m: &mut Model, records: &[Record], horizon: Option<usize>) {
     let shapes: Vec<usize> = m.weights.iter().map(|w| w.len()).collect();
-    let flat = |m: &Model| m.weights.iter().flatten().copied().collect::<Vec<f64>>();
     let set = |m: &mut Model, th: &[f64]| {
         let mut o = 0;
         for (w, &l) in m.weights.iter_mut().zip(&shapes) {
@@ -688,25 +781,51 @@ fn simulation_error(m: &mut Model, records: &[Record], horizon: Option<usize>) {
             o += l;
         }
     };
-    let mut theta = flat(m);
+    let mut theta: Vec<f64> = m.weights.iter().flatten().copied().collect();
+    let iters = m.spec.epochs;
+    let cell = std::cell::RefCell::new(m.clone());
+    lm(&mut theta, iters, 1e-6, &|th, out| {
+        let mut w = cell.borrow_mut();
+        set(&mut w, th);
+        free_run_residuals(&w, records, horizon, out);
+        true
+    });
+    set(m, &theta);
+}
+
+/// Levenberg-Marquardt on the residuals `resid(theta, out)` (false: the model could not
+/// be simulated there, a step to avoid), at most `iters` iterations from `theta`, with
+/// a forward-difference Jacobian of relative step `fd_rel`. Leaves the best `theta`
+/// found and returns its cost (sum of squared residuals; infinity when the start
+/// itself fails). Shared by the lagged models' `simulation-error` law and the
+/// `cascade` models; nalgebra's Cholesky solves each damped step (no crate of the
+/// workspace offers a Levenberg-Marquardt with user-defined failure of a residual).
+pub(crate) fn lm(
+    theta: &mut Vec<f64>,
+    iters: usize,
+    fd_rel: f64,
+    resid: &dyn Fn(&[f64], &mut Vec<f64>) -> bool,
+) -> f64 {
     let np = theta.len();
     let mut r0 = Vec::new();
-    free_run_residuals(m, records, horizon, &mut r0);
+    if !resid(theta, &mut r0) {
+        return f64::INFINITY;
+    }
     let cost = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
     let mut c0 = cost(&r0);
     let mut lambda = 1e-2;
     let mut r1 = Vec::new();
-    for _ in 0..m.spec.epochs {
+    for _ in 0..iters {
         let nr = r0.len();
         let mut jac = DMatrix::<f64>::zeros(nr, np);
         for p in 0..np {
-            let h = 1e-6 * theta[p].abs().max(1e-3);
+            let h = fd_rel * theta[p].abs().max(1e-3);
             let mut th = theta.clone();
             th[p] += h;
-            set(m, &th);
-            free_run_residuals(m, records, horizon, &mut r1);
-            for i in 0..nr {
-                jac[(i, p)] = (r1[i] - r0[i]) / h;
+            if resid(&th, &mut r1) && r1.len() == nr {
+                for i in 0..nr {
+                    jac[(i, p)] = (r1[i] - r0[i]) / h;
+                }
             }
         }
         let jtj = jac.transpose() * &jac;
@@ -723,17 +842,17 @@ fn simulation_error(m: &mut Model, records: &[Record], horizon: Option<usize>) {
             };
             let step = ch.solve(&g);
             let th: Vec<f64> = theta.iter().zip(step.iter()).map(|(t, s)| t - s).collect();
-            set(m, &th);
-            free_run_residuals(m, records, horizon, &mut r1);
-            let c1 = cost(&r1);
-            if c1.is_finite() && c1 < c0 {
-                theta = th;
-                std::mem::swap(&mut r0, &mut r1);
-                let rel = (c0 - c1) / c0;
-                c0 = c1;
-                lambda = (lambda / 3.0).max(1e-9);
-                improved = rel > 1e-6;
-                break;
+            if resid(&th, &mut r1) {
+                let c1 = cost(&r1);
+                if c1.is_finite() && c1 < c0 {
+                    *theta = th;
+                    std::mem::swap(&mut r0, &mut r1);
+                    let rel = (c0 - c1) / c0;
+                    c0 = c1;
+                    lambda = (lambda / 3.0).max(1e-9);
+                    improved = rel > 1e-6;
+                    break;
+                }
             }
             lambda *= 4.0;
         }
@@ -741,7 +860,7 @@ fn simulation_error(m: &mut Model, records: &[Record], horizon: Option<usize>) {
             break;
         }
     }
-    set(m, &theta);
+    c0
 }
 
 /// Ridge least squares by the normal equations and a Cholesky factorisation.
@@ -849,10 +968,10 @@ impl FittedModel {
     /// The prediction of every output (see [`Model::predict`]): a single model's, or the
     /// mean of an ensemble's members' predictions, from the latest member's first
     /// predictable sample on (the measurement repeated before it).
-    pub fn predict(&self, r: &Record, steps_ahead: Option<usize>) -> (Vec<Vec<f64>>, usize) {
-        let (mut sum, mut first) = self.model.predict(r, steps_ahead);
+    pub fn predict(&self, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
+        let (mut sum, mut first) = self.model.predict(r, steps_ahead)?;
         for m in &self.members {
-            let (p, f) = m.predict(r, steps_ahead);
+            let (p, f) = m.predict(r, steps_ahead)?;
             first = first.max(f);
             for (s, pj) in sum.iter_mut().zip(&p) {
                 for (a, b) in s.iter_mut().zip(pj) {
@@ -866,7 +985,7 @@ impl FittedModel {
                 *v = if i < first { r.outputs[j][i] } else { *v / k };
             }
         }
-        (sum, first)
+        Ok((sum, first))
     }
 }
 
@@ -925,7 +1044,7 @@ pub fn fit_ensemble(
         .iter()
         .map(|s| fit(s, records, inputs, outputs))
         .collect::<Result<Vec<_>>>()?;
-    let baseline = if spec.kind == Kind::Rhonn {
+    let baseline = if spec.kind != Kind::Arx {
         let arx = ModelSpec {
             kind: Kind::Arx,
             law: Law::BatchLs,
@@ -1029,9 +1148,9 @@ mod tests {
         assert_eq!(ens.max_lag(), 3);
         let val = record(2, 300, true);
         for steps in [None, Some(1), Some(4)] {
-            let (p, first) = ens.predict(&val, steps);
-            let (pa, fa) = ens.model.predict(&val, steps);
-            let (pb, fb) = ens.members[0].predict(&val, steps);
+            let (p, first) = ens.predict(&val, steps).unwrap();
+            let (pa, fa) = ens.model.predict(&val, steps).unwrap();
+            let (pb, fb) = ens.members[0].predict(&val, steps).unwrap();
             assert_eq!(first, fa.max(fb));
             for k in 0..val.len() {
                 let want = if k < first {
@@ -1046,7 +1165,10 @@ mod tests {
         let single = fit_with_baseline(&specs[0], std::slice::from_ref(&rec), &i, &o).unwrap();
         assert!(single.members.is_empty());
         assert!(!serde_json::to_string(&single).unwrap().contains("members"));
-        assert_eq!(single.predict(&val, None), single.model.predict(&val, None));
+        assert_eq!(
+            single.predict(&val, None).unwrap(),
+            single.model.predict(&val, None).unwrap()
+        );
     }
 
     #[test]
@@ -1093,7 +1215,7 @@ mod tests {
         };
         let m = fit(&spec, &[record(1, 500, false)], &i, &o).unwrap();
         let val = record(2, 300, false);
-        let (p, first) = m.predict(&val, None);
+        let (p, first) = m.predict(&val, None).unwrap();
         let f = m.figures(&val, &p, first);
         assert!(f[0].fit_percent > 99.9, "{f:?}");
         assert_eq!(first, 1);
@@ -1111,7 +1233,7 @@ mod tests {
         let fm = fit_with_baseline(&spec, &[record(3, 800, true)], &i, &o).unwrap();
         let val = record(4, 400, true);
         let free = |m: &Model| {
-            let (p, first) = m.predict(&val, None);
+            let (p, first) = m.predict(&val, None).unwrap();
             m.figures(&val, &p, first)[0].fit_percent
         };
         let (rh, arx) = (free(&fm.model), free(fm.baseline.as_ref().unwrap()));
@@ -1136,7 +1258,7 @@ mod tests {
         .unwrap();
         let val = record(6, 300, true);
         let fit_of = |k: Option<usize>| {
-            let (p, first) = m.predict(&val, k);
+            let (p, first) = m.predict(&val, k).unwrap();
             m.figures(&val, &p, first)[0].fit_percent
         };
         let (one, ten, free) = (fit_of(Some(1)), fit_of(Some(10)), fit_of(None));
@@ -1163,7 +1285,7 @@ mod tests {
             ..Default::default()
         };
         let err = |m: &Model, h: Option<usize>| {
-            let (p, first) = m.predict(&data, h);
+            let (p, first) = m.predict(&data, h).unwrap();
             m.figures(&data, &p, first)[0].rms_error
         };
         let ls = fit(&base, std::slice::from_ref(&data), &i, &o).unwrap();
@@ -1217,7 +1339,7 @@ mod tests {
         }
         let free_fit = |spec: &ModelSpec| {
             let m = fit(spec, std::slice::from_ref(&r), &i, &o).unwrap();
-            let (p, first) = m.predict(&r, None);
+            let (p, first) = m.predict(&r, None).unwrap();
             m.figures(&r, &p, first)[0].fit_percent
         };
         let plain = ModelSpec {
@@ -1260,7 +1382,7 @@ mod tests {
         assert_eq!(spec.max_lag(), 2);
         let m = fit(&spec, &[record(12, 400, false)], &i, &o).unwrap();
         let val = record(13, 200, false);
-        let (p, first) = m.predict(&val, Some(2));
+        let (p, first) = m.predict(&val, Some(2)).unwrap();
         assert!(m.figures(&val, &p, first)[0].fit_percent > 99.99);
     }
 
@@ -1281,7 +1403,7 @@ mod tests {
         assert_eq!(m.terms.len(), 2);
         assert!(m.terms.contains(&vec![[0, 1], [1, 1]]), "{:?}", m.terms);
         let val = record(15, 300, true);
-        let (p, first) = m.predict(&val, None);
+        let (p, first) = m.predict(&val, None).unwrap();
         assert!(m.figures(&val, &p, first)[0].fit_percent > 90.0);
         let full = fit(
             &ModelSpec {
