@@ -1,0 +1,25 @@
+//! Learn the cascaded tanks from estimation.csv with the shipped structure and run it
+//! free on validation.csv, as `rhonn fit` + `rhonn predict` do:
+//! `cargo run --release -p rhonn-report --example fit_tanks [DATA_DIR]`
+//! (default `../shared/data/cascaded-tanks`).
+
+use rhonn::sysid::{fit_ensemble, parse_spec_file};
+use rhonn_report::read_record;
+use std::path::PathBuf;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = PathBuf::from(
+        std::env::args()
+            .nth(1)
+            .unwrap_or_else(|| "../shared/data/cascaded-tanks".into()),
+    );
+    let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
+    let estimation = read_record(&dir.join("estimation.csv"), &u, &y, 20)?;
+    let validation = read_record(&dir.join("validation.csv"), &u, &y, 20)?;
+    let specs = parse_spec_file(&std::fs::read_to_string("models/cascaded-tanks.toml")?)?;
+    let model = fit_ensemble(&specs, &[estimation], &u, &y)?;
+    let (y_hat, first) = model.predict(&validation, None)?; // free run; Some(K): K steps ahead
+    let figures = model.model.figures(&validation, &y_hat, first);
+    println!("free-run RMS error on validation: {:.4} V", figures[0].rms_error);
+    Ok(())
+}
