@@ -381,7 +381,7 @@ pub(crate) fn predict(m: &Model, r: &Record) -> Result<(Vec<Vec<f64>>, usize)> {
         Error::Solver {
             t_s: r.t[0] + t * m.sample_time_s,
             state: format!(
-                "{}: cascade levels {:?} (output standard deviations), `{}` = {}",
+                "{}: cascade levels {:?} (output standard deviations), `{}` = {}; the solver's own times below are in samples",
                 r.source,
                 x,
                 m.outputs[0],
@@ -674,7 +674,7 @@ mod tests {
         let e = m.predict(&r, None).unwrap_err().to_string();
         assert!(e.starts_with("simulation failed at t = "), "{e}");
         assert!(e.contains("tanks1: cascade levels ["), "{e}");
-        assert!(e.contains("`y` = "), "{e}");
+        assert!(e.contains("`y` = ") && e.contains("in samples"), "{e}");
     }
 
     #[test]
