@@ -10,7 +10,7 @@ use args::{Cli, Command};
 use clap::Parser;
 use rhonn::data::Record;
 use rhonn::experiment::{preset, run_full, Trace};
-use rhonn::sysid::{fit_ensemble, parse_spec_file, FittedModel, Kind, Model, ModelSpec};
+use rhonn::sysid::{fit_ensemble, parse_spec_file, FittedModel, Model, ModelSpec};
 use rhonn_report::{Series, TimePlot};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -170,12 +170,7 @@ fn cmd_fit(
         "high_order_terms": m.terms.len(),
         "sample_time_s": m.sample_time_s,
         "training": {
-            // A `cascade` model has no measured lags to step from: free run only.
-            "one_step": if fitted.all_members().any(|m| m.spec.kind == Kind::Cascade) {
-                serde_json::Value::Null
-            } else {
-                figures_json(m, |r| fitted.predict(r, Some(1)), &recs)?
-            },
+            "one_step": figures_json(m, |r| fitted.predict(r, Some(1)), &recs)?,
             "free_run": figures_json(m, |r| fitted.predict(r, None), &recs)?,
         },
     });

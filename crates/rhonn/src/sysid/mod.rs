@@ -465,19 +465,12 @@ impl Model {
     /// (the first samples, which the model cannot predict, hold the measurements) and
     /// the index of the first genuine prediction.
     ///
-    /// A `cascade` model predicts free runs only (its hidden states are not measured, so
-    /// there is no K-step window to restart from); its simulation reports a solver
-    /// failure with the time and the levels.
+    /// A `cascade` model settles its hidden states on the measured samples before each
+    /// prediction's start (see [`cascade`]); its simulation reports a solver failure
+    /// with the time and the levels.
     pub fn predict(&self, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
         if self.spec.kind == Kind::Cascade {
-            if let Some(k) = steps_ahead {
-                return Err(invalid(
-                    "--steps-ahead",
-                    k,
-                    "no K-step prediction for a `cascade` model (free run only: its hidden states are not measured)",
-                ));
-            }
-            return cascade::predict(self, r);
+            return cascade::predict(self, r, steps_ahead);
         }
         let (un, yn) = self.normalise(r);
         let n = r.len();
