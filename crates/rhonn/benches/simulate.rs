@@ -183,6 +183,10 @@ fn bench_sysid(c: &mut Criterion) {
     g.bench_function("predict cascade free run (settle + run), 1,000 samples", |b| {
         b.iter(|| cm.predict(black_box(&tanks), None).unwrap())
     });
+    g.bench_function(
+        "predict cascade 10 steps ahead (settled at every sample), 1,000 samples",
+        |b| b.iter(|| cm.predict(black_box(&tanks), Some(10)).unwrap()),
+    );
     g.finish();
 }
 
