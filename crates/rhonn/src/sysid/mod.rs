@@ -1,7 +1,7 @@
 //! Identification from measured data: discrete-time models of lagged outputs and inputs
 //! (a time-delay embedding), trained on records and run free or K steps ahead; and
 //! continuous-time RHONNs with hidden states (`cascade`, see [`cascade`]'s docs), which
-//! run free.
+//! settle their hidden states on measured samples, then run free or K steps ahead.
 //!
 //! Two kinds share one regressor:
 //! - `arx`: `y(k) = theta^T [phi(k), 1]` — the linear baseline (least squares);
@@ -117,10 +117,10 @@ pub struct ModelSpec {
     pub free_exponents: bool,
     /// Seeded random starts of a `cascade` model's training (default 16).
     pub starts: usize,
-    /// Measured samples a `cascade` model settles its hidden states on before it runs
-    /// free (default 5).
+    /// Measured samples a `cascade` model settles its hidden states on before a
+    /// prediction (default 5).
     pub settle: usize,
-    /// Seed of the random starts (default 1).
+    /// Seed of a `cascade` model's random starts (default 1).
     pub seed: u64,
 }
 
