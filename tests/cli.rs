@@ -533,6 +533,11 @@ fn cascade_models_run_free_and_bad_cascade_specs_are_clear_errors() {
             "y,u",
             "exactly one output for a `cascade` model",
         ),
+        (
+            "kind = \"cascade\"\nlaw = \"rls\"\n",
+            "y",
+            "`model.law` = rls is not allowed: simulation-error",
+        ),
     ] {
         let o = fit(spec, outputs);
         assert_eq!(o.status.code(), Some(2), "{spec}");

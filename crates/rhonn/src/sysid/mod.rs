@@ -225,6 +225,17 @@ impl ModelSpec {
             int_in("neurons", self.neurons, 1, 4)?;
             int_in("starts", self.starts, 1, 10_000)?;
             int_in("settle", self.settle, 2, 1000)?;
+            if matches!(self.law, Law::Rls | Law::Gradient | Law::MultiStep) {
+                return Err(invalid(
+                    "model.law",
+                    match self.law {
+                        Law::Rls => "rls",
+                        Law::Gradient => "gradient",
+                        _ => "multi-step",
+                    },
+                    "simulation-error (a `cascade` model is always trained on its free-run error)",
+                ));
+            }
             if !self.input_filters_s.is_empty() {
                 return Err(invalid(
                     "model.input_filters_s",
