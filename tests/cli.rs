@@ -1,30 +1,10 @@
 //! The real `rhonn` binary in a temporary folder: files written, exit codes, error text.
 
+mod util;
+
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn rhonn(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rhonn"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("runs rhonn")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn files_in(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .map(|rd| {
-            rd.map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-                .collect()
-        })
-        .unwrap_or_default();
-    v.sort();
-    v
-}
+use std::process::Command;
+use util::{files_in, rhonn, stderr};
 
 #[test]
 fn run_thesis_ch3_writes_csv_summary_and_plots() {

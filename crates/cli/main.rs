@@ -128,7 +128,9 @@ fn figures_json(
         .iter()
         .map(|r| {
             let (p, first) = predict(r)?;
-            Ok(serde_json::json!({ "data": r.source, "outputs": m.figures(r, &p, first) }))
+            let figures = m.figures(r, &p, first);
+            rhonn::sysid::ensure_finite_figures(&figures, &r.source)?;
+            Ok(serde_json::json!({ "data": r.source, "outputs": figures }))
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(serde_json::Value::Array(per))
@@ -290,10 +292,12 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
     };
     let (p, first) = fitted.predict(r, steps)?;
     let figs = m.figures(r, &p, first);
+    rhonn::sysid::ensure_finite_figures(&figs, &r.source)?;
     let base = match &fitted.baseline {
         Some(b) => {
             let (pb, fb) = b.predict(r, steps)?;
             let f = b.figures(r, &pb, fb);
+            rhonn::sysid::ensure_finite_figures(&f, &format!("{} (ARX baseline)", r.source))?;
             Some((pb, f))
         }
         None => None,

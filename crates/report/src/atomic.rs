@@ -38,6 +38,13 @@ impl OutputSet {
     /// Stage the file `name` with the bytes `f` writes.
     pub fn write(&mut self, name: &str, f: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
         let final_path = self.dir.join(name);
+        // Only plain file names: whatever a name is made of, it stays in this folder.
+        if name.is_empty() || name.starts_with('.') || name.contains(['/', '\\']) {
+            return Err(Error::File {
+                path: final_path,
+                message: "not a plain file name inside the output folder".into(),
+            });
+        }
         let tmp = self.dir.join(format!(".{name}.tmp-{}", std::process::id()));
         let file_err = |e: std::io::Error| Error::File {
             path: final_path.clone(),
@@ -102,6 +109,20 @@ mod tests {
         s.write("a.txt", |w| w.write_all(b"hello")).unwrap();
         s.commit().unwrap();
         assert_eq!(fs::read_to_string(d.path().join("a.txt")).unwrap(), "hello");
+    }
+
+    #[test]
+    fn a_name_with_a_path_in_it_is_refused() {
+        let d = tempfile::tempdir().unwrap();
+        let inner = d.path().join("in");
+        let mut s = OutputSet::new(&inner).unwrap();
+        for name in ["../a.txt", "", ".", "..", "sub/a.txt", "a\\b"] {
+            let e = s.write(name, |w| w.write_all(b"x")).unwrap_err().to_string();
+            assert!(e.contains("not a plain file name"), "{name:?}: {e}");
+        }
+        s.commit().unwrap();
+        assert_eq!(fs::read_dir(d.path()).unwrap().count(), 1);
+        assert_eq!(fs::read_dir(&inner).unwrap().count(), 0);
     }
 
     #[test]

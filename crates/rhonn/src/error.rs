@@ -69,6 +69,15 @@ pub enum Error {
         /// The solver's error.
         source: Box<rhonn_ode::Error>,
     },
+    /// A computed result (a fitted weight, a figure) is NaN or infinite; `cause` says what
+    /// in the data or the settings led there.
+    #[error("{what} is not finite (NaN or infinity): {cause}")]
+    NotFinite {
+        /// What was computed, e.g. "the fitted model's weights".
+        what: String,
+        /// The likely cause, in terms of the data and the settings.
+        cause: String,
+    },
     /// A controller produced a non-finite output or weight.
     #[error("controller diverged at t = {t_s} s ({state})")]
     Controller {

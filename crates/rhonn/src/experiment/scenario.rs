@@ -283,6 +283,29 @@ pub struct Scenario {
     pub warnings: Vec<String>,
 }
 
+/// What a name that becomes a folder or file name may be: one plain path component.
+pub const FOLDER_NAME_RULE: &str =
+    "a name of letters, digits, '-', '_' and '.' that does not start with '.' \
+     (it names a folder inside the output folder: no separators, no `.` or `..`, not empty)";
+
+/// Check that `value` (the field `field` of a file) is one plain path component that stays
+/// inside the folder it is joined to: letters, digits, `-`, `_` and `.`, not empty and not
+/// starting with `.` (which also refuses `.` and `..`). A scenario received from someone
+/// else must never write outside the folder the user chose.
+pub fn check_folder_name(field: &str, value: &str) -> Result<()> {
+    let ok = !value.is_empty()
+        && !value.starts_with('.')
+        && value.len() <= 200
+        && value
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.');
+    if ok {
+        Ok(())
+    } else {
+        Err(invalid(field, format!("{value:?}"), FOLDER_NAME_RULE))
+    }
+}
+
 /// Check a PI's gains (fields named `<prefix>kp_a_per_mpa` ...) and convert to SI.
 fn check_pi(
     kp_a_per_mpa: f64,
@@ -366,18 +389,7 @@ impl ScenarioSpec {
 
     fn check_inner(&self) -> Result<Scenario> {
         let mut warnings = Vec::new();
-        if self.name.trim().is_empty()
-            || !self
-                .name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.')
-        {
-            return Err(invalid(
-                "name",
-                format!("{:?}", self.name),
-                "a non-empty name of letters, digits, '-', '_' or '.' (it names the output folder)",
-            ));
-        }
+        check_folder_name("name", &self.name)?;
         if !(self.duration_s.is_finite() && self.duration_s > 0.0 && self.duration_s <= 1e6) {
             return Err(invalid("duration_s", self.duration_s, "a number in (0, 1e6] s"));
         }

@@ -26,7 +26,7 @@
 pub mod cascade;
 
 use crate::data::Record;
-use crate::error::{invalid, Result};
+use crate::error::{invalid, Error, Result};
 use crate::metrics;
 use crate::net::Terms;
 use nalgebra::{DMatrix, DVector};
@@ -584,6 +584,74 @@ fn mean_std(cols: &[&[f64]]) -> (f64, f64) {
 /// Train a model of `outputs` from `inputs` on `records` (uniformly sampled at the same
 /// interval; see [`Record::uniform`]).
 pub fn fit(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[String]) -> Result<Model> {
+    let model = fit_pruned(spec, records, inputs, outputs)?;
+    ensure_finite_model(&model, records)?;
+    Ok(model)
+}
+
+/// A fitted model whose scaling or weights are NaN or infinite is an error that names the
+/// data's range (the usual cause: values so large that their squares overflow).
+fn ensure_finite_model(m: &Model, records: &[Record]) -> Result<()> {
+    let finite_pairs = |v: &[(f64, f64)]| v.iter().all(|(a, b)| a.is_finite() && b.is_finite());
+    let ok = finite_pairs(&m.input_norm)
+        && finite_pairs(&m.output_norm)
+        && finite_pairs(&m.output_range)
+        && m.weights.iter().flatten().all(|w| w.is_finite());
+    if ok {
+        return Ok(());
+    }
+    let mut largest = (0.0_f64, String::new(), String::new());
+    for r in records {
+        let cols = m
+            .inputs
+            .iter()
+            .zip(&r.inputs)
+            .chain(m.outputs.iter().zip(&r.outputs));
+        for (name, col) in cols {
+            for v in col {
+                if v.abs() > largest.0 {
+                    largest = (v.abs(), name.clone(), r.source.clone());
+                }
+            }
+        }
+    }
+    let cause = if largest.0 > 1e150 {
+        format!(
+            "the data reach |{:e}| (column `{}` of {}); values beyond about 1e150 overflow the \
+             scaling's squares: rescale the data (e.g. to other units) so that they stay well below",
+            largest.0, largest.1, largest.2
+        )
+    } else {
+        format!(
+            "the data's largest value is |{:e}| (column `{}` of {}); the training diverged: \
+             try a smaller `degree`, fewer lags, a larger `ridge` or the `batch-ls` law",
+            largest.0, largest.1, largest.2
+        )
+    };
+    Err(Error::NotFinite {
+        what: "a scale or weight of the fitted model".into(),
+        cause,
+    })
+}
+
+/// An error when any figure (RMS error, fit, NRMSE) of a prediction on `source` is NaN or
+/// infinite: a prediction that overflowed must not be written as a result.
+pub fn ensure_finite_figures(figures: &[OutputFigures], source: &str) -> Result<()> {
+    match figures
+        .iter()
+        .find(|f| !(f.rms_error.is_finite() && f.fit_percent.is_finite() && f.nrmse.is_finite()))
+    {
+        None => Ok(()),
+        Some(f) => Err(Error::NotFinite {
+            what: format!("the prediction of `{}` on {source}", f.output),
+            cause: "it overflows on these data (a free run that diverges, or data far outside the \
+                    training range); nothing was written"
+                .into(),
+        }),
+    }
+}
+
+fn fit_pruned(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[String]) -> Result<Model> {
     let full = fit_terms(spec, records, inputs, outputs, None)?;
     match spec.max_terms {
         Some(keep) if spec.kind == Kind::Rhonn && full.terms.len() > keep => {

@@ -1,0 +1,109 @@
+//! One test per reported bug, named after what went wrong, with the report's words above it.
+
+mod util;
+
+use std::path::Path;
+use util::{files_in, rhonn, stderr};
+
+/// Every file below `dir`, as paths relative to it.
+fn tree(dir: &Path) -> Vec<String> {
+    fn walk(base: &Path, dir: &Path, out: &mut Vec<String>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            out.push(p.strip_prefix(base).unwrap().display().to_string());
+            if p.is_dir() {
+                walk(base, &p, out);
+            }
+        }
+    }
+    let mut v = Vec::new();
+    walk(dir, dir, &mut v);
+    v.sort();
+    v
+}
+
+/// "A scenario can write outside its output folder: `name = ".."` passes the name check,
+/// and `rhonn run` writes trajectory.csv, summary.json and three SVGs into the current
+/// directory."
+#[test]
+fn a_scenario_name_never_leaves_the_output_folder() {
+    let preset =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/thesis-ch3.toml")).unwrap();
+    assert!(preset.contains("name = \"thesis-ch3\""));
+    let tricks = [
+        "..",
+        ".",
+        "../x",
+        "a/../../b",
+        "/tmp/abs",
+        "",
+        " ",
+        "a\\\\b",
+        ".hidden",
+        "sub/dir",
+    ];
+    for name in tricks {
+        let d = tempfile::tempdir().unwrap();
+        let work = d.path().join("work");
+        std::fs::create_dir(&work).unwrap();
+        let text = preset.replace("name = \"thesis-ch3\"", &format!("name = \"{name}\""));
+        std::fs::write(work.join("s.toml"), text).unwrap();
+        for args in [vec!["run", "s.toml"], vec!["campaign", "s.toml", "--runs", "2"]] {
+            let o = rhonn(&work, &args);
+            assert_eq!(o.status.code(), Some(2), "{name:?} {args:?}: {}", stderr(&o));
+            let e = stderr(&o);
+            assert!(
+                e.contains("`name`") && e.contains("no separators, no `.` or `..`"),
+                "{name:?}: {e}"
+            );
+            assert_eq!(tree(d.path()), ["work", "work/s.toml"], "{name:?} {args:?}");
+        }
+    }
+    // A plain name with dots still works and writes inside out/.
+    let d = tempfile::tempdir().unwrap();
+    let text = preset
+        .replace("name = \"thesis-ch3\"", "name = \"v1.2-run\"")
+        .replace("duration_s = 40.0", "duration_s = 0.5");
+    std::fs::write(d.path().join("s.toml"), text).unwrap();
+    let o = rhonn(d.path(), &["run", "s.toml"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(files_in(d.path()), ["out", "s.toml"]);
+    assert!(d.path().join("out/v1.2-run/trajectory.csv").exists());
+}
+
+/// "A fit can succeed on garbage: `rhonn fit` on data with values near 1e300 exits 0,
+/// prints `fit NaN %`, and writes a model.json with null weights."
+#[test]
+fn a_fit_on_values_near_1e300_is_an_error_and_writes_no_model() {
+    let d = tempfile::tempdir().unwrap();
+    let mut csv = String::from("t,u,y\n");
+    let mut y = 0.0;
+    for k in 0..300 {
+        let u = if (k / 7) % 2 == 0 { 1.0 } else { -1.0 };
+        y = 0.9 * y + 0.1 * u;
+        csv.push_str(&format!("{},{:e},{:e}\n", k as f64 * 0.1, u * 1e300, y * 1e300));
+    }
+    std::fs::write(d.path().join("huge.csv"), csv).unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "fit",
+            "--data",
+            "huge.csv",
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--out",
+            "m",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("not finite") && e.contains("1e300") && e.contains("huge.csv"),
+        "{e}"
+    );
+    assert!(e.contains("rescale"), "{e}");
+    assert_eq!(files_in(d.path()), ["huge.csv"]);
+}
