@@ -107,3 +107,51 @@ fn a_fit_on_values_near_1e300_is_an_error_and_writes_no_model() {
     assert!(e.contains("rescale"), "{e}");
     assert_eq!(files_in(d.path()), ["huge.csv"]);
 }
+
+/// Issue: "a hand-edited `model.json` with 3 outputs and `na = 50` indexes past a fixed
+/// 128-entry array in `sysid/mod.rs`". Such a model is refused, naming `model.na`.
+#[test]
+fn a_model_file_with_more_lagged_regressors_than_allowed_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let mut csv = String::from("t,u,y1,y2,y3\n");
+    let (mut a, mut b, mut c) = (0.0, 0.0, 0.0);
+    for k in 0..400 {
+        let u = if (k / 5) % 3 == 0 { 1.0 } else { -0.5 };
+        (a, b, c) = (0.9 * a + 0.1 * u, 0.8 * b + 0.2 * a, 0.7 * c + 0.3 * b);
+        csv.push_str(&format!("{},{u},{a},{b},{c}\n", k as f64 * 0.1));
+    }
+    std::fs::write(d.path().join("r.csv"), csv).unwrap();
+    std::fs::write(d.path().join("rh.toml"), "kind = \"rhonn\"\nna = 2\nnb = 2\n").unwrap();
+    let fit = ["fit", "--data", "r.csv", "--inputs", "u", "--outputs", "y1,y2,y3"];
+    let o = rhonn(
+        d.path(),
+        &[&fit[..], &["--model", "rh.toml", "--out", "m"]].concat(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Edit it by hand as a user might: 50 output lags, weights padded to match.
+    let path = d.path().join("m/model.json");
+    let mut m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    m["model"]["spec"]["na"] = 50.into();
+    let nf = 3 * 50 + 2 + m["model"]["terms"].as_array().unwrap().len() + 1;
+    m["model"]["weights"] = serde_json::json!(vec![vec![0.0; nf]; 3]);
+    std::fs::write(&path, serde_json::to_string(&m).unwrap()).unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "m/model.json",
+            "--data",
+            "r.csv",
+            "--out",
+            "p",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("`model.na` = 50") && e.contains("at most 128 lagged regressors"),
+        "{e}"
+    );
+    assert!(!d.path().join("p").exists());
+}

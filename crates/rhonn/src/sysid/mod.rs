@@ -287,6 +287,30 @@ impl ModelSpec {
     }
 }
 
+/// The most lagged regressors (output lags, input lags and filtered inputs) a lagged
+/// model may have: the RHONN's regressor vector lives on the stack.
+pub const MAX_REGRESSORS: usize = 128;
+
+/// A lagged model's regressor count against [`MAX_REGRESSORS`], for a spec trained here or
+/// read from a hand-edited `model.json`.
+fn check_regressor_count(spec: &ModelSpec, ni: usize, no: usize) -> Result<()> {
+    let nphi = n_phi(spec, ni, no);
+    if spec.kind != Kind::Cascade && nphi > MAX_REGRESSORS {
+        return Err(invalid(
+            "model.na",
+            spec.na,
+            format!(
+                "at most {MAX_REGRESSORS} lagged regressors in all (na * outputs + (nb + filters) * \
+                 inputs; here {} * {no} + ({} + {}) * {ni} = {nphi}): lower na or nb",
+                spec.na,
+                spec.nb,
+                spec.input_filters_s.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The regressors the high-order terms are made of (indices into phi): the first
 /// `nonlinear_lags` lags of each output and input, and every filtered input.
 fn nonlinear_regressors(spec: &ModelSpec, ni: usize, no: usize) -> Vec<usize> {
@@ -348,7 +372,7 @@ impl Model {
         if s.kind == Kind::Rhonn {
             // y = [tanh of the output lags, input lags]
             let ny = nphi;
-            let mut y = [0.0; 128];
+            let mut y = [0.0; MAX_REGRESSORS];
             let n_out_lags = self.no() * s.na;
             for q in 0..ny {
                 y[q] = if q < n_out_lags { feat[q].tanh() } else { feat[q] };
@@ -395,6 +419,7 @@ impl Model {
             }
             return cascade::Params::from_stored(self.spec.neurons, self.ni(), &self.weights[0]).check();
         }
+        check_regressor_count(&self.spec, self.ni(), self.no())?;
         if !self.terms.is_empty() {
             Terms::from_lists(
                 &self.terms,
@@ -690,14 +715,7 @@ fn fit_terms(
         return Ok(model);
     }
     let (ni, no) = (inputs.len(), outputs.len());
-    let nphi = n_phi(spec, ni, no);
-    if nphi > 128 {
-        return Err(invalid(
-            "model.na",
-            spec.na,
-            "at most 128 lagged regressors in all (na * outputs + nb * inputs)",
-        ));
-    }
+    check_regressor_count(spec, ni, no)?;
     model.terms = match (spec.kind, given_terms) {
         (Kind::Rhonn, Some(t)) => t,
         (Kind::Rhonn, None) => {
@@ -813,7 +831,7 @@ fn fit_weights(mut model: Model, records: &[Record]) -> Result<Model> {
         }
     }
     let weights = match spec.law {
-        Law::BatchLs | Law::SimulationError | Law::MultiStep => batch_ls(&rows, &targets, spec.ridge),
+        Law::BatchLs | Law::SimulationError | Law::MultiStep => batch_ls(&rows, &targets, spec.ridge)?,
         Law::Rls => recursive(&rows, &targets, spec.epochs, None),
         Law::Gradient => recursive(&rows, &targets, spec.epochs, Some(spec.gain)),
     };
@@ -936,7 +954,7 @@ pub(crate) fn lm(
 }
 
 /// Ridge least squares by the normal equations and a Cholesky factorisation.
-fn batch_ls(rows: &[Vec<f64>], targets: &[Vec<f64>], ridge: f64) -> Vec<Vec<f64>> {
+fn batch_ls(rows: &[Vec<f64>], targets: &[Vec<f64>], ridge: f64) -> Result<Vec<Vec<f64>>> {
     let nf = rows[0].len();
     let x = DMatrix::from_fn(rows.len(), nf, |i, j| rows[i][j]);
     let mut xtx = x.transpose() * &x;
@@ -944,16 +962,24 @@ fn batch_ls(rows: &[Vec<f64>], targets: &[Vec<f64>], ridge: f64) -> Vec<Vec<f64>
     for i in 0..nf {
         xtx[(i, i)] += ridge * mean_diag + 1e-12 * mean_diag;
     }
-    let chol = xtx
-        .cholesky()
-        .expect("a ridge-regularised Gram matrix is positive definite");
-    targets
+    // Collinear regressors (an input that is constant or equals another, an output lag
+    // that repeats an input) leave the Gram matrix singular without a ridge.
+    let chol = xtx.cholesky().ok_or_else(|| {
+        invalid(
+            "model.ridge",
+            ridge,
+            "a larger ridge (e.g. 1e-6): the regressors are collinear on these data (a constant \
+             input, an input equal to another or to an output, or more lags than the data can tell \
+             apart), so least squares has no unique solution without one",
+        )
+    })?;
+    Ok(targets
         .iter()
         .map(|y| {
             let rhs = x.transpose() * DVector::from_column_slice(y);
             chol.solve(&rhs).iter().copied().collect()
         })
-        .collect()
+        .collect())
 }
 
 /// The recursive least-squares law (gain None) or the normalised gradient law over
@@ -1138,6 +1164,24 @@ pub fn fit_ensemble(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue: "the Cholesky `expect` in `sysid/mod.rs` fires with `ridge = 0` on collinear
+    /// data". A Gram matrix the factorisation refuses is now an error naming the ridge.
+    #[test]
+    fn a_gram_matrix_without_a_factorisation_is_an_error_naming_the_ridge() {
+        let rows = vec![vec![1.0, f64::NAN], vec![2.0, 1.0], vec![3.0, 1.0]];
+        let e = batch_ls(&rows, &[vec![1.0, 2.0, 3.0]], 0.0)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`model.ridge` = 0") && e.contains("collinear"), "{e}");
+        // Exactly collinear regressors (a column repeated) still solve with the tiny
+        // diagonal load, and the weights are finite.
+        let rows: Vec<Vec<f64>> = (0..50).map(|k| vec![k as f64, k as f64, 1.0]).collect();
+        let y: Vec<f64> = (0..50).map(|k| 2.0 * k as f64 + 1.0).collect();
+        let w = batch_ls(&rows, &[y], 0.0).unwrap();
+        assert!(w[0].iter().all(|v| v.is_finite()));
+        assert!((w[0][0] + w[0][1] - 2.0).abs() < 1e-3, "{:?}", w[0]);
+    }
 
     /// A record of y(k) = 0.5 y(k-1) + 0.3 u(k-1) + 0.2 y(k-1)^2-ish nonlinear system.
     fn record(seed: u64, n: usize, nonlinear: bool) -> Record {
