@@ -103,7 +103,8 @@ fn what_a_parallel_campaign_shares_is_send_sync_and_clone() {
     check::<rhonn::sysid::Model>();
     check::<rhonn::ident::Identifier>();
     fn send<T: Send>() {}
-    send::<rhonn::ident::IdentifiedPump>();
+    send::<rhonn::ident::Identified<rhonn::plant::PumpSystem>>();
+    send::<rhonn::ident::Identified<rhonn::plant::Tanks>>();
     send::<rhonn::ident::DiscreteIdentifier>();
     send::<rhonn::Error>();
 }

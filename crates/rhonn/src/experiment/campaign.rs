@@ -14,39 +14,8 @@ use rand::{Rng, SeedableRng};
 use rand_distr::{Distribution as _, StandardNormal};
 use serde::{Deserialize, Serialize};
 
-/// An uncertain parameter of the thesis and its relative tolerance.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Tolerance {
-    /// Name as in `runs.csv` (the scenario's `[plant]` key it scales).
-    pub name: &'static str,
-    /// Relative half-width (0.2 = +-20 %).
-    pub relative: f64,
-}
-
-/// The thesis's stated tolerances (SPEC.md table): beta +-20 %, mu_1 and mu_2 +-20 %,
-/// Q_0 +-10 %, load flow slew rate +-10 %.
-pub const TOLERANCES: [Tolerance; 5] = [
-    Tolerance {
-        name: "beta_mpa",
-        relative: 0.2,
-    },
-    Tolerance {
-        name: "mu_1",
-        relative: 0.2,
-    },
-    Tolerance {
-        name: "mu_2",
-        relative: 0.2,
-    },
-    Tolerance {
-        name: "q_0_dm3_s",
-        relative: 0.1,
-    },
-    Tolerance {
-        name: "qdot_max_dm3_s2",
-        relative: 0.1,
-    },
-];
+/// The uncertain parameters a pump campaign draws: the pump's tolerance table.
+pub use crate::plant::pump::PARAMETERS as TOLERANCES;
 
 /// The scenario's values of the uncertain parameters (display units, [`TOLERANCES`] order).
 pub fn base_values(spec: &ScenarioSpec) -> [f64; 5] {
@@ -220,7 +189,7 @@ impl Plan {
                     ))
                 }
                 (r, None, None) => {
-                    let r = r.unwrap_or(t.relative);
+                    let r = r.unwrap_or(t.tolerance);
                     if !(r.is_finite() && r > 0.0 && r < 1.0) {
                         return Err(invalid(field("relative"), r, "a fraction in (0, 1)"));
                     }
@@ -674,7 +643,7 @@ mod tests {
             let a = draw(&plan, 7, i, Sampling::Random);
             assert_eq!(a, draw(&plan, 7, i, Sampling::Random));
             for ((v, b), t) in a.iter().zip(base).zip(&TOLERANCES) {
-                assert!((v / b - 1.0).abs() <= t.relative + 1e-12, "{v} {b}");
+                assert!((v / b - 1.0).abs() <= t.tolerance + 1e-12, "{v} {b}");
             }
         }
         assert_ne!(

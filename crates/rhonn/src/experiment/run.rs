@@ -5,9 +5,9 @@ use super::scenario::{AdaptiveSettings, Drive, ProfileSpec, Scenario, ScenarioSp
 use super::trace::{Column, NoRecorder, Recorder, Sample, Trace};
 use crate::control::{Pi, RhonnCascade};
 use crate::error::{Error, Result};
-use crate::ident::{FrozenPair, IdentSettings, IdentifiedPump, Mode, PumpSignal};
+use crate::ident::{FrozenPair, IdentSettings, Identified, Mode};
 use crate::net::Sigmoid;
-use crate::plant::{Input, PumpSystem, CURRENT_EFF, PLANT_DIM, P_LINE, STROKE};
+use crate::plant::{Input, PumpSystem, SignalRef, CURRENT_EFF, PLANT_DIM, P_LINE, STROKE};
 use crate::signal::Signal;
 use crate::units::*;
 use rand::SeedableRng;
@@ -389,12 +389,12 @@ impl Plant for PumpSystem {
     }
 }
 
-impl<St: State> Plant for IdentifiedPump<St> {
+impl<St: State> Plant for Identified<PumpSystem, St> {
     fn pump(&self) -> &PumpSystem {
-        &self.pump
+        &self.plant
     }
     fn pump_mut(&mut self) -> &mut PumpSystem {
-        &mut self.pump
+        &mut self.plant
     }
     fn hats(&self, x: &[f64], slot: usize) -> [Option<f64>; 2] {
         if slot != 0 {
@@ -414,12 +414,12 @@ impl<St: State> Plant for IdentifiedPump<St> {
     }
 }
 
-impl<St: State> Plant for FrozenPair<St> {
+impl<St: State> Plant for FrozenPair<PumpSystem, St> {
     fn pump(&self) -> &PumpSystem {
-        &self.pump
+        &self.plant
     }
     fn pump_mut(&mut self) -> &mut PumpSystem {
-        &mut self.pump
+        &mut self.plant
     }
     fn hats(&self, x: &[f64], slot: usize) -> [Option<f64>; 2] {
         self.hat_indices(slot).map(|i| i.map(|i| x[i]))
@@ -435,12 +435,12 @@ impl<St: State> Plant for FrozenPair<St> {
 
 /// `[p_line, stroke]` from per-neuron values: neuron k's `value(k)` at the place of the
 /// plant state it identifies, None for a plant state no neuron identifies.
-fn by_plant_state<T>(states: &[PumpSignal], value: impl Fn(usize) -> T) -> [Option<T>; 2] {
+fn by_plant_state<T>(states: &[SignalRef], value: impl Fn(usize) -> T) -> [Option<T>; 2] {
     let mut out = [None, None];
     for (k, s) in states.iter().enumerate() {
         match s {
-            PumpSignal::PLine => out[P_LINE] = Some(value(k)),
-            PumpSignal::Stroke => out[STROKE] = Some(value(k)),
+            SignalRef::State(P_LINE) => out[P_LINE] = Some(value(k)),
+            SignalRef::State(STROKE) => out[STROKE] = Some(value(k)),
             _ => {}
         }
     }
@@ -1000,7 +1000,8 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
         11 => ident_runs::<[f64; 11]>(sc, is, rec)?,
         _ => ident_runs::<Vec<f64>>(sc, is, rec)?,
     };
-    let names: Vec<&str> = is.states.iter().map(|s| s.name()).collect();
+    let pump_name = |s: &SignalRef| s.name_in(&crate::plant::pump::STATES, &crate::plant::pump::INPUTS);
+    let names: Vec<&str> = is.states.iter().map(pump_name).collect();
     let figures_of = |a: &IdentAcc| -> Vec<StateFigures> {
         (0..names.len())
             .map(|k| a.figures(k, names[k], &weights[k]))
@@ -1062,7 +1063,7 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
     });
     let model = ModelFile {
         states: names.iter().map(|s| s.to_string()).collect(),
-        inputs: is.inputs.iter().map(|s| s.name().to_string()).collect(),
+        inputs: is.inputs.iter().map(|s| pump_name(s).to_string()).collect(),
         sigmoid: is.ident.net.sigmoid,
         state_scale: is.ident.net.state_scale.clone(),
         input_scale: is.ident.net.input_scale.clone(),
@@ -1100,14 +1101,14 @@ fn validate<St: State>(
     weights: &[Vec<f64>],
     wants: bool,
 ) -> Result<(Stats, Collector, [IdentAcc; 2])> {
-    let sys = FrozenPair::<St>::new(
+    let sys = FrozenPair::<_, St>::new(
         pump_system(sc),
         &is.ident,
         weights,
         is.states.clone(),
         is.inputs.clone(),
-    );
-    let s0 = FrozenPair::<St>::initial_state(&is.ident, &is.xhat0);
+    )?;
+    let s0 = FrozenPair::<PumpSystem, St>::initial_state(&is.ident, &is.xhat0);
     let mut x0 = St::zeros(PLANT_DIM + s0.len());
     x0.as_mut_slice()[..PLANT_DIM].copy_from_slice(&plant_initial(sc));
     x0.as_mut_slice()[PLANT_DIM..].copy_from_slice(&s0);
@@ -1125,15 +1126,15 @@ fn ident_runs<St: State>(sc: &Scenario, is: &IdentSettings, rec: &mut impl Recor
         let mut x0 = St::zeros(PLANT_DIM + s0.len());
         x0.as_mut_slice()[..PLANT_DIM].copy_from_slice(&plant_initial(sc));
         x0.as_mut_slice()[PLANT_DIM..].copy_from_slice(&s0);
-        let sys = IdentifiedPump::<St>::new(pump_system(sc), ident, is.states.clone(), is.inputs.clone());
-        (sys, x0)
+        let sys = Identified::<_, St>::new(pump_system(sc), ident, is.states.clone(), is.inputs.clone())?;
+        Ok((sys, x0))
     };
     let wants = rec.wants_validation();
     let mut weights: Option<Vec<Vec<f64>>> = None;
     let mut total = Stats::default();
     let mut train = None;
     for epoch in 1..=is.epochs {
-        let (sys, x0) = make(Mode::Train, weights.as_deref());
+        let (sys, x0) = make(Mode::Train, weights.as_deref())?;
         let last = epoch == is.epochs;
         let mut ia = [IdentAcc::new(is, sys.dim(), 0)];
         let (st, fig, xf, sys, _) = if last {
@@ -1257,7 +1258,7 @@ impl IdentAcc {
         let states: Vec<usize> = is
             .states
             .iter()
-            .map(|s| if *s == PumpSignal::PLine { P_LINE } else { STROKE })
+            .map(|s| s.state_index().unwrap_or(P_LINE))
             .collect();
         let per = states
             .iter()
@@ -1452,7 +1453,7 @@ impl Collector {
         let states: Vec<usize> = is
             .states
             .iter()
-            .map(|s| if *s == PumpSignal::PLine { P_LINE } else { STROKE })
+            .map(|s| s.state_index().unwrap_or(P_LINE))
             .collect();
         let n = states.len();
         Collector {
@@ -1496,7 +1497,8 @@ mod tests {
         let mut x0 = plant_initial(sc).to_vec();
         x0.extend(ident.initial_state(&is.xhat0, Some(w)));
         let sys =
-            IdentifiedPump::<Vec<f64>>::new(pump_system(sc), ident, is.states.clone(), is.inputs.clone());
+            Identified::<_, Vec<f64>>::new(pump_system(sc), ident, is.states.clone(), is.inputs.clone())
+                .unwrap();
         let mut coll = Collector::new(is, true);
         simulate(sc, sys, x0, &mut coll, &mut [], Ctl::of(sc), false).unwrap();
         (coll.t, coll.yhat)

@@ -1,9 +1,11 @@
 //! The `[identifier]` section of a scenario.
 
-use super::{Identifier, Mode, PumpSignal};
+use super::identified::MAX_SIGNALS;
+use super::{Identifier, Mode};
 use crate::error::{invalid, Result};
 use crate::law::LawSpec;
 use crate::net::{Network, Sigmoid, Terms, MAX_TERMS, MAX_Y};
+use crate::plant::{Plant, SignalRef};
 use serde::{Deserialize, Serialize};
 
 /// A sigmoid by name (`"logistic"`, `"tanh"`) or by its parameters `{a, b, c}`.
@@ -63,15 +65,15 @@ fn yes() -> bool {
     true
 }
 
-/// Names to pump signals: each one of `known`, each at most once; errors name
+/// Names to the pump's signals: each one of `known`, each at most once; errors name
 /// `field[k]`.
 fn signals(
     names: &[String],
     field: &str,
-    known: &[(&str, PumpSignal)],
+    known: &[(&str, SignalRef)],
     allowed: &str,
     once: &str,
-) -> Result<Vec<PumpSignal>> {
+) -> Result<Vec<SignalRef>> {
     let mut out = Vec::new();
     for (k, s) in names.iter().enumerate() {
         let Some(&(_, sig)) = known.iter().find(|(n, _)| n == s) else {
@@ -99,9 +101,9 @@ pub struct IdentSettings {
     /// The identifier (mode `Train`).
     pub ident: Identifier,
     /// Identified states.
-    pub states: Vec<PumpSignal>,
+    pub states: Vec<SignalRef>,
     /// Inputs.
-    pub inputs: Vec<PumpSignal>,
+    pub inputs: Vec<SignalRef>,
     /// Initial model states \[SI\].
     pub xhat0: Vec<f64>,
     /// Epochs.
@@ -111,37 +113,72 @@ pub struct IdentSettings {
 }
 
 impl IdentifierSpec {
-    /// Validate.
+    /// Validate for the pump: neurons for `p_line` and `stroke`, inputs `current` and
+    /// `demand`.
     pub fn check(&self) -> Result<IdentSettings> {
+        let pump = crate::plant::pump::PumpSystem::new(
+            crate::plant::PumpParams::default(),
+            crate::plant::Input::Held(0.0),
+            crate::plant::Input::Held(0.0),
+        );
+        self.check_for(&pump)
+    }
+
+    /// Validate for `plant`: each identified state is one of the plant's measured states
+    /// (the identifier reads it, series-parallel), each input one of its inputs.
+    pub fn check_for<P: Plant>(&self, plant: &P) -> Result<IdentSettings> {
         let f = "identifier";
         let n = self.states.len();
-        if n == 0 || n > 2 {
+        let measured: Vec<(&str, SignalRef)> = plant
+            .measured()
+            .iter()
+            .map(|&i| (plant.states()[i].name, SignalRef::State(i)))
+            .collect();
+        let inputs_known: Vec<(&str, SignalRef)> = plant
+            .inputs()
+            .iter()
+            .enumerate()
+            .map(|(k, q)| (q.name, SignalRef::Input(k)))
+            .collect();
+        let quoted = |v: &[(&str, SignalRef)], sep: &str| {
+            v.iter()
+                .map(|(n, _)| format!("{n:?}"))
+                .collect::<Vec<_>>()
+                .join(sep)
+        };
+        let most = measured.len().min(MAX_SIGNALS);
+        if n == 0 || n > most {
+            let count = if most == 2 {
+                "1 or 2".to_string()
+            } else {
+                format!("1 to {most}")
+            };
             return Err(invalid(
                 format!("{f}.states"),
                 format!("{:?}", self.states),
-                "1 or 2 of \"p_line\", \"stroke\"",
+                format!("{count} of {}", quoted(&measured, ", ")),
             ));
         }
         let states = signals(
             &self.states,
             &format!("{f}.states"),
-            &[("p_line", PumpSignal::PLine), ("stroke", PumpSignal::Stroke)],
-            "\"p_line\" or \"stroke\"",
+            &measured,
+            &quoted(&measured, " or "),
             "each state once",
         )?;
         let inputs = signals(
             &self.inputs,
             &format!("{f}.inputs"),
-            &[("current", PumpSignal::Current), ("demand", PumpSignal::Demand)],
-            "\"current\" or \"demand\"",
+            &inputs_known,
+            &quoted(&inputs_known, " or "),
             "each input once",
         )?;
         let m = inputs.len();
-        if n + m > MAX_Y {
+        if m > MAX_SIGNALS || n + m > MAX_Y {
             return Err(invalid(
                 format!("{f}.inputs"),
                 m,
-                format!("at most {} states and inputs", MAX_Y),
+                format!("at most {MAX_SIGNALS} inputs"),
             ));
         }
         let sigmoid = match &self.sigmoid {

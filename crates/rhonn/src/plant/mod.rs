@@ -1,8 +1,139 @@
-//! The plant: a solenoid-controlled variable-displacement pump feeding a hydraulic
-//! line (SPEC.md section 1).
+//! Plants: continuous-time systems whose states may be limited integrators, driven by
+//! inputs, described by a [`Plant`] so that the solver, the online identifier, the
+//! controllers and the reports work on any of them.
+//!
+//! Each plant lives in its own folder: [`pump`] (the thesis's solenoid-controlled
+//! variable-displacement pump) and [`tanks`] (two tanks in series, the upper one
+//! overflowing into the lower). Adding a plant is a folder with a type that implements
+//! [`rhonn_ode::System`] (the equations, events and bounds) and [`Plant`] (what its
+//! states, inputs and parameters are called, in which units).
 
-mod params;
-mod pump;
+mod input;
+pub mod pump;
+pub mod tanks;
 
-pub use params::{PumpParams, PumpParamsSpec};
-pub use pump::{Input, PumpSystem, CURRENT_EFF, PLANT_DIM, PUMP_EVENTS, P_LINE, STROKE};
+pub use input::Input;
+pub use pump::{
+    Pilot, PumpParams, PumpParamsSpec, PumpSystem, CURRENT_EFF, PLANT_DIM, PUMP_EVENTS, P_LINE, STROKE,
+};
+pub use tanks::{Tanks, TanksParams};
+
+use rhonn_ode::System;
+
+/// A named quantity of a plant (a state or an input): its column name, its SI unit, and
+/// the unit people read with the factor that converts to it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quantity {
+    /// Column name (`p_line`, `h1`, `voltage`): lower case, no spaces.
+    pub name: &'static str,
+    /// The SI unit the code uses (`Pa`, `m`, `m^3/s`, `V`).
+    pub unit: &'static str,
+    /// The unit of tables and plots (`MPa`, `mm`, `dm^3/s`).
+    pub display_unit: &'static str,
+    /// Display value per SI value (1e-6 for Pa -> MPa).
+    pub display_per_si: f64,
+    /// One sentence on what it is.
+    pub description: &'static str,
+}
+
+impl Quantity {
+    /// `v` (SI) in the display unit.
+    pub fn to_display(&self, v: f64) -> f64 {
+        v * self.display_per_si
+    }
+}
+
+/// An uncertain parameter of a plant: its key in a scenario's `[plant]` table (display
+/// units, the unit in the name), its nominal value and its relative tolerance, which is
+/// what Monte Carlo campaigns draw from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Parameter {
+    /// Key in `[plant]` (`beta_mpa`, `outlet_1_mm2`).
+    pub name: &'static str,
+    /// Nominal value, display units.
+    pub nominal: f64,
+    /// Relative half-width of the tolerance band (0.2 = +-20 %).
+    pub tolerance: f64,
+    /// What it is.
+    pub description: &'static str,
+}
+
+/// What the experiment layer needs to know about a plant beyond its equations.
+///
+/// The first [`Plant::states`]`.len()` components of the [`System`] state are the
+/// plant's, in that order. Inputs are either signals of time or values held by a sampled
+/// controller ([`Plant::hold_input`], zero-order hold); [`Plant::input_at`] evaluates them
+/// in the current modes, so it is cheap enough to call inside the right-hand side of a
+/// system that integrates an identifier along with the plant.
+pub trait Plant: System + Clone + Send + Sync {
+    /// Short name (`pump`, `tanks`).
+    fn name(&self) -> &'static str;
+    /// The states, in state order.
+    fn states(&self) -> &'static [Quantity];
+    /// The inputs.
+    fn inputs(&self) -> &'static [Quantity];
+    /// Indices (into [`Plant::states`]) of the states a sensor measures.
+    fn measured(&self) -> &'static [usize];
+    /// Input `k` at `t`, in the current modes (SI).
+    fn input_at(&self, t: f64, k: usize) -> f64;
+    /// Hold input `k` at `value` from now on (a sampled controller's output).
+    fn hold_input(&mut self, k: usize, value: f64);
+    /// The uncertain parameters with their nominal values and tolerances.
+    fn parameters(&self) -> &'static [Parameter];
+}
+
+/// A state or an input of a plant, by position: what an identifier reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SignalRef {
+    /// State `i` of the plant.
+    State(usize),
+    /// Input `k` of the plant.
+    Input(usize),
+}
+
+impl SignalRef {
+    /// Find the state or input called `name` in `plant`'s lists.
+    pub fn find<P: Plant>(plant: &P, name: &str) -> Option<SignalRef> {
+        if let Some(i) = plant.states().iter().position(|q| q.name == name) {
+            return Some(SignalRef::State(i));
+        }
+        plant
+            .inputs()
+            .iter()
+            .position(|q| q.name == name)
+            .map(SignalRef::Input)
+    }
+
+    /// Its description in `plant`.
+    pub fn quantity<P: Plant>(self, plant: &P) -> &'static Quantity {
+        match self {
+            SignalRef::State(i) => &plant.states()[i],
+            SignalRef::Input(k) => &plant.inputs()[k],
+        }
+    }
+
+    /// Its name in the lists `states` and `inputs` (a plant's tables).
+    pub fn name_in(self, states: &'static [Quantity], inputs: &'static [Quantity]) -> &'static str {
+        match self {
+            SignalRef::State(i) => states.get(i).map_or("?", |q| q.name),
+            SignalRef::Input(k) => inputs.get(k).map_or("?", |q| q.name),
+        }
+    }
+
+    /// The state's index, None for an input.
+    pub fn state_index(self) -> Option<usize> {
+        match self {
+            SignalRef::State(i) => Some(i),
+            SignalRef::Input(_) => None,
+        }
+    }
+
+    /// Its value at `(t, x)` (`x` begins with the plant's states).
+    #[inline(always)]
+    pub fn value<P: Plant>(self, plant: &P, t: f64, x: &[f64]) -> f64 {
+        match self {
+            SignalRef::State(i) => x[i],
+            SignalRef::Input(k) => plant.input_at(t, k),
+        }
+    }
+}

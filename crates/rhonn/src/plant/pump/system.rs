@@ -1,7 +1,8 @@
 //! The pump's equations as a [`rhonn_ode::System`].
 
+use super::super::Input;
 use super::PumpParams;
-use crate::signal::{Affine, Signal};
+use crate::signal::Affine;
 use rhonn_ode::{Direction, System};
 
 /// Index of the line pressure P_l \[Pa\] in the state.
@@ -16,46 +17,6 @@ pub const CURRENT_EFF: usize = 2;
 pub const PLANT_DIM: usize = 3;
 /// Number of the pump's event functions.
 pub const PUMP_EVENTS: usize = 2;
-
-/// An input of the pump: a signal of time, or a value held by a sampled controller
-/// (zero-order hold).
-#[derive(Debug, Clone, PartialEq)]
-pub enum Input {
-    /// A profile.
-    Signal(Signal),
-    /// Held constant until changed.
-    Held(f64),
-}
-
-impl Input {
-    #[inline]
-    fn segment(&self, t: f64) -> usize {
-        match self {
-            Input::Signal(s) => s.segment(t),
-            Input::Held(_) => 0,
-        }
-    }
-    #[inline]
-    fn eval_in(&self, seg: usize, t: f64) -> f64 {
-        match self {
-            Input::Signal(s) => s.eval_in(seg, t),
-            Input::Held(v) => *v,
-        }
-    }
-    #[inline]
-    fn next_breakpoint(&self, t: f64) -> f64 {
-        match self {
-            Input::Signal(s) => s.next_breakpoint(t),
-            Input::Held(_) => f64::INFINITY,
-        }
-    }
-    fn affine_in(&self, seg: usize) -> Option<Affine> {
-        match self {
-            Input::Signal(s) => s.affine_in(seg),
-            Input::Held(v) => Some(Affine::constant(*v)),
-        }
-    }
-}
 
 /// The pump and line (states `[P_l, x, i]`, SI) driven by a solenoid current \[A\] and a
 /// demanded flow \[m^3/s\].
@@ -147,6 +108,13 @@ impl PumpSystem {
     pub fn set_current(&mut self, i: f64) {
         self.current = Input::Held(i);
         self.lin_i = self.current.affine_in(self.seg_i);
+        self.bp_from = f64::INFINITY;
+    }
+
+    /// Hold the demanded flow at `q` \[m^3/s\] from now on.
+    pub fn set_demand(&mut self, q: f64) {
+        self.demand = Input::Held(q);
+        self.lin_q = self.demand.affine_in(self.seg_q);
         self.bp_from = f64::INFINITY;
     }
 
@@ -274,7 +242,7 @@ impl System for PumpSystem {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::signal::PiecewiseLinear;
+    use crate::signal::{PiecewiseLinear, Signal};
 
     fn signal(points: &[(f64, f64)]) -> Input {
         Input::Signal(Signal::piecewise(

@@ -1,0 +1,144 @@
+//! The solenoid-controlled variable-displacement pump feeding a hydraulic line
+//! (SPEC.md section 1, `docs/pump-model.md`): states `[P_l, x, i]`, inputs
+//! `[current, demand]`.
+
+mod params;
+mod system;
+
+pub use super::Input;
+pub use params::{PumpParams, PumpParamsSpec};
+pub use system::{Pilot, PumpSystem, CURRENT_EFF, PLANT_DIM, PUMP_EVENTS, P_LINE, STROKE};
+
+use super::{Parameter, Plant, Quantity};
+
+/// The pump's states, in state order.
+pub const STATES: [Quantity; PLANT_DIM] = [
+    Quantity {
+        name: "p_line",
+        unit: "Pa",
+        display_unit: "MPa",
+        display_per_si: 1e-6,
+        description: "line pressure P_l, a limited integrator on [0, P_max]",
+    },
+    Quantity {
+        name: "stroke",
+        unit: "m",
+        display_unit: "mm",
+        display_per_si: 1e3,
+        description: "pump stroke x, a limited integrator on [0, x_max]",
+    },
+    Quantity {
+        name: "current_eff",
+        unit: "A",
+        display_unit: "A",
+        display_per_si: 1.0,
+        description: "the current the solenoid carries (the commanded one through the solenoid's lag)",
+    },
+];
+
+/// The pump's inputs.
+pub const INPUTS: [Quantity; 2] = [
+    Quantity {
+        name: "current",
+        unit: "A",
+        display_unit: "A",
+        display_per_si: 1.0,
+        description: "commanded solenoid current, clipped to [0, i_max]",
+    },
+    Quantity {
+        name: "demand",
+        unit: "m^3/s",
+        display_unit: "dm^3/s",
+        display_per_si: 1e3,
+        description: "flow the load draws from the line",
+    },
+];
+
+/// The thesis's stated tolerances (SPEC.md table): beta +-20 %, mu_1 and mu_2 +-20 %,
+/// Q_0 +-10 %, load flow slew rate +-10 %; nominal values of table 3.3.
+pub const PARAMETERS: [Parameter; 5] = [
+    Parameter {
+        name: "beta_mpa",
+        nominal: 1200.0,
+        tolerance: 0.2,
+        description: "bulk modulus of the oil [MPa]",
+    },
+    Parameter {
+        name: "mu_1",
+        nominal: 78e-6,
+        tolerance: 0.2,
+        description: "pilot valve flow coefficient mu_1",
+    },
+    Parameter {
+        name: "mu_2",
+        nominal: 78e-6,
+        tolerance: 0.2,
+        description: "pilot valve flow coefficient mu_2",
+    },
+    Parameter {
+        name: "q_0_dm3_s",
+        nominal: 0.13,
+        tolerance: 0.1,
+        description: "leakage flow Q_0 [dm^3/s]",
+    },
+    Parameter {
+        name: "qdot_max_dm3_s2",
+        nominal: 2.0,
+        tolerance: 0.1,
+        description: "largest slew rate of the demanded flow [dm^3/s^2]",
+    },
+];
+
+impl Plant for PumpSystem {
+    fn name(&self) -> &'static str {
+        "pump"
+    }
+    fn states(&self) -> &'static [Quantity] {
+        &STATES
+    }
+    fn inputs(&self) -> &'static [Quantity] {
+        &INPUTS
+    }
+    fn measured(&self) -> &'static [usize] {
+        &[P_LINE, STROKE]
+    }
+    #[inline(always)]
+    fn input_at(&self, t: f64, k: usize) -> f64 {
+        if k == 0 {
+            self.current_at(t)
+        } else {
+            self.demand_at(t)
+        }
+    }
+    fn hold_input(&mut self, k: usize, value: f64) {
+        if k == 0 {
+            self.set_current(value);
+        } else {
+            self.set_demand(value);
+        }
+    }
+    fn parameters(&self) -> &'static [Parameter] {
+        &PARAMETERS
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_tolerance_table_holds_the_default_values() {
+        let d = PumpParamsSpec::default();
+        let by_name = |n: &str| match n {
+            "beta_mpa" => d.beta_mpa,
+            "mu_1" => d.mu_1,
+            "mu_2" => d.mu_2,
+            "q_0_dm3_s" => d.q_0_dm3_s,
+            "qdot_max_dm3_s2" => d.qdot_max_dm3_s2,
+            other => panic!("{other} is not a pump parameter"),
+        };
+        for p in PARAMETERS {
+            assert_eq!(p.nominal, by_name(p.name), "{}", p.name);
+        }
+    }
+}
