@@ -44,7 +44,9 @@
 //! learn; then the ball's centre is set to the identified `W_1` and the full `lambda`
 //! takes over.
 
+use super::{AdaptiveView, Controller};
 use crate::net::Sigmoid;
+use crate::plant::{P_LINE, STROKE};
 
 /// Number of drift terms `S(p)`.
 pub const L_DRIFT: usize = 2;
@@ -401,6 +403,29 @@ impl RhonnCascade {
     /// How many substeps ended with a projection.
     pub fn projections(&self) -> u64 {
         self.projections
+    }
+}
+
+impl Controller for RhonnCascade {
+    fn name(&self) -> &'static str {
+        "rhonn-adaptive"
+    }
+    fn measurements(&self) -> &[usize] {
+        &[P_LINE, STROKE]
+    }
+    fn control(&mut self, t: f64, measured: &[f64], setpoint: f64) -> f64 {
+        self.update(t, measured[0], measured[1], setpoint)
+    }
+    fn adaptive(&self, t: f64) -> Option<AdaptiveView> {
+        Some(AdaptiveView {
+            state: self.state(),
+            identifying: t < self.settings.identification_s,
+            w1_distance: self.neuron.w1_distance(),
+            ball_radius: self.neuron.radius,
+            w_bound: self.neuron.w_bound,
+            w1: self.neuron.w1,
+            projections: self.projections,
+        })
     }
 }
 

@@ -1,6 +1,53 @@
-//! Controllers of the line pressure, sampled every control period with zero-order hold.
+//! Sampled controllers: each is called every control period with the measurements it
+//! declares and the set-point, and returns the plant input it drives, held until the
+//! next call (zero-order hold). One file per controller; each implements [`Controller`],
+//! so a run can carry a controller and a baseline and compare them on the same figures.
 
 pub mod adaptive;
 mod pi;
 pub use adaptive::{AffineNeuron, CascadeSettings, CascadeState, RhonnCascade};
 pub use pi::Pi;
+
+/// A sampled controller of one plant input.
+///
+/// ```
+/// use rhonn::control::{Controller, Pi};
+/// // A PI on state 0 of some plant, output in [0, 1].
+/// let mut pi = Pi::new(0.5, 2.0, 0.01, 0.0, 0.0, 1.0);
+/// assert_eq!(pi.measurements(), &[0]);
+/// let u = pi.control(0.0, &[0.2], 1.0);
+/// assert!(u > 0.0 && u <= 1.0);
+/// ```
+pub trait Controller: Send {
+    /// Short name, as reports print it (`pi`, `rhonn-adaptive`).
+    fn name(&self) -> &'static str;
+    /// The plant states it measures (indices into the plant's states), in the order
+    /// [`Controller::control`] receives them.
+    fn measurements(&self) -> &[usize];
+    /// One control instant at `t` \[s\]: the measurements (SI, in
+    /// [`Controller::measurements`] order) and the set-point (SI) in, the input out.
+    fn control(&mut self, t: f64, measured: &[f64], setpoint: f64) -> f64;
+    /// An adaptive controller's view of its weights at time `t` (None for a fixed one).
+    fn adaptive(&self, _t: f64) -> Option<AdaptiveView> {
+        None
+    }
+}
+
+/// What an adaptive controller shows of its weights at a control instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdaptiveView {
+    /// Its internal signals for the trace.
+    pub state: CascadeState,
+    /// Whether it is still in its identification phase.
+    pub identifying: bool,
+    /// |W_1 - centre| (MPa/(s mm) units).
+    pub w1_distance: f64,
+    /// Radius of W_1's ball.
+    pub ball_radius: f64,
+    /// Radius of W's ball (around 0).
+    pub w_bound: f64,
+    /// W_1.
+    pub w1: [f64; adaptive::L_GAIN],
+    /// Identifier substeps that ended with a projection, so far.
+    pub projections: u64,
+}

@@ -1,6 +1,9 @@
 //! PI pressure regulator with anti-windup: the baseline every adaptive controller is
 //! compared with.
 
+use super::Controller;
+use crate::signal::Signal;
+
 /// A discrete PI regulator `u = bias + kp e + ki sum(e T)`, output clipped to
 /// `[u_min, u_max]`. Anti-windup by conditional integration: the integral does not
 /// grow while the output is saturated and the error pushes further into saturation.
@@ -20,6 +23,10 @@ pub struct Pi {
     pub u_min: f64,
     /// Output range.
     pub u_max: f64,
+    /// The plant state it measures (default 0).
+    pub measured: [usize; 1],
+    /// A signal added to the output (an identification dither), then clipped again.
+    pub dither: Option<Signal>,
     integral: f64,
 }
 
@@ -33,6 +40,8 @@ impl Pi {
             bias,
             u_min,
             u_max,
+            measured: [0],
+            dither: None,
             integral: 0.0,
         }
     }
@@ -52,6 +61,22 @@ impl Pi {
     /// The integral term \[A\].
     pub fn integral(&self) -> f64 {
         self.integral
+    }
+}
+
+impl Controller for Pi {
+    fn name(&self) -> &'static str {
+        "pi"
+    }
+    fn measurements(&self) -> &[usize] {
+        &self.measured
+    }
+    fn control(&mut self, t: f64, measured: &[f64], setpoint: f64) -> f64 {
+        let u = self.update(setpoint, measured[0]);
+        match &self.dither {
+            Some(d) => (u + d.eval(t)).clamp(self.u_min, self.u_max),
+            None => u,
+        }
     }
 }
 

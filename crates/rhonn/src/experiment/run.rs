@@ -3,7 +3,7 @@
 
 use super::scenario::{AdaptiveSettings, Drive, ProfileSpec, Scenario, ScenarioSpec, SolverSettings};
 use super::trace::{Column, NoRecorder, Recorder, Sample, Trace};
-use crate::control::{Pi, RhonnCascade};
+use crate::control::{Controller, Pi, RhonnCascade};
 use crate::error::{Error, Result};
 use crate::ident::{FrozenPair, IdentSettings, Identified, Mode};
 use crate::net::Sigmoid;
@@ -478,40 +478,25 @@ pub fn solver_options<S: rhonn_ode::State>(s: &SolverSettings, dim: usize) -> Op
     o
 }
 
-/// The sampled controller of one simulation.
-enum Ctl<'a> {
-    /// Open loop: the current is a profile.
+/// The sampled controller of one simulation: none (open loop: the current is a
+/// profile), or a [`Controller`] on the measured states.
+enum Ctl {
     Open,
-    /// PI on the measured pressure, with an optional dither on its output.
-    Pi { pi: Pi, dither: Option<&'a Signal> },
-    /// The RHONN adaptive cascade.
-    Cascade(Box<RhonnCascade>),
+    Closed(Box<dyn Controller>),
 }
 
-impl Ctl<'_> {
-    fn of(sc: &Scenario) -> Ctl<'_> {
+impl Ctl {
+    fn of(sc: &Scenario) -> Ctl {
         let p = &sc.params;
         match &sc.drive {
             Drive::OpenLoop(_) => Ctl::Open,
-            Drive::Pi(s) => Ctl::Pi {
-                pi: Pi::new(s.kp, s.ti_s, p.t_control, s.bias, 0.0, p.i_max),
-                dither: s.dither.as_ref(),
-            },
-            Drive::Adaptive(a) => Ctl::Cascade(Box::new(cascade_for(sc, &a.cascade))),
-        }
-    }
-
-    fn update(&mut self, t: f64, p_meas: f64, x_meas: f64, p_ref: f64, i_max: f64) -> f64 {
-        match self {
-            Ctl::Open => 0.0,
-            Ctl::Pi { pi, dither } => {
-                let u = pi.update(p_ref, p_meas);
-                match dither {
-                    Some(d) => (u + d.eval(t)).clamp(0.0, i_max),
-                    None => u,
-                }
+            Drive::Pi(s) => {
+                let mut pi = Pi::new(s.kp, s.ti_s, p.t_control, s.bias, 0.0, p.i_max);
+                pi.measured = [P_LINE];
+                pi.dither = s.dither.clone();
+                Ctl::Closed(Box::new(pi))
             }
-            Ctl::Cascade(c) => c.update(t, p_meas, x_meas, p_ref),
+            Drive::Adaptive(a) => Ctl::Closed(Box::new(cascade_for(sc, &a.cascade))),
         }
     }
 }
@@ -596,7 +581,10 @@ fn simulate<S: Plant>(
         solver.system().pump().current_at(0.0);
         p.delay_periods as usize
     ]);
-    let mut adaptive = matches!(ctl, Ctl::Cascade(_)).then(AdaptiveReport::default);
+    let mut adaptive = match &ctl {
+        Ctl::Closed(c) => c.adaptive(0.0).map(|_| AdaptiveReport::default()),
+        Ctl::Open => None,
+    };
     let mut ctl_state: Option<crate::control::CascadeState> = None;
 
     let t_end = sc.spec.duration_s;
@@ -636,10 +624,19 @@ fn simulate<S: Plant>(
         let t = solver.t();
         let y = measure(solver.state()[P_LINE], rng);
         let xm = measure_x(solver.state()[STROKE]);
-        let u = ctl.update(t, y, xm, sp.eval(t), p.i_max);
+        let Ctl::Closed(c) = ctl else {
+            return Ok((y, None));
+        };
+        // What the sensors give, by plant state; the controller reads what it declares.
+        let sensors = [y, xm];
+        let mut meas = [0.0; 2];
+        for (m, &i) in meas.iter_mut().zip(c.measurements()) {
+            *m = sensors[i];
+        }
+        let u = c.control(t, &meas[..c.measurements().len()], sp.eval(t));
         let mut cs = None;
-        if let (Ctl::Cascade(c), Some(rep)) = (&*ctl, adaptive.as_mut()) {
-            let st = c.state();
+        if let (Some(v), Some(rep)) = (c.adaptive(t), adaptive.as_mut()) {
+            let st = v.state;
             if !(u.is_finite()
                 && st.w_norm.is_finite()
                 && st.w1_norm.is_finite()
@@ -658,13 +655,13 @@ fn simulate<S: Plant>(
             }
             rep.w_norm_max = rep.w_norm_max.max(st.w_norm);
             rep.w_norm_final = st.w_norm;
-            if t >= c.settings.identification_s {
-                rep.w1_distance_max = rep.w1_distance_max.max(c.neuron.w1_distance());
+            if !v.identifying {
+                rep.w1_distance_max = rep.w1_distance_max.max(v.w1_distance);
             }
-            rep.w1_ball_radius = c.neuron.radius;
-            rep.w_bound = c.neuron.w_bound;
-            rep.w1_final = c.neuron.w1.to_vec();
-            rep.projections = c.projections();
+            rep.w1_ball_radius = v.ball_radius;
+            rep.w_bound = v.w_bound;
+            rep.w1_final = v.w1.to_vec();
+            rep.projections = v.projections;
             cs = Some(st);
         }
         queue.push_back(u);
