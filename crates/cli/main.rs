@@ -10,8 +10,7 @@ use args::{Cli, Command};
 use clap::Parser;
 use rhonn::data::Record;
 use rhonn::experiment::{preset, run_full, Trace};
-use rhonn::sysid::{fit_ensemble, parse_spec_file, FittedModel, Model, ModelSpec};
-use rhonn_report::{Series, TimePlot};
+use rhonn::sysid::{parse_spec_file, FittedModel, ModelSpec, RecordFigures};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -119,23 +118,6 @@ fn read_data(
     Ok(recs)
 }
 
-fn figures_json(
-    m: &Model,
-    predict: impl Fn(&Record) -> rhonn::Result<(Vec<Vec<f64>>, usize)>,
-    recs: &[Record],
-) -> Result<serde_json::Value> {
-    let per = recs
-        .iter()
-        .map(|r| {
-            let (p, first) = predict(r)?;
-            let figures = m.figures(r, &p, first);
-            rhonn::sysid::ensure_finite_figures(&figures, &r.source)?;
-            Ok(serde_json::json!({ "data": r.source, "outputs": figures }))
-        })
-        .collect::<Result<Vec<_>>>()?;
-    Ok(serde_json::Value::Array(per))
-}
-
 fn cmd_fit(
     data: &[PathBuf],
     inputs: &[String],
@@ -162,54 +144,12 @@ fn cmd_fit(
     }
     let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
     let recs = read_data(data, inputs, outputs, max_lag + 2)?;
-    let fitted = fit_ensemble(&specs, &recs, inputs, outputs)?;
-    let spec = &specs[0];
-    let m = &fitted.model;
-    let mut summary = serde_json::json!({
-        "rhonn_version": env!("CARGO_PKG_VERSION"),
-        "model": m.spec,
-        "features": m.n_features(),
-        "high_order_terms": m.terms.len(),
-        "sample_time_s": m.sample_time_s,
-        "training": {
-            "one_step": figures_json(m, |r| fitted.predict(r, Some(1)), &recs)?,
-            "free_run": figures_json(m, |r| fitted.predict(r, None), &recs)?,
-        },
-    });
-    if !fitted.members.is_empty() {
-        // An ensemble: every member's structure and size; the figures are the mean's.
-        summary["members"] = fitted
-            .all_members()
-            .map(|m| {
-                serde_json::json!({
-                    "model": m.spec,
-                    "features": m.n_features(),
-                    "high_order_terms": m.terms.len(),
-                })
-            })
-            .collect();
-    }
-    if let Some(b) = &fitted.baseline {
-        summary["baseline_arx"] = serde_json::json!({
-            "features": b.n_features(),
-            "one_step": figures_json(b, |r| b.predict(r, Some(1)), &recs)?,
-            "free_run": figures_json(b, |r| b.predict(r, None), &recs)?,
-        });
-    }
-    let mut set = rhonn_report::OutputSet::new(out)?;
-    set.write("model.json", |w| {
-        serde_json::to_writer_pretty(&mut *w, &fitted).map_err(std::io::Error::other)?;
-        writeln!(w)
-    })?;
-    set.write("summary.json", |w| {
-        serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::other)?;
-        writeln!(w)
-    })?;
-    let files = set.commit()?;
+    let (fitted, summary) = rhonn::sysid::train(&specs, &recs, inputs, outputs)?;
+    let files = rhonn_report::write_fit(out, &fitted, &summary)?;
     if fitted.members.is_empty() {
         println!(
             "fitted a {:?} model with {} features per output on {} record(s)",
-            spec.kind,
+            specs[0].kind,
             fitted.model.n_features(),
             recs.len()
         );
@@ -221,9 +161,9 @@ fn cmd_fit(
             recs.len()
         );
     }
-    print_training(&summary["training"]["free_run"], "free run (training data)");
-    if fitted.baseline.is_some() {
-        print_training(&summary["baseline_arx"]["free_run"], "ARX baseline, free run");
+    print_training(&summary.training.free_run, "free run (training data)");
+    if let Some(b) = &summary.baseline_arx {
+        print_training(&b.free_run, "ARX baseline, free run");
     }
     for f in files {
         println!("  wrote {}", f.display());
@@ -231,15 +171,12 @@ fn cmd_fit(
     Ok(())
 }
 
-fn print_training(v: &serde_json::Value, label: &str) {
-    for rec in v.as_array().into_iter().flatten() {
-        for o in rec["outputs"].as_array().into_iter().flatten() {
+fn print_training(figures: &[RecordFigures], label: &str) {
+    for rec in figures {
+        for o in &rec.outputs {
             println!(
                 "  {label}: {} {}: rms error {:.4}, fit {:.1} %",
-                rec["data"].as_str().unwrap_or(""),
-                o["output"].as_str().unwrap_or(""),
-                o["rms_error"].as_f64().unwrap_or(f64::NAN),
-                o["fit_percent"].as_f64().unwrap_or(f64::NAN)
+                rec.data, o.output, o.rms_error, o.fit_percent
             );
         }
     }
@@ -260,23 +197,10 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
         &[data.to_path_buf()],
         &m.inputs,
         &m.outputs,
-        fitted.max_lag() + steps.unwrap_or(1) + 1,
+        rhonn::sysid::samples_needed(&fitted, steps),
     )?;
-    // The model's lags are in its own samples: data sampled otherwise is put on the
-    // model's grid (inputs held, outputs interpolated) and said so.
-    let dt = recs[0].median_interval();
-    let resampled;
-    let r = if (dt - m.sample_time_s).abs() > 1e-6 * m.sample_time_s {
-        resampled = recs[0].uniform(m.sample_time_s);
-        let need = fitted.max_lag() + steps.unwrap_or(1) + 1;
-        if resampled.len() < need {
-            anyhow::bail!(
-                "{}: {} samples on the model's {} s grid, the model needs at least {need}",
-                data.display(),
-                resampled.len(),
-                m.sample_time_s
-            );
-        }
+    let p = rhonn::sysid::predict(&fitted, &recs[0], steps)?;
+    if let Some(dt) = p.resampled_from_s {
         // Intervals read off decimal times carry float noise: shown to the nanosecond.
         let ns = |v: f64| (v * 1e9).round() / 1e9;
         eprintln!(
@@ -284,104 +208,17 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
             data.display(),
             ns(dt),
             ns(m.sample_time_s),
-            resampled.len()
+            p.record.len()
         );
-        &resampled
-    } else {
-        &recs[0]
-    };
-    let (p, first) = fitted.predict(r, steps)?;
-    let figs = m.figures(r, &p, first);
-    rhonn::sysid::ensure_finite_figures(&figs, &r.source)?;
-    let base = match &fitted.baseline {
-        Some(b) => {
-            let (pb, fb) = b.predict(r, steps)?;
-            let f = b.figures(r, &pb, fb);
-            rhonn::sysid::ensure_finite_figures(&f, &format!("{} (ARX baseline)", r.source))?;
-            Some((pb, f))
-        }
-        None => None,
-    };
-    let mut trace = rhonn::experiment::Trace::default();
-    let col = |name: String, values: Vec<f64>| rhonn::experiment::Column {
-        name,
-        unit: "",
-        values,
-    };
-    trace.columns.push(col("t".into(), r.t.clone()));
-    for (j, name) in m.outputs.iter().enumerate() {
-        trace.columns.push(col(name.clone(), r.outputs[j].clone()));
-        trace.columns.push(col(format!("{name}_hat"), p[j].clone()));
-        if let Some((pb, _)) = &base {
-            trace.columns.push(col(format!("{name}_hat_arx"), pb[j].clone()));
-        }
     }
-    let mode = match steps {
-        None => "free run".to_string(),
-        Some(k) => format!("{k} step(s) ahead"),
-    };
-    let summary = serde_json::json!({
-        "rhonn_version": env!("CARGO_PKG_VERSION"),
-        "model": model.display().to_string(),
-        "data": r.source,
-        "mode": mode,
-        "steps_ahead": steps,
-        "outputs": figs,
-        "baseline_arx": base.as_ref().map(|(_, f)| f),
-    });
-    let plots: Vec<TimePlot> = m
-        .outputs
-        .iter()
-        .enumerate()
-        .map(|(j, name)| {
-            // Columns rhonn writes in SI are plotted in display units; others as they are.
-            let (to_display, y_label): (ToDisplay, String) = match display_unit(name) {
-                Some((f, unit)) => (f, format!("{name} [{unit}]")),
-                None => (|v| v, name.clone()),
-            };
-            let scaled = |v: &[f64]| v.iter().map(|&x| to_display(x)).collect::<Vec<f64>>();
-            let mut series = vec![
-                Series {
-                    label: name.clone(),
-                    y: scaled(&r.outputs[j]),
-                    dashed: false,
-                },
-                Series {
-                    label: format!("{name}_hat ({mode})"),
-                    y: scaled(&p[j]),
-                    dashed: true,
-                },
-            ];
-            if let Some((pb, _)) = &base {
-                series.push(Series {
-                    label: "ARX baseline".into(),
-                    y: scaled(&pb[j]),
-                    dashed: true,
-                });
-            }
-            TimePlot {
-                title: format!("{name}: measured and predicted, {mode}"),
-                y_label,
-                t: r.t.clone(),
-                series,
-            }
-        })
-        .collect();
-    let svg = TimePlot::render(&plots, 900, 380);
-    let mut set = rhonn_report::OutputSet::new(out)?;
-    set.write("prediction.csv", |w| rhonn_report::write_trace_csv(w, &trace))?;
-    set.write("summary.json", |w| {
-        serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::other)?;
-        writeln!(w)
-    })?;
-    set.write("prediction.svg", |w| w.write_all(svg.as_bytes()))?;
-    let files = set.commit()?;
-    for (j, f) in figs.iter().enumerate() {
+    let files = rhonn_report::write_prediction(out, &fitted, &p, &model.display().to_string())?;
+    let mode = p.mode();
+    for (j, f) in p.figures.iter().enumerate() {
         print!(
             "{} ({mode}): rms error {:.4}, fit {:.1} %, nrmse {:.4}",
             f.output, f.rms_error, f.fit_percent, f.nrmse
         );
-        if let Some((_, fb)) = &base {
+        if let Some((_, fb)) = &p.baseline {
             print!(
                 "; ARX baseline: rms error {:.4}, fit {:.1} %",
                 fb[j].rms_error, fb[j].fit_percent
@@ -491,21 +328,4 @@ fn cmd_run(scenario: &str, out: Option<PathBuf>) -> Result<()> {
         println!("  wrote {}", file.display());
     }
     Ok(())
-}
-
-/// A conversion from SI to a display unit.
-type ToDisplay = fn(f64) -> f64;
-
-/// The display unit of a column `rhonn run` writes in SI (`trajectory.csv`): pressures in
-/// Pa are shown in MPa, strokes in m in mm, flows in m^3/s in dm^3/s. None for any other
-/// column (measured data keeps its own units).
-fn display_unit(column: &str) -> Option<(ToDisplay, &'static str)> {
-    use rhonn::units::{dm3_s, mm, mpa};
-    let base = column.strip_suffix("_pi").unwrap_or(column);
-    match base {
-        "p_line" | "p_meas" | "p_ref" | "p_line_model" => Some((mpa, "MPa")),
-        "stroke" | "stroke_ref" => Some((mm, "mm")),
-        "demand" => Some((dm3_s, "dm^3/s")),
-        _ => None,
-    }
 }

@@ -3,7 +3,7 @@
 //! `cargo run --release -p rhonn-report --example fit_tanks [DATA_DIR]`
 //! (default `../shared/data/cascaded-tanks`).
 
-use rhonn::sysid::{fit_ensemble, parse_spec_file};
+use rhonn::sysid::{parse_spec_file, predict, train};
 use rhonn_report::read_record;
 use std::path::PathBuf;
 
@@ -17,9 +17,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let estimation = read_record(&dir.join("estimation.csv"), &u, &y, 20)?;
     let validation = read_record(&dir.join("validation.csv"), &u, &y, 20)?;
     let specs = parse_spec_file(&std::fs::read_to_string("models/cascaded-tanks.toml")?)?;
-    let model = fit_ensemble(&specs, &[estimation], &u, &y)?;
-    let (y_hat, first) = model.predict(&validation, None)?; // free run; Some(K): K steps ahead
-    let figures = model.model.figures(&validation, &y_hat, first);
-    println!("free-run RMS error on validation: {:.4} V", figures[0].rms_error);
+    let (model, summary) = train(&specs, &[estimation], &u, &y)?;
+    let fit_rms = summary.training.free_run[0].outputs[0].rms_error;
+    println!("free-run RMS error on estimation: {fit_rms:.4} V");
+    let p = predict(&model, &validation, None)?; // free run; Some(K): K steps ahead
+    println!(
+        "free-run RMS error on validation: {:.4} V",
+        p.figures[0].rms_error
+    );
     Ok(())
 }

@@ -19,11 +19,13 @@ mod atomic;
 mod csv_out;
 mod data_in;
 mod plot;
+mod prediction;
 
 pub use atomic::OutputSet;
 pub use csv_out::write_trace_csv;
 pub use data_in::{read_record, DataError};
 pub use plot::{bin_counts, plot_identification, plot_run, Band, EnvelopePlot, Histogram, Series, TimePlot};
+pub use prediction::{plot_prediction, prediction_trace, write_prediction};
 
 use rhonn::experiment::{RunOutput, Trace};
 use std::path::{Path, PathBuf};
@@ -75,7 +77,20 @@ pub fn write_run(dir: &Path, trace: &Trace, output: &RunOutput) -> Result<Vec<Pa
     out.commit()
 }
 
-fn write_json(w: &mut dyn std::io::Write, v: &impl serde::Serialize) -> std::io::Result<()> {
+pub(crate) fn write_json(w: &mut dyn std::io::Write, v: &impl serde::Serialize) -> std::io::Result<()> {
     serde_json::to_writer_pretty(&mut *w, v).map_err(std::io::Error::other)?;
     writeln!(w)
+}
+
+/// Write what `rhonn fit` writes into `dir`: `model.json` (the fitted model, as
+/// `rhonn predict` reads it) and `summary.json`, all or nothing; returns the files.
+pub fn write_fit(
+    dir: &Path,
+    fitted: &rhonn::sysid::FittedModel,
+    summary: &rhonn::sysid::FitSummary,
+) -> Result<Vec<PathBuf>> {
+    let mut set = OutputSet::new(dir)?;
+    set.write("model.json", |w| write_json(w, fitted))?;
+    set.write("summary.json", |w| write_json(w, summary))?;
+    set.commit()
 }

@@ -24,6 +24,10 @@
 //! judged by free runs is trained on free runs).
 
 pub mod cascade;
+mod predict;
+mod train;
+pub use predict::{predict, samples_needed, PredictSummary, Prediction};
+pub use train::{train, BaselineSummary, FitSummary, MemberSummary, RecordFigures, TrainingFigures};
 
 use crate::data::Record;
 use crate::error::{invalid, Error, Result};

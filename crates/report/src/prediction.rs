@@ -1,0 +1,109 @@
+//! What `rhonn predict` writes: `prediction.csv`, `summary.json`, `prediction.svg`.
+
+use crate::plot::{Series, TimePlot};
+use crate::{write_json, OutputSet, Result};
+use rhonn::experiment::{Column, Trace};
+use rhonn::sysid::{FittedModel, Prediction};
+use std::path::{Path, PathBuf};
+
+/// A conversion from SI to a display unit.
+type ToDisplay = fn(f64) -> f64;
+
+/// The display unit of a column `rhonn run` writes in SI (`trajectory.csv`): pressures in
+/// Pa are shown in MPa, strokes in m in mm, flows in m^3/s in dm^3/s. None for any other
+/// column (measured data keeps its own units).
+fn display_unit(column: &str) -> Option<(ToDisplay, &'static str)> {
+    use rhonn::units::{dm3_s, mm, mpa};
+    let base = column.strip_suffix("_pi").unwrap_or(column);
+    match base {
+        "p_line" | "p_meas" | "p_ref" | "p_line_model" => Some((mpa, "MPa")),
+        "stroke" | "stroke_ref" => Some((mm, "mm")),
+        "demand" => Some((dm3_s, "dm^3/s")),
+        _ => None,
+    }
+}
+
+/// The columns of `prediction.csv`: `t`, then per output the measurement, the
+/// prediction (`<y>_hat`) and the baseline's (`<y>_hat_arx`).
+pub fn prediction_trace(fitted: &FittedModel, p: &Prediction) -> Trace {
+    let r = &p.record;
+    let mut trace = Trace::default();
+    let col = |name: String, values: Vec<f64>| Column {
+        name,
+        unit: "",
+        values,
+    };
+    trace.columns.push(col("t".into(), r.t.clone()));
+    for (j, name) in fitted.model.outputs.iter().enumerate() {
+        trace.columns.push(col(name.clone(), r.outputs[j].clone()));
+        trace
+            .columns
+            .push(col(format!("{name}_hat"), p.outputs[j].clone()));
+        if let Some((pb, _)) = &p.baseline {
+            trace.columns.push(col(format!("{name}_hat_arx"), pb[j].clone()));
+        }
+    }
+    trace
+}
+
+/// Measured and predicted, one panel per output (rhonn's SI columns in display units).
+pub fn plot_prediction(fitted: &FittedModel, p: &Prediction) -> String {
+    let r = &p.record;
+    let mode = p.mode();
+    let plots: Vec<TimePlot> = fitted
+        .model
+        .outputs
+        .iter()
+        .enumerate()
+        .map(|(j, name)| {
+            let (to_display, y_label): (ToDisplay, String) = match display_unit(name) {
+                Some((f, unit)) => (f, format!("{name} [{unit}]")),
+                None => (|v| v, name.clone()),
+            };
+            let scaled = |v: &[f64]| v.iter().map(|&x| to_display(x)).collect::<Vec<f64>>();
+            let mut series = vec![
+                Series {
+                    label: name.clone(),
+                    y: scaled(&r.outputs[j]),
+                    dashed: false,
+                },
+                Series {
+                    label: format!("{name}_hat ({mode})"),
+                    y: scaled(&p.outputs[j]),
+                    dashed: true,
+                },
+            ];
+            if let Some((pb, _)) = &p.baseline {
+                series.push(Series {
+                    label: "ARX baseline".into(),
+                    y: scaled(&pb[j]),
+                    dashed: true,
+                });
+            }
+            TimePlot {
+                title: format!("{name}: measured and predicted, {mode}"),
+                y_label,
+                t: r.t.clone(),
+                series,
+            }
+        })
+        .collect();
+    TimePlot::render(&plots, 900, 380)
+}
+
+/// Write `prediction.csv`, `summary.json` (naming the model's source `model`) and
+/// `prediction.svg` into `dir`, all or nothing; returns the files written.
+pub fn write_prediction(
+    dir: &Path,
+    fitted: &FittedModel,
+    p: &Prediction,
+    model: &str,
+) -> Result<Vec<PathBuf>> {
+    let trace = prediction_trace(fitted, p);
+    let svg = plot_prediction(fitted, p);
+    let mut set = OutputSet::new(dir)?;
+    set.write("prediction.csv", |w| crate::write_trace_csv(w, &trace))?;
+    set.write("summary.json", |w| write_json(w, &p.summary(model)))?;
+    set.write("prediction.svg", |w| w.write_all(svg.as_bytes()))?;
+    set.commit()
+}

@@ -1,0 +1,173 @@
+//! `rhonn predict` as a library call: a fitted model (and its ARX baseline) on one
+//! record, free run or K steps ahead, with the figures.
+
+use super::{ensure_finite_figures, FittedModel, OutputFigures};
+use crate::data::Record;
+use crate::error::{invalid, Result};
+use serde::Serialize;
+
+/// A prediction of every output of one record.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Prediction {
+    /// The record on the model's sampling grid (resampled when it was sampled otherwise).
+    pub record: Record,
+    /// The record's own interval \[s\] when it was resampled onto the model's grid.
+    pub resampled_from_s: Option<f64>,
+    /// None: free run; K: K steps ahead.
+    pub steps_ahead: Option<usize>,
+    /// One column per output (the measurement repeated before `first`).
+    pub outputs: Vec<Vec<f64>>,
+    /// The first predicted sample.
+    pub first: usize,
+    /// The model's figures per output.
+    pub figures: Vec<OutputFigures>,
+    /// The ARX baseline's prediction and figures, when the model has one.
+    pub baseline: Option<(Vec<Vec<f64>>, Vec<OutputFigures>)>,
+}
+
+/// What `rhonn predict` writes to `summary.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PredictSummary<'a> {
+    /// rhonn's version.
+    pub rhonn_version: &'static str,
+    /// Where the model came from.
+    pub model: &'a str,
+    /// The record's source.
+    pub data: &'a str,
+    /// "free run" or "K step(s) ahead".
+    pub mode: String,
+    /// None: free run.
+    pub steps_ahead: Option<usize>,
+    /// The model's figures.
+    pub outputs: &'a [OutputFigures],
+    /// The baseline's figures.
+    pub baseline_arx: Option<&'a [OutputFigures]>,
+}
+
+impl Prediction {
+    /// "free run" or "K step(s) ahead".
+    pub fn mode(&self) -> String {
+        match self.steps_ahead {
+            None => "free run".to_string(),
+            Some(k) => format!("{k} step(s) ahead"),
+        }
+    }
+
+    /// The summary, naming the model's source `model`.
+    pub fn summary<'a>(&'a self, model: &'a str) -> PredictSummary<'a> {
+        PredictSummary {
+            rhonn_version: env!("CARGO_PKG_VERSION"),
+            model,
+            data: &self.record.source,
+            mode: self.mode(),
+            steps_ahead: self.steps_ahead,
+            outputs: &self.figures,
+            baseline_arx: self.baseline.as_ref().map(|(_, f)| f.as_slice()),
+        }
+    }
+}
+
+/// Samples a record needs for `fitted` to predict `steps_ahead` (None: free run).
+pub fn samples_needed(fitted: &FittedModel, steps_ahead: Option<usize>) -> usize {
+    fitted.max_lag() + steps_ahead.unwrap_or(1) + 1
+}
+
+/// Predict every output of `record` with `fitted`, free run (`steps_ahead` None) or K
+/// steps ahead. A record sampled at another interval than the model's is put on the
+/// model's grid first (inputs held, outputs interpolated: [`Record::uniform`]).
+pub fn predict(fitted: &FittedModel, record: &Record, steps_ahead: Option<usize>) -> Result<Prediction> {
+    if steps_ahead == Some(0) {
+        return Err(invalid(
+            "steps_ahead",
+            0,
+            "K >= 1 steps ahead, or none for a free run",
+        ));
+    }
+    let m = &fitted.model;
+    let need = samples_needed(fitted, steps_ahead);
+    let dt = record.median_interval();
+    let (record, resampled_from_s) = if (dt - m.sample_time_s).abs() > 1e-6 * m.sample_time_s {
+        (record.uniform(m.sample_time_s), Some(dt))
+    } else {
+        (record.clone(), None)
+    };
+    if record.len() < need {
+        return Err(invalid(
+            format!(
+                "{} (samples on the model's {} s grid)",
+                record.source, m.sample_time_s
+            ),
+            record.len(),
+            format!("at least {need} samples for this model"),
+        ));
+    }
+    let (outputs, first) = fitted.predict(&record, steps_ahead)?;
+    let figures = m.figures(&record, &outputs, first);
+    ensure_finite_figures(&figures, &record.source)?;
+    let baseline = match &fitted.baseline {
+        Some(b) => {
+            let (pb, fb) = b.predict(&record, steps_ahead)?;
+            let f = b.figures(&record, &pb, fb);
+            ensure_finite_figures(&f, &format!("{} (ARX baseline)", record.source))?;
+            Some((pb, f))
+        }
+        None => None,
+    };
+    Ok(Prediction {
+        record,
+        resampled_from_s,
+        steps_ahead,
+        outputs,
+        first,
+        figures,
+        baseline,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sysid::{train, ModelSpec};
+
+    fn record(n: usize, dt: f64) -> Record {
+        let mut y = 0.0;
+        let (mut t, mut u, mut ys) = (Vec::new(), Vec::new(), Vec::new());
+        for k in 0..n {
+            let uk = if (k / 9) % 2 == 0 { 1.0 } else { -1.0 };
+            t.push(k as f64 * dt);
+            u.push(uk);
+            ys.push(y);
+            y = 0.8 * y + 0.2 * uk;
+        }
+        Record {
+            source: "r.csv".into(),
+            t,
+            inputs: vec![u],
+            outputs: vec![ys],
+        }
+    }
+
+    #[test]
+    fn train_then_predict_are_library_calls_with_clear_errors() {
+        let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
+        let spec = ModelSpec {
+            kind: crate::sysid::Kind::Arx,
+            ..ModelSpec::default()
+        };
+        let (fitted, summary) = train(&[spec], &[record(200, 0.1)], &u, &y).unwrap();
+        assert!(summary.training.free_run[0].outputs[0].fit_percent > 99.0);
+        let p = predict(&fitted, &record(100, 0.1), Some(3)).unwrap();
+        assert_eq!((p.steps_ahead, p.resampled_from_s), (Some(3), None));
+        assert!(p.figures[0].fit_percent > 99.0, "{:?}", p.figures);
+        // Sampled at another interval: put on the model's grid, and said so.
+        let p = predict(&fitted, &record(200, 0.05), None).unwrap();
+        assert_eq!(p.resampled_from_s.map(|d| (d * 1e6).round()), Some(50_000.0));
+        assert_eq!(p.record.len(), 100);
+        let e = predict(&fitted, &record(100, 0.1), Some(0))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`steps_ahead` = 0"), "{e}");
+        let e = predict(&fitted, &record(3, 0.1), None).unwrap_err().to_string();
+        assert!(e.contains("r.csv") && e.contains("at least"), "{e}");
+    }
+}

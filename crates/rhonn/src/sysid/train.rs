@@ -1,0 +1,132 @@
+//! `rhonn fit` as a library call: train the structures of a spec file on records and
+//! report the training figures beside the ARX baseline's.
+
+use super::{ensure_finite_figures, fit_ensemble, FittedModel, Model, ModelSpec, OutputFigures};
+use crate::data::Record;
+use crate::error::Result;
+use serde::Serialize;
+
+/// The figures of one model on one record.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RecordFigures {
+    /// The record's source (file name).
+    pub data: String,
+    /// One entry per output.
+    pub outputs: Vec<OutputFigures>,
+}
+
+/// One step ahead and free run, on every training record.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TrainingFigures {
+    /// One step ahead.
+    pub one_step: Vec<RecordFigures>,
+    /// Free run.
+    pub free_run: Vec<RecordFigures>,
+}
+
+/// An ensemble member's structure and size.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MemberSummary {
+    /// Its structure.
+    pub model: ModelSpec,
+    /// Features per output.
+    pub features: usize,
+    /// High-order terms.
+    pub high_order_terms: usize,
+}
+
+/// The ARX baseline's size and training figures.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BaselineSummary {
+    /// Features per output.
+    pub features: usize,
+    /// One step ahead on every record.
+    pub one_step: Vec<RecordFigures>,
+    /// Free run on every record.
+    pub free_run: Vec<RecordFigures>,
+}
+
+/// What `rhonn fit` writes to `summary.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FitSummary {
+    /// rhonn's version.
+    pub rhonn_version: &'static str,
+    /// The (first member's) structure.
+    pub model: ModelSpec,
+    /// Features per output.
+    pub features: usize,
+    /// High-order terms.
+    pub high_order_terms: usize,
+    /// Sampling interval \[s\].
+    pub sample_time_s: f64,
+    /// The model's (an ensemble's mean's) figures on the training records.
+    pub training: TrainingFigures,
+    /// An ensemble's members.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub members: Option<Vec<MemberSummary>>,
+    /// The ARX baseline with the same lags (a RHONN or cascade).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub baseline_arx: Option<BaselineSummary>,
+}
+
+/// The figures of `predict` on every record; an error when any is not finite.
+fn figures_on(
+    m: &Model,
+    predict: impl Fn(&Record) -> Result<(Vec<Vec<f64>>, usize)>,
+    recs: &[Record],
+) -> Result<Vec<RecordFigures>> {
+    recs.iter()
+        .map(|r| {
+            let (p, first) = predict(r)?;
+            let outputs = m.figures(r, &p, first);
+            ensure_finite_figures(&outputs, &r.source)?;
+            Ok(RecordFigures {
+                data: r.source.clone(),
+                outputs,
+            })
+        })
+        .collect()
+}
+
+/// Train every structure of `specs` (one: a single model; several: an ensemble) on
+/// `records` (uniformly sampled at one interval) and measure it, one step ahead and in
+/// free run, on the same records, beside the ARX baseline with the same lags.
+pub fn train(
+    specs: &[ModelSpec],
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<(FittedModel, FitSummary)> {
+    let fitted = fit_ensemble(specs, records, inputs, outputs)?;
+    let m = &fitted.model;
+    let summary = FitSummary {
+        rhonn_version: env!("CARGO_PKG_VERSION"),
+        model: m.spec.clone(),
+        features: m.n_features(),
+        high_order_terms: m.terms.len(),
+        sample_time_s: m.sample_time_s,
+        training: TrainingFigures {
+            one_step: figures_on(m, |r| fitted.predict(r, Some(1)), records)?,
+            free_run: figures_on(m, |r| fitted.predict(r, None), records)?,
+        },
+        members: (!fitted.members.is_empty()).then(|| {
+            fitted
+                .all_members()
+                .map(|m| MemberSummary {
+                    model: m.spec.clone(),
+                    features: m.n_features(),
+                    high_order_terms: m.terms.len(),
+                })
+                .collect()
+        }),
+        baseline_arx: match &fitted.baseline {
+            Some(b) => Some(BaselineSummary {
+                features: b.n_features(),
+                one_step: figures_on(b, |r| b.predict(r, Some(1)), records)?,
+                free_run: figures_on(b, |r| b.predict(r, None), records)?,
+            }),
+            None => None,
+        },
+    };
+    Ok((fitted, summary))
+}
