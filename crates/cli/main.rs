@@ -3,7 +3,7 @@
 //! call that a test can make.
 
 mod args;
-mod campaign;
+mod progress;
 
 use anyhow::{Context, Result};
 use args::{Cli, Command};
@@ -11,6 +11,7 @@ use clap::Parser;
 use rhonn::data::Record;
 use rhonn::experiment::{preset, run_full, Trace};
 use rhonn::sysid::{parse_spec_file, FittedModel, ModelSpec, RecordFigures};
+use rhonn_report::campaign;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -73,7 +74,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 corners,
                 envelope_runs,
             };
-            let go = || campaign::cmd_campaign(&scenario, &opts, out);
+            let go = || cmd_campaign(&scenario, &opts, out);
             match threads {
                 Some(0) => anyhow::bail!("--threads 0 is not allowed: give 1 or more"),
                 Some(n) => rayon::ThreadPoolBuilder::new()
@@ -84,7 +85,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 None => go(),
             }
         }
-        Command::Merge { dirs, out } => campaign::cmd_merge(&dirs, &out),
+        Command::Merge { dirs, out } => report_campaign(campaign::merge_campaigns(&dirs, &out)?),
         Command::Reproduce { out } => {
             let root = out.unwrap_or_else(|| PathBuf::from("out"));
             for name in ["thesis-ch3", "thesis-ch5", "regulated-pi", "control-adaptive"] {
@@ -228,6 +229,33 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
     }
     for f in files {
         println!("  wrote {}", f.display());
+    }
+    Ok(())
+}
+
+fn cmd_campaign(scenario: &str, opts: &campaign::CampaignOptions, out: Option<PathBuf>) -> Result<()> {
+    let spec = preset::load(scenario)?;
+    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("campaign-{}", spec.name)));
+    let reporter = progress::Reporter::new(&spec.name);
+    let outcome = campaign::run_campaign(&spec, opts, &dir, &|p| reporter.update(p));
+    reporter.finish();
+    report_campaign(outcome?)
+}
+
+fn report_campaign(o: campaign::CampaignOutcome) -> Result<()> {
+    for n in &o.notes {
+        eprintln!("{n}");
+    }
+    if o.already_complete {
+        println!("campaign already complete in {}", o.dir.display());
+    } else {
+        println!(
+            "campaign {}: {} runs, {} failed; wrote {}",
+            o.scenario,
+            o.runs,
+            o.failed,
+            o.dir.join("runs.csv").display()
+        );
     }
     Ok(())
 }

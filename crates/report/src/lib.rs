@@ -16,6 +16,7 @@ rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &output)
 #![deny(missing_docs)]
 
 mod atomic;
+pub mod campaign;
 mod csv_out;
 mod data_in;
 mod plot;
@@ -42,6 +43,13 @@ pub enum Error {
         /// What the system said.
         message: String,
     },
+    /// A campaign's files are inconsistent, or a step of it failed; the message names
+    /// the file.
+    #[error("{0}")]
+    Campaign(String),
+    /// An error of the model library (a scenario, a run).
+    #[error(transparent)]
+    Rhonn(#[from] rhonn::Error),
     /// A file cannot be written.
     #[error("cannot write {path}: {message}")]
     File {

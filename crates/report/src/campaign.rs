@@ -1,4 +1,4 @@
-//! `rhonn campaign` and `rhonn merge`: the files of a Monte Carlo campaign.
+//! The files of a Monte Carlo campaign (`rhonn campaign`, `rhonn merge`).
 //!
 //! `DIR/campaign.json` says what the campaign is (scenario, seed, runs, sampling, shard);
 //! finished runs are appended to `DIR/runs.partial.csv` and flushed one by one, so an
@@ -6,18 +6,44 @@
 //! resumes it; at the end `DIR/runs.csv` holds every row sorted by run index (the same
 //! bytes whatever the thread count or sharding) and `DIR/summary.json` the statistics.
 
-use anyhow::{bail, Context, Result};
+use crate::Error;
 use rayon::prelude::*;
 use rhonn::experiment::campaign::{
     envelope_grid, figure_names, run_one, statistics, Envelope, FigureStats, Plan, RunRow, RunTraces,
     Sampling, TOLERANCES,
 };
-use rhonn::experiment::{preset, ScenarioSpec};
+use rhonn::experiment::ScenarioSpec;
 use serde::{Deserialize, Serialize};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
+
+type Result<T, E = Error> = std::result::Result<T, E>;
+
+// The CSV written into memory buffers in `finish`: an error there is a formatting one.
+impl From<csv::Error> for Error {
+    fn from(e: csv::Error) -> Self {
+        Error::Campaign(format!("CSV: {e}"))
+    }
+}
+
+/// Return a campaign error with a formatted message.
+macro_rules! bail {
+    ($($t:tt)*) => {
+        return Err(Error::Campaign(format!($($t)*)))
+    };
+}
+
+/// `.ctx(|| what)`: an error of any kind as a campaign error saying `what: error`.
+trait Ctx<T> {
+    fn ctx(self, what: impl FnOnce() -> String) -> Result<T>;
+}
+
+impl<T, E: std::fmt::Display> Ctx<T> for std::result::Result<T, E> {
+    fn ctx(self, what: impl FnOnce() -> String) -> Result<T> {
+        self.map_err(|e| Error::Campaign(format!("{}: {e}", what())))
+    }
+}
 
 /// What a campaign folder holds in `campaign.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -95,13 +121,18 @@ fn record(spec: &ScenarioSpec, r: &RunRow) -> Vec<String> {
 type Row = (RunRow, Vec<String>, Vec<Vec<String>>);
 
 /// Read the rows of a `runs.csv` or `runs.partial.csv` (the header must match).
-fn read_rows(path: &Path, spec: &ScenarioSpec) -> Result<Vec<Row>> {
+fn read_rows(path: &Path, spec: &ScenarioSpec, notes: &mut Vec<String>) -> Result<Vec<Row>> {
     let mut rd = csv::ReaderBuilder::new()
         .flexible(false)
         .from_path(path)
-        .with_context(|| format!("cannot read {}", path.display()))?;
+        .ctx(|| format!("cannot read {}", path.display()))?;
     let want = header(spec);
-    let got: Vec<String> = rd.headers()?.iter().map(String::from).collect();
+    let got: Vec<String> = rd
+        .headers()
+        .ctx(|| format!("cannot read {}", path.display()))?
+        .iter()
+        .map(String::from)
+        .collect();
     if got != want {
         bail!(
             "{}: the header does not match this campaign's scenario",
@@ -112,26 +143,26 @@ fn read_rows(path: &Path, spec: &ScenarioSpec) -> Result<Vec<Row>> {
     for (line, rec) in rd.records().enumerate() {
         let Ok(rec) = rec else {
             // A row cut by an interruption: everything before it counts.
-            eprintln!(
+            notes.push(format!(
                 "warning: {} line {}: an incomplete row is ignored",
                 path.display(),
                 line + 2
-            );
+            ));
             break;
         };
         let num = |s: &str| s.parse::<f64>();
         let index: u64 = rec[0]
             .parse()
-            .with_context(|| format!("{} line {}", path.display(), line + 2))?;
+            .ctx(|| format!("{} line {}", path.display(), line + 2))?;
         let mut values = [0.0; 5];
         for (j, vj) in values.iter_mut().enumerate() {
-            *vj = num(&rec[1 + j]).with_context(|| format!("{} line {}", path.display(), line + 2))?;
+            *vj = num(&rec[1 + j]).ctx(|| format!("{} line {}", path.display(), line + 2))?;
         }
         let outcome = match &rec[6] {
             "ok" => Ok((8..rec.len())
                 .map(|k| num(&rec[k]))
                 .collect::<Result<Vec<_>, _>>()
-                .with_context(|| format!("{} line {}", path.display(), line + 2))?),
+                .ctx(|| format!("{} line {}", path.display(), line + 2))?),
             _ => Err(rec[7].to_string()),
         };
         rows.push((
@@ -156,8 +187,13 @@ fn attach_traces(path: &Path, spec: &ScenarioSpec, rows: &mut [Row]) -> Result<(
     let mut rd = csv::ReaderBuilder::new()
         .flexible(false)
         .from_path(path)
-        .with_context(|| format!("cannot read {}", path.display()))?;
-    let got: Vec<String> = rd.headers()?.iter().map(String::from).collect();
+        .ctx(|| format!("cannot read {}", path.display()))?;
+    let got: Vec<String> = rd
+        .headers()
+        .ctx(|| format!("cannot read {}", path.display()))?
+        .iter()
+        .map(String::from)
+        .collect();
     if got != traces_header(spec) {
         bail!(
             "{}: the header does not match this campaign's scenario",
@@ -211,7 +247,13 @@ struct CampaignSummary<'a> {
 }
 
 /// Write `runs.csv` (sorted) and `summary.json` atomically, then drop the partial file.
-fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Row>) -> Result<()> {
+fn finish(
+    dir: &Path,
+    file: &CampaignFile,
+    spec: &ScenarioSpec,
+    mut rows: Vec<Row>,
+    notes: Vec<String>,
+) -> Result<CampaignOutcome> {
     rows.sort_by_key(|r| r.0.index);
     let mut buf = Vec::new();
     {
@@ -220,7 +262,7 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
         for (_, rec, _) in &rows {
             w.write_record(rec)?;
         }
-        w.flush()?;
+        w.flush().map_err(csv::Error::from)?;
     }
     let (_, grid) = envelope_grid(spec);
     let env = envelopes(&rows, grid.len());
@@ -233,7 +275,7 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
         for t in rows.iter().flat_map(|r| r.2.iter()) {
             w.write_record(t)?;
         }
-        w.flush()?;
+        w.flush().map_err(csv::Error::from)?;
         drop(w);
         let sc = spec.check()?;
         let p_ref: Option<Vec<f64>> = sc.drive.setpoint().map(|sp| {
@@ -264,7 +306,7 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
             }
             w.write_record(&r)?;
         }
-        w.flush()?;
+        w.flush().map_err(csv::Error::from)?;
         drop(w);
         let label = |n: &str| match n {
             "p_line" if p_ref.is_some() && env.len() > 1 => "p_line (RHONN adaptive)".to_string(),
@@ -272,9 +314,9 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
             n => n.to_string(),
         };
         // The PI first, so that the adaptive controller's band lies on top.
-        let mut bands: Vec<rhonn_report::Band> = env
+        let mut bands: Vec<crate::Band> = env
             .iter()
-            .map(|(n, e, _)| rhonn_report::Band {
+            .map(|(n, e, _)| crate::Band {
                 label: label(n),
                 envelope: e.clone(),
             })
@@ -282,20 +324,20 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
         bands.reverse();
         let mut lines = Vec::new();
         if let Some(p) = &p_ref {
-            lines.push(rhonn_report::Series {
+            lines.push(crate::Series {
                 label: "set-point".into(),
                 y: p.clone(),
                 dashed: true,
             });
         }
-        lines.push(rhonn_report::Series {
+        lines.push(crate::Series {
             label: "P_min".into(),
             y: vec![spec.plant.p_min_mpa; grid.len()],
             dashed: true,
         });
         let n_tr = env[0].2;
         env_svg = Some(
-            rhonn_report::EnvelopePlot {
+            crate::EnvelopePlot {
                 title: format!("{}: line pressure over {n_tr} runs", file.scenario),
                 y_label: "line pressure [MPa]".into(),
                 t: grid.clone(),
@@ -327,7 +369,7 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
         figures: statistics(&names, &rows),
         envelope_runs,
     };
-    let mut out = rhonn_report::OutputSet::new(dir)?;
+    let mut out = crate::OutputSet::new(dir)?;
     out.write("runs.csv", |w| w.write_all(&buf))?;
     out.write("summary.json", |w| {
         serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::other)?;
@@ -351,11 +393,11 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
             || n.ends_with("fit_percent")
     };
     let any_key = names.iter().any(|n| key(n));
-    let panels: Vec<rhonn_report::Histogram> = names
+    let panels: Vec<crate::Histogram> = names
         .iter()
         .enumerate()
         .filter(|(_, n)| !any_key || key(n))
-        .map(|(k, n)| rhonn_report::Histogram {
+        .map(|(k, n)| crate::Histogram {
             title: format!("{}: {n}", file.scenario),
             x_label: n.clone(),
             values: rows
@@ -364,7 +406,7 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
                 .collect(),
         })
         .collect();
-    let svg = rhonn_report::Histogram::render(&panels, 3, 30);
+    let svg = crate::Histogram::render(&panels, 3, 30);
     out.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
     if let Some(svg) = env_svg {
         out.write("traces.csv", |w| w.write_all(&traces_buf))?;
@@ -375,22 +417,26 @@ fn finish(dir: &Path, file: &CampaignFile, spec: &ScenarioSpec, mut rows: Vec<Ro
     for name in ["runs.partial.csv", "traces.partial.csv"] {
         let partial = dir.join(name);
         if partial.exists() {
-            std::fs::remove_file(&partial)?;
+            std::fs::remove_file(&partial).ctx(|| format!("cannot remove {}", partial.display()))?;
         }
     }
-    println!(
-        "campaign {}: {} runs, {} failed; wrote {}",
-        file.scenario,
-        rows.len(),
-        rows.len() - ok,
-        dir.join("runs.csv").display()
-    );
-    Ok(())
+    Ok(CampaignOutcome {
+        scenario: file.scenario.clone(),
+        dir: dir.to_path_buf(),
+        runs: rows.len(),
+        failed: rows.len() - ok,
+        already_complete: false,
+        notes,
+    })
 }
 
-/// Parse `K/M`.
+/// Parse a shard `K/M` (1 <= K <= M).
 pub fn parse_shard(s: &str) -> Result<[u64; 2]> {
-    let bad = || anyhow::anyhow!("--shard {s:?} is not allowed: give K/M with 1 <= K <= M, e.g. 2/4");
+    let bad = || {
+        Error::Campaign(format!(
+            "--shard {s:?} is not allowed: give K/M with 1 <= K <= M, e.g. 2/4"
+        ))
+    };
     let (k, m) = s.split_once('/').ok_or_else(bad)?;
     let (k, m): (u64, u64) = (
         k.trim().parse().map_err(|_| bad())?,
@@ -417,61 +463,50 @@ pub struct CampaignOptions {
     pub envelope_runs: u64,
 }
 
-/// Where the progress goes: a bar on a terminal, periodic lines otherwise.
-enum Reporter {
-    Bar(indicatif::ProgressBar),
-    Lines { last: Instant },
+/// How far a campaign has come, given to the progress callback after each run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Progress<'a> {
+    /// The scenario's name.
+    pub scenario: &'a str,
+    /// Runs finished in this call.
+    pub done: usize,
+    /// Runs this call has to do.
+    pub total: usize,
+    /// Runs of this call that failed.
+    pub failed: usize,
+    /// Since the call started \[s\].
+    pub elapsed_s: f64,
 }
 
-impl Reporter {
-    fn new(total: usize, name: &str) -> Self {
-        if std::io::stderr().is_terminal() {
-            let bar = indicatif::ProgressBar::new(total as u64);
-            bar.set_style(
-                indicatif::ProgressStyle::with_template(
-                    "{msg} [{bar:40}] {pos}/{len} runs, {per_sec}, ETA {eta}",
-                )
-                .expect("a valid template")
-                .progress_chars("=> "),
-            );
-            bar.set_message(format!("campaign {name}"));
-            Reporter::Bar(bar)
-        } else {
-            Reporter::Lines { last: Instant::now() }
-        }
-    }
-
-    fn update(&mut self, name: &str, n: usize, total: usize, failed: usize, start: Instant) {
-        match self {
-            Reporter::Bar(bar) => {
-                bar.set_position(n as u64);
-                if failed > 0 {
-                    bar.set_message(format!("campaign {name} ({failed} failed)"));
-                }
-            }
-            Reporter::Lines { last } => {
-                if last.elapsed().as_secs_f64() >= 1.0 || n == total {
-                    *last = Instant::now();
-                    let rate = n as f64 / start.elapsed().as_secs_f64();
-                    eprintln!(
-                        "campaign {name}: {n}/{total} runs, {failed} failed, {rate:.1} runs/s, ETA {:.0} s",
-                        (total - n) as f64 / rate.max(1e-9)
-                    );
-                }
-            }
-        }
-    }
-
-    fn finish(self) {
-        if let Reporter::Bar(bar) = self {
-            bar.finish();
-        }
-    }
+/// What a campaign call did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CampaignOutcome {
+    /// The scenario's name.
+    pub scenario: String,
+    /// The folder.
+    pub dir: PathBuf,
+    /// Runs in `runs.csv`.
+    pub runs: usize,
+    /// Of which failed.
+    pub failed: usize,
+    /// The folder held the finished campaign already: nothing was run.
+    pub already_complete: bool,
+    /// What the user should know (a resumed campaign, a row cut by an interruption).
+    pub notes: Vec<String>,
 }
 
-/// `rhonn campaign`.
-pub fn cmd_campaign(scenario: &str, o: &CampaignOptions, out: Option<PathBuf>) -> Result<()> {
-    let spec = preset::load(scenario)?;
+/// Run (or resume) the campaign `o` of the scenario `spec` in the folder `dir`:
+/// `campaign.json` first, each finished run appended to `runs.partial.csv` (and its
+/// traces to `traces.partial.csv`) and flushed, then `runs.csv`, `summary.json`,
+/// `histograms.svg` and the envelope's files, all or nothing. The same call on the same
+/// folder resumes an interrupted campaign. `progress` is called after every run.
+pub fn run_campaign(
+    spec: &ScenarioSpec,
+    o: &CampaignOptions,
+    dir: &Path,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<CampaignOutcome> {
+    let spec = spec.clone();
     spec.check()?;
     let plan = Plan::of(&spec)?;
     let sampling = if o.corners {
@@ -485,7 +520,6 @@ pub fn cmd_campaign(scenario: &str, o: &CampaignOptions, out: Option<PathBuf>) -
     }
     let [k, m] = o.shard;
     let indices = [runs * (k - 1) / m, runs * k / m];
-    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("campaign-{}", spec.name)));
     let file = CampaignFile {
         scenario_toml: spec.to_toml(),
         scenario: spec.name.clone(),
@@ -496,15 +530,17 @@ pub fn cmd_campaign(scenario: &str, o: &CampaignOptions, out: Option<PathBuf>) -
         shard: o.shard,
         indices,
     };
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    std::fs::create_dir_all(dir).ctx(|| format!("cannot create the folder {}", dir.display()))?;
+    let mut notes = Vec::new();
     let meta = dir.join("campaign.json");
     let partial = dir.join("runs.partial.csv");
     let partial_tr = dir.join("traces.partial.csv");
     let mut done: Vec<Row> = Vec::new();
     let wants_traces = |r: &RunRow| r.index < o.envelope_runs && r.outcome.is_ok();
     if meta.exists() {
-        let old: CampaignFile = serde_json::from_str(&std::fs::read_to_string(&meta)?)
-            .with_context(|| format!("{} is not a campaign file", meta.display()))?;
+        let text = std::fs::read_to_string(&meta).ctx(|| format!("cannot read {}", meta.display()))?;
+        let old: CampaignFile =
+            serde_json::from_str(&text).ctx(|| format!("{} is not a campaign file", meta.display()))?;
         if old != file {
             bail!(
                 "{} holds another campaign (scenario, seed, runs, sampling, envelope runs or shard differ): give another --out",
@@ -512,20 +548,26 @@ pub fn cmd_campaign(scenario: &str, o: &CampaignOptions, out: Option<PathBuf>) -
             );
         }
         if partial.exists() {
-            done = read_rows(&partial, &spec)?;
+            done = read_rows(&partial, &spec, &mut notes)?;
             attach_traces(&partial_tr, &spec, &mut done)?;
             // A run whose traces were lost is run again.
             done.retain(|r| !wants_traces(&r.0) || !r.2.is_empty());
-            eprintln!("resuming: {} runs already done", done.len());
+            notes.push(format!("resuming: {} runs already done", done.len()));
         } else if dir.join("runs.csv").exists() {
-            println!("campaign already complete in {}", dir.display());
-            return Ok(());
+            return Ok(CampaignOutcome {
+                scenario: spec.name.clone(),
+                dir: dir.to_path_buf(),
+                runs: 0,
+                failed: 0,
+                already_complete: true,
+                notes,
+            });
         }
     } else {
-        let text = serde_json::to_string_pretty(&file)?;
+        let text = serde_json::to_string_pretty(&file).ctx(|| "campaign.json".into())?;
         let tmp = dir.join(".campaign.json.tmp");
-        std::fs::write(&tmp, text + "\n")?;
-        std::fs::rename(&tmp, &meta)?;
+        std::fs::write(&tmp, text + "\n").ctx(|| format!("cannot write {}", tmp.display()))?;
+        std::fs::rename(&tmp, &meta).ctx(|| format!("cannot write {}", meta.display()))?;
     }
     let finished: std::collections::HashSet<u64> = done.iter().map(|r| r.0.index).collect();
     let todo: Vec<u64> = (indices[0]..indices[1])
@@ -533,7 +575,7 @@ pub fn cmd_campaign(scenario: &str, o: &CampaignOptions, out: Option<PathBuf>) -
         .collect();
     // Rewrite the partial files from their complete rows (a row cut by a kill is
     // dropped), then append each finished run, its traces first, and flush.
-    {
+    let rewrite = || -> std::result::Result<(), csv::Error> {
         let mut w = csv::Writer::from_path(&partial)?;
         w.write_record(header(&spec))?;
         let mut wt = csv::Writer::from_path(&partial_tr)?;
@@ -544,29 +586,32 @@ pub fn cmd_campaign(scenario: &str, o: &CampaignOptions, out: Option<PathBuf>) -
                 wt.write_record(t)?;
             }
         }
-        w.flush()?;
+        w.flush().map_err(csv::Error::from)?;
         wt.flush()?;
-    }
+        Ok(())
+    };
+    rewrite().ctx(|| format!("cannot write {}", partial.display()))?;
     let append = |p: &Path| -> Result<csv::Writer<std::fs::File>> {
-        let f = std::fs::OpenOptions::new().append(true).open(p)?;
+        let f = std::fs::OpenOptions::new()
+            .append(true)
+            .open(p)
+            .ctx(|| format!("cannot append to {}", p.display()))?;
         Ok(csv::WriterBuilder::new().has_headers(false).from_writer(f))
     };
-    struct Progress {
+    struct Appender {
         w: csv::Writer<std::fs::File>,
         wt: csv::Writer<std::fs::File>,
         n: usize,
         failed: usize,
-        reporter: Reporter,
         err: Option<std::io::Error>,
     }
     let start = Instant::now();
     let total = todo.len();
-    let state = Mutex::new(Progress {
+    let state = Mutex::new(Appender {
         w: append(&partial)?,
         wt: append(&partial_tr)?,
         n: 0,
         failed: 0,
-        reporter: Reporter::new(total, &spec.name),
         err: None,
     });
     let new_rows: Vec<Row> = todo
@@ -590,21 +635,26 @@ pub fn cmd_campaign(scenario: &str, o: &CampaignOptions, out: Option<PathBuf>) -
             }
             p.n += 1;
             p.failed += row.outcome.is_err() as usize;
-            p.reporter.update(&spec.name, p.n, total, p.failed, start);
+            progress(Progress {
+                scenario: &spec.name,
+                done: p.n,
+                total,
+                failed: p.failed,
+                elapsed_s: start.elapsed().as_secs_f64(),
+            });
             (row, rec, trs)
         })
         .collect();
     let p = state.into_inner().expect("no panic while holding the lock");
-    p.reporter.finish();
     if let Some(e) = p.err {
-        return Err(e).context(format!("cannot append to {}", partial.display()));
+        return Err(e).ctx(|| format!("cannot append to {}", partial.display()));
     }
     done.extend(new_rows);
-    finish(&dir, &file, &spec, done)
+    finish(dir, &file, &spec, done, notes)
 }
 
-/// `rhonn merge`: combine shard folders into one campaign.
-pub fn cmd_merge(dirs: &[PathBuf], out: &Path) -> Result<()> {
+/// Combine finished shard folders of one campaign into the folder `out` (`rhonn merge`).
+pub fn merge_campaigns(dirs: &[PathBuf], out: &Path) -> Result<CampaignOutcome> {
     if dirs.is_empty() {
         bail!("give at least one campaign folder to merge");
     }
@@ -612,9 +662,9 @@ pub fn cmd_merge(dirs: &[PathBuf], out: &Path) -> Result<()> {
     for d in dirs {
         let meta = d.join("campaign.json");
         let f: CampaignFile = serde_json::from_str(
-            &std::fs::read_to_string(&meta).with_context(|| format!("cannot read {}", meta.display()))?,
+            &std::fs::read_to_string(&meta).ctx(|| format!("cannot read {}", meta.display()))?,
         )
-        .with_context(|| format!("{} is not a campaign file", meta.display()))?;
+        .ctx(|| format!("{} is not a campaign file", meta.display()))?;
         if !d.join("runs.csv").exists() {
             bail!("{} is not finished (no runs.csv): resume it first", d.display());
         }
@@ -640,8 +690,9 @@ pub fn cmd_merge(dirs: &[PathBuf], out: &Path) -> Result<()> {
     }
     let spec = ScenarioSpec::from_toml(&first.scenario_toml, "campaign.json")?;
     let mut rows = Vec::new();
+    let mut notes = Vec::new();
     for d in dirs {
-        let mut r = read_rows(&d.join("runs.csv"), &spec)?;
+        let mut r = read_rows(&d.join("runs.csv"), &spec, &mut notes)?;
         attach_traces(&d.join("traces.csv"), &spec, &mut r)?;
         rows.extend(r);
     }
@@ -663,5 +714,46 @@ pub fn cmd_merge(dirs: &[PathBuf], out: &Path) -> Result<()> {
         indices: [0, first.runs],
         ..first.clone()
     };
-    finish(out, &file, &spec, rows)
+    finish(out, &file, &spec, rows, notes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    #[test]
+    fn a_campaign_is_a_library_call_that_reports_progress_and_resumes() {
+        let d = tempfile::tempdir().unwrap();
+        let mut spec = rhonn::experiment::preset::load("thesis-ch3").unwrap();
+        spec.duration_s = 0.5;
+        let o = CampaignOptions {
+            runs: 6,
+            seed: 2,
+            shard: [1, 1],
+            corners: false,
+            envelope_runs: 0,
+        };
+        let calls = AtomicUsize::new(0);
+        let out = run_campaign(&spec, &o, d.path(), &|p| {
+            calls.fetch_add(1, Ordering::Relaxed);
+            assert!(p.done <= p.total && p.total == 6);
+        })
+        .unwrap();
+        assert_eq!((out.runs, out.failed, out.already_complete), (6, 0, false));
+        assert_eq!(calls.load(Ordering::Relaxed), 6);
+        let rows = std::fs::read_to_string(d.path().join("runs.csv")).unwrap();
+        assert_eq!(rows.lines().count(), 7);
+        let again = run_campaign(&spec, &o, d.path(), &|_| panic!("nothing to run")).unwrap();
+        assert!(again.already_complete);
+        // Another campaign in the same folder is refused, naming the folder.
+        let other = CampaignOptions { seed: 3, ..o };
+        let e = run_campaign(&spec, &other, d.path(), &|_| {})
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("holds another campaign") && e.contains(&d.path().display().to_string()),
+            "{e}"
+        );
+    }
 }
