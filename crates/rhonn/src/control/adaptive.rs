@@ -417,8 +417,12 @@ impl Controller for RhonnCascade {
         self.update(t, measured[0], measured[1], setpoint)
     }
     fn adaptive(&self, t: f64) -> Option<AdaptiveView> {
+        let st = self.state();
         Some(AdaptiveView {
-            state: self.state(),
+            model_output: st.p_hat,
+            inner_reference: Some(st.stroke_ref),
+            w_norm: st.w_norm,
+            w1_norm: st.w1_norm,
             identifying: t < self.settings.identification_s,
             w1_distance: self.neuron.w1_distance(),
             ball_radius: self.neuron.radius,

@@ -5,8 +5,10 @@
 
 pub mod adaptive;
 mod pi;
+mod rhonn_indirect;
 pub use adaptive::{AffineNeuron, CascadeSettings, CascadeState, RhonnCascade};
 pub use pi::Pi;
+pub use rhonn_indirect::{IndirectSettings, RhonnIndirect};
 
 /// A sampled controller of one plant input.
 ///
@@ -36,8 +38,14 @@ pub trait Controller: Send {
 /// What an adaptive controller shows of its weights at a control instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AdaptiveView {
-    /// Its internal signals for the trace.
-    pub state: CascadeState,
+    /// The model's output (SI), e.g. its pressure.
+    pub model_output: f64,
+    /// A cascade's inner reference (SI), e.g. the pump's stroke reference.
+    pub inner_reference: Option<f64>,
+    /// |W| (the neuron's units).
+    pub w_norm: f64,
+    /// |W_1|.
+    pub w1_norm: f64,
     /// Whether it is still in its identification phase.
     pub identifying: bool,
     /// |W_1 - centre| (MPa/(s mm) units).

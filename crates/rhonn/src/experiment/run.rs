@@ -636,11 +636,16 @@ fn simulate<S: Plant>(
         let u = c.control(t, &meas[..c.measurements().len()], sp.eval(t));
         let mut cs = None;
         if let (Some(v), Some(rep)) = (c.adaptive(t), adaptive.as_mut()) {
-            let st = v.state;
+            let st = crate::control::CascadeState {
+                stroke_ref: v.inner_reference.unwrap_or(f64::NAN),
+                p_hat: v.model_output,
+                w_norm: v.w_norm,
+                w1_norm: v.w1_norm,
+            };
             if !(u.is_finite()
                 && st.w_norm.is_finite()
                 && st.w1_norm.is_finite()
-                && st.stroke_ref.is_finite())
+                && v.inner_reference.map_or(true, f64::is_finite))
             {
                 return Err(Error::Controller {
                     t_s: t,

@@ -17,7 +17,7 @@ use rhonn_ode::Direction;
 mod frozen;
 mod identified;
 pub use frozen::FrozenPair;
-pub use identified::Identified;
+pub use identified::{Identified, MAX_SIGNALS};
 
 /// How the identifier runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -27,8 +27,18 @@ impl Input {
             Input::Held(v) => *v,
         }
     }
+    /// The value at `t` (a signal evaluated in full: for a plant's right-hand side,
+    /// a plant that keeps segments as modes evaluates within its segment instead).
+    pub fn at(&self, t: f64) -> f64 {
+        match self {
+            Input::Signal(s) => s.eval(t),
+            Input::Held(v) => *v,
+        }
+    }
+
+    /// The first breakpoint of the input after `t` (infinity when held).
     #[inline]
-    pub(crate) fn next_breakpoint(&self, t: f64) -> f64 {
+    pub fn next_breakpoint(&self, t: f64) -> f64 {
         match self {
             Input::Signal(s) => s.next_breakpoint(t),
             Input::Held(_) => f64::INFINITY,

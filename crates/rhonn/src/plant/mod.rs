@@ -37,6 +37,17 @@ pub struct Quantity {
 }
 
 impl Quantity {
+    /// A quantity shown in its own SI unit.
+    pub const fn si(name: &'static str, unit: &'static str, description: &'static str) -> Self {
+        Quantity {
+            name,
+            unit,
+            display_unit: unit,
+            display_per_si: 1.0,
+            description,
+        }
+    }
+
     /// `v` (SI) in the display unit.
     pub fn to_display(&self, v: f64) -> f64 {
         v * self.display_per_si
@@ -66,20 +77,28 @@ pub struct Parameter {
 /// in the current modes, so it is cheap enough to call inside the right-hand side of a
 /// system that integrates an identifier along with the plant.
 pub trait Plant: System + Clone + Send + Sync {
-    /// Short name (`pump`, `tanks`).
-    fn name(&self) -> &'static str;
+    /// Short name (`pump`, `tanks`; default `plant`).
+    fn name(&self) -> &'static str {
+        "plant"
+    }
     /// The states, in state order.
     fn states(&self) -> &'static [Quantity];
     /// The inputs.
     fn inputs(&self) -> &'static [Quantity];
-    /// Indices (into [`Plant::states`]) of the states a sensor measures.
-    fn measured(&self) -> &'static [usize];
+    /// Indices (into [`Plant::states`]) of the states a sensor measures (default: the
+    /// first).
+    fn measured(&self) -> &'static [usize] {
+        &[0]
+    }
     /// Input `k` at `t`, in the current modes (SI).
     fn input_at(&self, t: f64, k: usize) -> f64;
     /// Hold input `k` at `value` from now on (a sampled controller's output).
     fn hold_input(&mut self, k: usize, value: f64);
-    /// The uncertain parameters with their nominal values and tolerances.
-    fn parameters(&self) -> &'static [Parameter];
+    /// The uncertain parameters with their nominal values and tolerances (default:
+    /// none).
+    fn parameters(&self) -> &'static [Parameter] {
+        &[]
+    }
 }
 
 /// A state or an input of a plant, by position: what an identifier reads.

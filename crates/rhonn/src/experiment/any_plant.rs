@@ -1,0 +1,300 @@
+//! Experiments on any [`Plant`] from the library: online identification of its states,
+//! and a controller on one of its inputs tracking a set-point, sampled at the control
+//! period with zero-order hold. The pump's scenario runner (`run.rs`) does more (sensor
+//! noise, delay line, figures on the dense output, recorders) for the pump alone.
+
+use crate::control::Controller;
+use crate::error::{Error, Result};
+use crate::ident::{FrozenPair, IdentSettings, Identified};
+use crate::metrics::{fit_percent, rms_error};
+use crate::plant::Plant;
+use crate::signal::Signal;
+use rhonn_ode::{Dopri5, Options, State, System};
+
+/// A plant's state named and in display units, for error messages.
+fn describe<P: Plant>(plant: &P, x: &[f64]) -> String {
+    plant
+        .states()
+        .iter()
+        .zip(x)
+        .map(|(q, v)| format!("{} = {:.6} {}", q.name, q.to_display(*v), q.display_unit))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// `system` from `x0` (the plant's states, then `rest`) in the event-locating solver.
+fn solver<S: System, P: Plant>(
+    system: S,
+    plant: &P,
+    x0: &[f64],
+    rest: &[f64],
+    rtol: f64,
+) -> Result<Dopri5<S>> {
+    let mut s0 = S::State::zeros(system.dim());
+    s0.as_mut_slice()[..x0.len()].copy_from_slice(x0);
+    s0.as_mut_slice()[x0.len()..].copy_from_slice(rest);
+    let dim = system.dim();
+    Dopri5::new(system, 0.0, s0, Options::uniform(dim, rtol, 1e-9)).map_err(|e| Error::Solver {
+        t_s: 0.0,
+        state: describe(plant, x0),
+        source: Box::new(e),
+    })
+}
+
+/// Advance `solver` to `t`, naming the plant's state on failure.
+fn step_to<S: System, P: Plant>(solver: &mut Dopri5<S>, plant: impl Fn(&S) -> &P, t: f64) -> Result<()> {
+    while solver.t() < t {
+        solver.step(t).map_err(|e| Error::Solver {
+            t_s: solver.t(),
+            state: describe(plant(solver.system()), solver.state()),
+            source: Box::new(e),
+        })?;
+    }
+    Ok(())
+}
+
+/// What one identification of a plant gives: per identified state, the samples and the
+/// estimates while training, and the frozen weights.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IdentRun {
+    /// Sample times \[s\].
+    pub t: Vec<f64>,
+    /// Per identified state: its values (SI).
+    pub y: Vec<Vec<f64>>,
+    /// Per identified state: the online estimate.
+    pub y_hat: Vec<Vec<f64>>,
+    /// The final weights, one vector per neuron.
+    pub weights: Vec<Vec<f64>>,
+}
+
+impl IdentRun {
+    /// Fit \[%\] of each state's estimate over the samples from `from_s` on.
+    pub fn fit_percent_after(&self, from_s: f64) -> Vec<f64> {
+        let k = self.t.iter().position(|&t| t >= from_s).unwrap_or(self.t.len());
+        self.y
+            .iter()
+            .zip(&self.y_hat)
+            .map(|(y, h)| fit_percent(&y[k..], &h[k..]))
+            .collect()
+    }
+
+    /// RMS error (SI) of each state's estimate over the samples from `from_s` on.
+    pub fn rms_after(&self, from_s: f64) -> Vec<f64> {
+        let k = self.t.iter().position(|&t| t >= from_s).unwrap_or(self.t.len());
+        self.y
+            .iter()
+            .zip(&self.y_hat)
+            .map(|(y, h)| rms_error(&y[k..], &h[k..]))
+            .collect()
+    }
+}
+
+/// Identify `plant` (driven by its own inputs) online from `x0` with the checked
+/// identifier `is` (series-parallel, weights adapting) for `duration_s`, sampled every
+/// `sample_s`. With `frozen`, the weights are held at those given and the estimates are
+/// the parallel (free-run) model's instead.
+pub fn identify<P: Plant>(
+    plant: P,
+    x0: &[f64],
+    is: &IdentSettings,
+    duration_s: f64,
+    sample_s: f64,
+    frozen: Option<&[Vec<f64>]>,
+) -> Result<IdentRun> {
+    let n = is.states.len();
+    let mut run = IdentRun {
+        t: Vec::new(),
+        y: vec![Vec::new(); n],
+        y_hat: vec![Vec::new(); n],
+        weights: Vec::new(),
+    };
+    let idx: Vec<usize> = is.states.iter().filter_map(|s| s.state_index()).collect();
+    let np = plant.dim();
+    let steps = (duration_s / sample_s).round() as usize;
+    let mut record = |t: f64, x: &[f64], est: &[f64]| {
+        run.t.push(t);
+        for k in 0..n {
+            run.y[k].push(x[idx[k]]);
+            run.y_hat[k].push(est[k]);
+        }
+    };
+    let mut est = vec![0.0; n];
+    if let Some(w) = frozen {
+        let init = FrozenPair::<P>::initial_state(&is.ident, &is.xhat0);
+        let sys = FrozenPair::<P>::new(plant.clone(), &is.ident, w, is.states.clone(), is.inputs.clone())?;
+        let mut s = solver(sys, &plant, x0, &init, 1e-6)?;
+        for k in 0..=steps {
+            step_to(&mut s, |sys| &sys.plant, k as f64 * sample_s)?;
+            est.copy_from_slice(&s.state()[np + n..np + 2 * n]);
+            record(s.t(), s.state(), &est);
+        }
+        run.weights = w.to_vec();
+        return Ok(run);
+    }
+    let init = is.ident.initial_state(&is.xhat0, None);
+    let sys = Identified::<P>::new(
+        plant.clone(),
+        is.ident.clone(),
+        is.states.clone(),
+        is.inputs.clone(),
+    )?;
+    let mut s = solver(sys, &plant, x0, &init, 1e-6)?;
+    for k in 0..=steps {
+        step_to(&mut s, |sys| &sys.plant, k as f64 * sample_s)?;
+        s.system().ident.outputs(&s.state()[np..], &mut est);
+        record(s.t(), s.state(), &est);
+    }
+    run.weights = s.system().ident.weights(&s.state()[np..]);
+    Ok(run)
+}
+
+/// What one closed-loop run gives, sampled at the control instants.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoopRun {
+    /// The controller's name.
+    pub controller: &'static str,
+    /// Control instants \[s\].
+    pub t: Vec<f64>,
+    /// The controlled state (the controller's first measurement), SI.
+    pub y: Vec<f64>,
+    /// The set-point, SI.
+    pub setpoint: Vec<f64>,
+    /// The input applied from each instant on, SI.
+    pub u: Vec<f64>,
+    /// Integral of |y - r| over the run (rectangle rule at the control instants), SI s.
+    pub iae: f64,
+    /// Integral of (y - r)^2, SI^2 s.
+    pub ise: f64,
+}
+
+impl LoopRun {
+    /// `y - r` at the last control instant (NaN for an empty run), SI.
+    pub fn final_error(&self) -> f64 {
+        match (self.y.last(), self.setpoint.last()) {
+            (Some(y), Some(r)) => y - r,
+            _ => f64::NAN,
+        }
+    }
+}
+
+/// `ctl` drives input `input` of `plant` from `x0` for `duration_s`, every `period_s`,
+/// to follow `setpoint`; an error (with the time and the state) when the solver fails
+/// or the controller's output is not finite.
+pub fn closed_loop<P: Plant>(
+    mut plant: P,
+    x0: &[f64],
+    ctl: &mut dyn Controller,
+    input: usize,
+    setpoint: &Signal,
+    period_s: f64,
+    duration_s: f64,
+) -> Result<LoopRun> {
+    let meas_idx = ctl.measurements().to_vec();
+    let y_idx = *meas_idx.first().ok_or_else(|| {
+        crate::error::invalid("controller.measurements", "[]", "at least the controlled state")
+    })?;
+    plant.hold_input(input, 0.0);
+    let mut s = solver(plant.clone(), &plant, x0, &[], 1e-7)?;
+    let mut run = LoopRun {
+        controller: ctl.name(),
+        t: Vec::new(),
+        y: Vec::new(),
+        setpoint: Vec::new(),
+        u: Vec::new(),
+        iae: 0.0,
+        ise: 0.0,
+    };
+    let mut meas = vec![0.0; meas_idx.len()];
+    let steps = (duration_s / period_s).round() as usize;
+    for k in 0..steps {
+        let t = k as f64 * period_s;
+        step_to(&mut s, |p| p, t)?;
+        for (m, &i) in meas.iter_mut().zip(&meas_idx) {
+            *m = s.state()[i];
+        }
+        let r = setpoint.eval(t);
+        let u = ctl.control(t, &meas, r);
+        if !u.is_finite() {
+            return Err(Error::Controller {
+                t_s: t,
+                state: format!("{}, {} output {u}", describe(s.system(), s.state()), ctl.name()),
+            });
+        }
+        s.system_mut().hold_input(input, u);
+        let e = s.state()[y_idx] - r;
+        run.iae += e.abs() * period_s;
+        run.ise += e * e * period_s;
+        run.t.push(t);
+        run.y.push(s.state()[y_idx]);
+        run.setpoint.push(r);
+        run.u.push(u);
+    }
+    Ok(run)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::control::{IndirectSettings, Pi, RhonnIndirect};
+    use crate::plant::{Input, Tanks, TanksParams};
+    use crate::signal::PiecewiseLinear;
+
+    /// The upper tank's level by the pump voltage, set-point 100 -> 200 -> 150 mm.
+    #[test]
+    fn a_pi_and_the_rhonn_indirect_controller_regulate_the_upper_tank() {
+        let sp = Signal::piecewise(
+            PiecewiseLinear::new(vec![(0.0, 0.1), (300.0, 0.1), (305.0, 0.2), (600.0, 0.2), (605.0, 0.15)]),
+            f64::MIN,
+            f64::MAX,
+        );
+        let tanks = Tanks::new(TanksParams::default(), Input::Held(0.0));
+        // IMC on the level linearised at 0.15 m: gain 0.0655 m/V, time constant 67 s; 20 s.
+        let mut pi = Pi::new(67.0 / (0.0655 * 20.0), 67.0, 1.0, 0.0, 0.0, 10.0);
+        let mut adaptive =
+            RhonnIndirect::new(IndirectSettings::for_pole(0.05, 0.1), 0, (0.0, 10.0), 1.0, 0.01, 0.05);
+        for ctl in [&mut pi as &mut dyn Controller, &mut adaptive] {
+            let run = closed_loop(tanks.clone(), &[0.05, 0.05], ctl, 0, &sp, 1.0, 900.0).unwrap();
+            let e = run.final_error();
+            eprintln!("{}: IAE {:.3} m s, final error {:.2} mm", run.controller, run.iae, e * 1e3);
+            assert!(e.abs() < 2e-3, "{}: {e}", run.controller);
+            assert!(run.u.iter().all(|u| (0.0..=10.0).contains(u)));
+        }
+        // A controller whose output is not finite is an error naming the time and the state.
+        struct Broken;
+        impl Controller for Broken {
+            fn name(&self) -> &'static str {
+                "broken"
+            }
+            fn measurements(&self) -> &[usize] {
+                &[0]
+            }
+            fn control(&mut self, t: f64, _m: &[f64], _r: f64) -> f64 {
+                if t < 10.0 {
+                    1.0
+                } else {
+                    f64::NAN
+                }
+            }
+        }
+        let e = closed_loop(tanks, &[0.05, 0.05], &mut Broken, 0, &sp, 1.0, 100.0).unwrap_err();
+        let e = e.to_string();
+        assert!(e.contains("t = 10 s") && e.contains("h1 = ") && e.contains("broken output NaN"), "{e}");
+    }
+
+    #[test]
+    fn identify_records_the_states_and_their_estimates() {
+        let tanks = Tanks::new(TanksParams::default(), Input::Held(5.0));
+        let spec: crate::ident::IdentifierSpec = toml::from_str(
+            "states = [\"h1\"]\ninputs = [\"voltage\"]\nstate_scale = [0.15]\ninput_scale = [10.0]\n\
+             degree = 2\na = [0.05]\nlaw = { kind = \"filtered-regressor-ls\", p0 = [100.0] }",
+        )
+        .unwrap();
+        let is = spec.check_for(&tanks).unwrap();
+        let run = identify(tanks.clone(), &[0.0, 0.0], &is, 200.0, 1.0, None).unwrap();
+        assert_eq!((run.t.len(), run.y.len(), run.weights.len()), (201, 1, 1));
+        assert!(run.rms_after(100.0)[0] < 5e-3, "{:?}", run.rms_after(100.0));
+        let frozen = identify(tanks, &[0.0, 0.0], &is, 50.0, 1.0, Some(&run.weights)).unwrap();
+        assert_eq!(frozen.weights, run.weights);
+        assert_eq!(frozen.y_hat[0][0], 0.0);
+    }
+}
