@@ -155,3 +155,44 @@ fn a_model_file_with_more_lagged_regressors_than_allowed_is_refused() {
     );
     assert!(!d.path().join("p").exists());
 }
+
+/// "The README and `--help` carry internal notes ('issue 5', 'this session', 'last
+/// session') ... Cargo.toml says 'MIT OR Apache-2.0' but there are no LICENSE files."
+#[test]
+fn what_users_read_carries_no_internal_notes_and_the_licenses_exist() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let internal = |text: &str| {
+        let low = text.to_lowercase();
+        let issue = low
+            .match_indices("issue ")
+            .any(|(i, _)| low[i + 6..].chars().next().is_some_and(|c| c.is_ascii_digit()));
+        issue || low.contains("this session") || low.contains("last session")
+    };
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    assert!(!internal(&readme), "README.md carries an internal note");
+    let d = tempfile::tempdir().unwrap();
+    for cmd in [
+        "",
+        "run",
+        "fit",
+        "predict",
+        "campaign",
+        "merge",
+        "bench",
+        "reproduce",
+        "show",
+        "scenarios",
+    ] {
+        let args: Vec<&str> = cmd.split_whitespace().chain(["--help"]).collect();
+        let o = rhonn(d.path(), &args);
+        assert!(o.status.success(), "{cmd} --help");
+        assert!(
+            !internal(&String::from_utf8_lossy(&o.stdout)),
+            "`rhonn {cmd} --help`"
+        );
+    }
+    for f in ["LICENSE-MIT", "LICENSE-APACHE"] {
+        let text = std::fs::read_to_string(root.join(f)).unwrap();
+        assert!(text.len() > 1000, "{f}");
+    }
+}

@@ -48,7 +48,7 @@ pub enum Command {
     },
     /// Reproduce the thesis: run thesis-ch3 (the pump, chapter 3), thesis-ch5 (the RHONN
     /// identification, chapter 5), regulated-pi (the PI baseline) and control-adaptive
-    /// (RHONN adaptive control against the PI, issue 5) into DIR/<name>
+    /// (RHONN adaptive control against the PI) into DIR/<name>
     /// (default out/), each writing what `rhonn run` writes.
     Reproduce {
         /// Output root.

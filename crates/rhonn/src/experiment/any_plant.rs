@@ -243,19 +243,36 @@ mod tests {
     #[test]
     fn a_pi_and_the_rhonn_indirect_controller_regulate_the_upper_tank() {
         let sp = Signal::piecewise(
-            PiecewiseLinear::new(vec![(0.0, 0.1), (300.0, 0.1), (305.0, 0.2), (600.0, 0.2), (605.0, 0.15)]),
+            PiecewiseLinear::new(vec![
+                (0.0, 0.1),
+                (300.0, 0.1),
+                (305.0, 0.2),
+                (600.0, 0.2),
+                (605.0, 0.15),
+            ]),
             f64::MIN,
             f64::MAX,
         );
         let tanks = Tanks::new(TanksParams::default(), Input::Held(0.0));
         // IMC on the level linearised at 0.15 m: gain 0.0655 m/V, time constant 67 s; 20 s.
         let mut pi = Pi::new(67.0 / (0.0655 * 20.0), 67.0, 1.0, 0.0, 0.0, 10.0);
-        let mut adaptive =
-            RhonnIndirect::new(IndirectSettings::for_pole(0.05, 0.1), 0, (0.0, 10.0), 1.0, 0.01, 0.05);
+        let mut adaptive = RhonnIndirect::new(
+            IndirectSettings::for_pole(0.05, 0.1),
+            0,
+            (0.0, 10.0),
+            1.0,
+            0.01,
+            0.05,
+        );
         for ctl in [&mut pi as &mut dyn Controller, &mut adaptive] {
             let run = closed_loop(tanks.clone(), &[0.05, 0.05], ctl, 0, &sp, 1.0, 900.0).unwrap();
             let e = run.final_error();
-            eprintln!("{}: IAE {:.3} m s, final error {:.2} mm", run.controller, run.iae, e * 1e3);
+            eprintln!(
+                "{}: IAE {:.3} m s, final error {:.2} mm",
+                run.controller,
+                run.iae,
+                e * 1e3
+            );
             assert!(e.abs() < 2e-3, "{}: {e}", run.controller);
             assert!(run.u.iter().all(|u| (0.0..=10.0).contains(u)));
         }
@@ -278,7 +295,10 @@ mod tests {
         }
         let e = closed_loop(tanks, &[0.05, 0.05], &mut Broken, 0, &sp, 1.0, 100.0).unwrap_err();
         let e = e.to_string();
-        assert!(e.contains("t = 10 s") && e.contains("h1 = ") && e.contains("broken output NaN"), "{e}");
+        assert!(
+            e.contains("t = 10 s") && e.contains("h1 = ") && e.contains("broken output NaN"),
+            "{e}"
+        );
     }
 
     #[test]
