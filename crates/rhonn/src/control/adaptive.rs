@@ -210,6 +210,54 @@ impl<const L: usize, const L1: usize> AffineNeuron<L, L1> {
     }
 }
 
+impl AffineNeuron<L_DRIFT, L_GAIN> {
+    /// A neuron with filter pole `a`, learning rates `gamma` (W) and `gamma1` (W_1), the
+    /// drift weights at 0, the gain weights at `[w1_initial, 0]` with a ball of
+    /// `ball_fraction` of the safe radius around them, W within 1e6, the model at `xh`.
+    pub fn new(a: f64, (gamma, gamma1): (f64, f64), w1_initial: f64, ball_fraction: f64, xh: f64) -> Self {
+        let w1 = [w1_initial, 0.0];
+        AffineNeuron {
+            a,
+            gamma,
+            gamma1,
+            w: [0.0; L_DRIFT],
+            w1,
+            center: w1,
+            radius: ball_fraction * RhonnCascade::safe_radius(&w1),
+            w_bound: 1e6,
+            xh,
+        }
+    }
+
+    /// Centre W_1's ball on the identified W_1 (the end of the identification phase).
+    pub fn recentre(&mut self, ball_fraction: f64) {
+        self.center = self.w1;
+        self.radius = ball_fraction * RhonnCascade::safe_radius(&self.w1);
+    }
+
+    /// The view of a controller built on this neuron.
+    pub fn view(
+        &self,
+        model_output: f64,
+        inner_reference: Option<f64>,
+        identifying: bool,
+        projections: u64,
+    ) -> AdaptiveView {
+        AdaptiveView {
+            model_output,
+            inner_reference,
+            w_norm: self.w_norm(),
+            w1_norm: self.w1_norm(),
+            identifying,
+            w1_distance: self.w1_distance(),
+            ball_radius: self.radius,
+            w_bound: self.w_bound,
+            w1: self.w1,
+            projections,
+        }
+    }
+}
+
 /// Settings of the cascade (display units where named so; see the module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CascadeSettings {
@@ -303,19 +351,13 @@ impl RhonnCascade {
         w1_initial: f64,
         p0: f64,
     ) -> Self {
-        let w1 = [w1_initial, 0.0];
-        let radius = settings.ball_fraction * Self::safe_radius(&w1);
-        let neuron = AffineNeuron {
-            a: settings.observer_pole_per_s,
-            gamma: settings.gamma_w,
-            gamma1: settings.gamma_w1,
-            w: [0.0; L_DRIFT],
-            w1,
-            center: w1,
-            radius,
-            w_bound: 1e6,
-            xh: p0 * 1e-6,
-        };
+        let neuron = AffineNeuron::new(
+            settings.observer_pole_per_s,
+            (settings.gamma_w, settings.gamma_w1),
+            w1_initial,
+            settings.ball_fraction,
+            p0 * 1e-6,
+        );
         RhonnCascade {
             settings,
             neuron,
@@ -364,8 +406,7 @@ impl RhonnCascade {
         let ident = t < self.settings.identification_s;
         if !ident && !self.ball_set {
             // The identified gain becomes the centre of the projection's ball.
-            self.neuron.center = self.neuron.w1;
-            self.neuron.radius = self.settings.ball_fraction * Self::safe_radius(&self.neuron.w1);
+            self.neuron.recentre(self.settings.ball_fraction);
             self.ball_set = true;
         }
         let lambda = if ident {
@@ -417,19 +458,13 @@ impl Controller for RhonnCascade {
         self.update(t, measured[0], measured[1], setpoint)
     }
     fn adaptive(&self, t: f64) -> Option<AdaptiveView> {
-        let st = self.state();
-        Some(AdaptiveView {
-            model_output: st.p_hat,
-            inner_reference: Some(st.stroke_ref),
-            w_norm: st.w_norm,
-            w1_norm: st.w1_norm,
-            identifying: t < self.settings.identification_s,
-            w1_distance: self.neuron.w1_distance(),
-            ball_radius: self.neuron.radius,
-            w_bound: self.neuron.w_bound,
-            w1: self.neuron.w1,
-            projections: self.projections,
-        })
+        let identifying = t < self.settings.identification_s;
+        Some(self.neuron.view(
+            self.neuron.xh * 1e6,
+            Some(self.x_d * 1e-3),
+            identifying,
+            self.projections,
+        ))
     }
 }
 

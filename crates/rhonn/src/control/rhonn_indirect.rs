@@ -16,7 +16,7 @@
 //! Ioannou, Sun, *Robust Adaptive Control*, 1996, section 8.5 (projection).
 
 use super::adaptive::{AffineNeuron, L_DRIFT, L_GAIN};
-use super::{AdaptiveView, Controller, RhonnCascade};
+use super::{AdaptiveView, Controller};
 use crate::net::Sigmoid;
 
 /// Settings of [`RhonnIndirect`]; the defaults suit a plant whose scaled output moves by
@@ -107,18 +107,13 @@ impl RhonnIndirect {
         gain0: f64,
         y0: f64,
     ) -> Self {
-        let w1 = [gain0, 0.0];
-        let neuron = AffineNeuron {
-            a: settings.observer_pole_per_s,
-            gamma: settings.gamma_w,
-            gamma1: settings.gamma_w1,
-            w: [0.0; L_DRIFT],
-            w1,
-            center: w1,
-            radius: settings.ball_fraction * RhonnCascade::safe_radius(&w1),
-            w_bound: 1e6,
-            xh: y0 / settings.y_scale,
-        };
+        let neuron = AffineNeuron::new(
+            settings.observer_pole_per_s,
+            (settings.gamma_w, settings.gamma_w1),
+            gain0,
+            settings.ball_fraction,
+            y0 / settings.y_scale,
+        );
         RhonnIndirect {
             settings,
             neuron,
@@ -158,8 +153,7 @@ impl Controller for RhonnIndirect {
         }
         let identifying = t < st.identification_s;
         if !identifying && !self.ball_set {
-            self.neuron.center = self.neuron.w1;
-            self.neuron.radius = st.ball_fraction * RhonnCascade::safe_radius(&self.neuron.w1);
+            self.neuron.recentre(st.ball_fraction);
             self.ball_set = true;
         }
         let lambda = if identifying {
@@ -175,17 +169,8 @@ impl Controller for RhonnIndirect {
         u
     }
     fn adaptive(&self, t: f64) -> Option<AdaptiveView> {
-        Some(AdaptiveView {
-            model_output: self.neuron.xh * self.settings.y_scale,
-            inner_reference: None,
-            w_norm: self.neuron.w_norm(),
-            w1_norm: self.neuron.w1_norm(),
-            identifying: t < self.settings.identification_s,
-            w1_distance: self.neuron.w1_distance(),
-            ball_radius: self.neuron.radius,
-            w_bound: self.neuron.w_bound,
-            w1: self.neuron.w1,
-            projections: self.projections,
-        })
+        let identifying = t < self.settings.identification_s;
+        let y_hat = self.neuron.xh * self.settings.y_scale;
+        Some(self.neuron.view(y_hat, None, identifying, self.projections))
     }
 }
