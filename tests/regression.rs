@@ -196,3 +196,88 @@ fn what_users_read_carries_no_internal_notes_and_the_licenses_exist() {
         assert!(text.len() > 1000, "{f}");
     }
 }
+
+/// "A plain clone is not self-contained: the README points to `shared/spec/SPEC.md`, which
+/// a clone does not have." Every repository path the README names in backticks exists in
+/// the repository.
+#[test]
+fn every_file_the_readme_names_is_in_the_repository() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let tops = [
+        "docs/",
+        "data/",
+        "models/",
+        "scenarios/",
+        "examples/",
+        "tools/",
+        "crates/",
+        "slurm/",
+        "bench/",
+    ];
+    let mut named = 0;
+    for quoted in readme.split('`').skip(1).step_by(2) {
+        for word in quoted.split_whitespace() {
+            let word = word.trim_end_matches([',', '.', ')', ':']);
+            if tops.iter().any(|t| word.starts_with(t)) && !word.contains(['<', '*', '{']) {
+                named += 1;
+                assert!(
+                    root.join(word).exists(),
+                    "README names `{word}`, which is not in the repository"
+                );
+            }
+        }
+    }
+    assert!(named > 10, "only {named} paths found: the scan is broken");
+    assert!(
+        !readme.contains("shared/"),
+        "README points outside the repository"
+    );
+}
+
+/// "`run <a directory>` says 'no such file'; a campaign into a read-only folder says
+/// 'Permission denied' without the path." Errors name the path and say what it is.
+#[test]
+fn path_errors_name_the_path_and_say_what_it_is() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::create_dir(d.path().join("adir")).unwrap();
+    std::fs::write(d.path().join("afile"), "").unwrap();
+    let cases: [(&[&str], &[&str]); 5] = [
+        (&["run", "adir"], &["adir", "it is a directory, not a file"]),
+        (
+            &["run", "nope/x.toml"],
+            &["nope/x.toml", "its folder nope does not exist"],
+        ),
+        (
+            &["run", "thesis-ch3", "--out", "afile/sub"],
+            &["afile/sub", "afile is a file, not a folder"],
+        ),
+        (
+            &["campaign", "thesis-ch3", "--runs", "2", "--out", "afile/sub"],
+            &["afile/sub", "afile is a file, not a folder"],
+        ),
+        (
+            &[
+                "fit",
+                "--data",
+                "adir",
+                "--inputs",
+                "u",
+                "--outputs",
+                "y",
+                "--out",
+                "m",
+            ],
+            &["adir", "it is a directory, not a file"],
+        ),
+    ];
+    for (args, want) in cases {
+        let o = rhonn(d.path(), args);
+        assert!(!o.status.success(), "{args:?}");
+        let e = stderr(&o);
+        for w in want {
+            assert!(e.contains(w), "{args:?}: `{w}` not in {e}");
+        }
+        assert_eq!(tree(d.path()), ["adir", "afile"], "{args:?}");
+    }
+}

@@ -129,7 +129,13 @@ fn cmd_fit(
     let specs: Vec<ModelSpec> = match model {
         None => vec![ModelSpec::default()],
         Some(p) => {
-            let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+            let text = std::fs::read_to_string(p).map_err(|e| {
+                anyhow::anyhow!(
+                    "cannot read {}: {}",
+                    p.display(),
+                    rhonn::error::path_problem(p, &e)
+                )
+            })?;
             parse_spec_file(&text)
                 .map_err(|e| anyhow::anyhow!("cannot read model spec {}: {e}", p.display()))?
         }
@@ -184,7 +190,13 @@ fn print_training(figures: &[RecordFigures], label: &str) {
 }
 
 fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> Result<()> {
-    let text = std::fs::read_to_string(model).with_context(|| format!("cannot read {}", model.display()))?;
+    let text = std::fs::read_to_string(model).map_err(|e| {
+        anyhow::anyhow!(
+            "cannot read {}: {}",
+            model.display(),
+            rhonn::error::path_problem(model, &e)
+        )
+    })?;
     let fitted: FittedModel = serde_json::from_str(&text)
         .map_err(|e| anyhow::anyhow!("{} is not a model written by `rhonn fit`: {e}", model.display()))?;
     if steps == Some(0) {

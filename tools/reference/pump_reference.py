@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Independent high-accuracy reference for the pump of SPEC.md section 1 (thesis-ch3),
-and with --ch5 for the thesis's RHONN identifier of SPEC.md section 2 (thesis-ch5).
+"""Independent high-accuracy reference for the pump of pump-model.md section 1 (thesis-ch3),
+and with --ch5 for the thesis's RHONN identifier of pump-model.md section 2 (thesis-ch5).
 
-Written from SPEC.md alone, sharing no code with the Rust solver: scipy's DOP853 at
+Written from pump-model.md alone, sharing no code with the Rust solver: scipy's DOP853 at
 rtol 1e-12 integrates between events; every mode change (valve branch s >= 0 / s < 0,
 sign of the pilot pressure drop, a state reaching or leaving a bound, the breakpoints
 of the current profile) is located by scipy's own event finder and the integration is

@@ -17,7 +17,7 @@ output, Simulink-style limited integrators and input breakpoints.
 
 # Why hand-written
 No crate offers `no_std`, Simulink's limited-integrator semantics and event location on
-the dense output together (see `shared/spec/ode45-notes.md`). The core is `no_std`, does
+the dense output together (see `docs/pump-model.md` section 5). The core is `no_std`, does
 not allocate per step, and works on `[f64; N]` on the stack or (feature `alloc`) on a
 `Vec<f64>` allocated once per run.
 

@@ -1,7 +1,7 @@
 //! Learn the cascaded tanks from estimation.csv with the shipped structure and run it
 //! free on validation.csv, as `rhonn fit` + `rhonn predict` do:
 //! `cargo run --release -p rhonn-report --example fit_tanks [DATA_DIR]`
-//! (default `../shared/data/cascaded-tanks`).
+//! (default `data/cascaded-tanks`).
 
 use rhonn::sysid::{parse_spec_file, predict, train};
 use rhonn_report::read_record;
@@ -11,7 +11,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = PathBuf::from(
         std::env::args()
             .nth(1)
-            .unwrap_or_else(|| "../shared/data/cascaded-tanks".into()),
+            .unwrap_or_else(|| "data/cascaded-tanks".into()),
     );
     let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
     let estimation = read_record(&dir.join("estimation.csv"), &u, &y, 20)?;

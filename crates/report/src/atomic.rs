@@ -19,7 +19,7 @@ impl OutputSet {
     pub fn new(dir: &Path) -> Result<Self> {
         let folder_err = |e: std::io::Error| Error::Folder {
             path: dir.to_path_buf(),
-            message: e.to_string(),
+            message: rhonn::error::path_problem(dir, &e),
         };
         if dir.exists() && !dir.is_dir() {
             return Err(Error::Folder {
@@ -48,7 +48,7 @@ impl OutputSet {
         let tmp = self.dir.join(format!(".{name}.tmp-{}", std::process::id()));
         let file_err = |e: std::io::Error| Error::File {
             path: final_path.clone(),
-            message: e.to_string(),
+            message: rhonn::error::path_problem(&final_path, &e),
         };
         let file = File::create(&tmp).map_err(file_err)?;
         self.staged.push((tmp.clone(), final_path.clone()));

@@ -45,6 +45,24 @@ impl<T, E: std::fmt::Display> Ctx<T> for std::result::Result<T, E> {
     }
 }
 
+/// Context for an input/output error on a path: what was tried, and what the path is
+/// (missing, a directory, not writable), from [`rhonn::error::path_problem`].
+trait IoCtx<T> {
+    fn at(self, verb: &str, path: &Path) -> Result<T>;
+}
+
+impl<T> IoCtx<T> for std::io::Result<T> {
+    fn at(self, verb: &str, path: &Path) -> Result<T> {
+        self.map_err(|e| {
+            Error::Campaign(format!(
+                "cannot {verb} {}: {}",
+                path.display(),
+                rhonn::error::path_problem(path, &e)
+            ))
+        })
+    }
+}
+
 /// What a campaign folder holds in `campaign.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CampaignFile {
@@ -530,7 +548,7 @@ pub fn run_campaign(
         shard: o.shard,
         indices,
     };
-    std::fs::create_dir_all(dir).ctx(|| format!("cannot create the folder {}", dir.display()))?;
+    std::fs::create_dir_all(dir).at("create the folder", dir)?;
     let mut notes = Vec::new();
     let meta = dir.join("campaign.json");
     let partial = dir.join("runs.partial.csv");
@@ -538,7 +556,7 @@ pub fn run_campaign(
     let mut done: Vec<Row> = Vec::new();
     let wants_traces = |r: &RunRow| r.index < o.envelope_runs && r.outcome.is_ok();
     if meta.exists() {
-        let text = std::fs::read_to_string(&meta).ctx(|| format!("cannot read {}", meta.display()))?;
+        let text = std::fs::read_to_string(&meta).at("read", &meta)?;
         let old: CampaignFile =
             serde_json::from_str(&text).ctx(|| format!("{} is not a campaign file", meta.display()))?;
         if old != file {
@@ -566,7 +584,7 @@ pub fn run_campaign(
     } else {
         let text = serde_json::to_string_pretty(&file).ctx(|| "campaign.json".into())?;
         let tmp = dir.join(".campaign.json.tmp");
-        std::fs::write(&tmp, text + "\n").ctx(|| format!("cannot write {}", tmp.display()))?;
+        std::fs::write(&tmp, text + "\n").at("write", &tmp)?;
         std::fs::rename(&tmp, &meta).ctx(|| format!("cannot write {}", meta.display()))?;
     }
     let finished: std::collections::HashSet<u64> = done.iter().map(|r| r.0.index).collect();
@@ -661,10 +679,8 @@ pub fn merge_campaigns(dirs: &[PathBuf], out: &Path) -> Result<CampaignOutcome> 
     let mut files = Vec::new();
     for d in dirs {
         let meta = d.join("campaign.json");
-        let f: CampaignFile = serde_json::from_str(
-            &std::fs::read_to_string(&meta).ctx(|| format!("cannot read {}", meta.display()))?,
-        )
-        .ctx(|| format!("{} is not a campaign file", meta.display()))?;
+        let f: CampaignFile = serde_json::from_str(&std::fs::read_to_string(&meta).at("read", &meta)?)
+            .ctx(|| format!("{} is not a campaign file", meta.display()))?;
         if !d.join("runs.csv").exists() {
             bail!("{} is not finished (no runs.csv): resume it first", d.display());
         }

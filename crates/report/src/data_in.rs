@@ -74,11 +74,17 @@ pub fn read_record(
         file: file.clone(),
         message: e.to_string(),
     };
+    if path.is_dir() {
+        return Err(unreadable(&"it is a directory, not a file"));
+    }
     let mut rd = csv::ReaderBuilder::new()
         .has_headers(true)
         .trim(csv::Trim::All)
         .from_path(path)
-        .map_err(|e| unreadable(&e))?;
+        .map_err(|e| match e.kind() {
+            csv::ErrorKind::Io(io) => unreadable(&rhonn::error::path_problem(path, io)),
+            _ => unreadable(&e),
+        })?;
     let header: Vec<String> = rd
         .headers()
         .map_err(|e| unreadable(&e))?

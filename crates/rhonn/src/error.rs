@@ -106,3 +106,60 @@ pub(crate) fn invalid(
         scenario: None,
     }
 }
+
+/// What is wrong with `path`, in words a user can act on, for an input/output error `e`
+/// met while reading or writing it: whether the path is missing (and whether its folder
+/// is), a folder where a file is wanted (or the other way round), or not writable.
+pub fn path_problem(path: &std::path::Path, e: &std::io::Error) -> String {
+    use std::io::ErrorKind;
+    let parent = path.parent().filter(|p| !p.as_os_str().is_empty());
+    let base = match e.kind() {
+        _ if path.is_dir() => "it is a directory, not a file".to_string(),
+        ErrorKind::NotFound => match parent {
+            Some(p) if !p.exists() => format!("its folder {} does not exist", p.display()),
+            Some(p) if !p.is_dir() => format!("{} is a file, not a folder", p.display()),
+            _ => "no such file".to_string(),
+        },
+        ErrorKind::PermissionDenied => {
+            "permission denied (not readable or not writable by this user)".to_string()
+        }
+        _ => match parent {
+            Some(p) if p.exists() && !p.is_dir() => format!("{} is a file, not a folder", p.display()),
+            _ => e.to_string(),
+        },
+    };
+    if base == e.to_string() {
+        base
+    } else {
+        format!("{base} ({e})")
+    }
+}
+
+#[cfg(test)]
+mod path_tests {
+    use super::path_problem;
+    use std::io::{Error, ErrorKind};
+
+    #[test]
+    fn path_problems_say_what_the_path_is() {
+        let d = tempfile::tempdir().unwrap();
+        let nf = Error::from(ErrorKind::NotFound);
+        assert!(path_problem(d.path(), &nf).starts_with("it is a directory"));
+        assert!(path_problem(&d.path().join("x.csv"), &nf).starts_with("no such file"));
+        let deep = d.path().join("no/x.csv");
+        assert!(
+            path_problem(&deep, &nf).contains("folder")
+                && path_problem(&deep, &nf).contains("does not exist")
+        );
+        std::fs::write(d.path().join("f"), "").unwrap();
+        let under_file = d.path().join("f/x.csv");
+        let e = std::fs::write(&under_file, "").unwrap_err();
+        assert!(
+            path_problem(&under_file, &e).contains("is a file, not a folder"),
+            "{}",
+            path_problem(&under_file, &e)
+        );
+        let pd = Error::from(ErrorKind::PermissionDenied);
+        assert!(path_problem(&d.path().join("x"), &pd).starts_with("permission denied"));
+    }
+}

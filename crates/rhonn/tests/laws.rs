@@ -1,4 +1,4 @@
-//! Tests of the theory (SPEC.md section 2, thesis 4.4.1), each able to fail: a plant
+//! Tests of the theory (pump-model.md section 2, thesis 4.4.1), each able to fail: a plant
 //! that is itself a RHONN with known weights w*, identified by each law.
 
 use rhonn::ident::{DiscreteIdentifier, Identifier, Mode, Scratch};

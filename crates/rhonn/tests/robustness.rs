@@ -1,4 +1,4 @@
-//! Unmodeled dynamics (SPEC.md section 3): a first-order lag on the solenoid current.
+//! Unmodeled dynamics (pump-model.md section 3): a first-order lag on the solenoid current.
 
 use rhonn::experiment::{preset, run_full, Trace};
 use rhonn::signal::SignalSpec;

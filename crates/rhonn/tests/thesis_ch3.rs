@@ -1,5 +1,5 @@
 //! `thesis-ch3` against an independent high-accuracy reference: scipy's DOP853 at
-//! rtol 1e-12 with its own event handling, written from SPEC.md alone
+//! rtol 1e-12 with its own event handling, written from pump-model.md alone
 //! (`tools/reference/pump_reference.py`, output committed in `tests/data`).
 
 use rhonn::experiment::{preset, run, Trace};

@@ -1,4 +1,4 @@
-//! RHONN indirect adaptive control (SPEC.md section 4, thesis 4.5.2): an affine RHONN
+//! RHONN indirect adaptive control (pump-model.md section 4, thesis 4.5.2): an affine RHONN
 //! neuron identified online, with a projection that keeps its input gain away from zero,
 //! and the certainty-equivalence control law computed from it.
 //!

@@ -1,5 +1,5 @@
 //! RHONN indirect adaptive control of any plant whose measured output `y` obeys a
-//! first-order, input-affine law `dy/dt = f(y) + g(y) u` with `g` of known sign (SPEC.md
+//! first-order, input-affine law `dy/dt = f(y) + g(y) u` with `g` of known sign (pump-model.md
 //! section 4, thesis 4.5.2): one affine RHONN neuron identified online, its input gain
 //! kept away from zero by a projection, and the certainty-equivalence law
 //! `u = (-lambda (y - r) - W S(y)) / (W_1 S'(y))`.

@@ -54,18 +54,12 @@ pub fn load(name_or_path: &str) -> Result<ScenarioSpec> {
         }
     }
     let path = Path::new(name_or_path);
-    if path.is_file() {
+    if path.is_file() || looks_like_path || path.exists() {
         let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
             path: name_or_path.to_string(),
-            message: e.to_string(),
+            message: crate::error::path_problem(path, &e),
         })?;
         return ScenarioSpec::from_toml(&text, name_or_path);
-    }
-    if looks_like_path {
-        return Err(Error::Io {
-            path: name_or_path.to_string(),
-            message: "no such file".to_string(),
-        });
     }
     Err(Error::UnknownScenario {
         name: name_or_path.to_string(),
@@ -97,7 +91,7 @@ mod tests {
         assert!(load("nope/x.toml")
             .unwrap_err()
             .to_string()
-            .contains("no such file"));
+            .contains("its folder nope does not exist"));
     }
 
     #[test]

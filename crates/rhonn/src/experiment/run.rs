@@ -1422,13 +1422,15 @@ impl std::fmt::Display for IdentReport {
             for s in figs {
                 writeln!(
                     f,
-                    "  {mode:<16} {:<7} rms error {:.4} {}, fit {:.1} %, converged at {}, |w| {:.4e}",
+                    "  {mode:<16} {:<7} rms error {:.4} {}, fit {:.1} %, {} the band +-{:.4} {}{}, |w| {:.4e}",
                     s.state,
                     s.rms_error,
                     s.unit,
                     s.fit_percent,
-                    s.convergence_time_s
-                        .map_or("-".to_string(), |t| format!("{t:.3} s")),
+                    if s.convergence_time_s.is_some() { "converged within" } else { "convergence not reached within" },
+                    s.convergence_band,
+                    s.unit,
+                    s.convergence_time_s.map_or(String::new(), |t| format!(" at {t:.3} s")),
                     s.final_weight_norm
                 )?;
             }

@@ -1,4 +1,4 @@
-//! Learning laws of the RHONN identifier (SPEC.md section 2, thesis 4.4.1).
+//! Learning laws of the RHONN identifier (pump-model.md section 2, thesis 4.4.1).
 //!
 //! | law | states per neuron | weight update |
 //! |---|---|---|

@@ -1,4 +1,4 @@
-//! The recurrent high-order neural network (SPEC.md section 2, thesis chapter 4):
+//! The recurrent high-order neural network (pump-model.md section 2, thesis chapter 4):
 //! sigmoids of the states, external inputs, and high-order terms `z_k = prod y_j^d_j`.
 
 use crate::error::{invalid, Result};

@@ -1,5 +1,5 @@
 //! The solenoid-controlled variable-displacement pump feeding a hydraulic line
-//! (SPEC.md section 1, `docs/pump-model.md`): states `[P_l, x, i]`, inputs
+//! (`docs/pump-model.md` section 1): states `[P_l, x, i]`, inputs
 //! `[current, demand]`.
 
 mod params;
@@ -54,7 +54,7 @@ pub const INPUTS: [Quantity; 2] = [
     },
 ];
 
-/// The thesis's stated tolerances (SPEC.md table): beta +-20 %, mu_1 and mu_2 +-20 %,
+/// The thesis's stated tolerances (pump-model.md table): beta +-20 %, mu_1 and mu_2 +-20 %,
 /// Q_0 +-10 %, load flow slew rate +-10 %; nominal values of table 3.3.
 pub const PARAMETERS: [Parameter; 5] = [
     Parameter {

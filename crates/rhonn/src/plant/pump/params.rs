@@ -1,4 +1,4 @@
-//! The parameters of table 3.3 of the thesis (SPEC.md section 1): SI values for the
+//! The parameters of table 3.3 of the thesis (pump-model.md section 1): SI values for the
 //! code, a display-unit spec for scenario files, and the stated uncertainties.
 
 use crate::error::{invalid, Result};
@@ -54,7 +54,7 @@ pub struct PumpParams {
     /// Minimum line pressure of the model's validity P_min \[Pa\].
     pub p_min: f64,
     /// Time constant of a first-order lag on the solenoid current \[s\] (0: none). An
-    /// unmodeled dynamic for robustness studies (SPEC.md section 3).
+    /// unmodeled dynamic for robustness studies (pump-model.md section 3).
     pub solenoid_lag: f64,
     /// Transport delay between a controller's output and the solenoid, in control
     /// periods (0: none). An unmodeled dynamic for robustness studies.
@@ -138,7 +138,7 @@ pub struct PumpParamsSpec {
     pub p_0_mpa: f64,
     /// P_min \[MPa\] (1).
     pub p_min_mpa: f64,
-    /// First-order lag on the solenoid current \[ms\] (0: none; SPEC.md section 3).
+    /// First-order lag on the solenoid current \[ms\] (0: none; pump-model.md section 3).
     pub solenoid_lag_ms: f64,
     /// Transport delay from a controller's output to the solenoid \[control periods\] (0).
     pub transport_delay_periods: u32,
@@ -269,7 +269,7 @@ mod tests {
     #[test]
     fn steady_state_checks_of_spec() {
         let p = PumpParams::default();
-        // SPEC.md section 1: x = phi I / K_a = 17.23 mm and 2.07 dm^3/s at 0.8 A.
+        // pump-model.md section 1: x = phi I / K_a = 17.23 mm and 2.07 dm^3/s at 0.8 A.
         assert!(
             (mm(p.steady_stroke(0.8)) - 17.23).abs() < 0.005,
             "{}",

@@ -10,7 +10,7 @@ pub const P_LINE: usize = 0;
 /// Index of the pump stroke x \[m\] in the state.
 pub const STROKE: usize = 1;
 /// Index of the current the solenoid actually carries \[A\] in the state: the commanded
-/// current through a first-order lag of `solenoid_lag` (unmodeled dynamics, SPEC.md
+/// current through a first-order lag of `solenoid_lag` (unmodeled dynamics, pump-model.md
 /// section 3); without a lag it stays unused and the commanded current acts directly.
 pub const CURRENT_EFF: usize = 2;
 /// Number of plant states.
