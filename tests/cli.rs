@@ -589,6 +589,7 @@ fn cascaded_tanks_free_run_beats_narx_and_arx_on_validation() {
     let est = data.join("estimation.csv");
     let val = data.join("validation.csv");
     let spec = root.join("models/cascaded-tanks.toml");
+    let started = std::time::Instant::now();
     let o = rhonn(
         d.path(),
         &[
@@ -606,6 +607,14 @@ fn cascaded_tanks_free_run_beats_narx_and_arx_on_validation() {
         ],
     );
     assert!(o.status.success(), "{}", stderr(&o));
+    // A fit over a second shows signs of life (here, not a terminal: a line every 5 s).
+    if started.elapsed().as_secs_f64() > 2.0 {
+        assert!(
+            stderr(&o).contains("fitting on 1 record(s): 1 s so far"),
+            "{}",
+            stderr(&o)
+        );
+    }
     let o = rhonn(
         d.path(),
         &[

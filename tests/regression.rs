@@ -281,3 +281,133 @@ fn path_errors_name_the_path_and_say_what_it_is() {
         assert_eq!(tree(d.path()), ["adir", "afile"], "{args:?}");
     }
 }
+
+/// "The README says every `rhonn-adaptive` setting is optional but leaving out
+/// `setpoint_mpa` is an error." The README now marks `setpoint_mpa` required: a
+/// controller section with `kind` and `setpoint_mpa` alone runs, with the same figures
+/// as the preset (whose other settings are the defaults written out), and without
+/// `setpoint_mpa` the error names it.
+#[test]
+fn the_adaptive_controller_needs_only_its_set_point() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let preset = std::fs::read_to_string(root.join("scenarios/control-adaptive.toml")).unwrap();
+    let short = preset.replace("duration_s = 60.0", "duration_s = 3.0");
+    let (head, tail) = short.split_once("[controller]").unwrap();
+    let (_, rest) = tail.split_once("[demand_dm3_s]").unwrap();
+    let setpoint = tail.lines().find(|l| l.starts_with("setpoint_mpa")).unwrap();
+    let minimal =
+        format!("{head}[controller]\nkind = \"rhonn-adaptive\"\n{setpoint}\n\n[demand_dm3_s]{rest}");
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(
+        d.path().join("full.toml"),
+        short.replace("control-adaptive", "full"),
+    )
+    .unwrap();
+    std::fs::write(
+        d.path().join("min.toml"),
+        minimal.replace("control-adaptive", "min"),
+    )
+    .unwrap();
+    for f in ["full.toml", "min.toml"] {
+        let o = rhonn(d.path(), &["run", f]);
+        assert!(o.status.success(), "{f}: {}", stderr(&o));
+    }
+    let read = |n: &str| std::fs::read_to_string(d.path().join(format!("out/{n}/trajectory.csv"))).unwrap();
+    assert_eq!(
+        read("full"),
+        read("min"),
+        "the preset's written-out settings are not the defaults"
+    );
+    let none = minimal.replace(setpoint, "").replace("control-adaptive", "none");
+    std::fs::write(d.path().join("none.toml"), none).unwrap();
+    let o = rhonn(d.path(), &["run", "none.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("setpoint_mpa"), "{}", stderr(&o));
+}
+
+/// "Plots: the PI and RHONN colours swap between `pressure.svg` and `inputs.svg` of the
+/// same run." Each controller has one colour in every plot of a run.
+#[test]
+fn each_controller_keeps_its_colour_across_the_plots_of_a_run() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let preset = std::fs::read_to_string(root.join("scenarios/control-adaptive.toml")).unwrap();
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(
+        d.path().join("s.toml"),
+        preset.replace("duration_s = 60.0", "duration_s = 4.0"),
+    )
+    .unwrap();
+    let o = rhonn(d.path(), &["run", "s.toml"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A legend entry: its text's top y, and the two segments of its mark, drawn
+    // 5 px below that top (colour, x start, x end).
+    let mark_of = |file: &str, label: &str| -> Vec<(String, i32, i32)> {
+        let svg = std::fs::read_to_string(d.path().join("out/control-adaptive").join(file)).unwrap();
+        let lines: Vec<&str> = svg.lines().collect();
+        let at = lines
+            .iter()
+            .position(|l| l.trim() == label)
+            .unwrap_or_else(|| panic!("{file}: no legend `{label}`"));
+        let attr = |name: &str| -> i32 {
+            lines[at - 1]
+                .split(&format!(" {name}=\""))
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap()
+        };
+        let (x, y) = (attr("x"), attr("y"));
+        let mut segs = Vec::new();
+        for l in lines.iter().filter(|l| l.starts_with("<polyline")) {
+            let pts: Vec<(i32, i32)> = l
+                .split("points=\"")
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap()
+                .split_whitespace()
+                .map(|p| {
+                    let (a, b) = p.split_once(',').unwrap();
+                    (a.parse().unwrap(), b.parse().unwrap())
+                })
+                .collect();
+            if pts.len() == 2
+                && pts[0].1 == y + 5
+                && pts[1].1 == y + 5
+                && pts[0].0 >= x - 30
+                && pts[1].0 <= x - 10
+            {
+                segs.push((
+                    l.split("stroke=\"").nth(1).unwrap()[..7].to_string(),
+                    pts[0].0,
+                    pts[1].0,
+                ));
+            }
+        }
+        assert_eq!(segs.len(), 2, "{file} `{label}`: {segs:?}");
+        segs
+    };
+    let color_of = |file: &str, label: &str| mark_of(file, label)[0].0.clone();
+    // Legend marks are drawn as their series: solid lines touch, dashes leave a gap.
+    let solid = mark_of("pressure.svg", "p_line (PI baseline)");
+    assert_eq!(solid[0].2, solid[1].1, "{solid:?}");
+    let dashed = mark_of("pressure.svg", "set-point");
+    assert!(dashed[1].1 > dashed[0].2, "{dashed:?}");
+    let pi = [
+        color_of("pressure.svg", "p_line (PI baseline)"),
+        color_of("inputs.svg", "current (PI baseline)"),
+        color_of("stroke.svg", "stroke (PI baseline)"),
+    ];
+    let adaptive = [
+        color_of("pressure.svg", "p_line (RHONN adaptive)"),
+        color_of("inputs.svg", "current (RHONN adaptive)"),
+        color_of("stroke.svg", "stroke (RHONN adaptive)"),
+    ];
+    assert!(pi.iter().all(|c| *c == pi[0]), "{pi:?}");
+    assert!(adaptive.iter().all(|c| *c == adaptive[0]), "{adaptive:?}");
+    assert_ne!(pi[0], adaptive[0]);
+}

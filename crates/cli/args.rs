@@ -66,7 +66,10 @@ pub enum Command {
     ///                 same lags trained on the same data
     ///   summary.json  per output and model: RMS error, fit [%] and NRMSE on the
     ///                 training data, one step ahead and free run
-    /// Units are those of the data. Exit code 2 on any error, naming file, line, column.
+    /// Errors are in the data's units (name them with --units). Warnings (on stderr) for a
+    /// constant input, an input that is also an output, `t` used as a signal, and data
+    /// sampled far faster than it changes (with the --resample value to try).
+    /// Exit code 2 on any error, naming file, line, column.
     #[command(verbatim_doc_comment)]
     Fit {
         /// A CSV file (repeat for several recordings).
@@ -78,6 +81,15 @@ pub enum Command {
         /// Output columns, comma-separated.
         #[arg(long, value_delimiter = ',', required = true)]
         outputs: Vec<String>,
+        /// Put every record on a uniform grid of this sample time [s] instead of its own
+        /// median interval (inputs held, outputs interpolated; no anti-alias filter):
+        /// for data sampled much faster than the system moves, as a warning then says.
+        #[arg(long, value_name = "SECONDS")]
+        resample: Option<f64>,
+        /// Units of the columns, as COLUMN=UNIT pairs (e.g. `--units u=V,y=V`): printed
+        /// with the errors and kept in model.json for `rhonn predict`.
+        #[arg(long, value_delimiter = ',', value_name = "COLUMN=UNIT")]
+        units: Vec<String>,
         /// Model structure (TOML: kind, na, nb, nk, degree, max_factors, law, ridge,
         /// epochs, gain, output_margin, ...); defaults: a RHONN with na = nb = 2, nk = 1,
         /// degree 2, batch least squares. An ensemble: [[members]] tables, each a

@@ -42,9 +42,17 @@ fn dispatch(cli: Cli) -> Result<()> {
             data,
             inputs,
             outputs,
+            resample,
+            units,
             model,
             out,
-        } => cmd_fit(&data, &inputs, &outputs, model.as_deref(), &out),
+        } => {
+            let opts = FitOptions {
+                resample_s: resample,
+                units: parse_units(&units, &inputs, &outputs)?,
+            };
+            cmd_fit(&data, &inputs, &outputs, model.as_deref(), &out, opts)
+        }
         Command::Predict {
             model,
             data,
@@ -104,17 +112,67 @@ fn dispatch(cli: Cli) -> Result<()> {
     }
 }
 
+/// What `rhonn fit` takes besides the data and the structure.
+struct FitOptions {
+    /// `--resample`: the uniform grid's interval \[s\] (None: each record's median).
+    resample_s: Option<f64>,
+    /// `--units`: unit by column.
+    units: std::collections::BTreeMap<String, String>,
+}
+
+/// `--units COL=UNIT,...`: every column named must be an input or an output.
+fn parse_units(
+    pairs: &[String],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<std::collections::BTreeMap<String, String>> {
+    let mut map = std::collections::BTreeMap::new();
+    for p in pairs {
+        let (col, unit) = p.split_once('=').filter(|(c, u)| !c.trim().is_empty() && !u.trim().is_empty()).ok_or_else(|| {
+            anyhow::anyhow!("--units `{p}` is not allowed: give COLUMN=UNIT pairs separated by commas, e.g. --units u=V,y=mm")
+        })?;
+        let col = col.trim();
+        if !inputs.iter().chain(outputs).any(|c| c == col) {
+            anyhow::bail!(
+                "--units names column `{col}`, which is not among the inputs and outputs ({})",
+                inputs
+                    .iter()
+                    .chain(outputs)
+                    .cloned()
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+        map.insert(col.to_string(), unit.trim().to_string());
+    }
+    Ok(map)
+}
+
 fn read_data(
     paths: &[PathBuf],
     inputs: &[String],
     outputs: &[String],
     min_rows: usize,
+    resample_s: Option<f64>,
 ) -> Result<Vec<Record>> {
+    if let Some(dt) = resample_s {
+        if !(dt.is_finite() && dt > 0.0) {
+            anyhow::bail!("--resample {dt} is not allowed: give a sample time in seconds, finite and > 0");
+        }
+    }
     let mut recs = Vec::new();
     for p in paths {
         let r = rhonn_report::read_record(p, inputs, outputs, min_rows)?;
-        let dt = r.median_interval();
-        recs.push(r.uniform(dt));
+        let dt = resample_s.unwrap_or_else(|| r.median_interval());
+        let u = r.uniform(dt);
+        if u.len() < min_rows {
+            anyhow::bail!(
+                "{}: {} samples on the grid of {dt} s, the model needs at least {min_rows}: give a shorter --resample",
+                p.display(),
+                u.len()
+            );
+        }
+        recs.push(u);
     }
     Ok(recs)
 }
@@ -125,6 +183,7 @@ fn cmd_fit(
     outputs: &[String],
     model: Option<&Path>,
     out: &Path,
+    opts: FitOptions,
 ) -> Result<()> {
     let specs: Vec<ModelSpec> = match model {
         None => vec![ModelSpec::default()],
@@ -150,8 +209,15 @@ fn cmd_fit(
         })?;
     }
     let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
-    let recs = read_data(data, inputs, outputs, max_lag + 2)?;
-    let (fitted, summary) = rhonn::sysid::train(&specs, &recs, inputs, outputs)?;
+    let recs = read_data(data, inputs, outputs, max_lag + 2, opts.resample_s)?;
+    let sample_s = recs.first().map_or(0.0, |r| r.median_interval());
+    for w in rhonn::sysid::data_warnings(&recs, inputs, outputs, max_lag, sample_s, "--resample") {
+        eprintln!("warning: {w}");
+    }
+    let busy = progress::Busy::start(format!("fitting on {} record(s)", recs.len()));
+    let (mut fitted, summary) = rhonn::sysid::train(&specs, &recs, inputs, outputs)?;
+    drop(busy);
+    fitted.units = opts.units;
     let files = rhonn_report::write_fit(out, &fitted, &summary)?;
     if fitted.members.is_empty() {
         println!(
@@ -168,9 +234,13 @@ fn cmd_fit(
             recs.len()
         );
     }
-    print_training(&summary.training.free_run, "free run (training data)");
+    print_training(
+        &summary.training.free_run,
+        "free run (training data)",
+        &fitted.units,
+    );
     if let Some(b) = &summary.baseline_arx {
-        print_training(&b.free_run, "ARX baseline, free run");
+        print_training(&b.free_run, "ARX baseline, free run", &fitted.units);
     }
     for f in files {
         println!("  wrote {}", f.display());
@@ -178,12 +248,25 @@ fn cmd_fit(
     Ok(())
 }
 
-fn print_training(figures: &[RecordFigures], label: &str) {
+/// " V" for a column with a unit, else "".
+fn unit_of(units: &std::collections::BTreeMap<String, String>, col: &str) -> String {
+    units.get(col).map_or(String::new(), |u| format!(" {u}"))
+}
+
+fn print_training(
+    figures: &[RecordFigures],
+    label: &str,
+    units: &std::collections::BTreeMap<String, String>,
+) {
     for rec in figures {
         for o in &rec.outputs {
             println!(
-                "  {label}: {} {}: rms error {:.4}, fit {:.1} %",
-                rec.data, o.output, o.rms_error, o.fit_percent
+                "  {label}: {} {}: rms error {:.4}{}, fit {:.1} %",
+                rec.data,
+                o.output,
+                o.rms_error,
+                unit_of(units, &o.output),
+                o.fit_percent
             );
         }
     }
@@ -211,8 +294,11 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
         &m.inputs,
         &m.outputs,
         rhonn::sysid::samples_needed(&fitted, steps),
+        None,
     )?;
+    let busy = progress::Busy::start(format!("predicting {}", data.display()));
     let p = rhonn::sysid::predict(&fitted, &recs[0], steps)?;
+    drop(busy);
     if let Some(dt) = p.resampled_from_s {
         // Intervals read off decimal times carry float noise: shown to the nanosecond.
         let ns = |v: f64| (v * 1e9).round() / 1e9;
@@ -227,13 +313,14 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
     let files = rhonn_report::write_prediction(out, &fitted, &p, &model.display().to_string())?;
     let mode = p.mode();
     for (j, f) in p.figures.iter().enumerate() {
+        let unit = unit_of(&fitted.units, &f.output);
         print!(
-            "{} ({mode}): rms error {:.4}, fit {:.1} %, nrmse {:.4}",
+            "{} ({mode}): rms error {:.4}{unit}, fit {:.1} %, nrmse {:.4}",
             f.output, f.rms_error, f.fit_percent, f.nrmse
         );
         if let Some((_, fb)) = &p.baseline {
             print!(
-                "; ARX baseline: rms error {:.4}, fit {:.1} %",
+                "; ARX baseline: rms error {:.4}{unit}, fit {:.1} %",
                 fb[j].rms_error, fb[j].fit_percent
             );
         }

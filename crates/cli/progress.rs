@@ -62,3 +62,67 @@ impl Reporter {
         }
     }
 }
+
+/// A sign of life for a step that may take long (a fit, a prediction): nothing if it ends
+/// within a second; after that a spinner with the elapsed time on a terminal, else a line
+/// every 5 s. Stops when dropped.
+pub struct Busy {
+    done: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Busy {
+    pub fn start(what: String) -> Busy {
+        use std::sync::atomic::Ordering;
+        let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let flag = done.clone();
+        let thread = std::thread::spawn(move || {
+            let start = Instant::now();
+            let tick = std::time::Duration::from_millis(50);
+            let wait_until = |secs: f64| {
+                while start.elapsed().as_secs_f64() < secs {
+                    if flag.load(Ordering::Relaxed) {
+                        return false;
+                    }
+                    std::thread::sleep(tick);
+                }
+                true
+            };
+            if !wait_until(1.0) {
+                return;
+            }
+            if std::io::stderr().is_terminal() {
+                let bar = indicatif::ProgressBar::new_spinner();
+                bar.set_style(
+                    indicatif::ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
+                        .expect("a valid template"),
+                );
+                bar.set_message(what);
+                bar.enable_steady_tick(std::time::Duration::from_millis(100));
+                while !flag.load(Ordering::Relaxed) {
+                    std::thread::sleep(tick);
+                }
+                bar.finish_and_clear();
+            } else {
+                let mut next = 1.0;
+                while wait_until(next) {
+                    eprintln!("{what}: {:.0} s so far", start.elapsed().as_secs_f64());
+                    next += 5.0;
+                }
+            }
+        });
+        Busy {
+            done,
+            thread: Some(thread),
+        }
+    }
+}
+
+impl Drop for Busy {
+    fn drop(&mut self) {
+        self.done.store(true, std::sync::atomic::Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}

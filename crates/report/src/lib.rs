@@ -21,6 +21,7 @@ mod csv_out;
 mod data_in;
 mod plot;
 mod prediction;
+mod style;
 
 pub use atomic::OutputSet;
 pub use csv_out::write_trace_csv;

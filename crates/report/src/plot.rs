@@ -28,13 +28,10 @@ pub struct TimePlot {
     pub series: Vec<Series>,
 }
 
-const COLORS: [RGBColor; 5] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
-    RGBColor(255, 127, 14),
-];
+use crate::style::{colors, legend_corner, legend_mark};
+
+/// The first colour of the palette (histograms).
+const FIRST: RGBColor = RGBColor(31, 119, 180);
 
 /// Keep at most about `2 * buckets` points, the minimum and maximum of each bucket,
 /// so that spikes survive.
@@ -99,16 +96,33 @@ where
     Ok(chart)
 }
 
-/// The legend box, upper right.
-fn draw_legend<'a, DB: DrawingBackend + 'a>(chart: &mut TimeChart<'a, DB>) -> Result<(), String>
+/// The legend box, in the corner where it hides the fewest of `points` (data
+/// coordinates) of a plot on `[t0, t1] x [lo, hi]`, for `labels`.
+fn draw_legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut TimeChart<'a, DB>,
+    points: &[(f64, f64)],
+    (t0, t1): (f64, f64),
+    (lo, hi): (f64, f64),
+    labels: &[&str],
+) -> Result<(), String>
 where
     DB::ErrorType: 'static,
 {
+    let (w_px, h_px) = chart.plotting_area().dim_in_pixel();
+    let chars = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+    // The box plotters draws: a 20 px mark and text of about 7 px per character, a row
+    // of about 20 px per label, plus margins.
+    let box_w = ((40.0 + 7.0 * chars as f64) / w_px.max(1) as f64).min(1.0);
+    let box_h = ((10.0 + 20.0 * labels.len() as f64) / h_px.max(1) as f64).min(1.0);
+    let frac: Vec<(f64, f64)> = points
+        .iter()
+        .map(|(t, y)| ((t - t0) / (t1 - t0), (y - lo) / (hi - lo)))
+        .collect();
     chart
         .configure_series_labels()
         .border_style(BLACK)
         .background_style(WHITE.mix(0.85))
-        .position(SeriesLabelPosition::UpperRight)
+        .position(legend_corner(&frac, box_w, box_h))
         .draw()
         .map_err(|e| e.to_string())
 }
@@ -137,13 +151,16 @@ where
     let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
     let (lo, hi) = (lo - pad, hi + pad);
     let mut chart = time_chart(area, &p.title, &p.y_label, (t0, t1), (lo, hi))?;
-    for (k, s) in p.series.iter().enumerate() {
-        let color = COLORS[k % COLORS.len()];
+    let labels: Vec<&str> = p.series.iter().map(|s| s.label.as_str()).collect();
+    let mut all_points = Vec::new();
+    for (s, color) in p.series.iter().zip(colors(labels.iter().copied())) {
         let pts = decimate(&p.t, &s.y, 2000);
+        all_points.extend(pts.iter().copied().filter(|(_, y)| y.is_finite()));
+        let width = if s.dashed { 1 } else { 2 };
         let style = ShapeStyle {
             color: color.to_rgba(),
             filled: false,
-            stroke_width: if s.dashed { 1 } else { 2 },
+            stroke_width: width,
         };
         let anno = if s.dashed {
             chart
@@ -155,9 +172,9 @@ where
                 .map_err(|e| e.to_string())?
         };
         anno.label(s.label.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+            .legend(legend_mark!(color, s.dashed, width));
     }
-    draw_legend(&mut chart)
+    draw_legend(&mut chart, &all_points, (t0, t1), (lo, hi), &labels)
 }
 
 impl TimePlot {
@@ -240,7 +257,7 @@ where
     chart
         .draw_series(counts.iter().enumerate().map(|(k, &c)| {
             let x0 = lo + k as f64 * w;
-            Rectangle::new([(x0, 0.0), (x0 + w, c as f64)], COLORS[0].mix(0.7).filled())
+            Rectangle::new([(x0, 0.0), (x0 + w, c as f64)], FIRST.mix(0.7).filled())
         }))
         .map_err(|e| e.to_string())?;
     Ok(())
@@ -321,8 +338,11 @@ where
         pts.retain(|(_, y)| y.is_finite());
         pts
     };
-    for (k, b) in p.bands.iter().enumerate() {
-        let color = COLORS[k % COLORS.len()];
+    let band_labels: Vec<&str> = p.bands.iter().map(|b| b.label.as_str()).collect();
+    let band_colors = colors(band_labels.iter().copied());
+    let line_labels: Vec<&str> = p.lines.iter().map(|s| s.label.as_str()).collect();
+    let line_colors = colors(line_labels.iter().copied());
+    for (b, &color) in p.bands.iter().zip(&band_colors) {
         let e = &b.envelope;
         chart
             .draw_series(std::iter::once(Polygon::new(
@@ -337,8 +357,13 @@ where
             )))
             .map_err(|e| e.to_string())?;
     }
-    for (k, b) in p.bands.iter().enumerate() {
-        let color = COLORS[k % COLORS.len()];
+    let mut all_points = Vec::new();
+    let mut legend_labels = Vec::new();
+    for (b, &color) in p.bands.iter().zip(&band_colors) {
+        all_points.extend(p.t.iter().copied().zip(b.envelope.max.iter().copied()));
+        all_points.extend(p.t.iter().copied().zip(b.envelope.min.iter().copied()));
+        let label = format!("{} (median; 5-95 %, min-max shaded)", b.label);
+        legend_labels.push(label.clone());
         let pts: Vec<(f64, f64)> =
             p.t.iter()
                 .copied()
@@ -347,19 +372,22 @@ where
         chart
             .draw_series(LineSeries::new(pts, color.stroke_width(2)))
             .map_err(|e| e.to_string())?
-            .label(format!("{} (median; 5-95 %, min-max shaded)", b.label))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+            .label(label)
+            .legend(legend_mark!(color, false, 2));
     }
-    for (k, s) in p.lines.iter().enumerate() {
-        let color = COLORS[(p.bands.len() + k) % COLORS.len()];
+    for (s, &color) in p.lines.iter().zip(&line_colors) {
         let pts: Vec<(f64, f64)> = p.t.iter().copied().zip(s.y.iter().copied()).collect();
+        all_points.extend(pts.iter().copied());
+        legend_labels.push(s.label.clone());
         chart
             .draw_series(DashedLineSeries::new(pts, 6, 4, color.stroke_width(1)))
             .map_err(|e| e.to_string())?
             .label(s.label.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(1)));
+            .legend(legend_mark!(color, true, 1));
     }
-    draw_legend(&mut chart)
+    all_points.retain(|(_, y)| y.is_finite());
+    let labels: Vec<&str> = legend_labels.iter().map(String::as_str).collect();
+    draw_legend(&mut chart, &all_points, (t0, t1), (lo - pad, hi + pad), &labels)
 }
 
 impl EnvelopePlot {

@@ -24,8 +24,10 @@
 //! judged by free runs is trained on free runs).
 
 pub mod cascade;
+mod checks;
 mod predict;
 mod train;
+pub use checks::{data_warnings, decorrelation_lag};
 pub use predict::{predict, samples_needed, PredictSummary, Prediction};
 pub use train::{train, BaselineSummary, FitSummary, MemberSummary, RecordFigures, TrainingFigures};
 
@@ -1032,6 +1034,10 @@ pub struct FittedModel {
     /// The linear baseline with the first member's lags (None when that is itself an
     /// ARX).
     pub baseline: Option<Model>,
+    /// The data's units by column (`rhonn fit --units`), for what people read; absent
+    /// when none were given.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub units: std::collections::BTreeMap<String, String>,
 }
 
 impl FittedModel {
@@ -1162,6 +1168,7 @@ pub fn fit_ensemble(
         model,
         members,
         baseline,
+        units: Default::default(),
     })
 }
 

@@ -1,0 +1,169 @@
+//! What `rhonn fit` tells a user about their data before and while it fits: warnings
+//! that name the problem and the option to try, `--resample`, `--units`.
+
+mod util;
+
+use util::{rhonn, stderr};
+
+/// A Duffing oscillator (x'' + 0.2 x' + x + x^3 = u, u a new uniform draw every 0.5 s)
+/// integrated at 1 ms and written every `every` ms, 100 s.
+fn duffing(path: &std::path::Path, every_ms: usize) {
+    let mut s = String::from("t,u,y\n");
+    let (mut x, mut v, mut u) = (0.0f64, 0.0f64, 0.0f64);
+    let mut seed = 7u64;
+    for k in 0..=100_000usize {
+        if k % 500 == 0 {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            u = (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+        }
+        if k % every_ms == 0 {
+            s.push_str(&format!("{:.3},{u:.6},{x:.6}\n", k as f64 * 1e-3));
+        }
+        let a = u - 0.2 * v - x - x * x * x;
+        v += a * 1e-3;
+        x += v * 1e-3;
+    }
+    std::fs::write(path, s).unwrap();
+}
+
+fn fit_percent(stdout: &str, label: &str) -> f64 {
+    let line = stdout.lines().find(|l| l.contains(label)).unwrap();
+    let f = line.split("fit ").nth(1).unwrap().trim_end_matches(" %");
+    f.parse().unwrap()
+}
+
+#[test]
+fn fast_sampled_data_is_warned_about_and_resample_fixes_it() {
+    let d = tempfile::tempdir().unwrap();
+    duffing(&d.path().join("duffing.csv"), 10);
+    let args = [
+        "fit",
+        "--data",
+        "duffing.csv",
+        "--inputs",
+        "u",
+        "--outputs",
+        "y",
+        "--units",
+        "y=m,u=N",
+    ];
+    let o = rhonn(d.path(), &[&args[..], &["--out", "a"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("warning: output `y` changes slowly"), "{e}");
+    // The value the warning advises.
+    let advised = e
+        .split("`--resample ")
+        .nth(1)
+        .and_then(|r| r.split('`').next())
+        .unwrap()
+        .to_string();
+    let dt: f64 = advised.parse().unwrap();
+    assert!((0.05..0.2).contains(&dt), "{advised}");
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(out.contains("rms error") && out.contains(" m, fit"), "{out}");
+    let slow = fit_percent(&out, "free run (training data)");
+    // The advice taken: no warning, and the free-run fit far better.
+    let o = rhonn(
+        d.path(),
+        &[&args[..], &["--resample", &advised, "--out", "b"]].concat(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    let resampled = fit_percent(&out, "free run (training data)");
+    eprintln!(
+        "Duffing free-run fit on its training record: 10 ms {slow:.1} %, resampled to {advised} s {resampled:.1} %"
+    );
+    assert!(resampled > slow + 30.0, "{slow} -> {resampled}");
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("b/model.json")).unwrap()).unwrap();
+    assert!((m["model"]["sample_time_s"].as_f64().unwrap() - dt).abs() < 1e-12);
+    assert_eq!(m["units"]["y"], "m");
+    // predict reads the units from the model and puts the record on the model's grid.
+    let o = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "b/model.json",
+            "--data",
+            "duffing.csv",
+            "--out",
+            "p",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains(" m, fit"));
+    let note = format!("predicting on the model's grid of {advised} s");
+    assert!(stderr(&o).contains(&note), "{}", stderr(&o));
+}
+
+#[test]
+fn suspicious_columns_are_warned_about_and_bad_options_refused() {
+    let d = tempfile::tempdir().unwrap();
+    duffing(&d.path().join("r.csv"), 100);
+    let mut flat = String::from("t,u,c,y\n");
+    for l in std::fs::read_to_string(d.path().join("r.csv"))
+        .unwrap()
+        .lines()
+        .skip(1)
+    {
+        let f: Vec<&str> = l.split(',').collect();
+        flat.push_str(&format!("{},{},1.5,{}\n", f[0], f[1], f[2]));
+    }
+    std::fs::write(d.path().join("r.csv"), flat).unwrap();
+    let warn = |inputs: &str, outputs: &str| {
+        let o = rhonn(
+            d.path(),
+            &[
+                "fit",
+                "--data",
+                "r.csv",
+                "--inputs",
+                inputs,
+                "--outputs",
+                outputs,
+                "--out",
+                "m",
+            ],
+        );
+        stderr(&o)
+    };
+    assert!(warn("t,u", "y").contains("`t` is the time column"));
+    assert!(warn("u,c", "y").contains("input `c` is constant"));
+    assert!(warn("u,y", "y").contains("`y` is both an input and an output"));
+    assert!(!warn("u", "y").contains("warning"));
+    for (opt, val, want) in [
+        ("--units", "y", "COLUMN=UNIT"),
+        (
+            "--units",
+            "q=V",
+            "column `q`, which is not among the inputs and outputs (u, y)",
+        ),
+        ("--resample", "0", "--resample 0 is not allowed"),
+        ("--resample", "500", "give a shorter --resample"),
+    ] {
+        let o = rhonn(
+            d.path(),
+            &[
+                "fit",
+                "--data",
+                "r.csv",
+                "--inputs",
+                "u",
+                "--outputs",
+                "y",
+                opt,
+                val,
+                "--out",
+                "x",
+            ],
+        );
+        assert_eq!(o.status.code(), Some(2), "{opt} {val}");
+        assert!(stderr(&o).contains(want), "{opt} {val}: {}", stderr(&o));
+        assert!(!d.path().join("x").exists());
+    }
+}
