@@ -102,10 +102,11 @@ fn dispatch(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Show { scenario } => {
-            let spec = preset::load(&scenario)?;
-            match preset::SHIPPED.iter().find(|(n, _)| *n == scenario) {
-                Some((_, text)) => print!("{text}"),
-                None => print!("{}", spec.to_toml()),
+            let spec = preset::load_any(&scenario)?;
+            match (preset::SHIPPED.iter().find(|(n, _)| *n == scenario), spec) {
+                (Some((_, text)), _) => print!("{text}"),
+                (None, preset::AnyScenario::Pump(spec)) => print!("{}", spec.to_toml()),
+                (None, preset::AnyScenario::Plant(_)) => print!("{}", std::fs::read_to_string(&scenario)?),
             }
             Ok(())
         }
@@ -367,8 +368,11 @@ fn cmd_bench(names: &[String], json: bool, seconds: f64) -> Result<()> {
     let names: &[String] = if names.is_empty() { &default } else { names };
     let mut all = Vec::new();
     for name in names {
-        let sc = preset::load(name)?.check()?;
-        let b = rhonn::experiment::bench(&sc, std::time::Duration::from_secs_f64(seconds))?;
+        let budget = std::time::Duration::from_secs_f64(seconds);
+        let b = match preset::load_any(name)? {
+            preset::AnyScenario::Pump(spec) => rhonn::experiment::bench(&spec.check()?, budget)?,
+            preset::AnyScenario::Plant(spec) => rhonn::experiment::bench_plant(&spec, budget)?,
+        };
         if !json {
             if all.is_empty() {
                 println!(
@@ -380,7 +384,7 @@ fn cmd_bench(names: &[String], json: bool, seconds: f64) -> Result<()> {
                 "{:<16} {:>14.4} {:>16} {:>15.0} ({} threads)",
                 b.scenario,
                 b.median_s * 1e3,
-                b.rhs_evaluations,
+                b.rhs_evaluations.map_or("-".to_string(), |n| n.to_string()),
                 b.runs_per_s_all_cores,
                 b.threads
             );
@@ -393,8 +397,58 @@ fn cmd_bench(names: &[String], json: bool, seconds: f64) -> Result<()> {
     Ok(())
 }
 
+/// `rhonn run` for a scenario of a plant other than the pump.
+fn cmd_run_plant(spec: &rhonn::experiment::PlantScenarioSpec, out: Option<PathBuf>) -> Result<()> {
+    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&spec.name));
+    let output = rhonn::experiment::run_plant_scenario(spec, None)?;
+    let files = rhonn_report::write_plant_run(&dir, &output).with_context(|| {
+        format!(
+            "scenario `{}` ran, but its outputs could not be written",
+            spec.name
+        )
+    })?;
+    let s = &output.summary;
+    println!(
+        "{}: {} s simulated, plant {}",
+        spec.name, spec.duration_s, s.plant
+    );
+    if let Some(figs) = &s.identification {
+        for f in figs {
+            print!(
+                "  {}: online (second half) rms error {:.3} {}, fit {:.1} %",
+                f.state, f.training_rms_error, f.unit, f.training_fit_percent
+            );
+            if let (Some(r), Some(p)) = (f.validation_rms_error, f.validation_fit_percent) {
+                print!(
+                    "; frozen, free run on the validation inputs: rms error {r:.3} {}, fit {p:.1} %",
+                    f.unit
+                );
+            }
+            println!();
+        }
+    }
+    if let (Some(c), Some((state, unit))) = (&s.control, s.regulated) {
+        for f in c {
+            println!(
+                "  {:<14} {state}: IAE {:.1} {unit} s, ISE {:.0} {unit}^2 s, final error {:.3} {unit}, input saturated {:.0} s",
+                f.controller, f.iae, f.ise, f.final_error, f.time_input_saturated_s
+            );
+        }
+    }
+    for f in &s.findings {
+        println!("  finding: {f}");
+    }
+    for f in files {
+        println!("  wrote {}", f.display());
+    }
+    Ok(())
+}
+
 fn cmd_run(scenario: &str, out: Option<PathBuf>) -> Result<()> {
-    let spec = preset::load(scenario)?;
+    let spec = match preset::load_any(scenario)? {
+        preset::AnyScenario::Pump(spec) => spec,
+        preset::AnyScenario::Plant(spec) => return cmd_run_plant(&spec, out),
+    };
     let sc = spec.check()?;
     for w in &sc.warnings {
         eprintln!("warning: {w}");

@@ -19,6 +19,7 @@ mod atomic;
 pub mod campaign;
 mod csv_out;
 mod data_in;
+mod plant_report;
 mod plot;
 mod prediction;
 mod style;
@@ -26,6 +27,7 @@ mod style;
 pub use atomic::OutputSet;
 pub use csv_out::write_trace_csv;
 pub use data_in::{read_record, DataError};
+pub use plant_report::write_plant_run;
 pub use plot::{bin_counts, plot_identification, plot_run, Band, EnvelopePlot, Histogram, Series, TimePlot};
 pub use prediction::{plot_prediction, prediction_trace, write_prediction};
 

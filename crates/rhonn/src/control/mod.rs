@@ -4,9 +4,11 @@
 //! so a run can carry a controller and a baseline and compare them on the same figures.
 
 pub mod adaptive;
+mod cascade;
 mod pi;
 mod rhonn_indirect;
 pub use adaptive::{AffineNeuron, CascadeSettings, CascadeState, RhonnCascade};
+pub use cascade::Cascade;
 pub use pi::Pi;
 pub use rhonn_indirect::{IndirectSettings, RhonnIndirect};
 
@@ -31,6 +33,11 @@ pub trait Controller: Send {
     fn control(&mut self, t: f64, measured: &[f64], setpoint: f64) -> f64;
     /// An adaptive controller's view of its weights at time `t` (None for a fixed one).
     fn adaptive(&self, _t: f64) -> Option<AdaptiveView> {
+        None
+    }
+    /// A cascade's inner set-point of the last control instant (SI; None for a single
+    /// loop).
+    fn inner_reference(&self) -> Option<f64> {
         None
     }
 }

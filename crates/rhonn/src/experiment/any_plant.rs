@@ -161,6 +161,10 @@ pub struct LoopRun {
     pub setpoint: Vec<f64>,
     /// The input applied from each instant on, SI.
     pub u: Vec<f64>,
+    /// Every plant state at each instant, SI (`states[i][k]`: state i at instant k).
+    pub states: Vec<Vec<f64>>,
+    /// A cascade's inner set-point at each instant, SI (empty for a single loop).
+    pub inner_reference: Vec<f64>,
     /// Integral of |y - r| over the run (rectangle rule at the control instants), SI s.
     pub iae: f64,
     /// Integral of (y - r)^2, SI^2 s.
@@ -201,6 +205,8 @@ pub fn closed_loop<P: Plant>(
         y: Vec::new(),
         setpoint: Vec::new(),
         u: Vec::new(),
+        states: vec![Vec::new(); plant.states().len()],
+        inner_reference: Vec::new(),
         iae: 0.0,
         ise: 0.0,
     };
@@ -228,6 +234,12 @@ pub fn closed_loop<P: Plant>(
         run.y.push(s.state()[y_idx]);
         run.setpoint.push(r);
         run.u.push(u);
+        for (col, v) in run.states.iter_mut().zip(s.state()) {
+            col.push(*v);
+        }
+        if let Some(r1) = ctl.inner_reference() {
+            run.inner_reference.push(r1);
+        }
     }
     Ok(run)
 }

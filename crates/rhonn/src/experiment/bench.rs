@@ -2,6 +2,8 @@
 //! throughput of runs on every core (rayon). Used by `rhonn bench`; the criterion
 //! benches in `benches/` are the finer instrument.
 
+use super::plant_run::run_plant_scenario;
+use super::plant_scenario::PlantScenarioSpec;
 use super::run::run;
 use super::scenario::Scenario;
 use super::trace::NoRecorder;
@@ -17,8 +19,9 @@ pub struct BenchFigures {
     pub scenario: String,
     /// Median wall time of one run without I/O \[s\].
     pub median_s: f64,
-    /// Right-hand-side evaluations of one run.
-    pub rhs_evaluations: u64,
+    /// Right-hand-side evaluations of one run (None: not counted, the runs of plants
+    /// other than the pump).
+    pub rhs_evaluations: Option<u64>,
     /// Runs per second with one run per core at a time, on every core.
     pub runs_per_s_all_cores: f64,
     /// Threads used for the throughput.
@@ -30,11 +33,30 @@ pub struct BenchFigures {
 /// Time `sc` for about `budget` on one core, then as long on every core.
 pub fn bench(sc: &Scenario, budget: Duration) -> Result<BenchFigures> {
     let first = run(sc, &mut NoRecorder)?;
+    timed(&sc.spec.name, Some(first.solver.rhs_evaluations), budget, || {
+        run(sc, &mut NoRecorder).map(|_| ())
+    })
+}
+
+/// [`bench`] for a scenario of a plant other than the pump.
+pub fn bench_plant(spec: &PlantScenarioSpec, budget: Duration) -> Result<BenchFigures> {
+    run_plant_scenario(spec, None)?;
+    timed(&spec.name, None, budget, || {
+        run_plant_scenario(spec, None).map(|_| ())
+    })
+}
+
+fn timed(
+    name: &str,
+    rhs: Option<u64>,
+    budget: Duration,
+    one: impl Fn() -> Result<()> + Sync,
+) -> Result<BenchFigures> {
     let mut times = Vec::new();
     let start = Instant::now();
     while times.len() < 5 || start.elapsed() < budget {
         let t0 = Instant::now();
-        run(sc, &mut NoRecorder)?;
+        one()?;
         times.push(t0.elapsed().as_secs_f64());
         if times.len() >= 100_000 {
             break;
@@ -46,14 +68,12 @@ pub fn bench(sc: &Scenario, budget: Duration) -> Result<BenchFigures> {
     // Enough runs to keep every core busy for about the budget.
     let n = ((budget.as_secs_f64() / median_s.max(1e-9)) as usize * threads).clamp(threads, 1_000_000);
     let t0 = Instant::now();
-    (0..n)
-        .into_par_iter()
-        .try_for_each(|_| run(sc, &mut NoRecorder).map(|_| ()))?;
+    (0..n).into_par_iter().try_for_each(|_| one())?;
     let runs_per_s_all_cores = n as f64 / t0.elapsed().as_secs_f64();
     Ok(BenchFigures {
-        scenario: sc.spec.name.clone(),
+        scenario: name.to_string(),
         median_s,
-        rhs_evaluations: first.solver.rhs_evaluations,
+        rhs_evaluations: rhs,
         runs_per_s_all_cores,
         threads,
         samples: times.len(),

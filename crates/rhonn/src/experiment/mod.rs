@@ -3,12 +3,21 @@
 pub mod any_plant;
 mod bench;
 pub mod campaign;
+mod plant_run;
+mod plant_scenario;
 pub mod preset;
 mod run;
 mod scenario;
 mod trace;
 
-pub use bench::{bench, BenchFigures};
+pub use bench::{bench, bench_plant, BenchFigures};
+pub use plant_run::{
+    nominal_plant_parameters, run_plant_scenario, IdentStateFigures, LoopFigures, PlantColumn,
+    PlantRunOutput, PlantSummary,
+};
+pub use plant_scenario::{
+    is_plant_scenario, ControlSpec, LoopSpec, PlantScenarioSpec, PlantSection, ValidationSpec,
+};
 pub use run::{
     run, run_full, solver_options, AdaptiveReport, BaselineReport, ControlReport, Figures, IdentReport,
     ModelFile, Plant, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,

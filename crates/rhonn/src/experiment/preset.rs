@@ -1,6 +1,7 @@
 //! The scenarios shipped with rhonn (the TOML files in the repository's `scenarios/`
 //! folder, compiled in), and loading a scenario by name or path.
 
+use super::plant_scenario::{is_plant_scenario, PlantScenarioSpec};
 use super::scenario::ScenarioSpec;
 use crate::error::{Error, Result};
 use std::path::Path;
@@ -31,40 +32,98 @@ pub const SHIPPED: &[(&str, &str)] = &[
         "control-adaptive",
         include_str!("../../../../scenarios/control-adaptive.toml"),
     ),
+    (
+        "tanks-identify",
+        include_str!("../../../../scenarios/tanks-identify.toml"),
+    ),
+    (
+        "tanks-control",
+        include_str!("../../../../scenarios/tanks-control.toml"),
+    ),
 ];
+
+/// A scenario of the pump, or of another plant of the library.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AnyScenario {
+    /// The pump's (no `kind` in `[plant]`).
+    Pump(ScenarioSpec),
+    /// Another plant's (`[plant] kind = "tanks"`).
+    Plant(PlantScenarioSpec),
+}
+
+impl AnyScenario {
+    /// Its name.
+    pub fn name(&self) -> &str {
+        match self {
+            AnyScenario::Pump(s) => &s.name,
+            AnyScenario::Plant(s) => &s.name,
+        }
+    }
+    /// Its one-line description.
+    pub fn description(&self) -> &str {
+        match self {
+            AnyScenario::Pump(s) => &s.description,
+            AnyScenario::Plant(s) => &s.description,
+        }
+    }
+    fn parse(text: &str, source: &str) -> Result<Self> {
+        if is_plant_scenario(text) {
+            PlantScenarioSpec::from_toml(text, source).map(AnyScenario::Plant)
+        } else {
+            ScenarioSpec::from_toml(text, source).map(AnyScenario::Pump)
+        }
+    }
+}
 
 /// Names and one-line descriptions of the shipped scenarios.
 pub fn list() -> Vec<(&'static str, String)> {
     SHIPPED
         .iter()
         .map(|(name, text)| {
-            let spec = ScenarioSpec::from_toml(text, name).expect("shipped scenarios parse");
-            (*name, spec.description)
+            let spec = AnyScenario::parse(text, name).expect("shipped scenarios parse");
+            (*name, spec.description().to_string())
         })
         .collect()
 }
 
-/// A shipped scenario by name, or a TOML file by path. A name with a `/` or ending in
-/// `.toml` is always a path; otherwise a shipped name wins over a file of that name.
-pub fn load(name_or_path: &str) -> Result<ScenarioSpec> {
+/// The text of a shipped scenario by name, or of a TOML file by path. A name with a `/`
+/// or ending in `.toml` is always a path; otherwise a shipped name wins over a file of
+/// that name.
+fn text_of(name_or_path: &str) -> Result<String> {
     let looks_like_path = name_or_path.contains('/') || name_or_path.ends_with(".toml");
     if !looks_like_path {
         if let Some((_, text)) = SHIPPED.iter().find(|(n, _)| *n == name_or_path) {
-            return ScenarioSpec::from_toml(text, name_or_path);
+            return Ok(text.to_string());
         }
     }
     let path = Path::new(name_or_path);
     if path.is_file() || looks_like_path || path.exists() {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+        return std::fs::read_to_string(path).map_err(|e| Error::Io {
             path: name_or_path.to_string(),
             message: crate::error::path_problem(path, &e),
-        })?;
-        return ScenarioSpec::from_toml(&text, name_or_path);
+        });
     }
     Err(Error::UnknownScenario {
         name: name_or_path.to_string(),
         known: SHIPPED.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", "),
     })
+}
+
+/// A scenario of any plant by name or path (see [`load`]).
+pub fn load_any(name_or_path: &str) -> Result<AnyScenario> {
+    AnyScenario::parse(&text_of(name_or_path)?, name_or_path)
+}
+
+/// A pump scenario by name or path; a scenario of another plant is an error saying so.
+pub fn load(name_or_path: &str) -> Result<ScenarioSpec> {
+    match load_any(name_or_path)? {
+        AnyScenario::Pump(s) => Ok(s),
+        AnyScenario::Plant(s) => Err(crate::error::invalid(
+            "plant.kind",
+            format!("\"{}\" (scenario `{}`)", s.plant.kind, s.name),
+            "the pump here: this call runs pump scenarios (use `load_any`)",
+        )),
+    }
 }
 
 #[cfg(test)]
@@ -74,10 +133,18 @@ mod tests {
     #[test]
     fn every_shipped_scenario_parses_and_checks() {
         for (name, _) in SHIPPED {
-            let spec = load(name).unwrap();
-            assert_eq!(spec.name, *name);
-            spec.check().unwrap();
-            assert!(!spec.description.is_empty());
+            match load_any(name).unwrap() {
+                AnyScenario::Pump(spec) => {
+                    assert_eq!(spec.name, *name);
+                    spec.check().unwrap();
+                    assert!(!spec.description.is_empty());
+                }
+                AnyScenario::Plant(spec) => {
+                    assert_eq!(spec.name, *name);
+                    spec.check_common().unwrap();
+                    assert!(!spec.description.is_empty());
+                }
+            }
         }
     }
 
@@ -86,7 +153,7 @@ mod tests {
         let e = load("thesis-ch9").unwrap_err().to_string();
         assert_eq!(
             e,
-            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5, pump-identify, pump-validate, control-adaptive)"
+            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5, pump-identify, pump-validate, control-adaptive, tanks-identify, tanks-control)"
         );
         assert!(load("nope/x.toml")
             .unwrap_err()

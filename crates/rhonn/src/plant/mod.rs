@@ -99,6 +99,39 @@ pub trait Plant: System + Clone + Send + Sync {
     fn parameters(&self) -> &'static [Parameter] {
         &[]
     }
+    /// Drive input `k` by `input` from now on (a scenario's profile). Default: held
+    /// values only, a profile is an error.
+    fn set_input(&mut self, k: usize, input: Input) -> crate::Result<()> {
+        match input {
+            Input::Held(v) => {
+                self.hold_input(k, v);
+                Ok(())
+            }
+            Input::Signal(_) => Err(crate::error::invalid(
+                format!("input.{}", self.inputs().get(k).map_or("?", |q| q.name)),
+                "a profile",
+                format!("plant `{}` takes held values only", self.name()),
+            )),
+        }
+    }
+    /// The same plant with its [`Plant::parameters`] set to `values` (display units, in
+    /// that order): what scenarios and campaigns change. Default: a plant without
+    /// parameters accepts an empty list only.
+    fn with_parameters(&self, values: &[f64]) -> crate::Result<Self> {
+        if values.len() == self.parameters().len() && values.is_empty() {
+            Ok(self.clone())
+        } else {
+            Err(crate::error::invalid(
+                "plant",
+                format!("{} values", values.len()),
+                format!(
+                    "plant `{}` has {} parameters",
+                    self.name(),
+                    self.parameters().len()
+                ),
+            ))
+        }
+    }
 }
 
 /// A state or an input of a plant, by position: what an identifier reads.

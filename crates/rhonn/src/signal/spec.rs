@@ -58,6 +58,27 @@ pub enum SignalSpec {
         /// Seed of the bit sequence.
         seed: u64,
     },
+    /// An amplitude-modulated PRBS: a level drawn uniformly in `[low, high]` held for
+    /// `hold_s`, then the next, on `[start_s, end_s)`, reached by ramps of `ramp_s`
+    /// (0: jumps); `low` outside. The excitation nonlinear identification wants: every
+    /// level of the operating range, not two.
+    Aprbs {
+        /// Start \[s\].
+        start_s: f64,
+        /// End \[s\].
+        end_s: f64,
+        /// How long each level is held \[s\].
+        hold_s: f64,
+        /// Ramp between levels \[s\] (default 0).
+        #[serde(default)]
+        ramp_s: f64,
+        /// Lowest level.
+        low: f64,
+        /// Highest level.
+        high: f64,
+        /// Seed of the levels.
+        seed: u64,
+    },
     /// `offset` plus `n_sines` sines of equal amplitude at frequencies evenly spaced in
     /// `[f_min_hz, f_max_hz]`, with Schroeder phases (low crest factor), on
     /// `[start_s, end_s)`; `offset` outside.
@@ -205,6 +226,52 @@ impl SignalSpec {
                     pts.push((*end_s, level));
                     pts.push((*end_s, *low));
                 }
+                Signal::piecewise(PiecewiseLinear::new(pts), lim.lo, lim.hi)
+            }
+            SignalSpec::Aprbs {
+                start_s,
+                end_s,
+                hold_s,
+                ramp_s,
+                low,
+                high,
+                seed,
+            } => {
+                window(field, *start_s, *end_s)?;
+                if !(hold_s.is_finite() && *hold_s > 0.0) {
+                    return Err(invalid(format!("{field}.hold_s"), hold_s, "a number > 0"));
+                }
+                if !(ramp_s.is_finite() && *ramp_s >= 0.0 && ramp_s < hold_s) {
+                    return Err(invalid(
+                        format!("{field}.ramp_s"),
+                        ramp_s,
+                        format!("in [0, hold_s = {hold_s})"),
+                    ));
+                }
+                if !(low.is_finite() && high.is_finite() && low <= high) {
+                    return Err(invalid(
+                        format!("{field}.high"),
+                        high,
+                        format!("a finite number >= low = {low}"),
+                    ));
+                }
+                if (end_s - start_s) / hold_s > 1e6 {
+                    return Err(invalid(
+                        format!("{field}.hold_s"),
+                        hold_s,
+                        "at most 1,000,000 levels in the window",
+                    ));
+                }
+                let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(*seed);
+                let mut pts = vec![(0.0, *low), (*start_s, *low)];
+                let mut t = *start_s;
+                while t < *end_s {
+                    let level = low + (high - low) * rng.gen::<f64>();
+                    pts.push(((t + ramp_s).min(*end_s), level));
+                    t += hold_s;
+                    pts.push((t.min(*end_s), level));
+                }
+                pts.push(((end_s + ramp_s).max(*end_s), *low));
                 Signal::piecewise(PiecewiseLinear::new(pts), lim.lo, lim.hi)
             }
             SignalSpec::Multisine {
@@ -398,7 +465,35 @@ mod tests {
     }
 
     #[test]
-    fn prbs_is_seeded_and_binary() {
+    fn prbs_is_seeded_and_binary_and_aprbs_holds_drawn_levels() {
+        let a = SignalSpec::Aprbs {
+            start_s: 10.0,
+            end_s: 110.0,
+            hold_s: 20.0,
+            ramp_s: 2.0,
+            low: 1.0,
+            high: 9.0,
+            seed: 3,
+        }
+        .build(
+            "input.voltage",
+            1.0,
+            Limits {
+                lo: 0.0,
+                hi: 10.0,
+                max_slew: None,
+                max_peak: None,
+            },
+        )
+        .unwrap();
+        // Low before the start, five held levels in [1, 9] (each a different draw),
+        // ramps of 2 s between them, low again after the end.
+        assert_eq!(a.eval(5.0), 1.0);
+        let levels: Vec<f64> = (0..5).map(|k| a.eval(10.0 + 20.0 * k as f64 + 10.0)).collect();
+        assert!(levels.iter().all(|v| (1.0..=9.0).contains(v)), "{levels:?}");
+        assert!(levels.windows(2).all(|w| w[0] != w[1]), "{levels:?}");
+        assert_eq!(a.eval(10.0 + 20.0 + 1.0), 0.5 * (levels[0] + levels[1]));
+        assert_eq!(a.eval(120.0), 1.0);
         let s = SignalSpec::Prbs {
             start_s: 0.0,
             end_s: 10.0,

@@ -165,4 +165,68 @@ impl Plant for Tanks {
     fn parameters(&self) -> &'static [Parameter] {
         &PARAMETERS
     }
+    fn set_input(&mut self, _k: usize, input: super::Input) -> crate::Result<()> {
+        *self = Tanks::new(self.params.clone(), input);
+        Ok(())
+    }
+    fn with_parameters(&self, values: &[f64]) -> crate::Result<Self> {
+        let [a1, a2, o1, o2, kp, share] = <[f64; 6]>::try_from(values).map_err(|_| {
+            crate::error::invalid(
+                "plant",
+                format!("{} values", values.len()),
+                "the 6 parameters of the tanks",
+            )
+        })?;
+        for (p, v) in PARAMETERS.iter().zip(values) {
+            let ok = v.is_finite()
+                && if p.name == "overflow_share" {
+                    (0.0..=1.0).contains(v)
+                } else {
+                    *v > 0.0
+                };
+            if !ok {
+                let allowed = if p.name == "overflow_share" {
+                    "in [0, 1]"
+                } else {
+                    "finite and > 0"
+                };
+                return Err(crate::error::invalid(format!("plant.{}", p.name), v, allowed));
+            }
+        }
+        let params = TanksParams {
+            area_1: a1 * 1e-4,
+            area_2: a2 * 1e-4,
+            outlet_1: o1 * 1e-6,
+            outlet_2: o2 * 1e-6,
+            pump_gain: kp * 1e-6,
+            overflow_share: share,
+            ..self.params.clone()
+        };
+        Ok(Tanks::new(params, self.voltage.clone()))
+    }
+}
+
+#[cfg(test)]
+mod parameter_tests {
+    use super::*;
+    use crate::plant::Input;
+
+    #[test]
+    fn nominal_parameters_give_the_default_tanks_and_bad_ones_are_refused() {
+        let t = Tanks::new(TanksParams::default(), Input::Held(0.0));
+        let nominal: Vec<f64> = PARAMETERS.iter().map(|p| p.nominal).collect();
+        let same = t.with_parameters(&nominal).unwrap();
+        for (a, b) in [
+            (same.params.area_1, t.params.area_1),
+            (same.params.outlet_2, t.params.outlet_2),
+            (same.params.pump_gain, t.params.pump_gain),
+        ] {
+            assert!((a - b).abs() <= 1e-12 * b, "{a} {b}");
+        }
+        let mut bad = nominal.clone();
+        bad[2] = -1.0;
+        let e = t.with_parameters(&bad).unwrap_err().to_string();
+        assert!(e.contains("plant.outlet_1_mm2") && e.contains("> 0"), "{e}");
+        assert!(t.with_parameters(&nominal[..3]).is_err());
+    }
 }

@@ -1,0 +1,451 @@
+//! Running a [`PlantScenarioSpec`] on any [`Plant`]: an online identification (then its
+//! frozen model's free run on other inputs), or a controller and its baseline on
+//! identical plants. Produces columns (SI) and a summary (display units) that the
+//! report crate writes as trajectory.csv, validation.csv, summary.json and plots.
+
+use super::any_plant::{closed_loop, identify, IdentRun, LoopRun};
+use super::plant_scenario::{build_loop, configure, drive, signal, state_index, PlantScenarioSpec};
+use crate::error::{invalid, Result};
+use crate::plant::{Input, Plant, Quantity, Tanks, TanksParams};
+use serde::Serialize;
+
+/// One column of a run's table: SI values and how people read them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlantColumn {
+    /// Name (`h2`, `h2_hat`, `voltage_baseline`).
+    pub name: String,
+    /// What it shows (its quantity).
+    pub quantity: Quantity,
+    /// Values, SI.
+    pub values: Vec<f64>,
+    /// Whether it is a plant input (else time, a state, an estimate or a reference).
+    pub input: bool,
+}
+
+/// Figures of one identified state (display units).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct IdentStateFigures {
+    /// State.
+    pub state: &'static str,
+    /// Unit of the errors.
+    pub unit: &'static str,
+    /// RMS error of the online (series-parallel) estimate over the second half.
+    pub training_rms_error: f64,
+    /// Fit \[%\] of the same.
+    pub training_fit_percent: f64,
+    /// RMS error of the frozen model's free run on the validation inputs (after its
+    /// first tenth), when there is a validation.
+    pub validation_rms_error: Option<f64>,
+    /// Fit \[%\] of the same.
+    pub validation_fit_percent: Option<f64>,
+    /// |w| of the neuron at the end of training.
+    pub final_weight_norm: f64,
+}
+
+/// Figures of one controller (display units of the regulated state).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LoopFigures {
+    /// Controller.
+    pub controller: &'static str,
+    /// Integral of |y - r| \[unit s\].
+    pub iae: f64,
+    /// Integral of (y - r)^2 \[unit^2 s\].
+    pub ise: f64,
+    /// y - r at the end \[unit\].
+    pub final_error: f64,
+    /// Time the input spent at a bound of its range \[s\].
+    pub time_input_saturated_s: f64,
+}
+
+/// `summary.json` of a plant scenario.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlantSummary {
+    /// rhonn's version.
+    pub rhonn_version: &'static str,
+    /// Scenario name.
+    pub scenario: String,
+    /// The plant.
+    pub plant: &'static str,
+    /// Its parameters as run (display units, the unit in the name).
+    pub parameters: Vec<(String, f64)>,
+    /// Identification figures per identified state.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub identification: Option<Vec<IdentStateFigures>>,
+    /// The regulated state and its unit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub regulated: Option<(&'static str, &'static str)>,
+    /// The controller's and the baseline's figures.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub control: Option<[LoopFigures; 2]>,
+    /// What the figures say, in words.
+    pub findings: Vec<String>,
+}
+
+impl PlantSummary {
+    /// Every figure as `(name, value)`: what a campaign records per run.
+    pub fn figures(&self) -> Vec<(String, f64)> {
+        let mut v = Vec::new();
+        for s in self.identification.iter().flatten() {
+            v.push((
+                format!("{}_training_fit_percent", s.state),
+                s.training_fit_percent,
+            ));
+            if let Some(f) = s.validation_fit_percent {
+                v.push((format!("{}_validation_fit_percent", s.state), f));
+            }
+        }
+        for (role, f) in ["controller", "baseline"]
+            .iter()
+            .zip(self.control.iter().flatten())
+        {
+            v.push((format!("{role}_iae"), f.iae));
+            v.push((format!("{role}_ise"), f.ise));
+            v.push((format!("{role}_final_error"), f.final_error));
+        }
+        v
+    }
+}
+
+/// What a plant scenario's run produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlantRunOutput {
+    /// The summary.
+    pub summary: PlantSummary,
+    /// trajectory.csv's columns (the first is time).
+    pub trajectory: Vec<PlantColumn>,
+    /// validation.csv's columns, when there is a validation.
+    pub validation: Option<Vec<PlantColumn>>,
+}
+
+const TIME: Quantity = Quantity::si("t", "s", "time");
+
+/// Run `spec` with its parameters replaced by `parameters` (display units, in the
+/// plant's order) when given: a campaign's draw.
+pub fn run_plant_scenario(spec: &PlantScenarioSpec, parameters: Option<&[f64]>) -> Result<PlantRunOutput> {
+    spec.check_common()?;
+    match spec.plant.kind.as_str() {
+        "tanks" => run_on(
+            &Tanks::new(TanksParams::default(), Input::Held(0.0)),
+            spec,
+            parameters,
+        ),
+        other => Err(invalid(
+            "plant.kind",
+            format!("\"{other}\""),
+            "tanks (the pump's scenarios have no kind)",
+        )),
+    }
+}
+
+/// The plant named by a scenario, nominal (for its parameter table).
+pub fn nominal_plant_parameters(kind: &str) -> Result<&'static [crate::plant::Parameter]> {
+    match kind {
+        "tanks" => Ok(Tanks::new(TanksParams::default(), Input::Held(0.0)).parameters()),
+        other => Err(invalid("plant.kind", format!("\"{other}\""), "tanks")),
+    }
+}
+
+fn run_on<P: Plant>(
+    nominal: &P,
+    spec: &PlantScenarioSpec,
+    parameters: Option<&[f64]>,
+) -> Result<PlantRunOutput> {
+    let (mut plant, x0) = configure(nominal, &spec.plant)?;
+    if let Some(v) = parameters {
+        plant = plant.with_parameters(v)?;
+    }
+    let used: Vec<f64> = match parameters {
+        Some(v) => v.to_vec(),
+        None => plant
+            .parameters()
+            .iter()
+            .map(|p| spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal))
+            .collect(),
+    };
+    let mut summary = PlantSummary {
+        rhonn_version: env!("CARGO_PKG_VERSION"),
+        scenario: spec.name.clone(),
+        plant: plant.name(),
+        parameters: plant
+            .parameters()
+            .iter()
+            .map(|p| p.name.to_string())
+            .zip(used)
+            .collect(),
+        identification: None,
+        regulated: None,
+        control: None,
+        findings: Vec::new(),
+    };
+    let plant = drive(plant, &spec.input, "input")?;
+    if let Some(ident) = &spec.identifier {
+        return run_identification(plant, &x0, spec, ident, summary);
+    }
+    let c = spec
+        .control
+        .as_ref()
+        .ok_or_else(|| invalid("control", "none", "a [control] section"))?;
+    let k = plant
+        .inputs()
+        .iter()
+        .position(|q| q.name == c.input)
+        .ok_or_else(|| {
+            invalid(
+                "control.input",
+                format!("\"{}\"", c.input),
+                "an input of the plant",
+            )
+        })?;
+    let qu = &plant.inputs()[k];
+    let range = (
+        c.input_range[0] / qu.display_per_si,
+        c.input_range[1] / qu.display_per_si,
+    );
+    if !(range.0.is_finite() && range.1.is_finite() && range.0 < range.1) {
+        return Err(invalid(
+            "control.input_range",
+            format!("{:?}", c.input_range),
+            "[min, max] with min < max",
+        ));
+    }
+    let y = state_index(&plant, "control.output", &c.output)?;
+    let qy = plant.states()[y];
+    if !(c.period_s.is_finite() && c.period_s > 0.0 && c.period_s <= spec.duration_s) {
+        return Err(invalid(
+            "control.period_s",
+            c.period_s,
+            "finite, > 0 and at most duration_s",
+        ));
+    }
+    let sp = signal(
+        &c.setpoint,
+        "control.setpoint",
+        &qy,
+        (f64::NEG_INFINITY, f64::INFINITY),
+    )?;
+    let mut runs = Vec::new();
+    for (field, l) in [
+        ("control.controller", &c.controller),
+        ("control.baseline", &c.baseline),
+    ] {
+        if l.state() != c.output {
+            return Err(invalid(
+                format!("{field}.state"),
+                format!("\"{}\"", l.state()),
+                format!("the regulated state \"{}\"", c.output),
+            ));
+        }
+        let mut ctl = build_loop(&plant, l, field, (qu, range), c.period_s, &x0)?;
+        runs.push(closed_loop(
+            plant.clone(),
+            &x0,
+            ctl.as_mut(),
+            k,
+            &sp,
+            c.period_s,
+            spec.duration_s,
+        )?);
+    }
+    let figs = |r: &LoopRun| LoopFigures {
+        controller: r.controller,
+        iae: qy.to_display(r.iae),
+        ise: qy.to_display(qy.to_display(r.ise)),
+        final_error: qy.to_display(r.final_error()),
+        time_input_saturated_s: r
+            .u
+            .iter()
+            .filter(|u| {
+                **u <= range.0 + 1e-9 * (range.1 - range.0) || **u >= range.1 - 1e-9 * (range.1 - range.0)
+            })
+            .count() as f64
+            * c.period_s,
+    };
+    let [a, b] = [figs(&runs[0]), figs(&runs[1])];
+    summary.findings.push(format!(
+        "{}: IAE {:.1} {u} s against {:.1} for the baseline {} ({:+.1} %); final error {:.3} against {:.3} {u}",
+        a.controller,
+        a.iae,
+        b.iae,
+        b.controller,
+        100.0 * (a.iae / b.iae - 1.0),
+        a.final_error,
+        b.final_error,
+        u = qy.display_unit
+    ));
+    summary.regulated = Some((qy.name, qy.display_unit));
+    summary.control = Some([a, b]);
+    let inner = [&c.controller, &c.baseline].map(|l| match l {
+        super::plant_scenario::LoopSpec::Cascade { inner, .. } => {
+            plant.states().iter().find(|q| q.name == inner.state()).copied()
+        }
+        _ => None,
+    });
+    let trajectory = loop_columns(&plant, &runs, &qy, qu, inner);
+    Ok(PlantRunOutput {
+        summary,
+        trajectory,
+        validation: None,
+    })
+}
+
+fn loop_columns<P: Plant>(
+    plant: &P,
+    runs: &[LoopRun],
+    qy: &Quantity,
+    qu: &Quantity,
+    inner: [Option<Quantity>; 2],
+) -> Vec<PlantColumn> {
+    let col = |name: String, quantity: Quantity, values: Vec<f64>| PlantColumn {
+        name,
+        quantity,
+        values,
+        input: false,
+    };
+    let mut cols = vec![
+        col("t".into(), TIME, runs[0].t.clone()),
+        col(format!("{}_ref", qy.name), *qy, runs[0].setpoint.clone()),
+    ];
+    for ((run, suffix), inner) in runs.iter().zip(["", "_baseline"]).zip(inner) {
+        for (q, v) in plant.states().iter().zip(&run.states) {
+            cols.push(col(format!("{}{suffix}", q.name), *q, v.clone()));
+        }
+        cols.push(PlantColumn {
+            input: true,
+            ..col(format!("{}{suffix}", qu.name), *qu, run.u.clone())
+        });
+        if let (false, Some(q)) = (run.inner_reference.is_empty(), inner) {
+            cols.push(col(
+                format!("{}_ref{suffix}", q.name),
+                q,
+                run.inner_reference.clone(),
+            ));
+        }
+    }
+    cols
+}
+
+fn run_identification<P: Plant>(
+    plant: P,
+    x0: &[f64],
+    spec: &PlantScenarioSpec,
+    ident: &crate::ident::IdentifierSpec,
+    mut summary: PlantSummary,
+) -> Result<PlantRunOutput> {
+    let is = ident.check_for(&plant)?;
+    let train = identify(
+        plant.clone(),
+        x0,
+        &is,
+        spec.duration_s,
+        spec.output_interval_s,
+        None,
+    )?;
+    let validation = match &spec.validation {
+        Some(v) => {
+            if !(v.duration_s.is_finite() && v.duration_s > 0.0) {
+                return Err(invalid("validation.duration_s", v.duration_s, "finite and > 0"));
+            }
+            let p = drive(plant.clone(), &v.input, "validation.input")?;
+            Some(identify(
+                p,
+                x0,
+                &is,
+                v.duration_s,
+                spec.output_interval_s,
+                Some(&train.weights),
+            )?)
+        }
+        None => None,
+    };
+    let quantities: Vec<Quantity> = is.states.iter().map(|s| *s.quantity(&plant)).collect();
+    let half = spec.duration_s / 2.0;
+    let (tr_rms, tr_fit) = (train.rms_after(half), train.fit_percent_after(half));
+    let after = validation
+        .as_ref()
+        .map(|v| v.t.last().copied().unwrap_or(0.0) / 10.0)
+        .unwrap_or(0.0);
+    let mut figs = Vec::new();
+    for (k, q) in quantities.iter().enumerate() {
+        let (v_rms, v_fit) = match &validation {
+            Some(v) => (
+                Some(q.to_display(v.rms_after(after)[k])),
+                Some(v.fit_percent_after(after)[k]),
+            ),
+            None => (None, None),
+        };
+        figs.push(IdentStateFigures {
+            state: q.name,
+            unit: q.display_unit,
+            training_rms_error: q.to_display(tr_rms[k]),
+            training_fit_percent: tr_fit[k],
+            validation_rms_error: v_rms,
+            validation_fit_percent: v_fit,
+            final_weight_norm: train.weights[k].iter().map(|w| w * w).sum::<f64>().sqrt(),
+        });
+        summary.findings.push(match v_fit {
+            Some(f) => format!(
+                "{}: fit {:.1} % while learning online (second half), {f:.1} % running free with frozen weights on the validation inputs",
+                q.name, tr_fit[k]
+            ),
+            None => format!("{}: fit {:.1} % while learning online (second half)", q.name, tr_fit[k]),
+        });
+    }
+    summary.identification = Some(figs);
+    let inputs: Vec<&Quantity> = plant.inputs().iter().collect();
+    let trajectory = ident_columns(&spec.input, &train, &quantities, &inputs)?;
+    let validation = match (&validation, &spec.validation) {
+        (Some(v), Some(vs)) => Some(ident_columns(&vs.input, v, &quantities, &inputs)?),
+        _ => None,
+    };
+    Ok(PlantRunOutput {
+        summary,
+        trajectory,
+        validation,
+    })
+}
+
+/// Columns of an identification run: time, each input as the scenario gives it, each
+/// identified state and its estimate.
+fn ident_columns(
+    inputs_spec: &std::collections::BTreeMap<String, crate::signal::SignalSpec>,
+    run: &IdentRun,
+    quantities: &[Quantity],
+    inputs: &[&Quantity],
+) -> Result<Vec<PlantColumn>> {
+    let mut cols = vec![PlantColumn {
+        name: "t".into(),
+        quantity: TIME,
+        values: run.t.clone(),
+        input: false,
+    }];
+    for q in inputs {
+        let values = match inputs_spec.get(q.name) {
+            Some(sp) => {
+                let s = signal(sp, q.name, q, (f64::NEG_INFINITY, f64::INFINITY))?;
+                run.t.iter().map(|&t| s.eval(t)).collect()
+            }
+            None => vec![0.0; run.t.len()],
+        };
+        cols.push(PlantColumn {
+            name: q.name.into(),
+            quantity: **q,
+            values,
+            input: true,
+        });
+    }
+    for (k, q) in quantities.iter().enumerate() {
+        cols.push(PlantColumn {
+            name: q.name.into(),
+            quantity: *q,
+            values: run.y[k].clone(),
+            input: false,
+        });
+        cols.push(PlantColumn {
+            name: format!("{}_hat", q.name),
+            quantity: *q,
+            values: run.y_hat[k].clone(),
+            input: false,
+        });
+    }
+    Ok(cols)
+}

@@ -1,0 +1,429 @@
+//! Scenario files for the plants other than the pump (`[plant] kind = "tanks"`): what
+//! drives the plant, and either an online identification (then a frozen-weight
+//! validation on other inputs) or a controller and a baseline on the same plant. Values
+//! are in the display units of the quantity they belong to (mm for a tank's level, V for
+//! the pump voltage); times in seconds.
+
+use crate::control::{Cascade, Controller, IndirectSettings, Pi, RhonnIndirect};
+use crate::error::{invalid, Error, Result};
+use crate::ident::IdentifierSpec;
+use crate::plant::{Input, Plant, Quantity};
+use crate::signal::{Limits, Signal, SignalSpec};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// A scenario for a plant of the library other than the pump.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlantScenarioSpec {
+    /// Name: the output folder's (one plain path component).
+    pub name: String,
+    /// One line on what it shows.
+    #[serde(default)]
+    pub description: String,
+    /// Simulated time \[s\].
+    pub duration_s: f64,
+    /// Sample interval of the outputs \[s\] (a control run samples at its period).
+    #[serde(default = "one")]
+    pub output_interval_s: f64,
+    /// The plant, its parameters and initial state.
+    pub plant: PlantSection,
+    /// A profile per plant input, by name (display units); inputs not named are 0.
+    #[serde(default)]
+    pub input: BTreeMap<String, SignalSpec>,
+    /// An online RHONN identifier (the same section as the pump's scenarios).
+    #[serde(default)]
+    pub identifier: Option<IdentifierSpec>,
+    /// A frozen-weight validation after the identification, on other inputs.
+    #[serde(default)]
+    pub validation: Option<ValidationSpec>,
+    /// A controller and its baseline.
+    #[serde(default)]
+    pub control: Option<ControlSpec>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// `[plant]`: which plant, its initial state, and any of its parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlantSection {
+    /// The plant: `tanks`.
+    pub kind: String,
+    /// Initial state, one value per state (display units); default all 0.
+    #[serde(default)]
+    pub initial: Vec<f64>,
+    /// Parameters by name (display units; the plant's list says which), the rest nominal.
+    #[serde(flatten)]
+    pub parameters: BTreeMap<String, f64>,
+}
+
+/// `[validation]`: run the frozen model (free run) on other inputs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ValidationSpec {
+    /// Simulated time \[s\].
+    pub duration_s: f64,
+    /// A profile per plant input, as `input`.
+    pub input: BTreeMap<String, SignalSpec>,
+}
+
+/// `[control]`: a controller and a baseline, each run on an identical plant.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ControlSpec {
+    /// The plant input the controllers drive.
+    pub input: String,
+    /// Its allowed range `[min, max]` (display units).
+    pub input_range: [f64; 2],
+    /// The state they regulate.
+    pub output: String,
+    /// Its set-point (display units of the output).
+    pub setpoint: SignalSpec,
+    /// Control period \[s\] (zero-order hold).
+    pub period_s: f64,
+    /// The controller under test.
+    pub controller: LoopSpec,
+    /// The controller it is compared with.
+    pub baseline: LoopSpec,
+}
+
+/// One control loop, tagged by `kind`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum LoopSpec {
+    /// PI with anti-windup on one measured state.
+    Pi {
+        /// The state it measures.
+        state: String,
+        /// Gain (display unit of the output per display unit of the state).
+        kp: f64,
+        /// Integral time \[s\].
+        ti_s: f64,
+        /// Output offset (display units; default 0).
+        #[serde(default)]
+        bias: f64,
+    },
+    /// RHONN indirect adaptive control of a first-order input-affine state
+    /// (`control::RhonnIndirect`); unset settings follow `IndirectSettings::for_pole`.
+    RhonnIndirect {
+        /// The state it measures.
+        state: String,
+        /// Closed-loop pole \[1/s\].
+        lambda_per_s: f64,
+        /// The state's scale for the neuron (display units).
+        y_scale: f64,
+        /// A guess of d(state)/d(output) in scaled units per second, of the right sign
+        /// (default 0.01: the state rises with the output).
+        #[serde(default)]
+        gain0: Option<f64>,
+        /// Identification phase \[s\] (default 2 / lambda).
+        #[serde(default)]
+        identification_s: Option<f64>,
+        /// Learning rates of W and W_1 (default 2.5 lambda).
+        #[serde(default)]
+        gamma: Option<f64>,
+        /// W_1's ball, fraction of the largest safe radius (default 0.5).
+        #[serde(default)]
+        ball_fraction: Option<f64>,
+    },
+    /// An outer loop that sets an inner state's set-point, and an inner loop that
+    /// drives the input.
+    Cascade {
+        /// The outer loop (on the regulated state).
+        outer: Box<LoopSpec>,
+        /// The inner loop (on the inner state).
+        inner: Box<LoopSpec>,
+        /// The range of the inner set-point `[min, max]` (display units of the inner
+        /// loop's state).
+        inner_range: [f64; 2],
+    },
+}
+
+impl LoopSpec {
+    /// The state the loop regulates (a cascade: its outer loop's).
+    pub fn state(&self) -> &str {
+        match self {
+            LoopSpec::Pi { state, .. } | LoopSpec::RhonnIndirect { state, .. } => state,
+            LoopSpec::Cascade { outer, .. } => outer.state(),
+        }
+    }
+
+    /// Its name in reports.
+    pub fn name(&self) -> &'static str {
+        match self {
+            LoopSpec::Pi { .. } => "pi",
+            LoopSpec::RhonnIndirect { .. } => "rhonn-indirect",
+            LoopSpec::Cascade { outer, .. } => match **outer {
+                LoopSpec::RhonnIndirect { .. } => "rhonn-cascade",
+                _ => "pi-cascade",
+            },
+        }
+    }
+}
+
+/// Index of state `name` of `plant`, or an error naming `field` and the states.
+pub(crate) fn state_index<P: Plant>(plant: &P, field: &str, name: &str) -> Result<usize> {
+    plant.states().iter().position(|q| q.name == name).ok_or_else(|| {
+        invalid(
+            field,
+            format!("\"{name}\""),
+            format!("a state of the {}: {}", plant.name(), names(plant.states())),
+        )
+    })
+}
+
+fn names(qs: &[Quantity]) -> String {
+    qs.iter().map(|q| q.name).collect::<Vec<_>>().join(", ")
+}
+
+/// Build `spec` (display units of `q`) as an SI signal clipped to `[lo, hi]` (SI).
+pub(crate) fn signal(spec: &SignalSpec, field: &str, q: &Quantity, (lo, hi): (f64, f64)) -> Result<Signal> {
+    let lim = Limits {
+        lo,
+        hi,
+        max_slew: None,
+        max_peak: None,
+    };
+    spec.build(field, 1.0 / q.display_per_si, lim)
+}
+
+/// `plant` with each input driven as `inputs` says (names checked), the others held at 0.
+pub(crate) fn drive<P: Plant>(mut plant: P, inputs: &BTreeMap<String, SignalSpec>, field: &str) -> Result<P> {
+    for (name, spec) in inputs {
+        let k = plant
+            .inputs()
+            .iter()
+            .position(|q| q.name == name.as_str())
+            .ok_or_else(|| {
+                invalid(
+                    format!("{field}.{name}"),
+                    "a profile",
+                    format!("an input of the {}: {}", plant.name(), names(plant.inputs())),
+                )
+            })?;
+        let q = &plant.inputs()[k];
+        let s = signal(
+            spec,
+            &format!("{field}.{name}"),
+            q,
+            (f64::NEG_INFINITY, f64::INFINITY),
+        )?;
+        plant.set_input(k, Input::Signal(s))?;
+    }
+    Ok(plant)
+}
+
+/// The plant of `section` from its nominal instance: parameters set (unknown names are
+/// errors listing the known), and the initial state in SI.
+pub(crate) fn configure<P: Plant>(nominal: &P, section: &PlantSection) -> Result<(P, Vec<f64>)> {
+    let params = nominal.parameters();
+    for key in section.parameters.keys() {
+        if !params.iter().any(|p| p.name == key.as_str()) {
+            let known: Vec<&str> = params.iter().map(|p| p.name).collect();
+            return Err(invalid(
+                format!("plant.{key}"),
+                section.parameters[key],
+                format!(
+                    "a parameter of the {}: kind, initial, {}",
+                    nominal.name(),
+                    known.join(", ")
+                ),
+            ));
+        }
+    }
+    let values: Vec<f64> = params
+        .iter()
+        .map(|p| section.parameters.get(p.name).copied().unwrap_or(p.nominal))
+        .collect();
+    let plant = nominal.with_parameters(&values)?;
+    let states = plant.states();
+    let x0 = if section.initial.is_empty() {
+        vec![0.0; states.len()]
+    } else if section.initial.len() != states.len() {
+        return Err(invalid(
+            "plant.initial",
+            format!("{:?}", section.initial),
+            format!("one value per state ({})", names(states)),
+        ));
+    } else {
+        section
+            .initial
+            .iter()
+            .zip(states)
+            .map(|(v, q)| v / q.display_per_si)
+            .collect()
+    };
+    if let Some(v) = x0.iter().find(|v| !v.is_finite()) {
+        return Err(invalid("plant.initial", v, "finite values"));
+    }
+    Ok((plant, x0))
+}
+
+/// The controller of `spec` for `plant`: output in `range` (SI, of the quantity `out`),
+/// sampled every `period_s`, starting from the plant state `x0`.
+pub(crate) fn build_loop<P: Plant>(
+    plant: &P,
+    spec: &LoopSpec,
+    field: &str,
+    (out, range): (&Quantity, (f64, f64)),
+    period_s: f64,
+    x0: &[f64],
+) -> Result<Box<dyn Controller>> {
+    let positive = |f: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(invalid(format!("{field}.{f}"), v, "finite and > 0"))
+        }
+    };
+    match spec {
+        LoopSpec::Pi {
+            state,
+            kp,
+            ti_s,
+            bias,
+        } => {
+            let i = state_index(plant, &format!("{field}.state"), state)?;
+            let q = &plant.states()[i];
+            if !kp.is_finite() {
+                return Err(invalid(format!("{field}.kp"), kp, "a finite number"));
+            }
+            let ti = positive("ti_s", *ti_s)?;
+            let kp_si = kp * q.display_per_si / out.display_per_si;
+            let mut pi = Pi::new(kp_si, ti, period_s, bias / out.display_per_si, range.0, range.1);
+            pi.measured = [i];
+            Ok(Box::new(pi))
+        }
+        LoopSpec::RhonnIndirect {
+            state,
+            lambda_per_s,
+            y_scale,
+            gain0,
+            identification_s,
+            gamma,
+            ball_fraction,
+        } => {
+            let i = state_index(plant, &format!("{field}.state"), state)?;
+            let q = &plant.states()[i];
+            let mut st = IndirectSettings::for_pole(
+                positive("lambda_per_s", *lambda_per_s)?,
+                positive("y_scale", *y_scale)? / q.display_per_si,
+            );
+            if let Some(v) = identification_s {
+                st.identification_s = positive("identification_s", *v)?;
+            }
+            if let Some(v) = gamma {
+                st.gamma_w = positive("gamma", *v)?;
+                st.gamma_w1 = st.gamma_w;
+            }
+            if let Some(v) = ball_fraction {
+                if !(*v > 0.0 && *v < 1.0) {
+                    return Err(invalid(format!("{field}.ball_fraction"), v, "in (0, 1)"));
+                }
+                st.ball_fraction = *v;
+            }
+            let g0 = gain0.unwrap_or(0.01);
+            if !(g0.is_finite() && g0 != 0.0) {
+                return Err(invalid(format!("{field}.gain0"), g0, "finite and not 0"));
+            }
+            Ok(Box::new(RhonnIndirect::new(st, i, range, period_s, g0, x0[i])))
+        }
+        LoopSpec::Cascade {
+            outer,
+            inner,
+            inner_range,
+        } => {
+            let j = state_index(plant, &format!("{field}.inner.state"), inner.state())?;
+            let qi = &plant.states()[j];
+            let r = (
+                inner_range[0] / qi.display_per_si,
+                inner_range[1] / qi.display_per_si,
+            );
+            if !(r.0.is_finite() && r.1.is_finite() && r.0 < r.1) {
+                return Err(invalid(
+                    format!("{field}.inner_range"),
+                    format!("{inner_range:?}"),
+                    "[min, max] with min < max",
+                ));
+            }
+            if matches!(**inner, LoopSpec::Cascade { .. }) || matches!(**outer, LoopSpec::Cascade { .. }) {
+                return Err(invalid(
+                    format!("{field}.outer"),
+                    "a cascade",
+                    "a pi or rhonn-indirect loop (one level of cascade)",
+                ));
+            }
+            let o = build_loop(plant, outer, &format!("{field}.outer"), (qi, r), period_s, x0)?;
+            let n = build_loop(
+                plant,
+                inner,
+                &format!("{field}.inner"),
+                (out, range),
+                period_s,
+                x0,
+            )?;
+            Ok(Box::new(Cascade::new(spec.name(), o, n)))
+        }
+    }
+}
+
+impl PlantScenarioSpec {
+    /// Parse a scenario file's text; `source` names it in errors.
+    pub fn from_toml(text: &str, source: &str) -> Result<Self> {
+        toml::from_str(text).map_err(|e| Error::Parse {
+            source_name: source.to_string(),
+            message: e.to_string(),
+        })
+    }
+
+    /// The checks that need no plant: name, times, one experiment.
+    pub fn check_common(&self) -> Result<()> {
+        super::scenario::check_folder_name("name", &self.name)?;
+        if !(self.duration_s.is_finite() && self.duration_s > 0.0) {
+            return Err(invalid("duration_s", self.duration_s, "finite and > 0"));
+        }
+        if !(self.output_interval_s.is_finite() && self.output_interval_s > 0.0) {
+            return Err(invalid(
+                "output_interval_s",
+                self.output_interval_s,
+                "finite and > 0",
+            ));
+        }
+        if self.duration_s / self.output_interval_s > 1e7 {
+            return Err(invalid(
+                "output_interval_s",
+                self.output_interval_s,
+                "at most 10,000,000 samples",
+            ));
+        }
+        match (&self.identifier, &self.control) {
+            (Some(_), Some(_)) | (None, None) => Err(invalid(
+                "identifier, control",
+                if self.identifier.is_some() {
+                    "both"
+                } else {
+                    "neither"
+                },
+                "one of an [identifier] section and a [control] section",
+            )),
+            (None, Some(_)) if self.validation.is_some() => {
+                Err(invalid("validation", "a section", "only with an [identifier]"))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Whether a scenario text is for a plant of this module (its `[plant]` has a `kind`
+/// other than `pump`).
+pub fn is_plant_scenario(text: &str) -> bool {
+    let Ok(v) = toml::from_str::<toml::Value>(text) else {
+        return false;
+    };
+    v.get("plant")
+        .and_then(|p| p.get("kind"))
+        .and_then(|k| k.as_str())
+        .is_some_and(|k| k != "pump")
+}
