@@ -334,7 +334,17 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
 }
 
 fn cmd_campaign(scenario: &str, opts: &campaign::CampaignOptions, out: Option<PathBuf>) -> Result<()> {
-    let spec = preset::load(scenario)?;
+    let spec = match preset::load_any(scenario)? {
+        preset::AnyScenario::Pump(spec) => spec,
+        preset::AnyScenario::Plant(spec) => {
+            let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("campaign-{}", spec.name)));
+            let reporter = progress::Reporter::new(&spec.name);
+            let outcome =
+                rhonn_report::plant_campaign::run_plant_campaign(&spec, opts, &dir, &|p| reporter.update(p));
+            reporter.finish();
+            return report_campaign(outcome?);
+        }
+    };
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("campaign-{}", spec.name)));
     let reporter = progress::Reporter::new(&spec.name);
     let outcome = campaign::run_campaign(&spec, opts, &dir, &|p| reporter.update(p));

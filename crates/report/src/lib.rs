@@ -19,6 +19,7 @@ mod atomic;
 pub mod campaign;
 mod csv_out;
 mod data_in;
+pub mod plant_campaign;
 mod plant_report;
 mod plot;
 mod prediction;

@@ -524,6 +524,33 @@ pub fn run_one(
     )
 }
 
+/// The parameter values of run `index` of a plant campaign (display units, the plant's
+/// order): each `base` value times `1 + tol U(-1, 1)` from the run's own generator, or
+/// with `corners` the corner `index` of the box (bit k high: the k-th varying parameter
+/// at its upper end).
+pub fn draw_parameters(base: &[f64], tol: &[f64], seed: u64, index: u64, corners: bool) -> Vec<f64> {
+    if corners {
+        let mut bit = 0;
+        return base
+            .iter()
+            .zip(tol)
+            .map(|(b, t)| {
+                if *t == 0.0 {
+                    return *b;
+                }
+                let high = (index >> bit) & 1 == 1;
+                bit += 1;
+                b * (1.0 + if high { *t } else { -*t })
+            })
+            .collect();
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(run_seed(seed, index));
+    base.iter()
+        .zip(tol)
+        .map(|(b, t)| b * (1.0 + t * (2.0 * rng.gen::<f64>() - 1.0)))
+        .collect()
+}
+
 /// Type-7 quantile (linear interpolation between order statistics, numpy's default) of
 /// sorted `v`; NaN when `v` is empty.
 pub fn quantile_sorted(v: &[f64], p: f64) -> f64 {

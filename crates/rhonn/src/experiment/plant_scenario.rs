@@ -378,6 +378,11 @@ impl PlantScenarioSpec {
         })
     }
 
+    /// The scenario as TOML (what a campaign records).
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_else(|e| format!("# cannot be written as TOML: {e}"))
+    }
+
     /// The checks that need no plant: name, times, one experiment.
     pub fn check_common(&self) -> Result<()> {
         super::scenario::check_folder_name("name", &self.name)?;

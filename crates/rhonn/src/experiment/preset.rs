@@ -46,9 +46,9 @@ pub const SHIPPED: &[(&str, &str)] = &[
 #[derive(Debug, Clone, PartialEq)]
 pub enum AnyScenario {
     /// The pump's (no `kind` in `[plant]`).
-    Pump(ScenarioSpec),
+    Pump(Box<ScenarioSpec>),
     /// Another plant's (`[plant] kind = "tanks"`).
-    Plant(PlantScenarioSpec),
+    Plant(Box<PlantScenarioSpec>),
 }
 
 impl AnyScenario {
@@ -68,9 +68,9 @@ impl AnyScenario {
     }
     fn parse(text: &str, source: &str) -> Result<Self> {
         if is_plant_scenario(text) {
-            PlantScenarioSpec::from_toml(text, source).map(AnyScenario::Plant)
+            PlantScenarioSpec::from_toml(text, source).map(|s| AnyScenario::Plant(Box::new(s)))
         } else {
-            ScenarioSpec::from_toml(text, source).map(AnyScenario::Pump)
+            ScenarioSpec::from_toml(text, source).map(|s| AnyScenario::Pump(Box::new(s)))
         }
     }
 }
@@ -117,7 +117,7 @@ pub fn load_any(name_or_path: &str) -> Result<AnyScenario> {
 /// A pump scenario by name or path; a scenario of another plant is an error saying so.
 pub fn load(name_or_path: &str) -> Result<ScenarioSpec> {
     match load_any(name_or_path)? {
-        AnyScenario::Pump(s) => Ok(s),
+        AnyScenario::Pump(s) => Ok(*s),
         AnyScenario::Plant(s) => Err(crate::error::invalid(
             "plant.kind",
             format!("\"{}\" (scenario `{}`)", s.plant.kind, s.name),

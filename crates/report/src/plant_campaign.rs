@@ -1,0 +1,299 @@
+//! Monte Carlo campaigns of a scenario of a plant other than the pump: each run draws
+//! every parameter of the plant's table uniformly within its tolerance (or takes a
+//! corner of the box) from a generator seeded by (seed, run index) alone, runs the
+//! scenario, and records its figures ([`rhonn::experiment::PlantSummary::figures`]).
+//!
+//! The files and their rules are those of the pump's campaigns: `campaign.json` first,
+//! each finished run appended and flushed to `runs.partial.csv` (rerunning the same
+//! command resumes), then `runs.csv` sorted by run index and `summary.json`, all or
+//! nothing. No envelope plot: that one is the pump's pressure.
+
+use crate::atomic::OutputSet;
+use crate::campaign::{CampaignOptions, CampaignOutcome, Progress};
+use crate::{write_json, Error};
+use rayon::prelude::*;
+use rhonn::experiment::campaign::{draw_parameters, quantile_sorted, FigureStats};
+use rhonn::experiment::{nominal_plant_parameters, run_plant_scenario, PlantScenarioSpec};
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::Path;
+use std::sync::Mutex;
+use std::time::Instant;
+
+type Result<T, E = Error> = std::result::Result<T, E>;
+
+fn err(msg: String) -> Error {
+    Error::Campaign(msg)
+}
+
+/// What `campaign.json` holds for a plant campaign.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct PlantCampaignFile {
+    scenario_toml: String,
+    scenario: String,
+    plant: String,
+    seed: u64,
+    runs: u64,
+    sampling: String,
+    shard: [u64; 2],
+    indices: [u64; 2],
+}
+
+/// One row of `runs.csv`: index, status, parameters, figures (NaN when failed).
+fn row(
+    index: u64,
+    values: &[f64],
+    outcome: &std::result::Result<Vec<f64>, String>,
+    n_fig: usize,
+) -> Vec<String> {
+    let mut r = vec![index.to_string()];
+    r.push(match outcome {
+        Ok(_) => "ok".into(),
+        Err(e) => format!("failed: {}", e.replace(['\n', ','], " ")),
+    });
+    r.extend(values.iter().map(|v| format!("{v:e}")));
+    match outcome {
+        Ok(f) => r.extend(f.iter().map(|v| format!("{v:e}"))),
+        Err(_) => r.extend(std::iter::repeat("NaN".to_string()).take(n_fig)),
+    }
+    r
+}
+
+/// Run (or resume) a campaign of the plant scenario `spec` in `dir` (see the module).
+pub fn run_plant_campaign(
+    spec: &PlantScenarioSpec,
+    o: &CampaignOptions,
+    dir: &Path,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<CampaignOutcome> {
+    let params = nominal_plant_parameters(&spec.plant.kind)?;
+    let base: Vec<f64> = params
+        .iter()
+        .map(|p| spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal))
+        .collect();
+    let tol: Vec<f64> = params.iter().map(|p| p.tolerance).collect();
+    let nominal = run_plant_scenario(spec, None)?;
+    let fig_names: Vec<String> = nominal.summary.figures().into_iter().map(|(n, _)| n).collect();
+    let varying = tol.iter().filter(|t| **t > 0.0).count() as u32;
+    let runs = if o.corners { 1u64 << varying } else { o.runs };
+    if runs == 0 || runs > 10_000_000 {
+        return Err(err(format!(
+            "--runs {runs} is not allowed: give a number in [1, 10000000]"
+        )));
+    }
+    let [k, m] = o.shard;
+    let indices = [runs * (k - 1) / m, runs * k / m];
+    let file = PlantCampaignFile {
+        scenario_toml: spec.to_toml(),
+        scenario: spec.name.clone(),
+        plant: spec.plant.kind.clone(),
+        seed: o.seed,
+        runs,
+        sampling: if o.corners { "corners" } else { "random" }.into(),
+        shard: o.shard,
+        indices,
+    };
+    let io = |what: &str, p: &Path, e: std::io::Error| {
+        err(format!(
+            "cannot {what} {}: {}",
+            p.display(),
+            rhonn::error::path_problem(p, &e)
+        ))
+    };
+    std::fs::create_dir_all(dir).map_err(|e| io("create the folder", dir, e))?;
+    let meta = dir.join("campaign.json");
+    let partial = dir.join("runs.partial.csv");
+    let mut header = vec!["run".to_string(), "status".to_string()];
+    header.extend(params.iter().map(|p| p.name.to_string()));
+    header.extend(fig_names.iter().cloned());
+    let mut notes = Vec::new();
+    let mut done: Vec<(u64, Vec<String>)> = Vec::new();
+    if meta.exists() {
+        let text = std::fs::read_to_string(&meta).map_err(|e| io("read", &meta, e))?;
+        let old: PlantCampaignFile = serde_json::from_str(&text).map_err(|e| {
+            err(format!(
+                "{} is not a campaign file of a plant scenario: {e}",
+                meta.display()
+            ))
+        })?;
+        if old != file {
+            return Err(err(format!(
+                "{} holds another campaign (scenario, seed, runs, sampling or shard differ): give another --out",
+                dir.display()
+            )));
+        }
+        if partial.exists() {
+            let mut rd = csv::ReaderBuilder::new()
+                .flexible(true)
+                .from_path(&partial)
+                .map_err(|e| err(format!("cannot read {}: {e}", partial.display())))?;
+            for rec in rd.records() {
+                // A row cut by an interruption (wrong length, or unreadable) is run again.
+                let Ok(rec) = rec else { continue };
+                let fields: Vec<String> = rec.iter().map(String::from).collect();
+                if fields.len() == header.len() {
+                    if let Ok(i) = fields[0].parse::<u64>() {
+                        done.push((i, fields));
+                    }
+                }
+            }
+            notes.push(format!("resuming: {} runs already done", done.len()));
+        } else if dir.join("runs.csv").exists() {
+            return Ok(CampaignOutcome {
+                scenario: spec.name.clone(),
+                dir: dir.to_path_buf(),
+                runs: 0,
+                failed: 0,
+                already_complete: true,
+                notes,
+            });
+        }
+    } else {
+        let text = serde_json::to_string_pretty(&file).map_err(|e| err(e.to_string()))?;
+        let tmp = dir.join(".campaign.json.tmp");
+        std::fs::write(&tmp, text + "\n").map_err(|e| io("write", &tmp, e))?;
+        std::fs::rename(&tmp, &meta).map_err(|e| io("write", &meta, e))?;
+    }
+    // Rewrite the partial file with the rows kept (drops a cut row), then append.
+    {
+        let mut w = csv::Writer::from_path(&partial)
+            .map_err(|e| err(format!("cannot write {}: {e}", partial.display())))?;
+        w.write_record(&header).map_err(|e| err(e.to_string()))?;
+        for (_, r) in &done {
+            w.write_record(r).map_err(|e| err(e.to_string()))?;
+        }
+        w.flush().map_err(|e| io("write", &partial, e))?;
+    }
+    let f = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&partial)
+        .map_err(|e| io("write", &partial, e))?;
+    let writer = Mutex::new(csv::Writer::from_writer(f));
+    let have: std::collections::HashSet<u64> = done.iter().map(|(i, _)| *i).collect();
+    let todo: Vec<u64> = (indices[0]..indices[1]).filter(|i| !have.contains(i)).collect();
+    let counter = Mutex::new((0usize, 0usize));
+    let start = Instant::now();
+    let new_rows: Vec<Result<(u64, Vec<String>)>> = todo
+        .par_iter()
+        .map(|&i| {
+            let values = draw_parameters(&base, &tol, o.seed, i, o.corners);
+            let outcome = run_plant_scenario(spec, Some(&values))
+                .map(|out| {
+                    out.summary
+                        .figures()
+                        .into_iter()
+                        .map(|(_, v)| v)
+                        .collect::<Vec<f64>>()
+                })
+                .map_err(|e| e.to_string());
+            let r = row(i, &values, &outcome, fig_names.len());
+            {
+                let mut w = writer.lock().map_err(|_| err("a worker panicked".into()))?;
+                w.write_record(&r)
+                    .map_err(|e| err(format!("cannot write {}: {e}", partial.display())))?;
+                w.flush().map_err(|e| io("write", &partial, e))?;
+            }
+            let (d, fl) = {
+                let mut c = counter.lock().map_err(|_| err("a worker panicked".into()))?;
+                c.0 += 1;
+                c.1 += usize::from(outcome.is_err());
+                *c
+            };
+            progress(Progress {
+                scenario: &spec.name,
+                done: d,
+                total: todo.len(),
+                failed: fl,
+                elapsed_s: start.elapsed().as_secs_f64(),
+            });
+            Ok((i, r))
+        })
+        .collect();
+    drop(writer);
+    for r in new_rows {
+        done.push(r?);
+    }
+    done.sort_by_key(|(i, _)| *i);
+    finish(spec, dir, &header, &done, &fig_names, params.len(), notes)
+}
+
+fn finish(
+    spec: &PlantScenarioSpec,
+    dir: &Path,
+    header: &[String],
+    rows: &[(u64, Vec<String>)],
+    fig_names: &[String],
+    n_params: usize,
+    notes: Vec<String>,
+) -> Result<CampaignOutcome> {
+    let failed = rows.iter().filter(|(_, r)| r[1] != "ok").count();
+    let stats: Vec<FigureStats> = fig_names
+        .iter()
+        .enumerate()
+        .map(|(k, name)| {
+            let mut v: Vec<f64> = rows
+                .iter()
+                .filter(|(_, r)| r[1] == "ok")
+                .filter_map(|(_, r)| r[2 + n_params + k].parse::<f64>().ok())
+                .filter(|x| x.is_finite())
+                .collect();
+            v.sort_by(f64::total_cmp);
+            let q = |p: f64| quantile_sorted(&v, p);
+            FigureStats {
+                figure: name.clone(),
+                min: q(0.0),
+                q05: q(0.05),
+                median: q(0.5),
+                q95: q(0.95),
+                max: q(1.0),
+                mean: if v.is_empty() {
+                    f64::NAN
+                } else {
+                    v.iter().sum::<f64>() / v.len() as f64
+                },
+            }
+        })
+        .collect();
+    #[derive(Serialize)]
+    struct Summary<'a> {
+        scenario: &'a str,
+        plant: &'a str,
+        runs: usize,
+        failed: usize,
+        figures: Vec<FigureStats>,
+    }
+    let mut set = OutputSet::new(dir)?;
+    set.write("runs.csv", |w| {
+        let mut c = csv::Writer::from_writer(w);
+        c.write_record(header)?;
+        for (_, r) in rows {
+            c.write_record(r)?;
+        }
+        c.flush()
+    })?;
+    let summary = Summary {
+        scenario: &spec.name,
+        plant: &spec.plant.kind,
+        runs: rows.len(),
+        failed,
+        figures: stats,
+    };
+    set.write("summary.json", |w: &mut dyn Write| write_json(w, &summary))?;
+    set.commit()?;
+    let partial = dir.join("runs.partial.csv");
+    std::fs::remove_file(&partial).map_err(|e| {
+        err(format!(
+            "cannot remove {}: {}",
+            partial.display(),
+            rhonn::error::path_problem(&partial, &e)
+        ))
+    })?;
+    Ok(CampaignOutcome {
+        scenario: spec.name.clone(),
+        dir: dir.to_path_buf(),
+        runs: rows.len(),
+        failed,
+        already_complete: false,
+        notes,
+    })
+}

@@ -1,0 +1,196 @@
+//! The second plant from the command line: `tanks-identify` and `tanks-control` run,
+//! list, show, bench and campaign (with resume) from the scenario alone.
+
+mod util;
+
+use util::{files_in, rhonn, stderr};
+
+fn json(path: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn tanks_scenarios_are_listed_and_run_like_the_pumps() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(d.path(), &["scenarios"]);
+    let list = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(
+        list.contains("tanks-identify") && list.contains("tanks-control"),
+        "{list}"
+    );
+    let o = rhonn(d.path(), &["run", "tanks-identify"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let dir = d.path().join("out/tanks-identify");
+    assert_eq!(
+        files_in(&dir),
+        [
+            "inputs.svg",
+            "states.svg",
+            "summary.json",
+            "trajectory.csv",
+            "validation.csv",
+            "validation.svg"
+        ]
+    );
+    let traj = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
+    assert_eq!(traj.lines().next().unwrap(), "t,voltage,h1,h1_hat,h2,h2_hat");
+    assert_eq!(traj.lines().count(), 6002);
+    let s = json(&dir.join("summary.json"));
+    for st in s["identification"].as_array().unwrap() {
+        let (tr, va) = (
+            st["training_fit_percent"].as_f64().unwrap(),
+            st["validation_fit_percent"].as_f64().unwrap(),
+        );
+        eprintln!("{}: online fit {tr:.1} %, frozen free run {va:.1} %", st["state"]);
+        assert!(tr > 90.0 && va > 50.0, "{st}");
+    }
+    let o = rhonn(d.path(), &["run", "tanks-control"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let dir = d.path().join("out/tanks-control");
+    assert_eq!(
+        files_in(&dir),
+        ["inputs.svg", "states.svg", "summary.json", "trajectory.csv"]
+    );
+    let s = json(&dir.join("summary.json"));
+    let c = s["control"].as_array().unwrap();
+    assert_eq!(
+        (c[0]["controller"].as_str(), c[1]["controller"].as_str()),
+        (Some("rhonn-cascade"), Some("pi-cascade"))
+    );
+    for f in c {
+        // Both regulate: the final error is under 2 mm on a 220 mm set-point.
+        assert!(f["final_error"].as_f64().unwrap().abs() < 2.0, "{f}");
+        assert!(f["iae"].as_f64().unwrap() > 0.0);
+    }
+    let header = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
+    let header = header.lines().next().unwrap();
+    assert_eq!(
+        header,
+        "t,h2_ref,h1,h2,voltage,h1_ref,h1_baseline,h2_baseline,voltage_baseline,h1_ref_baseline"
+    );
+    // show prints the shipped file; bench times it.
+    let o = rhonn(d.path(), &["show", "tanks-control"]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("kind = \"tanks\""));
+    let o = rhonn(
+        d.path(),
+        &["bench", "tanks-control", "--seconds", "0.05", "--json"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let b: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(b[0]["median_s"].as_f64().unwrap() > 0.0 && b[0]["rhs_evaluations"].is_null());
+}
+
+#[test]
+fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "campaign",
+            "tanks-control",
+            "--runs",
+            "200",
+            "--seed",
+            "4",
+            "--out",
+            "c",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let dir = d.path().join("c");
+    assert_eq!(files_in(&dir), ["campaign.json", "runs.csv", "summary.json"]);
+    let full = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
+    assert_eq!(full.lines().count(), 201);
+    let s = json(&dir.join("summary.json"));
+    assert_eq!((s["runs"].as_u64(), s["failed"].as_u64()), (Some(200), Some(0)));
+    // Interrupted after 70 runs, the last row cut in the middle: the same command
+    // resumes, runs the 130 others (and the cut one), and writes the same bytes.
+    let lines: Vec<&str> = full.lines().collect();
+    let mut partial = lines[..71].join("\n");
+    partial.push('\n');
+    partial.push_str(&lines[71][..20]);
+    std::fs::write(dir.join("runs.partial.csv"), partial).unwrap();
+    std::fs::remove_file(dir.join("runs.csv")).unwrap();
+    std::fs::remove_file(dir.join("summary.json")).unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "campaign",
+            "tanks-control",
+            "--runs",
+            "200",
+            "--seed",
+            "4",
+            "--out",
+            "c",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("resuming: 70 runs already done"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read_to_string(dir.join("runs.csv")).unwrap(), full);
+    assert!(!dir.join("runs.partial.csv").exists());
+    // Another seed into the same folder is refused.
+    let o = rhonn(
+        d.path(),
+        &[
+            "campaign",
+            "tanks-control",
+            "--runs",
+            "200",
+            "--seed",
+            "5",
+            "--out",
+            "c",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("holds another campaign"), "{}", stderr(&o));
+}
+
+#[test]
+fn bad_tanks_scenarios_name_the_field() {
+    let d = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/tanks-control.toml"
+    ))
+    .unwrap();
+    for (from, to, want) in [
+        ("kind = \"tanks\"", "kind = \"boiler\"", "plant.kind"),
+        (
+            "initial = [50.0, 50.0]",
+            "initial = [50.0, 50.0]\noutlet_9_mm2 = 3.0",
+            "plant.outlet_9_mm2",
+        ),
+        ("initial = [50.0, 50.0]", "initial = [50.0]", "plant.initial"),
+        ("output = \"h2\"", "output = \"h3\"", "control.output"),
+        ("input = \"voltage\"", "input = \"current\"", "control.input"),
+        ("period_s = 1.0", "period_s = 0.0", "control.period_s"),
+        (
+            "lambda_per_s = 0.2",
+            "lambda_per_s = -1.0",
+            "control.controller.outer.lambda_per_s",
+        ),
+        (
+            "kp = 8.0, ti_s = 30.0",
+            "kp = 8.0, ti_s = 0.0",
+            "control.baseline.outer.ti_s",
+        ),
+        (
+            "inner_range = [0.0, 290.0]           #",
+            "inner_range = [290.0, 0.0]           #",
+            "control.controller.inner_range",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        std::fs::write(d.path().join("s.toml"), text.replace(from, to)).unwrap();
+        let o = rhonn(d.path(), &["run", "s.toml"]);
+        assert_eq!(o.status.code(), Some(2), "{to}");
+        assert!(stderr(&o).contains(want), "{to}: {}", stderr(&o));
+        assert_eq!(files_in(d.path()), ["s.toml"], "{to}");
+    }
+}
