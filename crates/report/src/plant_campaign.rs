@@ -164,10 +164,48 @@ pub fn run_plant_campaign(
         }
         w.flush().map_err(|e| io("write", &partial, e))?;
     }
+    let job = Job {
+        spec,
+        o,
+        base: &base,
+        tol: &tol,
+        n_fig: fig_names.len(),
+        partial: &partial,
+    };
+    run_missing(&job, indices, &mut done, progress)?;
+    done.sort_by_key(|(i, _)| *i);
+    finish(spec, dir, &header, &done, &fig_names, params.len(), notes)
+}
+
+/// What every run of a campaign shares.
+struct Job<'a> {
+    spec: &'a PlantScenarioSpec,
+    o: &'a CampaignOptions,
+    base: &'a [f64],
+    tol: &'a [f64],
+    n_fig: usize,
+    partial: &'a Path,
+}
+
+/// Run every index of `indices` not in `done`, in parallel, appending each finished row
+/// to the partial file (flushed), and add the rows to `done`.
+fn run_missing(
+    job: &Job,
+    indices: [u64; 2],
+    done: &mut Vec<(u64, Vec<String>)>,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<()> {
+    let io = |what: &str, p: &Path, e: std::io::Error| {
+        err(format!(
+            "cannot {what} {}: {}",
+            p.display(),
+            rhonn::error::path_problem(p, &e)
+        ))
+    };
     let f = std::fs::OpenOptions::new()
         .append(true)
-        .open(&partial)
-        .map_err(|e| io("write", &partial, e))?;
+        .open(job.partial)
+        .map_err(|e| io("write", job.partial, e))?;
     let writer = Mutex::new(csv::Writer::from_writer(f));
     let have: std::collections::HashSet<u64> = done.iter().map(|(i, _)| *i).collect();
     let todo: Vec<u64> = (indices[0]..indices[1]).filter(|i| !have.contains(i)).collect();
@@ -176,8 +214,8 @@ pub fn run_plant_campaign(
     let new_rows: Vec<Result<(u64, Vec<String>)>> = todo
         .par_iter()
         .map(|&i| {
-            let values = draw_parameters(&base, &tol, o.seed, i, o.corners);
-            let outcome = run_plant_scenario(spec, Some(&values))
+            let values = draw_parameters(job.base, job.tol, job.o.seed, i, job.o.corners);
+            let outcome = run_plant_scenario(job.spec, Some(&values))
                 .map(|out| {
                     out.summary
                         .figures()
@@ -186,12 +224,12 @@ pub fn run_plant_campaign(
                         .collect::<Vec<f64>>()
                 })
                 .map_err(|e| e.to_string());
-            let r = row(i, &values, &outcome, fig_names.len());
+            let r = row(i, &values, &outcome, job.n_fig);
             {
                 let mut w = writer.lock().map_err(|_| err("a worker panicked".into()))?;
                 w.write_record(&r)
-                    .map_err(|e| err(format!("cannot write {}: {e}", partial.display())))?;
-                w.flush().map_err(|e| io("write", &partial, e))?;
+                    .map_err(|e| err(format!("cannot write {}: {e}", job.partial.display())))?;
+                w.flush().map_err(|e| io("write", job.partial, e))?;
             }
             let (d, fl) = {
                 let mut c = counter.lock().map_err(|_| err("a worker panicked".into()))?;
@@ -200,7 +238,7 @@ pub fn run_plant_campaign(
                 *c
             };
             progress(Progress {
-                scenario: &spec.name,
+                scenario: &job.spec.name,
                 done: d,
                 total: todo.len(),
                 failed: fl,
@@ -213,8 +251,7 @@ pub fn run_plant_campaign(
     for r in new_rows {
         done.push(r?);
     }
-    done.sort_by_key(|(i, _)| *i);
-    finish(spec, dir, &header, &done, &fig_names, params.len(), notes)
+    Ok(())
 }
 
 fn finish(

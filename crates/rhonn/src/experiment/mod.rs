@@ -3,6 +3,9 @@
 pub mod any_plant;
 mod bench;
 pub mod campaign;
+mod figures;
+mod ident_figures;
+mod integrated;
 mod plant_run;
 mod plant_scenario;
 pub mod preset;
@@ -20,7 +23,7 @@ pub use plant_scenario::{
 };
 pub use run::{
     run, run_full, solver_options, AdaptiveReport, BaselineReport, ControlReport, Figures, IdentReport,
-    ModelFile, Plant, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,
+    Integrated, ModelFile, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,
 };
 pub use scenario::{
     AdaptiveSettings, ControllerSpec, Drive, InitialSpec, MeasurementSpec, PiSettings, ProfileSpec, Scenario,

@@ -162,7 +162,7 @@ fn run_on<P: Plant>(
             .map(|p| spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal))
             .collect(),
     };
-    let mut summary = PlantSummary {
+    let summary = PlantSummary {
         rhonn_version: env!("CARGO_PKG_VERSION"),
         scenario: spec.name.clone(),
         plant: plant.name(),
@@ -181,6 +181,17 @@ fn run_on<P: Plant>(
     if let Some(ident) = &spec.identifier {
         return run_identification(plant, &x0, spec, ident, summary);
     }
+    run_control(plant, &x0, spec, summary)
+}
+
+/// The `[control]` experiment: the controller and the baseline, each on an identical
+/// plant from `x0`.
+fn run_control<P: Plant>(
+    plant: P,
+    x0: &[f64],
+    spec: &PlantScenarioSpec,
+    mut summary: PlantSummary,
+) -> Result<PlantRunOutput> {
     let c = spec
         .control
         .as_ref()
@@ -235,10 +246,10 @@ fn run_on<P: Plant>(
                 format!("the regulated state \"{}\"", c.output),
             ));
         }
-        let mut ctl = build_loop(&plant, l, field, (qu, range), c.period_s, &x0)?;
+        let mut ctl = build_loop(&plant, l, field, (qu, range), c.period_s, x0)?;
         runs.push(closed_loop(
             plant.clone(),
-            &x0,
+            x0,
             ctl.as_mut(),
             k,
             &sp,

@@ -3,7 +3,9 @@
 //! sample time far below the system's time constants (the lags then see almost none of
 //! the dynamics). Each is a warning in words with what to do.
 
+use super::{Model, OutputFigures};
 use crate::data::Record;
+use crate::error::{Error, Result};
 
 /// An output's autocorrelation must fall to 1/e within this many model lag spans; past
 /// it the warning on fast sampling fires. Measured with `rhonn fit` and the default
@@ -113,6 +115,68 @@ fn round_sig(v: f64, digits: i32) -> f64 {
     }
 }
 
+/// A fitted model whose scaling or weights are NaN or infinite is an error that names the
+/// data's range (the usual cause: values so large that their squares overflow).
+pub(super) fn ensure_finite_model(m: &Model, records: &[Record]) -> Result<()> {
+    let finite_pairs = |v: &[(f64, f64)]| v.iter().all(|(a, b)| a.is_finite() && b.is_finite());
+    let ok = finite_pairs(&m.input_norm)
+        && finite_pairs(&m.output_norm)
+        && finite_pairs(&m.output_range)
+        && m.weights.iter().flatten().all(|w| w.is_finite());
+    if ok {
+        return Ok(());
+    }
+    let mut largest = (0.0_f64, String::new(), String::new());
+    for r in records {
+        let cols = m
+            .inputs
+            .iter()
+            .zip(&r.inputs)
+            .chain(m.outputs.iter().zip(&r.outputs));
+        for (name, col) in cols {
+            for v in col {
+                if v.abs() > largest.0 {
+                    largest = (v.abs(), name.clone(), r.source.clone());
+                }
+            }
+        }
+    }
+    let cause = if largest.0 > 1e150 {
+        format!(
+            "the data reach |{:e}| (column `{}` of {}); values beyond about 1e150 overflow the \
+             scaling's squares: rescale the data (e.g. to other units) so that they stay well below",
+            largest.0, largest.1, largest.2
+        )
+    } else {
+        format!(
+            "the data's largest value is |{:e}| (column `{}` of {}); the training diverged: \
+             try a smaller `degree`, fewer lags, a larger `ridge` or the `batch-ls` law",
+            largest.0, largest.1, largest.2
+        )
+    };
+    Err(Error::NotFinite {
+        what: "a scale or weight of the fitted model".into(),
+        cause,
+    })
+}
+
+/// An error when any figure (RMS error, fit, NRMSE) of a prediction on `source` is NaN or
+/// infinite: a prediction that overflowed must not be written as a result.
+pub fn ensure_finite_figures(figures: &[OutputFigures], source: &str) -> Result<()> {
+    match figures
+        .iter()
+        .find(|f| !(f.rms_error.is_finite() && f.fit_percent.is_finite() && f.nrmse.is_finite()))
+    {
+        None => Ok(()),
+        Some(f) => Err(Error::NotFinite {
+            what: format!("the prediction of `{}` on {source}", f.output),
+            cause: "it overflows on these data (a free run that diverges, or data far outside the \
+                    training range); nothing was written"
+                .into(),
+        }),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -131,10 +195,32 @@ mod tests {
         let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
         // A fast-changing output and a varying input: nothing to say.
         let good = record(1.0, 400, |k| (k % 7) as f64, |k| ((k * 37) % 11) as f64);
-        assert!(data_warnings(&[good.clone()], &s(&["u"]), &s(&["y"]), 2, 1.0, "--resample").is_empty());
-        let w = data_warnings(&[good.clone()], &s(&["t"]), &s(&["y"]), 2, 1.0, "--resample");
+        assert!(data_warnings(
+            std::slice::from_ref(&good),
+            &s(&["u"]),
+            &s(&["y"]),
+            2,
+            1.0,
+            "--resample"
+        )
+        .is_empty());
+        let w = data_warnings(
+            std::slice::from_ref(&good),
+            &s(&["t"]),
+            &s(&["y"]),
+            2,
+            1.0,
+            "--resample",
+        );
         assert!(w.iter().any(|m| m.contains("time column")), "{w:?}");
-        let w = data_warnings(&[good.clone()], &s(&["y"]), &s(&["y"]), 2, 1.0, "--resample");
+        let w = data_warnings(
+            std::slice::from_ref(&good),
+            &s(&["y"]),
+            &s(&["y"]),
+            2,
+            1.0,
+            "--resample",
+        );
         assert!(
             w.iter().any(|m| m.contains("both an input and an output")),
             "{w:?}"
@@ -152,7 +238,14 @@ mod tests {
             |k| (k % 7) as f64,
             |k| (k as f64 * std::f64::consts::TAU / 2000.0).sin(),
         );
-        let w = data_warnings(&[slow.clone()], &s(&["u"]), &s(&["y"]), 3, 0.01, "--resample");
+        let w = data_warnings(
+            std::slice::from_ref(&slow),
+            &s(&["u"]),
+            &s(&["y"]),
+            3,
+            0.01,
+            "--resample",
+        );
         assert!(
             w.len() == 1 && w[0].contains("`--resample 0.2") && w[0].contains("changes slowly"),
             "{w:?}"

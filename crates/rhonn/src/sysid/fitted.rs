@@ -1,0 +1,159 @@
+//! A fitted model as `model.json` holds it (members of an ensemble, the ARX baseline,
+//! units), the spec file's parser, and fitting with the baseline or an ensemble.
+
+use super::*;
+
+/// What `rhonn fit` writes to `model.json`: the model (with an ensemble's further
+/// members) and, for a RHONN, the ARX baseline with the same lags, trained on the same
+/// data.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FittedModel {
+    /// rhonn's version.
+    pub rhonn_version: String,
+    /// The model (an ensemble's first member).
+    pub model: Model,
+    /// An ensemble's further members: its prediction is the mean of every member's own
+    /// prediction (free run or K steps ahead). Empty for a single model.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub members: Vec<Model>,
+    /// The linear baseline with the first member's lags (None when that is itself an
+    /// ARX).
+    pub baseline: Option<Model>,
+    /// The data's units by column (`rhonn fit --units`), for what people read; absent
+    /// when none were given.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub units: std::collections::BTreeMap<String, String>,
+}
+
+impl FittedModel {
+    /// Every member, the first one first.
+    pub fn all_members(&self) -> impl Iterator<Item = &Model> {
+        std::iter::once(&self.model).chain(&self.members)
+    }
+
+    /// Check every member (and that they share inputs, outputs and sample time) and the
+    /// baseline.
+    pub fn validate(&self) -> Result<()> {
+        for (k, m) in self.all_members().enumerate() {
+            m.validate()?;
+            if m.inputs != self.model.inputs
+                || m.outputs != self.model.outputs
+                || (m.sample_time_s - self.model.sample_time_s).abs() > 1e-9 * self.model.sample_time_s
+            {
+                return Err(invalid(
+                    format!("members[{k}]"),
+                    "other inputs, outputs or sample time",
+                    "the first member's",
+                ));
+            }
+        }
+        if let Some(b) = &self.baseline {
+            b.validate()?;
+        }
+        Ok(())
+    }
+
+    /// Samples needed before the first prediction, over every member.
+    pub fn max_lag(&self) -> usize {
+        self.all_members().map(|m| m.spec.max_lag()).max().unwrap_or(0)
+    }
+
+    /// The prediction of every output (see [`Model::predict`]): a single model's, or the
+    /// mean of an ensemble's members' predictions, from the latest member's first
+    /// predictable sample on (the measurement repeated before it).
+    pub fn predict(&self, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
+        let (mut sum, mut first) = self.model.predict(r, steps_ahead)?;
+        for m in &self.members {
+            let (p, f) = m.predict(r, steps_ahead)?;
+            first = first.max(f);
+            for (s, pj) in sum.iter_mut().zip(&p) {
+                for (a, b) in s.iter_mut().zip(pj) {
+                    *a += b;
+                }
+            }
+        }
+        let k = (1 + self.members.len()) as f64;
+        for (j, s) in sum.iter_mut().enumerate() {
+            for (i, v) in s.iter_mut().enumerate() {
+                *v = if i < first { r.outputs[j][i] } else { *v / k };
+            }
+        }
+        Ok((sum, first))
+    }
+}
+
+/// Read a model spec file: one structure, or an ensemble as `[[members]]` tables (each
+/// a structure; its prediction is the mean of the members'). Errors name the key.
+pub fn parse_spec_file(text: &str) -> std::result::Result<Vec<ModelSpec>, String> {
+    let v: toml::Value = toml::from_str(text).map_err(|e| e.to_string())?;
+    match v.get("members") {
+        None => Ok(vec![toml::from_str::<ModelSpec>(text).map_err(|e| e.to_string())?]),
+        Some(members) => {
+            let table = v.as_table().expect("a TOML document is a table");
+            if let Some(k) = table.keys().find(|k| *k != "members") {
+                return Err(format!(
+                    "`{k}` beside `members`: an ensemble file holds only `[[members]]` tables"
+                ));
+            }
+            let list = members
+                .as_array()
+                .filter(|a| !a.is_empty())
+                .ok_or("`members` must be a non-empty list of `[[members]]` tables")?;
+            list.iter()
+                .enumerate()
+                .map(|(i, m)| {
+                    m.clone()
+                        .try_into::<ModelSpec>()
+                        .map_err(|e| format!("members[{i}]: {e}"))
+                })
+                .collect()
+        }
+    }
+}
+
+/// Train `spec` and, for a RHONN, the ARX baseline with the same lags.
+pub fn fit_with_baseline(
+    spec: &ModelSpec,
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<FittedModel> {
+    fit_ensemble(std::slice::from_ref(spec), records, inputs, outputs)
+}
+
+/// Train every structure of an ensemble (one structure: a single model) and, when the
+/// first is a RHONN, the ARX baseline with the first one's lags.
+pub fn fit_ensemble(
+    specs: &[ModelSpec],
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<FittedModel> {
+    let spec = specs
+        .first()
+        .ok_or_else(|| invalid("members", "[]", "at least one model structure"))?;
+    let model = fit(spec, records, inputs, outputs)?;
+    let members = specs[1..]
+        .iter()
+        .map(|s| fit(s, records, inputs, outputs))
+        .collect::<Result<Vec<_>>>()?;
+    let baseline = if spec.kind != Kind::Arx {
+        let arx = ModelSpec {
+            kind: Kind::Arx,
+            law: Law::BatchLs,
+            ridge: 1e-9,
+            ..spec.clone()
+        };
+        Some(fit(&arx, records, inputs, outputs)?)
+    } else {
+        None
+    };
+    Ok(FittedModel {
+        rhonn_version: env!("CARGO_PKG_VERSION").to_string(),
+        model,
+        members,
+        baseline,
+        units: Default::default(),
+    })
+}
