@@ -45,6 +45,8 @@
 //! takes over.
 
 use super::{AdaptiveView, Controller};
+use crate::law::gradient::descend;
+use crate::law::projection::project;
 use crate::net::Sigmoid;
 use crate::plant::{P_LINE, STROKE};
 
@@ -76,20 +78,6 @@ pub struct AffineNeuron<const L: usize, const L1: usize> {
     pub w_bound: f64,
     /// The model's state.
     pub xh: f64,
-}
-
-/// Project `v` onto the ball of `radius` around `c`; true when it had to.
-#[inline]
-fn project<const N: usize>(v: &mut [f64; N], c: &[f64; N], radius: f64) -> bool {
-    let d2: f64 = v.iter().zip(c).map(|(a, b)| (a - b) * (a - b)).sum();
-    if d2 <= radius * radius {
-        return false;
-    }
-    let k = radius / d2.sqrt();
-    for (a, b) in v.iter_mut().zip(c) {
-        *a = b + (*a - b) * k;
-    }
-    true
 }
 
 #[inline]
@@ -130,12 +118,11 @@ impl<const L: usize, const L1: usize> AffineNeuron<L, L1> {
             let mut dw = [0.0; L];
             let mut dw1 = [0.0; L1];
             if adapt {
-                for k in 0..L {
-                    dw[k] = -self.gamma * e * s[k];
-                }
-                for k in 0..L1 {
-                    dw1[k] = -self.gamma1 * e * s1[k] * u;
-                }
+                // The gradient law, phi = S for W and phi = S' u for W_1.
+                descend(self.gamma, &s, e, &mut dw);
+                let mut phi1 = s1;
+                phi1.iter_mut().for_each(|p| *p *= u);
+                descend(self.gamma1, &phi1, e, &mut dw1);
             }
             (dxh, dw, dw1)
         };
@@ -465,19 +452,5 @@ impl Controller for RhonnCascade {
             identifying,
             self.projections,
         ))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn projection_lands_on_the_sphere() {
-        let mut v = [3.0, 4.0];
-        assert!(project(&mut v, &[0.0, 0.0], 1.0));
-        assert!(((v[0] * v[0] + v[1] * v[1]).sqrt() - 1.0).abs() < 1e-12);
-        let mut v = [0.1, 0.1];
-        assert!(!project(&mut v, &[0.0, 0.0], 1.0));
     }
 }

@@ -38,7 +38,7 @@ pub fn bench(sc: &Scenario, budget: Duration) -> Result<BenchFigures> {
     })
 }
 
-/// [`bench`] for a scenario of a plant other than the pump.
+/// [`bench()`] for a scenario of a plant other than the pump.
 pub fn bench_plant(spec: &PlantScenarioSpec, budget: Duration) -> Result<BenchFigures> {
     run_plant_scenario(spec, None)?;
     timed(&spec.name, None, budget, || {

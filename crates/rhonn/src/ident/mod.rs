@@ -10,7 +10,8 @@
 //! - *parallel validation* (free run): weights frozen, z from the model's own states
 //!   (the model runs on its own).
 
-use crate::law::{Gain, Law, Robust, Structure};
+use crate::law::sigma::{self, Zone};
+use crate::law::{Gain, Law, LearningLaw, Robust, Structure};
 use crate::net::Network;
 use rhonn_ode::Direction;
 
@@ -39,14 +40,6 @@ impl Mode {
             Mode::Parallel => "parallel",
         }
     }
-}
-
-/// Where a neuron's weight vector is relative to the radius M (robust laws).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Zone {
-    Inside,
-    Sphere,
-    Outside,
 }
 
 /// A network, its law and its mode; knows the layout of its states.
@@ -87,10 +80,7 @@ impl Scratch {
     }
 }
 
-#[inline(always)]
-pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
+pub(crate) use crate::law::dot;
 
 impl Identifier {
     /// An identifier in `mode`.
@@ -107,11 +97,7 @@ impl Identifier {
     /// States per neuron.
     pub fn block(&self) -> usize {
         let l = self.net.n_terms();
-        match self.law.structure {
-            Structure::FilteredError => 1 + l,
-            Structure::FilteredRegressor => 2 * l,
-            Structure::LeastSquares => 2 * l + l * l,
-        }
+        self.w_off() + l + self.law.rule.law_states(l)
     }
 
     /// Number of identifier states.
@@ -119,17 +105,17 @@ impl Identifier {
         self.net.n * self.block()
     }
 
-    /// Offset of neuron i's weights in its block.
+    /// Offset of neuron i's weights in its block (after x_i or zeta_i).
     fn w_off(&self) -> usize {
         match self.law.structure {
             Structure::FilteredError => 1,
-            _ => self.net.n_terms(),
+            Structure::FilteredRegressor => self.net.n_terms(),
         }
     }
 
     /// Initial identifier state: model states `xhat0` (filtered-error laws; the
     /// filtered-regressor laws start their filters at 0), weights `w0[i]` (or 0), and
-    /// P_i(0) = p0_i I.
+    /// the law's own states (P_i(0) = p0_i I).
     pub fn initial_state(&self, xhat0: &[f64], w0: Option<&[Vec<f64>]>) -> Vec<f64> {
         let (n, l, b, wo) = (self.net.n, self.net.n_terms(), self.block(), self.w_off());
         let mut s = vec![0.0; self.dim()];
@@ -141,11 +127,7 @@ impl Identifier {
             if let Some(w) = w0 {
                 blk[wo..wo + l].copy_from_slice(&w[i]);
             }
-            if self.law.structure == Structure::LeastSquares {
-                for k in 0..l {
-                    blk[2 * l + k * l + k] = self.law.p0[i];
-                }
-            }
+            self.law.rule.init(i, l, &mut blk[wo + l..]);
         }
         s
     }
@@ -158,7 +140,7 @@ impl Identifier {
             let blk = &s[i * b..(i + 1) * b];
             *xh = match self.law.structure {
                 Structure::FilteredError => blk[0],
-                _ => dot(&blk[..l], &blk[l..2 * l]),
+                Structure::FilteredRegressor => dot(&blk[..l], &blk[l..2 * l]),
             };
         }
     }
@@ -184,7 +166,7 @@ impl Identifier {
     pub fn rhs(&self, chi: &[f64], u: &[f64], s: &[f64], ds: &mut [f64], sc: &mut Scratch) {
         if self.law.structure == Structure::FilteredError
             && (self.law.robust == Robust::None || self.zones.iter().all(|z| *z == Zone::Inside))
-            && self.law.gamma.iter().all(|g| matches!(g, Gain::Scalar(_)))
+            && self.law.rule.scalar_gains().is_some()
         {
             if let Some(idx) = self.net.terms.plain_indices() {
                 // The thesis's sizes with their loop lengths known to the compiler.
@@ -213,90 +195,33 @@ impl Identifier {
             let dblk = &mut ds[i * b..(i + 1) * b];
             let a = self.net.a[i];
             let e = sc.xhat[i] - chi[i];
-            match self.law.structure {
+            let wo = self.w_off();
+            let (lead, rest) = dblk.split_at_mut(wo);
+            let (dw, dlaw) = rest.split_at_mut(l);
+            let phi = match self.law.structure {
                 Structure::FilteredError => {
-                    let w = &blk[1..1 + l];
-                    dblk[0] = -a * blk[0] + dot(w, z);
-                    let dw = &mut dblk[1..1 + l];
-                    if !train {
-                        dw.iter_mut().for_each(|v| *v = 0.0);
-                        continue;
-                    }
-                    // q = Gamma z e (a scalar gain, the common case, without the
-                    // matrix product's loop)
-                    if let crate::law::Gain::Scalar(g) = self.law.gamma[i] {
-                        for k in 0..l {
-                            let q = g * z[k] * e;
-                            sc.q[k] = q;
-                            dw[k] = -q;
-                        }
-                    } else {
-                        self.law.gamma[i].apply(z, &mut sc.q[..l]);
-                        for k in 0..l {
-                            sc.q[k] *= e;
-                            dw[k] = -sc.q[k];
-                        }
-                    }
-                    match (self.law.robust, self.zones[i]) {
-                        (Robust::None, _) | (_, Zone::Inside) => {}
-                        (_, Zone::Outside) => {
-                            let sig = self.law.sigma[i];
-                            self.law.gamma[i].apply(w, &mut sc.r[..l]);
-                            for k in 0..l {
-                                dw[k] -= sig * sc.r[k];
-                            }
-                        }
-                        (_, Zone::Sphere) => {
-                            self.law.gamma[i].apply(w, &mut sc.r[..l]);
-                            let g = dot(w, &sc.q[..l]);
-                            let wgw = dot(w, &sc.r[..l]);
-                            if wgw > 0.0 {
-                                for k in 0..l {
-                                    dw[k] += g / wgw * sc.r[k];
-                                }
-                            }
-                        }
-                    }
+                    lead[0] = -a * blk[0] + dot(&blk[1..1 + l], z);
+                    z
                 }
-                Structure::FilteredRegressor | Structure::LeastSquares => {
-                    let zeta = &blk[..l];
+                Structure::FilteredRegressor => {
                     for k in 0..l {
-                        dblk[k] = -a * zeta[k] + z[k];
+                        lead[k] = -a * blk[k] + z[k];
                     }
-                    if self.law.structure == Structure::FilteredRegressor {
-                        let dw = &mut dblk[l..2 * l];
-                        if train {
-                            self.law.gamma[i].apply(zeta, &mut sc.q[..l]);
-                            for k in 0..l {
-                                dw[k] = -sc.q[k] * e;
-                            }
-                        } else {
-                            dw.iter_mut().for_each(|v| *v = 0.0);
-                        }
-                        continue;
-                    }
-                    let p = &blk[2 * l..2 * l + l * l];
-                    // q = P zeta
-                    for r in 0..l {
-                        sc.q[r] = dot(&p[r * l..(r + 1) * l], zeta);
-                    }
-                    let (dw, dp) = dblk[l..].split_at_mut(l);
-                    if train {
-                        for k in 0..l {
-                            dw[k] = -sc.q[k] * e;
-                        }
-                        let trace: f64 = (0..l).map(|k| p[k * l + k]).sum();
-                        let shrink = trace > self.law.floor[i] * l as f64;
-                        for r in 0..l {
-                            for c in 0..l {
-                                dp[r * l + c] = if shrink { -sc.q[r] * sc.q[c] } else { 0.0 };
-                            }
-                        }
-                    } else {
-                        dw.iter_mut().for_each(|v| *v = 0.0);
-                        dp.iter_mut().for_each(|v| *v = 0.0);
-                    }
+                    &blk[..l]
                 }
+            };
+            if !train {
+                dw.iter_mut().for_each(|v| *v = 0.0);
+                dlaw.iter_mut().for_each(|v| *v = 0.0);
+                continue;
+            }
+            let w = &blk[wo..wo + l];
+            self.law
+                .rule
+                .derivative(i, phi, e, &blk[wo + l..], dw, dlaw, &mut sc.q[..l]);
+            if let (Robust::Switching | Robust::Smooth, Some(gain)) = (self.law.robust, self.law.rule.gain(i))
+            {
+                sigma::modify(self.zones[i], gain, self.law.sigma[i], w, dw, &mut sc.r[..l]);
             }
         }
     }
@@ -331,7 +256,8 @@ impl Identifier {
             }
             dblk[0] = -self.net.a[i] * xh + acc;
             let dw = &mut dblk[1..];
-            if let (true, Gain::Scalar(g)) = (train, &self.law.gamma[i]) {
+            // gradient::descend's arithmetic, on z_k = y[idx_k]
+            if let (true, Some(Gain::Scalar(g))) = (train, self.law.rule.gain(i)) {
                 let e = xh - chi[i];
                 for k in 0..l {
                     dw[k] = -(g * y[idx[k]] * e);
@@ -377,7 +303,8 @@ impl Identifier {
                 acc += blk[1 + k] * y[idx[k]];
             }
             dblk[0] = -self.net.a[i] * xh + acc;
-            if let (true, Gain::Scalar(g)) = (train, &self.law.gamma[i]) {
+            // gradient::descend's arithmetic, on z_k = y[idx_k]
+            if let (true, Some(Gain::Scalar(g))) = (train, self.law.rule.gain(i)) {
                 let e = xh - chi[i];
                 for k in 0..L {
                     dblk[1 + k] = -(g * y[idx[k]] * e);
@@ -405,8 +332,9 @@ impl Identifier {
         self.net.regressor(chi, u, &mut sc.y, &mut sc.z);
         let w = &s[i * b + 1..i * b + 1 + l];
         let e = sc.xhat[i] - chi[i];
-        self.law.gamma[i].apply(&sc.z[..l], &mut sc.q[..l]);
-        self.law.gamma[i].apply(w, &mut sc.r[..l]);
+        let gain = self.law.rule.gain(i).unwrap_or(&Gain::Scalar(1.0));
+        gain.apply(&sc.z[..l], &mut sc.q[..l]);
+        gain.apply(w, &mut sc.r[..l]);
         (dot(w, &sc.q[..l]) * e, dot(w, &sc.r[..l]))
     }
 
@@ -463,28 +391,9 @@ impl Identifier {
             return;
         }
         for i in 0..self.net.n {
-            let m2 = self.law.m[i] * self.law.m[i];
             let r2 = self.norm2(i, s);
-            // Both robust laws decide alike on the surface |w| = M: inside when the
-            // gradient points in, sliding on the sphere while the leakage would push
-            // back harder than the gradient pushes out, outside otherwise. For the
-            // switching law this is its Filippov solution (an event-located solver
-            // must slide there, or it chatters), which coincides with the smooth law;
-            // off the surface the two laws are the thesis's eq. 4.9 as written.
-            self.zones[i] = if r2 < m2 * (1.0 - 1e-9) {
-                Zone::Inside
-            } else if r2 > m2 * (1.0 + 1e-6) {
-                Zone::Outside
-            } else {
-                let (g, wgw) = self.robust_terms(i, chi, u, s, sc);
-                if g > 0.0 {
-                    Zone::Inside
-                } else if g >= -self.law.sigma[i] * wgw {
-                    Zone::Sphere
-                } else {
-                    Zone::Outside
-                }
-            };
+            let (m, sig) = (self.law.m[i], self.law.sigma[i]);
+            self.zones[i] = sigma::zone(r2, m, sig, || self.robust_terms(i, chi, u, s, sc));
         }
     }
 }

@@ -12,6 +12,14 @@
 //! (series-parallel: z from the measured states). The switching laws' discontinuity
 //! \|w_i\| = M_i is an event of the solver, not a source of chatter.
 //!
+//! Each law is one file implementing [`LearningLaw`] (continuous time for the identifier
+//! integrated with a plant, sampled for `rhonn fit` and sampled loops): [`gradient`],
+//! [`least_squares`]; the robust modifications [`sigma`] (switching, smooth) and
+//! [`projection`] (onto a ball) act on a gradient step. The filtered-error and
+//! filtered-regressor structures (how the regressor phi is formed from z) are the
+//! identifier's ([`Structure`]). Adding a law: one file implementing [`LearningLaw`], one
+//! arm in [`Rule`] and [`LawSpec`], and its test.
+//!
 //! Reference: Kosmatopoulos, Polycarpou, Christodoulou, Ioannou, IEEE TNN 6(2), 1995;
 //! Rovithakis, Christodoulou, *Adaptive Control with RHONNs*, 2000; Ioannou, Sun,
 //! *Robust Adaptive Control*, 1996.
@@ -19,116 +27,116 @@
 use crate::error::{invalid, Result};
 use serde::{Deserialize, Serialize};
 
-/// A learning gain as a scenario writes it: a scalar or a symmetric positive definite
-/// matrix (L x L).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
-pub enum GainSpec {
-    /// gamma I.
-    Scalar(f64),
-    /// A full matrix, rows.
-    Matrix(Vec<Vec<f64>>),
+mod gain;
+pub mod gradient;
+pub mod least_squares;
+pub mod projection;
+pub mod sigma;
+pub use gain::{Gain, GainSpec};
+pub use gradient::Gradient;
+pub use least_squares::LeastSquares;
+
+#[inline(always)]
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// A checked gain.
+/// A learning law: how one neuron's weights move given its regressor `phi` and its error
+/// `e = estimate - measurement` (every law descends `e^2`). A law may keep states of
+/// its own per neuron (a covariance); `work` is scratch of the regressor's length.
+pub trait LearningLaw {
+    /// The law's name.
+    fn name(&self) -> &'static str;
+    /// States per neuron besides the weights, for `l` regressor terms.
+    fn law_states(&self, _l: usize) -> usize {
+        0
+    }
+    /// Set (or reset) neuron `neuron`'s law states.
+    fn init(&self, _neuron: usize, _l: usize, _states: &mut [f64]) {}
+    /// Continuous time: `dw/dt` and the law states' derivative.
+    #[allow(clippy::too_many_arguments)]
+    fn derivative(
+        &self,
+        neuron: usize,
+        phi: &[f64],
+        e: f64,
+        states: &[f64],
+        dw: &mut [f64],
+        dstates: &mut [f64],
+        work: &mut [f64],
+    );
+    /// Sampled: one update of the weights and the law states for one sample.
+    fn update(&self, neuron: usize, phi: &[f64], e: f64, w: &mut [f64], states: &mut [f64], work: &mut [f64]);
+}
+
+/// The learning laws a scenario can name, each one file.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Gain {
-    /// gamma I.
-    Scalar(f64),
-    /// Row-major L x L, symmetric positive definite.
-    Matrix(Vec<f64>),
+pub enum Rule {
+    /// [`gradient`].
+    Gradient(Gradient),
+    /// [`least_squares`].
+    LeastSquares(LeastSquares),
 }
 
-impl Gain {
-    /// out = Gain v.
-    #[inline]
-    pub fn apply(&self, v: &[f64], out: &mut [f64]) {
+impl Rule {
+    fn law(&self) -> &dyn LearningLaw {
         match self {
-            Gain::Scalar(g) => {
-                for (o, x) in out.iter_mut().zip(v) {
-                    *o = g * x;
-                }
-            }
-            Gain::Matrix(m) => {
-                let l = v.len();
-                for r in 0..l {
-                    out[r] = (0..l).map(|c| m[r * l + c] * v[c]).sum();
-                }
-            }
+            Rule::Gradient(g) => g,
+            Rule::LeastSquares(l) => l,
         }
     }
 
-    fn check(spec: &GainSpec, l: usize, field: &str) -> Result<Gain> {
-        match spec {
-            GainSpec::Scalar(g) => {
-                if g.is_finite() && *g > 0.0 {
-                    Ok(Gain::Scalar(*g))
-                } else {
-                    Err(invalid(
-                        field,
-                        g,
-                        "a gain > 0, or an L x L symmetric positive definite matrix",
-                    ))
-                }
+    /// Scalar gains of a gradient law (the identifier's fast paths), or None.
+    pub fn scalar_gains(&self) -> Option<impl Iterator<Item = f64> + '_> {
+        match self {
+            Rule::Gradient(g) if g.gamma.iter().all(|g| matches!(g, Gain::Scalar(_))) => {
+                Some(g.gamma.iter().map(|g| match g {
+                    Gain::Scalar(s) => *s,
+                    Gain::Matrix(_) => unreachable!("checked above"),
+                }))
             }
-            GainSpec::Matrix(rows) => {
-                if rows.len() != l || rows.iter().any(|r| r.len() != l) {
-                    return Err(invalid(
-                        field,
-                        format!("{} rows", rows.len()),
-                        format!("a {l} x {l} matrix (L = {l} terms)"),
-                    ));
-                }
-                let m: Vec<f64> = rows.iter().flatten().copied().collect();
-                for r in 0..l {
-                    for c in 0..l {
-                        if !m[r * l + c].is_finite()
-                            || (m[r * l + c] - m[c * l + r]).abs() > 1e-12 * m[r * l + c].abs().max(1.0)
-                        {
-                            return Err(invalid(
-                                format!("{field}[{r}][{c}]"),
-                                m[r * l + c],
-                                "a finite, symmetric matrix",
-                            ));
-                        }
-                    }
-                }
-                if !cholesky_ok(&m, l) {
-                    return Err(invalid(
-                        field,
-                        "the matrix",
-                        "positive definite (its Cholesky factorisation fails)",
-                    ));
-                }
-                Ok(Gain::Matrix(m))
-            }
+            _ => None,
+        }
+    }
+
+    /// Neuron i's gain of a gradient law.
+    pub fn gain(&self, i: usize) -> Option<&Gain> {
+        match self {
+            Rule::Gradient(g) => g.gamma.get(i),
+            Rule::LeastSquares(_) => None,
         }
     }
 }
 
-/// Whether a symmetric matrix is positive definite (Cholesky; L is small, so a few
-/// lines here beat a linear-algebra dependency).
-fn cholesky_ok(m: &[f64], l: usize) -> bool {
-    let mut c = vec![0.0; l * l];
-    for j in 0..l {
-        let mut d = m[j * l + j];
-        for k in 0..j {
-            d -= c[j * l + k] * c[j * l + k];
-        }
-        if !(d > 0.0) {
-            return false;
-        }
-        let d = d.sqrt();
-        c[j * l + j] = d;
-        for i in j + 1..l {
-            let mut s = m[i * l + j];
-            for k in 0..j {
-                s -= c[i * l + k] * c[j * l + k];
-            }
-            c[i * l + j] = s / d;
+impl LearningLaw for Rule {
+    fn name(&self) -> &'static str {
+        self.law().name()
+    }
+    fn law_states(&self, l: usize) -> usize {
+        self.law().law_states(l)
+    }
+    fn init(&self, neuron: usize, l: usize, states: &mut [f64]) {
+        self.law().init(neuron, l, states)
+    }
+    #[inline]
+    fn derivative(
+        &self,
+        i: usize,
+        phi: &[f64],
+        e: f64,
+        s: &[f64],
+        dw: &mut [f64],
+        ds: &mut [f64],
+        work: &mut [f64],
+    ) {
+        match self {
+            Rule::Gradient(g) => g.derivative(i, phi, e, s, dw, ds, work),
+            Rule::LeastSquares(l) => l.derivative(i, phi, e, s, dw, ds, work),
         }
     }
-    true
+    fn update(&self, i: usize, phi: &[f64], e: f64, w: &mut [f64], s: &mut [f64], work: &mut [f64]) {
+        self.law().update(i, phi, e, w, s, work)
+    }
 }
 
 /// A learning law as a scenario writes it (`kind` names it). Per-neuron lists have one
@@ -174,18 +182,17 @@ pub enum LawSpec {
     },
 }
 
-/// The structure a law gives each neuron's states.
+/// How a neuron's regressor and model state are formed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Structure {
-    /// \[x_i, w_i\].
+    /// States \[x_i, w_i, law states\]: `dx_i = -a_i x_i + w_i^T z`, phi = z.
     FilteredError,
-    /// \[zeta_i, w_i\].
+    /// States \[zeta_i, w_i, law states\]: `dzeta_i = -a_i zeta_i + z`,
+    /// `x_i = w_i^T zeta_i`, phi = zeta.
     FilteredRegressor,
-    /// \[zeta_i, w_i, P_i\].
-    LeastSquares,
 }
 
-/// Robust modification.
+/// Robust modification of a gradient law ([`sigma`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Robust {
     /// None.
@@ -201,15 +208,11 @@ pub enum Robust {
 pub struct Law {
     /// Its name in scenario files.
     pub name: &'static str,
-    /// State structure.
+    /// How the regressor is formed.
     pub structure: Structure,
-    /// Gains per neuron (gradient laws).
-    pub gamma: Vec<Gain>,
-    /// P_i(0) scale per neuron (least squares).
-    pub p0: Vec<f64>,
-    /// Covariance floor per neuron (least squares).
-    pub floor: Vec<f64>,
-    /// Robust modification.
+    /// The weight update.
+    pub rule: Rule,
+    /// Robust modification (gradient laws).
     pub robust: Robust,
     /// Radii M_i.
     pub m: Vec<f64>,
@@ -255,28 +258,24 @@ impl LawSpec {
                 &format!("{field}.sigma"),
             )
         };
-        let base = Law {
-            name: "",
-            structure: Structure::FilteredError,
-            gamma: vec![],
-            p0: vec![],
-            floor: vec![],
+        let gradient = |g: &[GainSpec]| -> Result<Rule> { Ok(Rule::Gradient(Gradient { gamma: gains(g)? })) };
+        let base = |name, structure, rule| Law {
+            name,
+            structure,
+            rule,
             robust: Robust::None,
             m: vec![],
             sigma: vec![],
         };
         Ok(match self {
-            LawSpec::FilteredError { gamma } => Law {
-                name: "filtered-error",
-                gamma: gains(gamma)?,
-                ..base
-            },
-            LawSpec::FilteredRegressorGradient { gamma } => Law {
-                name: "filtered-regressor-gradient",
-                structure: Structure::FilteredRegressor,
-                gamma: gains(gamma)?,
-                ..base
-            },
+            LawSpec::FilteredError { gamma } => {
+                base("filtered-error", Structure::FilteredError, gradient(gamma)?)
+            }
+            LawSpec::FilteredRegressorGradient { gamma } => base(
+                "filtered-regressor-gradient",
+                Structure::FilteredRegressor,
+                gradient(gamma)?,
+            ),
             LawSpec::FilteredRegressorLs { p0, floor } => {
                 positive(per_neuron(p0, n, &format!("{field}.p0"))?, &format!("{field}.p0"))?;
                 let floor = match floor {
@@ -289,34 +288,31 @@ impl LawSpec {
                     }
                     None => p0.iter().map(|p| 1e-6 * p).collect(),
                 };
-                Law {
-                    name: "filtered-regressor-ls",
-                    structure: Structure::LeastSquares,
-                    p0: p0.clone(),
-                    floor,
-                    ..base
-                }
+                base(
+                    "filtered-regressor-ls",
+                    Structure::FilteredRegressor,
+                    Rule::LeastSquares(LeastSquares {
+                        p0: p0.clone(),
+                        floor,
+                    }),
+                )
             }
             LawSpec::SigmaSwitching { gamma, m, sigma } => {
                 robust(m, sigma)?;
                 Law {
-                    name: "sigma-switching",
-                    gamma: gains(gamma)?,
                     robust: Robust::Switching,
                     m: m.clone(),
                     sigma: sigma.clone(),
-                    ..base
+                    ..base("sigma-switching", Structure::FilteredError, gradient(gamma)?)
                 }
             }
             LawSpec::SigmaSmooth { gamma, m, sigma } => {
                 robust(m, sigma)?;
                 Law {
-                    name: "sigma-smooth",
-                    gamma: gains(gamma)?,
                     robust: Robust::Smooth,
                     m: m.clone(),
                     sigma: sigma.clone(),
-                    ..base
+                    ..base("sigma-smooth", Structure::FilteredError, gradient(gamma)?)
                 }
             }
         })
@@ -335,13 +331,13 @@ mod tests {
         .check(1, 2, "identifier.law")
         .unwrap();
         let mut out = [0.0; 2];
-        l.gamma[0].apply(&[1.0, 3.0], &mut out);
+        l.rule.gain(0).unwrap().apply(&[1.0, 3.0], &mut out);
         assert_eq!(out, [2.0, 6.0]);
         let pd = GainSpec::Matrix(vec![vec![2.0, 1.0], vec![1.0, 2.0]]);
         let l = LawSpec::FilteredError { gamma: vec![pd] }
             .check(1, 2, "identifier.law")
             .unwrap();
-        l.gamma[0].apply(&[1.0, 1.0], &mut out);
+        l.rule.gain(0).unwrap().apply(&[1.0, 1.0], &mut out);
         assert_eq!(out, [3.0, 3.0]);
         let not_pd = GainSpec::Matrix(vec![vec![1.0, 2.0], vec![2.0, 1.0]]);
         let e = LawSpec::FilteredError { gamma: vec![not_pd] }

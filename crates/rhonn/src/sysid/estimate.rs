@@ -2,6 +2,7 @@
 //! epochs, and the free-run (simulation-error) refinement by Levenberg-Marquardt.
 
 use super::*;
+use crate::law::{Gradient, LearningLaw, LeastSquares, Rule};
 
 /// Free-run residuals (normalised units) of `m` over `records`, appended to `out`.
 pub(super) fn free_run_residuals(m: &Model, records: &[Record], horizon: Option<usize>, out: &mut Vec<f64>) {
@@ -150,27 +151,29 @@ pub(super) fn recursive(
     gain: Option<f64>,
 ) -> Vec<Vec<f64>> {
     let nf = rows[0].len();
+    // One neuron per output; normalised gradient or recursive least squares with
+    // P reset to 1e3 I each epoch (the library's laws, sampled).
+    let rule = match gain {
+        Some(g) => Rule::Gradient(Gradient::scalar(g, 1)),
+        None => Rule::LeastSquares(LeastSquares {
+            p0: vec![1e3],
+            floor: vec![0.0],
+        }),
+    };
+    let mut p = vec![0.0; rule.law_states(nf)];
+    let mut work = vec![0.0; nf];
     targets
         .iter()
         .map(|y| {
-            let mut w = DVector::<f64>::zeros(nf);
+            let mut w = vec![0.0; nf];
             for _ in 0..epochs {
-                let mut p = DMatrix::<f64>::identity(nf, nf) * 1e3;
+                rule.init(0, nf, &mut p);
                 for (row, &yk) in rows.iter().zip(y) {
-                    let phi = DVector::from_column_slice(row);
-                    let e = yk - w.dot(&phi);
-                    match gain {
-                        Some(g) => w += &phi * (g * e / (1.0 + phi.dot(&phi))),
-                        None => {
-                            let pphi = &p * &phi;
-                            let den = 1.0 + phi.dot(&pphi);
-                            w += &pphi * (e / den);
-                            p -= &pphi * pphi.transpose() / den;
-                        }
-                    }
+                    let e = crate::law::dot(&w, row) - yk;
+                    rule.update(0, row, e, &mut w, &mut p, &mut work);
                 }
             }
-            w.iter().copied().collect()
+            w
         })
         .collect()
 }

@@ -141,7 +141,7 @@ pub fn fit_ensemble(
     let baseline = if spec.kind != Kind::Arx {
         let arx = ModelSpec {
             kind: Kind::Arx,
-            law: Law::BatchLs,
+            law: Estimator::BatchLs,
             ridge: 1e-9,
             ..spec.clone()
         };

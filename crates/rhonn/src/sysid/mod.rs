@@ -60,7 +60,7 @@ pub enum Kind {
 /// Training law.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
-pub enum Law {
+pub enum Estimator {
     /// Ridge least squares over all data.
     #[default]
     BatchLs,
@@ -93,7 +93,7 @@ pub struct ModelSpec {
     /// Most distinct factors per term (rhonn; default 2).
     pub max_factors: usize,
     /// Training law.
-    pub law: Law,
+    pub law: Estimator,
     /// Ridge weight of batch least squares, relative to the mean diagonal (default 1e-6).
     pub ridge: f64,
     /// Epochs (rls, gradient; default 20).
@@ -144,7 +144,7 @@ impl Default for ModelSpec {
             nk: 1,
             degree: 2,
             max_factors: 2,
-            law: Law::BatchLs,
+            law: Estimator::BatchLs,
             ridge: 1e-6,
             epochs: 20,
             gain: 0.5,
@@ -236,12 +236,15 @@ impl ModelSpec {
             int_in("neurons", self.neurons, 1, 4)?;
             int_in("starts", self.starts, 1, 10_000)?;
             int_in("settle", self.settle, 2, 1000)?;
-            if matches!(self.law, Law::Rls | Law::Gradient | Law::MultiStep) {
+            if matches!(
+                self.law,
+                Estimator::Rls | Estimator::Gradient | Estimator::MultiStep
+            ) {
                 return Err(invalid(
                     "model.law",
                     match self.law {
-                        Law::Rls => "rls",
-                        Law::Gradient => "gradient",
+                        Estimator::Rls => "rls",
+                        Estimator::Gradient => "gradient",
                         _ => "multi-step",
                     },
                     "simulation-error (a `cascade` model is always trained on its free-run error)",
@@ -780,14 +783,16 @@ fn fit_weights(mut model: Model, records: &[Record]) -> Result<Model> {
         }
     }
     let weights = match spec.law {
-        Law::BatchLs | Law::SimulationError | Law::MultiStep => batch_ls(&rows, &targets, spec.ridge)?,
-        Law::Rls => recursive(&rows, &targets, spec.epochs, None),
-        Law::Gradient => recursive(&rows, &targets, spec.epochs, Some(spec.gain)),
+        Estimator::BatchLs | Estimator::SimulationError | Estimator::MultiStep => {
+            batch_ls(&rows, &targets, spec.ridge)?
+        }
+        Estimator::Rls => recursive(&rows, &targets, spec.epochs, None),
+        Estimator::Gradient => recursive(&rows, &targets, spec.epochs, Some(spec.gain)),
     };
     model.weights = weights;
     match spec.law {
-        Law::SimulationError => simulation_error(&mut model, records, None),
-        Law::MultiStep => simulation_error(&mut model, records, Some(spec.horizon)),
+        Estimator::SimulationError => simulation_error(&mut model, records, None),
+        Estimator::MultiStep => simulation_error(&mut model, records, Some(spec.horizon)),
         _ => {}
     }
     Ok(model)

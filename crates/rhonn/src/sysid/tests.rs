@@ -242,7 +242,7 @@ fn simulation_and_multi_step_training_lower_their_own_criterion_below_least_squa
     let ls = fit(&base, std::slice::from_ref(&data), &i, &o).unwrap();
     let se = fit(
         &ModelSpec {
-            law: Law::SimulationError,
+            law: Estimator::SimulationError,
             ..base.clone()
         },
         std::slice::from_ref(&data),
@@ -252,7 +252,7 @@ fn simulation_and_multi_step_training_lower_their_own_criterion_below_least_squa
     .unwrap();
     let ms = fit(
         &ModelSpec {
-            law: Law::MultiStep,
+            law: Estimator::MultiStep,
             horizon: 5,
             ..base.clone()
         },
@@ -383,7 +383,7 @@ fn recursive_laws_approach_batch_least_squares() {
     let w_ls = fit(&base, &data, &i, &o).unwrap().weights;
     let w_rls = fit(
         &ModelSpec {
-            law: Law::Rls,
+            law: Estimator::Rls,
             epochs: 3,
             ..base.clone()
         },
@@ -395,7 +395,7 @@ fn recursive_laws_approach_batch_least_squares() {
     .weights;
     let w_g = fit(
         &ModelSpec {
-            law: Law::Gradient,
+            law: Estimator::Gradient,
             epochs: 200,
             ..base.clone()
         },
