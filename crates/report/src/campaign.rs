@@ -6,6 +6,7 @@
 //! resumes it; at the end `DIR/runs.csv` holds every row sorted by run index (the same
 //! bytes whatever the thread count or sharding) and `DIR/summary.json` the statistics.
 
+use crate::campaign_plots::{envelope_files, histograms};
 use crate::Error;
 use rayon::prelude::*;
 use rhonn::experiment::campaign::{
@@ -95,7 +96,7 @@ fn header(spec: &ScenarioSpec) -> Vec<String> {
 }
 
 /// `traces.csv`'s header: the run, the series, then the envelope grid's times [s].
-fn traces_header(spec: &ScenarioSpec) -> Vec<String> {
+pub(crate) fn traces_header(spec: &ScenarioSpec) -> Vec<String> {
     let mut h = vec!["run".to_string(), "series".to_string()];
     h.extend(envelope_grid(spec).1.iter().map(|t| t.to_string()));
     h
@@ -136,7 +137,7 @@ fn record(spec: &ScenarioSpec, r: &RunRow) -> Vec<String> {
 
 /// A run's row, its CSV fields, and its trace rows (kept as read, so that a merge or a
 /// resume writes the same bytes).
-type Row = (RunRow, Vec<String>, Vec<Vec<String>>);
+pub(crate) type Row = (RunRow, Vec<String>, Vec<Vec<String>>);
 
 /// Read the rows of a `runs.csv` or `runs.partial.csv` (the header must match).
 fn read_rows(path: &Path, spec: &ScenarioSpec, notes: &mut Vec<String>) -> Result<Vec<Row>> {
@@ -284,87 +285,7 @@ fn finish(
     }
     let (_, grid) = envelope_grid(spec);
     let env = envelopes(&rows, grid.len());
-    let mut traces_buf = Vec::new();
-    let mut env_buf = Vec::new();
-    let mut env_svg = None;
-    if !env.is_empty() {
-        let mut w = csv::Writer::from_writer(&mut traces_buf);
-        w.write_record(traces_header(spec))?;
-        for t in rows.iter().flat_map(|r| r.2.iter()) {
-            w.write_record(t)?;
-        }
-        w.flush().map_err(csv::Error::from)?;
-        drop(w);
-        let sc = spec.check()?;
-        let p_ref: Option<Vec<f64>> = sc.drive.setpoint().map(|sp| {
-            grid.iter()
-                .map(|&t| sp.eval(t) / rhonn::units::PA_PER_MPA)
-                .collect()
-        });
-        let mut w = csv::Writer::from_writer(&mut env_buf);
-        let mut h = vec!["t".to_string()];
-        for (name, _, _) in &env {
-            for q in ["min", "q05", "median", "q95", "max"] {
-                h.push(format!("{name}_{q}_mpa"));
-            }
-        }
-        if p_ref.is_some() {
-            h.push("p_ref_mpa".into());
-        }
-        w.write_record(&h)?;
-        for (k, t) in grid.iter().enumerate() {
-            let mut r = vec![t.to_string()];
-            for (_, e, _) in &env {
-                for v in [&e.min, &e.q05, &e.median, &e.q95, &e.max] {
-                    r.push(format!("{:.4}", v[k]));
-                }
-            }
-            if let Some(p) = &p_ref {
-                r.push(p[k].to_string());
-            }
-            w.write_record(&r)?;
-        }
-        w.flush().map_err(csv::Error::from)?;
-        drop(w);
-        let label = |n: &str| match n {
-            "p_line" if p_ref.is_some() && env.len() > 1 => "p_line (RHONN adaptive)".to_string(),
-            "p_line_pi" => "p_line (PI baseline)".to_string(),
-            n => n.to_string(),
-        };
-        // The PI first, so that the adaptive controller's band lies on top.
-        let mut bands: Vec<crate::Band> = env
-            .iter()
-            .map(|(n, e, _)| crate::Band {
-                label: label(n),
-                envelope: e.clone(),
-            })
-            .collect();
-        bands.reverse();
-        let mut lines = Vec::new();
-        if let Some(p) = &p_ref {
-            lines.push(crate::Series {
-                label: "set-point".into(),
-                y: p.clone(),
-                dashed: true,
-            });
-        }
-        lines.push(crate::Series {
-            label: "P_min".into(),
-            y: vec![spec.plant.p_min_mpa; grid.len()],
-            dashed: true,
-        });
-        let n_tr = env[0].2;
-        env_svg = Some(
-            crate::EnvelopePlot {
-                title: format!("{}: line pressure over {n_tr} runs", file.scenario),
-                y_label: "line pressure [MPa]".into(),
-                t: grid.clone(),
-                bands,
-                lines,
-            }
-            .render(1200, 600),
-        );
-    }
+    let env_files = envelope_files(spec, file, &rows, &grid, &env)?;
     let envelope_runs = env.iter().map(|(n, _, k)| (n.clone(), *k)).collect();
     let rows: Vec<RunRow> = rows.into_iter().map(|r| r.0).collect();
     let names = figure_names(spec);
@@ -397,36 +318,9 @@ fn finish(
         serde_json::to_writer_pretty(&mut *w, file).map_err(std::io::Error::other)?;
         writeln!(w)
     })?;
-    // Histograms of the figures that judge a controller (or every figure otherwise).
-    let key = |n: &str| {
-        [
-            "ise_mpa2_s",
-            "max_abs_deviation_settled_mpa",
-            "time_below_p_min_after_1s_s",
-            "pi_ise_mpa2_s",
-            "pi_max_abs_deviation_settled_mpa",
-            "pi_time_below_p_min_after_1s_s",
-        ]
-        .contains(&n)
-            || n.ends_with("fit_percent")
-    };
-    let any_key = names.iter().any(|n| key(n));
-    let panels: Vec<crate::Histogram> = names
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| !any_key || key(n))
-        .map(|(k, n)| crate::Histogram {
-            title: format!("{}: {n}", file.scenario),
-            x_label: n.clone(),
-            values: rows
-                .iter()
-                .filter_map(|r| r.outcome.as_ref().ok().map(|f| f[k]))
-                .collect(),
-        })
-        .collect();
-    let svg = crate::Histogram::render(&panels, 3, 30);
+    let svg = histograms(&names, &rows, &file.scenario);
     out.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
-    if let Some(svg) = env_svg {
+    if let Some((traces_buf, env_buf, svg)) = env_files {
         out.write("traces.csv", |w| w.write_all(&traces_buf))?;
         out.write("envelope.csv", |w| w.write_all(&env_buf))?;
         out.write("envelope.svg", |w| w.write_all(svg.as_bytes()))?;
@@ -513,6 +407,56 @@ pub struct CampaignOutcome {
     pub notes: Vec<String>,
 }
 
+/// Write the partial files afresh with the rows already done.
+fn rewrite_partial(
+    spec: &ScenarioSpec,
+    partial: &Path,
+    partial_tr: &Path,
+    done: &[Row],
+) -> std::result::Result<(), csv::Error> {
+    let mut w = csv::Writer::from_path(partial)?;
+    w.write_record(header(spec))?;
+    let mut wt = csv::Writer::from_path(partial_tr)?;
+    wt.write_record(traces_header(spec))?;
+    for (_, rec, tr) in done {
+        w.write_record(rec)?;
+        for t in tr {
+            wt.write_record(t)?;
+        }
+    }
+    w.flush().map_err(csv::Error::from)?;
+    wt.flush()?;
+    Ok(())
+}
+
+/// The partial files open for appending, and the runs counted so far.
+struct Appender {
+    w: csv::Writer<std::fs::File>,
+    wt: csv::Writer<std::fs::File>,
+    n: usize,
+    failed: usize,
+    err: Option<std::io::Error>,
+}
+
+impl Appender {
+    fn open(partial: &Path, partial_tr: &Path) -> Result<Self> {
+        let append = |p: &Path| -> Result<csv::Writer<std::fs::File>> {
+            let f = std::fs::OpenOptions::new()
+                .append(true)
+                .open(p)
+                .ctx(|| format!("cannot append to {}", p.display()))?;
+            Ok(csv::WriterBuilder::new().has_headers(false).from_writer(f))
+        };
+        Ok(Appender {
+            w: append(partial)?,
+            wt: append(partial_tr)?,
+            n: 0,
+            failed: 0,
+            err: None,
+        })
+    }
+}
+
 /// Run (or resume) the campaign `o` of the scenario `spec` in the folder `dir`:
 /// `campaign.json` first, each finished run appended to `runs.partial.csv` (and its
 /// traces to `traces.partial.csv`) and flushed, then `runs.csv`, `summary.json`,
@@ -593,45 +537,11 @@ pub fn run_campaign(
         .collect();
     // Rewrite the partial files from their complete rows (a row cut by a kill is
     // dropped), then append each finished run, its traces first, and flush.
-    let rewrite = || -> std::result::Result<(), csv::Error> {
-        let mut w = csv::Writer::from_path(&partial)?;
-        w.write_record(header(&spec))?;
-        let mut wt = csv::Writer::from_path(&partial_tr)?;
-        wt.write_record(traces_header(&spec))?;
-        for (_, rec, tr) in &done {
-            w.write_record(rec)?;
-            for t in tr {
-                wt.write_record(t)?;
-            }
-        }
-        w.flush().map_err(csv::Error::from)?;
-        wt.flush()?;
-        Ok(())
-    };
-    rewrite().ctx(|| format!("cannot write {}", partial.display()))?;
-    let append = |p: &Path| -> Result<csv::Writer<std::fs::File>> {
-        let f = std::fs::OpenOptions::new()
-            .append(true)
-            .open(p)
-            .ctx(|| format!("cannot append to {}", p.display()))?;
-        Ok(csv::WriterBuilder::new().has_headers(false).from_writer(f))
-    };
-    struct Appender {
-        w: csv::Writer<std::fs::File>,
-        wt: csv::Writer<std::fs::File>,
-        n: usize,
-        failed: usize,
-        err: Option<std::io::Error>,
-    }
+    rewrite_partial(&spec, &partial, &partial_tr, &done)
+        .ctx(|| format!("cannot write {}", partial.display()))?;
     let start = Instant::now();
     let total = todo.len();
-    let state = Mutex::new(Appender {
-        w: append(&partial)?,
-        wt: append(&partial_tr)?,
-        n: 0,
-        failed: 0,
-        err: None,
-    });
+    let state = Mutex::new(Appender::open(&partial, &partial_tr)?);
     let new_rows: Vec<Row> = todo
         .par_iter()
         .map(|&i| {

@@ -17,6 +17,7 @@ rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &output)
 
 mod atomic;
 pub mod campaign;
+mod campaign_plots;
 mod csv_out;
 mod data_in;
 pub mod plant_campaign;

@@ -15,6 +15,26 @@ pub struct Series {
     pub dashed: bool,
 }
 
+impl Series {
+    /// A solid line (a signal).
+    pub fn solid(label: impl Into<String>, y: Vec<f64>) -> Self {
+        Series {
+            label: label.into(),
+            y,
+            dashed: false,
+        }
+    }
+
+    /// A dashed line (a reference or a limit).
+    pub fn dashed(label: impl Into<String>, y: Vec<f64>) -> Self {
+        Series {
+            label: label.into(),
+            y,
+            dashed: true,
+        }
+    }
+}
+
 /// One panel: series against a shared time axis.
 #[derive(Debug, Clone)]
 pub struct TimePlot {
@@ -419,39 +439,22 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
     let name = &summary.scenario.name;
     let p_min = summary.scenario.plant.p_min_mpa;
     let adaptive = trace.column("p_line_pi").is_some();
-    let mut p_series = vec![Series {
-        label: if adaptive {
+    let mut p_series = vec![Series::solid(
+        if adaptive {
             "p_line (RHONN adaptive)"
         } else {
             "p_line"
-        }
-        .into(),
-        y: col("p_line", PA_PER_MPA).unwrap_or_default(),
-        dashed: false,
-    }];
+        },
+        col("p_line", PA_PER_MPA).unwrap_or_default(),
+    )];
     if let Some(p) = col("p_line_pi", PA_PER_MPA) {
         // Drawn first, so that the adaptive controller's line lies on top.
-        p_series.insert(
-            0,
-            Series {
-                label: "p_line (PI baseline)".into(),
-                y: p,
-                dashed: false,
-            },
-        );
+        p_series.insert(0, Series::solid("p_line (PI baseline)", p));
     }
     if let Some(r) = col("p_ref", PA_PER_MPA) {
-        p_series.push(Series {
-            label: "set-point".into(),
-            y: r,
-            dashed: true,
-        });
+        p_series.push(Series::dashed("set-point", r));
     }
-    p_series.push(Series {
-        label: "P_min".into(),
-        y: vec![p_min; t.len()],
-        dashed: true,
-    });
+    p_series.push(Series::dashed("P_min", vec![p_min; t.len()]));
     let pressure = TimePlot {
         title: format!("{name}: line pressure"),
         y_label: "line pressure [MPa]".into(),
@@ -464,22 +467,16 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
         t: t.clone(),
         series: Vec::new(),
     };
-    let mut i_series = vec![Series {
-        label: if adaptive {
+    let mut i_series = vec![Series::solid(
+        if adaptive {
             "current (RHONN adaptive)"
         } else {
             "current"
-        }
-        .into(),
-        y: col("current", 1.0).unwrap_or_default(),
-        dashed: false,
-    }];
+        },
+        col("current", 1.0).unwrap_or_default(),
+    )];
     if let Some(i) = col("current_pi", 1.0) {
-        i_series.push(Series {
-            label: "current (PI baseline)".into(),
-            y: i,
-            dashed: false,
-        });
+        i_series.push(Series::solid("current (PI baseline)", i));
     }
     let current = TimePlot {
         title: format!("{name}: solenoid current"),
@@ -487,16 +484,14 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
         t: t.clone(),
         series: i_series,
     };
-    let mut x_series = vec![Series {
-        label: if adaptive {
+    let mut x_series = vec![Series::solid(
+        if adaptive {
             "stroke (RHONN adaptive)"
         } else {
             "stroke"
-        }
-        .into(),
-        y: col("stroke", M_PER_MM).unwrap_or_default(),
-        dashed: false,
-    }];
+        },
+        col("stroke", M_PER_MM).unwrap_or_default(),
+    )];
     for (c, label) in [
         ("stroke_ref", "stroke reference x_d"),
         ("stroke_pi", "stroke (PI baseline)"),
@@ -531,11 +526,10 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
         title: format!("{name}: demanded flow"),
         y_label: "demand [dm^3/s]".into(),
         t,
-        series: vec![Series {
-            label: "demand".into(),
-            y: col("demand", M3_PER_DM3).unwrap_or_default(),
-            dashed: false,
-        }],
+        series: vec![Series::solid(
+            "demand",
+            col("demand", M3_PER_DM3).unwrap_or_default(),
+        )],
     };
     let stroke = TimePlot {
         series: x_series,
@@ -587,27 +581,15 @@ pub fn plot_identification(
             title: format!("{name}: identification error of the {label}"),
             y_label: format!("{col}_hat - {col} [{unit}]"),
             t: t.to_vec(),
-            series: vec![Series {
-                label: "error".into(),
-                y: e.clone(),
-                dashed: false,
-            }],
+            series: vec![Series::solid("error", e.clone())],
         });
         states.push(TimePlot {
             title: format!("{name}: {label}, actual and identified"),
             y_label: format!("{label} [{unit}]"),
             t: t.to_vec(),
             series: vec![
-                Series {
-                    label: col.into(),
-                    y: y.clone(),
-                    dashed: false,
-                },
-                Series {
-                    label: hat.clone(),
-                    y: yh.clone(),
-                    dashed: true,
-                },
+                Series::solid(col, y.clone()),
+                Series::dashed(hat.clone(), yh.clone()),
             ],
         });
         if col == "p_line" {
@@ -616,11 +598,7 @@ pub fn plot_identification(
                 title: format!("{name}: pressure error, first 0.12 s"),
                 y_label: "p_line_hat - p_line [MPa]".into(),
                 t: t[..n1].to_vec(),
-                series: vec![Series {
-                    label: "error".into(),
-                    y: e[..n1].to_vec(),
-                    dashed: false,
-                }],
+                series: vec![Series::solid("error", e[..n1].to_vec())],
             });
             let n2 = t.iter().take_while(|&&v| v <= 1.2 + 1e-12).count();
             zoom.push(TimePlot {
@@ -628,16 +606,8 @@ pub fn plot_identification(
                 y_label: "line pressure [MPa]".into(),
                 t: t[..n2].to_vec(),
                 series: vec![
-                    Series {
-                        label: "p_line".into(),
-                        y: y[..n2].to_vec(),
-                        dashed: false,
-                    },
-                    Series {
-                        label: "p_line_hat".into(),
-                        y: yh[..n2].to_vec(),
-                        dashed: true,
-                    },
+                    Series::solid("p_line", y[..n2].to_vec()),
+                    Series::dashed("p_line_hat", yh[..n2].to_vec()),
                 ],
             });
         }
@@ -654,21 +624,9 @@ pub fn plot_identification(
                     y_label: format!("{label} [{unit}]"),
                     t: vt.to_vec(),
                     series: vec![
-                        Series {
-                            label: col.into(),
-                            y: sc(vy),
-                            dashed: false,
-                        },
-                        Series {
-                            label: "series-parallel".into(),
-                            y: sc(sp),
-                            dashed: true,
-                        },
-                        Series {
-                            label: "parallel (free run)".into(),
-                            y: sc(par),
-                            dashed: true,
-                        },
+                        Series::solid(col, sc(vy)),
+                        Series::dashed("series-parallel", sc(sp)),
+                        Series::dashed("parallel (free run)", sc(par)),
                     ],
                 });
             }
@@ -723,11 +681,7 @@ mod tests {
             title: "x".into(),
             y_label: "line pressure [MPa]".into(),
             t: vec![0.0, 1.0, 2.0],
-            series: vec![Series {
-                label: "p".into(),
-                y: vec![1.0, 2.0, 1.5],
-                dashed: false,
-            }],
+            series: vec![Series::solid("p", vec![1.0, 2.0, 1.5])],
         };
         let svg = TimePlot::render(&[p], 400, 300);
         assert!(svg.starts_with("<svg"));

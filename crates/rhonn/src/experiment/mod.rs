@@ -9,6 +9,7 @@ mod integrated;
 mod plant_run;
 mod plant_scenario;
 pub mod preset;
+mod pump_loop;
 mod run;
 mod scenario;
 mod trace;

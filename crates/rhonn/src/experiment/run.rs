@@ -6,16 +6,14 @@ pub use super::figures::*;
 use super::ident_figures::IdentAcc;
 pub use super::ident_figures::*;
 pub use super::integrated::Integrated;
+use super::pump_loop::{act, OutputClock, Sensors};
 use super::scenario::{AdaptiveSettings, Drive, ProfileSpec, Scenario, SolverSettings};
 use super::trace::{Column, NoRecorder, Recorder, Sample, Trace};
 use crate::control::{Controller, Pi, RhonnCascade};
 use crate::error::{Error, Result};
 use crate::ident::{FrozenPair, IdentSettings, Identified, Mode};
 use crate::plant::{Input, PumpSystem, SignalRef, CURRENT_EFF, PLANT_DIM, P_LINE, STROKE};
-use crate::signal::Signal;
 use crate::units::*;
-use rand::SeedableRng;
-use rand_distr::{Distribution, Normal};
 use rhonn_ode::{Dopri5, Options, Profile, State, Stats, System};
 
 fn solver_error(e: rhonn_ode::Error, t: f64, x: &[f64]) -> Error {
@@ -51,7 +49,7 @@ pub fn solver_options<S: rhonn_ode::State>(s: &SolverSettings, dim: usize) -> Op
 
 /// The sampled controller of one simulation: none (open loop: the current is a
 /// profile), or a [`Controller`] on the measured states.
-enum Ctl {
+pub(super) enum Ctl {
     Open,
     Closed(Box<dyn Controller>),
 }
@@ -113,20 +111,7 @@ fn simulate<S: Integrated>(
     let opts = solver_options::<S::State>(&sc.solver, dim);
     let mut solver =
         Dopri5::new(sys, 0.0, x0.clone(), opts).map_err(|e| solver_error(e, 0.0, x0.as_slice()))?;
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(sc.spec.seed);
-    let noise = Normal::new(0.0, sc.noise_std_pa.max(0.0)).expect("checked standard deviation");
-    let noisy = sc.noise_std_pa > 0.0;
-    let measure = |p: f64, rng: &mut rand_chacha::ChaCha8Rng| if noisy { p + noise.sample(rng) } else { p };
-    // The stroke's noise has its own stream, so it never changes the pressure's.
-    let mut rng_x = rand_chacha::ChaCha8Rng::seed_from_u64(sc.spec.seed ^ 0x5851_f42d_4c95_7f2d);
-    let x_noise = Normal::new(0.0, sc.stroke_noise_std_m.max(0.0)).expect("checked standard deviation");
-    let mut measure_x = |x: f64| {
-        if sc.stroke_noise_std_m > 0.0 {
-            x + x_noise.sample(&mut rng_x)
-        } else {
-            x
-        }
-    };
+    let mut sensors = Sensors::new(sc);
     // Transport delay: what the controller outputs reaches the solenoid this many
     // periods later; until then the initial current holds.
     let mut queue = std::collections::VecDeque::from(vec![
@@ -140,103 +125,24 @@ fn simulate<S: Integrated>(
     let mut ctl_state: Option<crate::control::CascadeState> = None;
 
     let t_end = sc.spec.duration_s;
-    let dt = sc.output_interval_s;
-    let n_out = (t_end / dt).round().max(1.0) as u64;
-    // k * interval_ms / 1000 rounds to the nearest double of the decimal time
-    // (3.01, not 3.0100000000000002), which CSV readers and joins appreciate.
-    let interval_ms = sc.spec.output_interval_ms;
-    let out_time = |k: u64| {
-        if k >= n_out {
-            t_end
-        } else {
-            k as f64 * interval_ms / 1000.0
-        }
-    };
-    let mut k_out: u64 = 0;
+    let mut clock = OutputClock::new(sc, rec.wants_samples(), rec.stride());
     let regulated = !matches!(ctl, Ctl::Open);
     let mut acc = Accumulator::new(p.p_min, p.i_max, setpoint, t_end);
     acc.p_max = p.p_max;
     acc.x_max = p.x_max;
-    // Noise on recorded (not fed back) measurements has its own stream, so what is
-    // recorded never changes what the controller sees.
-    let mut rng_out = rand_chacha::ChaCha8Rng::seed_from_u64(sc.spec.seed ^ 0x9e37_79b9_7f4a_7c15);
     // Control instants k * T, computed from T in ms like the output times, so that a
     // control instant and an output sample at the same decimal time coincide exactly.
     let t_ctl_ms = sc.spec.plant.t_control_ms;
     let mut k_ctl: u64 = 0;
     let mut last_meas: Option<f64> = None;
 
-    // One control instant: measure, compute, send through the delay line.
-    let mut act = |solver: &mut Dopri5<S>,
-                   ctl: &mut Ctl,
-                   rng: &mut rand_chacha::ChaCha8Rng,
-                   sp: &Signal,
-                   adaptive: &mut Option<AdaptiveReport>|
-     -> Result<(f64, Option<crate::control::CascadeState>)> {
-        let t = solver.t();
-        let y = measure(solver.state()[P_LINE], rng);
-        let xm = measure_x(solver.state()[STROKE]);
-        let Ctl::Closed(c) = ctl else {
-            return Ok((y, None));
-        };
-        // What the sensors give, by plant state; the controller reads what it declares.
-        let sensors = [y, xm];
-        let mut meas = [0.0; 2];
-        for (m, &i) in meas.iter_mut().zip(c.measurements()) {
-            *m = sensors[i];
-        }
-        let u = c.control(t, &meas[..c.measurements().len()], sp.eval(t));
-        let mut cs = None;
-        if let (Some(v), Some(rep)) = (c.adaptive(t), adaptive.as_mut()) {
-            let st = crate::control::CascadeState {
-                stroke_ref: v.inner_reference.unwrap_or(f64::NAN),
-                p_hat: v.model_output,
-                w_norm: v.w_norm,
-                w1_norm: v.w1_norm,
-            };
-            if !(u.is_finite()
-                && st.w_norm.is_finite()
-                && st.w1_norm.is_finite()
-                && v.inner_reference.map_or(true, f64::is_finite))
-            {
-                return Err(Error::Controller {
-                    t_s: t,
-                    state: format!(
-                        "p_line = {:.6} MPa, stroke = {:.6} mm, current = {u} A, |W| = {}, |W_1| = {}",
-                        mpa(solver.state()[P_LINE]),
-                        mm(solver.state()[STROKE]),
-                        st.w_norm,
-                        st.w1_norm
-                    ),
-                });
-            }
-            rep.w_norm_max = rep.w_norm_max.max(st.w_norm);
-            rep.w_norm_final = st.w_norm;
-            if !v.identifying {
-                rep.w1_distance_max = rep.w1_distance_max.max(v.w1_distance);
-            }
-            rep.w1_ball_radius = v.ball_radius;
-            rep.w_bound = v.w_bound;
-            rep.w1_final = v.w1.to_vec();
-            rep.projections = v.projections;
-            cs = Some(st);
-        }
-        queue.push_back(u);
-        let applied = queue
-            .pop_front()
-            .expect("the delay line holds at least this output");
-        solver.system_mut().pump_mut().set_current(applied);
-        Ok((y, cs))
-    };
     // The controller acts at t = 0 on the first measurement.
     if let (true, Some(sp)) = (regulated, setpoint) {
-        let (y, cs) = act(&mut solver, &mut ctl, &mut rng, sp, &mut adaptive)?;
+        let (y, cs) = act(&mut solver, &mut ctl, &mut sensors, sp, &mut adaptive, &mut queue)?;
         last_meas = Some(y);
         ctl_state = cs;
         k_ctl = 1;
     }
-    let wants = rec.wants_samples();
-    let stride = rec.stride().max(1);
     let bounds = [(0.0, p.p_max), (0.0, p.x_max)];
     let mut full = S::State::zeros(dim);
     loop {
@@ -258,15 +164,7 @@ fn simulate<S: Integrated>(
         }
         let done = solver.t() >= t_end;
         // Output samples in [t_prev, t) from this step's dense output (and t_end at the end).
-        while wants && k_out <= n_out {
-            let t = out_time(k_out);
-            if t > solver.t() || (!done && t >= solver.t()) {
-                break;
-            }
-            if k_out % stride != 0 {
-                k_out += 1;
-                continue;
-            }
+        while let Some(t) = clock.next(solver.t(), done) {
             solver.interpolate(t, full.as_mut_slice());
             let xs = full.as_slice();
             let sys = solver.system();
@@ -281,8 +179,8 @@ fn simulate<S: Integrated>(
                 p_ref: setpoint.map(|sp| sp.eval(t)),
                 p_meas: if regulated {
                     last_meas
-                } else if noisy {
-                    Some(measure(p_line, &mut rng_out))
+                } else if sensors.noisy() {
+                    Some(sensors.recorded_pressure(p_line))
                 } else {
                     None
                 },
@@ -291,20 +189,19 @@ fn simulate<S: Integrated>(
                 control: ctl_state,
                 baseline: None,
             });
-            k_out += 1;
         }
         if done {
             break;
         }
         if let (rhonn_ode::StepResult::Reached { .. }, true, Some(sp)) = (r, regulated, setpoint) {
-            let (y, cs) = act(&mut solver, &mut ctl, &mut rng, sp, &mut adaptive)?;
+            let (y, cs) = act(&mut solver, &mut ctl, &mut sensors, sp, &mut adaptive, &mut queue)?;
             last_meas = Some(y);
             ctl_state = cs;
             k_ctl += 1;
         }
     }
     let last = [solver.state()[P_LINE], solver.state()[STROKE]];
-    let mut figures = acc.figures(t_end, n_out as usize + 1, last, regulated);
+    let mut figures = acc.figures(t_end, clock.n_out as usize + 1, last, regulated);
     if let (Some(r), Some(a)) = (figures.regulation.as_mut(), adaptive.as_ref()) {
         r.signals_bounded &=
             a.w1_distance_max <= a.w1_ball_radius * (1.0 + 1e-9) && a.w_norm_max <= a.w_bound;

@@ -431,121 +431,7 @@ impl ScenarioSpec {
                 format!("a stroke in [0, {}] mm (x_max)", self.plant.x_max_mm),
             ));
         }
-        let current_lim = crate::signal::spec_limits(0.0, params.i_max, None, None);
-        let drive = match (&self.current_a, &self.controller) {
-            (Some(_), Some(_)) => {
-                return Err(invalid(
-                    "current_a",
-                    "a profile",
-                    "absent when a `controller` drives the current (give one or the other)",
-                ))
-            }
-            (None, None) => {
-                return Err(invalid(
-                    "current_a",
-                    "nothing",
-                    "a current profile, or a `controller` section",
-                ))
-            }
-            (Some(c), None) => {
-                let sig = c.build("current_a", 1.0, current_lim)?;
-                if sig.clips_on(self.duration_s) {
-                    warnings.push(format!("current_a leaves [0, {}] A and is clipped", params.i_max));
-                }
-                Drive::OpenLoop(sig)
-            }
-            (
-                None,
-                Some(ControllerSpec::Pi {
-                    setpoint_mpa,
-                    kp_a_per_mpa,
-                    ti_s,
-                    bias_a,
-                    dither_a,
-                }),
-            ) => {
-                let setpoint = self.check_setpoint(setpoint_mpa, &params)?;
-                let mut pi = check_pi(*kp_a_per_mpa, *ti_s, *bias_a, setpoint, &params, "controller.")?;
-                let no_clip = crate::signal::spec_limits(f64::NEG_INFINITY, f64::INFINITY, None, None);
-                pi.dither = dither_a
-                    .as_ref()
-                    .map(|d| d.build("controller.dither_a", 1.0, no_clip))
-                    .transpose()?;
-                Drive::Pi(pi)
-            }
-            (
-                None,
-                Some(ControllerSpec::RhonnAdaptive {
-                    setpoint_mpa,
-                    lambda_per_s,
-                    lambda_ident_per_s,
-                    identification_s,
-                    stroke_gain,
-                    lead_s,
-                    observer_pole_per_s,
-                    gamma_w,
-                    gamma_w1,
-                    ball_fraction,
-                    baseline_kp_a_per_mpa,
-                    baseline_ti_s,
-                }),
-            ) => {
-                let setpoint = self.check_setpoint(setpoint_mpa, &params)?;
-                let d = CascadeSettings::default();
-                let pos = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
-                    let v = v.unwrap_or(default);
-                    if v.is_finite() && v > 0.0 {
-                        Ok(v)
-                    } else {
-                        Err(invalid(format!("controller.{name}"), v, "a finite number > 0"))
-                    }
-                };
-                let non_neg = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
-                    let v = v.unwrap_or(default);
-                    if v.is_finite() && v >= 0.0 {
-                        Ok(v)
-                    } else {
-                        Err(invalid(format!("controller.{name}"), v, "a finite number >= 0"))
-                    }
-                };
-                let cascade = CascadeSettings {
-                    lambda_per_s: pos("lambda_per_s", *lambda_per_s, d.lambda_per_s)?,
-                    lambda_ident_per_s: pos("lambda_ident_per_s", *lambda_ident_per_s, d.lambda_ident_per_s)?,
-                    identification_s: non_neg("identification_s", *identification_s, d.identification_s)?,
-                    stroke_gain: non_neg("stroke_gain", *stroke_gain, d.stroke_gain)?,
-                    lead_s: non_neg("lead_s", *lead_s, d.lead_s)?,
-                    observer_pole_per_s: pos(
-                        "observer_pole_per_s",
-                        *observer_pole_per_s,
-                        d.observer_pole_per_s,
-                    )?,
-                    gamma_w: non_neg("gamma_w", *gamma_w, d.gamma_w)?,
-                    gamma_w1: non_neg("gamma_w1", *gamma_w1, d.gamma_w1)?,
-                    ball_fraction: ball_fraction.unwrap_or(d.ball_fraction),
-                    p_scale_mpa: d.p_scale_mpa,
-                };
-                if !(cascade.ball_fraction > 0.0 && cascade.ball_fraction < 1.0) {
-                    return Err(invalid(
-                        "controller.ball_fraction",
-                        cascade.ball_fraction,
-                        "a number in (0, 1) (1 would let W_1 S' reach zero)",
-                    ));
-                }
-                let baseline = check_pi(
-                    baseline_kp_a_per_mpa.unwrap_or(0.15),
-                    baseline_ti_s.unwrap_or(0.15),
-                    None,
-                    setpoint.clone(),
-                    &params,
-                    "controller.baseline_",
-                )?;
-                Drive::Adaptive(Box::new(AdaptiveSettings {
-                    setpoint,
-                    cascade,
-                    baseline,
-                }))
-            }
-        };
+        let drive = self.check_drive(&params, &mut warnings)?;
         let demand_lim = crate::signal::spec_limits(
             0.0,
             f64::INFINITY,
@@ -579,6 +465,153 @@ impl ScenarioSpec {
                 "a finite number >= 0",
             ));
         }
+        let solver = self.check_solver()?;
+        if self.identifier.is_some() && matches!(drive, Drive::Adaptive(_)) {
+            return Err(invalid(
+                "identifier",
+                "a section",
+                "absent with controller kind `rhonn-adaptive` (it identifies its own model online)",
+            ));
+        }
+        if self.campaign.is_some() {
+            super::campaign::Plan::of(self)?;
+        }
+        Ok(Scenario {
+            spec: self.clone(),
+            params,
+            initial: [p0 * PA_PER_MPA, x0 * M_PER_MM],
+            drive,
+            demand,
+            noise_std_pa: noise * PA_PER_MPA,
+            stroke_noise_std_m: xn * M_PER_MM,
+            output_interval_s: dt,
+            solver,
+            identifier: self.identifier.as_ref().map(|i| i.check()).transpose()?,
+            warnings,
+        })
+    }
+
+    /// The current's drive: an open-loop profile or a controller.
+    fn check_drive(&self, params: &PumpParams, warnings: &mut Vec<String>) -> Result<Drive> {
+        let current_lim = crate::signal::spec_limits(0.0, params.i_max, None, None);
+        Ok(match (&self.current_a, &self.controller) {
+            (Some(_), Some(_)) => {
+                return Err(invalid(
+                    "current_a",
+                    "a profile",
+                    "absent when a `controller` drives the current (give one or the other)",
+                ))
+            }
+            (None, None) => {
+                return Err(invalid(
+                    "current_a",
+                    "nothing",
+                    "a current profile, or a `controller` section",
+                ))
+            }
+            (Some(c), None) => {
+                let sig = c.build("current_a", 1.0, current_lim)?;
+                if sig.clips_on(self.duration_s) {
+                    warnings.push(format!("current_a leaves [0, {}] A and is clipped", params.i_max));
+                }
+                Drive::OpenLoop(sig)
+            }
+            (
+                None,
+                Some(ControllerSpec::Pi {
+                    setpoint_mpa,
+                    kp_a_per_mpa,
+                    ti_s,
+                    bias_a,
+                    dither_a,
+                }),
+            ) => {
+                let setpoint = self.check_setpoint(setpoint_mpa, params)?;
+                let mut pi = check_pi(*kp_a_per_mpa, *ti_s, *bias_a, setpoint, params, "controller.")?;
+                let no_clip = crate::signal::spec_limits(f64::NEG_INFINITY, f64::INFINITY, None, None);
+                pi.dither = dither_a
+                    .as_ref()
+                    .map(|d| d.build("controller.dither_a", 1.0, no_clip))
+                    .transpose()?;
+                Drive::Pi(pi)
+            }
+            (None, Some(spec @ ControllerSpec::RhonnAdaptive { .. })) => self.check_adaptive(spec, params)?,
+        })
+    }
+
+    /// The `rhonn-adaptive` controller's settings.
+    fn check_adaptive(&self, spec: &ControllerSpec, params: &PumpParams) -> Result<Drive> {
+        let ControllerSpec::RhonnAdaptive {
+            setpoint_mpa,
+            lambda_per_s,
+            lambda_ident_per_s,
+            identification_s,
+            stroke_gain,
+            lead_s,
+            observer_pole_per_s,
+            gamma_w,
+            gamma_w1,
+            ball_fraction,
+            baseline_kp_a_per_mpa,
+            baseline_ti_s,
+        } = spec
+        else {
+            return Err(invalid("controller.kind", "another kind", "rhonn-adaptive"));
+        };
+        let setpoint = self.check_setpoint(setpoint_mpa, params)?;
+        let d = CascadeSettings::default();
+        let pos = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
+            let v = v.unwrap_or(default);
+            if v.is_finite() && v > 0.0 {
+                Ok(v)
+            } else {
+                Err(invalid(format!("controller.{name}"), v, "a finite number > 0"))
+            }
+        };
+        let non_neg = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
+            let v = v.unwrap_or(default);
+            if v.is_finite() && v >= 0.0 {
+                Ok(v)
+            } else {
+                Err(invalid(format!("controller.{name}"), v, "a finite number >= 0"))
+            }
+        };
+        let cascade = CascadeSettings {
+            lambda_per_s: pos("lambda_per_s", *lambda_per_s, d.lambda_per_s)?,
+            lambda_ident_per_s: pos("lambda_ident_per_s", *lambda_ident_per_s, d.lambda_ident_per_s)?,
+            identification_s: non_neg("identification_s", *identification_s, d.identification_s)?,
+            stroke_gain: non_neg("stroke_gain", *stroke_gain, d.stroke_gain)?,
+            lead_s: non_neg("lead_s", *lead_s, d.lead_s)?,
+            observer_pole_per_s: pos("observer_pole_per_s", *observer_pole_per_s, d.observer_pole_per_s)?,
+            gamma_w: non_neg("gamma_w", *gamma_w, d.gamma_w)?,
+            gamma_w1: non_neg("gamma_w1", *gamma_w1, d.gamma_w1)?,
+            ball_fraction: ball_fraction.unwrap_or(d.ball_fraction),
+            p_scale_mpa: d.p_scale_mpa,
+        };
+        if !(cascade.ball_fraction > 0.0 && cascade.ball_fraction < 1.0) {
+            return Err(invalid(
+                "controller.ball_fraction",
+                cascade.ball_fraction,
+                "a number in (0, 1) (1 would let W_1 S' reach zero)",
+            ));
+        }
+        let baseline = check_pi(
+            baseline_kp_a_per_mpa.unwrap_or(0.15),
+            baseline_ti_s.unwrap_or(0.15),
+            None,
+            setpoint.clone(),
+            params,
+            "controller.baseline_",
+        )?;
+        Ok(Drive::Adaptive(Box::new(AdaptiveSettings {
+            setpoint,
+            cascade,
+            baseline,
+        })))
+    }
+
+    /// The solver's settings: the profile's defaults, then the file's values, checked.
+    fn check_solver(&self) -> Result<SolverSettings> {
         let s = &self.solver;
         let (rtol, atol_p, atol_x, h_max) = match s.profile {
             ProfileSpec::Hairer => (1e-6, 1.0, 1e-9, 0.1),
@@ -616,28 +649,6 @@ impl ScenarioSpec {
                 "a number > 0 (ms)",
             ));
         }
-        if self.identifier.is_some() && matches!(drive, Drive::Adaptive(_)) {
-            return Err(invalid(
-                "identifier",
-                "a section",
-                "absent with controller kind `rhonn-adaptive` (it identifies its own model online)",
-            ));
-        }
-        if self.campaign.is_some() {
-            super::campaign::Plan::of(self)?;
-        }
-        Ok(Scenario {
-            spec: self.clone(),
-            params,
-            initial: [p0 * PA_PER_MPA, x0 * M_PER_MM],
-            drive,
-            demand,
-            noise_std_pa: noise * PA_PER_MPA,
-            stroke_noise_std_m: xn * M_PER_MM,
-            output_interval_s: dt,
-            solver,
-            identifier: self.identifier.as_ref().map(|i| i.check()).transpose()?,
-            warnings,
-        })
+        Ok(solver)
     }
 }

@@ -181,98 +181,11 @@ impl IdentifierSpec {
                 format!("at most {MAX_SIGNALS} inputs"),
             ));
         }
-        let sigmoid = match &self.sigmoid {
-            SigmoidSpec::Named(s) if s == "logistic" => Sigmoid::LOGISTIC,
-            SigmoidSpec::Named(s) if s == "tanh" => Sigmoid::TANH,
-            SigmoidSpec::Named(s) => {
-                return Err(invalid(
-                    format!("{f}.sigmoid"),
-                    format!("{s:?}"),
-                    "\"logistic\", \"tanh\" or {a, b, c}",
-                ))
-            }
-            SigmoidSpec::Custom(s) => {
-                if !(s.a.is_finite() && s.a != 0.0 && s.b.is_finite() && s.b != 0.0 && s.c.is_finite()) {
-                    return Err(invalid(
-                        format!("{f}.sigmoid"),
-                        format!("{s:?}"),
-                        "finite a and b, not zero, finite c",
-                    ));
-                }
-                *s
-            }
-        };
-        let scale = |v: &Option<Vec<f64>>, len: usize, name: &str| -> Result<Vec<f64>> {
-            match v {
-                None => Ok(vec![1.0; len]),
-                Some(v) if v.len() != len => Err(invalid(
-                    format!("{f}.{name}"),
-                    format!("{} values", v.len()),
-                    format!("{len} values"),
-                )),
-                Some(v) => {
-                    for (k, x) in v.iter().enumerate() {
-                        if !(x.is_finite() && *x > 0.0) {
-                            return Err(invalid(format!("{f}.{name}[{k}]"), x, "a number > 0"));
-                        }
-                    }
-                    Ok(v.clone())
-                }
-            }
-        };
-        let state_scale = scale(&self.state_scale, n, "state_scale")?;
-        let input_scale = scale(&self.input_scale, m, "input_scale")?;
-        let terms = match (&self.terms, self.degree) {
-            (Some(t), None) => Terms::from_lists(t, n + m, &format!("{f}.terms"))?,
-            (None, Some(d)) => {
-                if !(1..=6).contains(&d) {
-                    return Err(invalid(format!("{f}.degree"), d, "an integer in [1, 6]"));
-                }
-                let mf = self.max_factors.unwrap_or(d);
-                if !(1..=d).contains(&mf) {
-                    return Err(invalid(
-                        format!("{f}.max_factors"),
-                        mf,
-                        format!("an integer in [1, {d}]"),
-                    ));
-                }
-                let t = Terms::monomials(n + m, d, mf);
-                if t.len() > MAX_TERMS {
-                    return Err(invalid(
-                        format!("{f}.degree"),
-                        d,
-                        format!(
-                            "a degree giving at most {MAX_TERMS} terms (this gives {})",
-                            t.len()
-                        ),
-                    ));
-                }
-                t
-            }
-            _ => {
-                return Err(invalid(
-                    format!("{f}.terms"),
-                    "both or neither of terms and degree",
-                    "exactly one of `terms` and `degree`",
-                ))
-            }
-        };
-        if self.a.len() != n {
-            return Err(invalid(
-                format!("{f}.a"),
-                format!("{} values", self.a.len()),
-                format!("one per state ({n})"),
-            ));
-        }
-        for (k, a) in self.a.iter().enumerate() {
-            if !(a.is_finite() && *a > 0.0) {
-                return Err(invalid(
-                    format!("{f}.a[{k}]"),
-                    a,
-                    "a number > 0 (a stable neuron)",
-                ));
-            }
-        }
+        let sigmoid = self.check_sigmoid()?;
+        let state_scale = check_scale(&self.state_scale, n, "state_scale")?;
+        let input_scale = check_scale(&self.input_scale, m, "input_scale")?;
+        let terms = self.check_terms(n + m)?;
+        self.check_poles(n)?;
         let xhat0 = match &self.initial_si {
             None => vec![0.0; n],
             Some(v) if v.len() == n && v.iter().all(|x| x.is_finite()) => v.clone(),
@@ -310,5 +223,114 @@ impl IdentifierSpec {
             epochs: self.epochs,
             validate: self.validate,
         })
+    }
+
+    /// The sigmoid: a named one or {a, b, c}.
+    fn check_sigmoid(&self) -> Result<Sigmoid> {
+        let f = "identifier";
+        Ok(match &self.sigmoid {
+            SigmoidSpec::Named(s) if s == "logistic" => Sigmoid::LOGISTIC,
+            SigmoidSpec::Named(s) if s == "tanh" => Sigmoid::TANH,
+            SigmoidSpec::Named(s) => {
+                return Err(invalid(
+                    format!("{f}.sigmoid"),
+                    format!("{s:?}"),
+                    "\"logistic\", \"tanh\" or {a, b, c}",
+                ))
+            }
+            SigmoidSpec::Custom(s) => {
+                if !(s.a.is_finite() && s.a != 0.0 && s.b.is_finite() && s.b != 0.0 && s.c.is_finite()) {
+                    return Err(invalid(
+                        format!("{f}.sigmoid"),
+                        format!("{s:?}"),
+                        "finite a and b, not zero, finite c",
+                    ));
+                }
+                *s
+            }
+        })
+    }
+
+    /// The high-order terms over `nm` signals: listed, or all monomials up to a degree.
+    fn check_terms(&self, nm: usize) -> Result<Terms> {
+        let f = "identifier";
+        Ok(match (&self.terms, self.degree) {
+            (Some(t), None) => Terms::from_lists(t, nm, &format!("{f}.terms"))?,
+            (None, Some(d)) => {
+                if !(1..=6).contains(&d) {
+                    return Err(invalid(format!("{f}.degree"), d, "an integer in [1, 6]"));
+                }
+                let mf = self.max_factors.unwrap_or(d);
+                if !(1..=d).contains(&mf) {
+                    return Err(invalid(
+                        format!("{f}.max_factors"),
+                        mf,
+                        format!("an integer in [1, {d}]"),
+                    ));
+                }
+                let t = Terms::monomials(nm, d, mf);
+                if t.len() > MAX_TERMS {
+                    return Err(invalid(
+                        format!("{f}.degree"),
+                        d,
+                        format!(
+                            "a degree giving at most {MAX_TERMS} terms (this gives {})",
+                            t.len()
+                        ),
+                    ));
+                }
+                t
+            }
+            _ => {
+                return Err(invalid(
+                    format!("{f}.terms"),
+                    "both or neither of terms and degree",
+                    "exactly one of `terms` and `degree`",
+                ))
+            }
+        })
+    }
+
+    /// The neurons' poles a_i > 0, one per state.
+    fn check_poles(&self, n: usize) -> Result<()> {
+        let f = "identifier";
+        if self.a.len() != n {
+            return Err(invalid(
+                format!("{f}.a"),
+                format!("{} values", self.a.len()),
+                format!("one per state ({n})"),
+            ));
+        }
+        for (k, a) in self.a.iter().enumerate() {
+            if !(a.is_finite() && *a > 0.0) {
+                return Err(invalid(
+                    format!("{f}.a[{k}]"),
+                    a,
+                    "a number > 0 (a stable neuron)",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Per-signal scales: 1 by default, else `len` numbers > 0.
+fn check_scale(v: &Option<Vec<f64>>, len: usize, name: &str) -> Result<Vec<f64>> {
+    let f = "identifier";
+    match v {
+        None => Ok(vec![1.0; len]),
+        Some(v) if v.len() != len => Err(invalid(
+            format!("{f}.{name}"),
+            format!("{} values", v.len()),
+            format!("{len} values"),
+        )),
+        Some(v) => {
+            for (k, x) in v.iter().enumerate() {
+                if !(x.is_finite() && *x > 0.0) {
+                    return Err(invalid(format!("{f}.{name}[{k}]"), x, "a number > 0"));
+                }
+            }
+            Ok(v.clone())
+        }
     }
 }

@@ -190,44 +190,7 @@ impl SignalSpec {
                 low,
                 high,
                 seed,
-            } => {
-                window(field, *start_s, *end_s)?;
-                if !(bit_s.is_finite() && *bit_s > 0.0) {
-                    return Err(invalid(format!("{field}.bit_s"), bit_s, "a number > 0"));
-                }
-                if !(low.is_finite() && high.is_finite() && low <= high) {
-                    return Err(invalid(
-                        format!("{field}.high"),
-                        high,
-                        format!("a finite number >= low = {low}"),
-                    ));
-                }
-                let n_bits = ((end_s - start_s) / bit_s).ceil() as usize;
-                if n_bits > 10_000_000 {
-                    return Err(invalid(
-                        format!("{field}.bit_s"),
-                        bit_s,
-                        "at most 10,000,000 bits in the window",
-                    ));
-                }
-                let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(*seed);
-                let mut pts = vec![(0.0, *low)];
-                let mut level = *low;
-                for b in 0..n_bits {
-                    let t = (start_s + b as f64 * bit_s).min(*end_s);
-                    let next = if rng.gen::<bool>() { *high } else { *low };
-                    if next != level {
-                        pts.push((t, level));
-                        pts.push((t, next));
-                        level = next;
-                    }
-                }
-                if level != *low {
-                    pts.push((*end_s, level));
-                    pts.push((*end_s, *low));
-                }
-                Signal::piecewise(PiecewiseLinear::new(pts), lim.lo, lim.hi)
-            }
+            } => prbs(field, start_s, end_s, bit_s, low, high, seed, lim)?,
             SignalSpec::Aprbs {
                 start_s,
                 end_s,
@@ -236,44 +199,7 @@ impl SignalSpec {
                 low,
                 high,
                 seed,
-            } => {
-                window(field, *start_s, *end_s)?;
-                if !(hold_s.is_finite() && *hold_s > 0.0) {
-                    return Err(invalid(format!("{field}.hold_s"), hold_s, "a number > 0"));
-                }
-                if !(ramp_s.is_finite() && *ramp_s >= 0.0 && ramp_s < hold_s) {
-                    return Err(invalid(
-                        format!("{field}.ramp_s"),
-                        ramp_s,
-                        format!("in [0, hold_s = {hold_s})"),
-                    ));
-                }
-                if !(low.is_finite() && high.is_finite() && low <= high) {
-                    return Err(invalid(
-                        format!("{field}.high"),
-                        high,
-                        format!("a finite number >= low = {low}"),
-                    ));
-                }
-                if (end_s - start_s) / hold_s > 1e6 {
-                    return Err(invalid(
-                        format!("{field}.hold_s"),
-                        hold_s,
-                        "at most 1,000,000 levels in the window",
-                    ));
-                }
-                let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(*seed);
-                let mut pts = vec![(0.0, *low), (*start_s, *low)];
-                let mut t = *start_s;
-                while t < *end_s {
-                    let level = low + (high - low) * rng.gen::<f64>();
-                    pts.push(((t + ramp_s).min(*end_s), level));
-                    t += hold_s;
-                    pts.push((t.min(*end_s), level));
-                }
-                pts.push(((end_s + ramp_s).max(*end_s), *low));
-                Signal::piecewise(PiecewiseLinear::new(pts), lim.lo, lim.hi)
-            }
+            } => aprbs(field, start_s, end_s, hold_s, ramp_s, low, high, seed, lim)?,
             SignalSpec::Multisine {
                 offset,
                 amplitude,
@@ -282,89 +208,10 @@ impl SignalSpec {
                 n_sines,
                 start_s,
                 end_s,
-            } => {
-                window(field, *start_s, *end_s)?;
-                finite(&format!("{field}.offset"), *offset)?;
-                if !(amplitude.is_finite() && *amplitude >= 0.0) {
-                    return Err(invalid(
-                        format!("{field}.amplitude"),
-                        amplitude,
-                        "a finite number >= 0",
-                    ));
-                }
-                if !(f_min_hz.is_finite() && *f_min_hz > 0.0) {
-                    return Err(invalid(format!("{field}.f_min_hz"), f_min_hz, "a number > 0"));
-                }
-                if !(f_max_hz.is_finite() && f_max_hz >= f_min_hz) {
-                    return Err(invalid(
-                        format!("{field}.f_max_hz"),
-                        f_max_hz,
-                        format!("a number >= f_min_hz = {f_min_hz}"),
-                    ));
-                }
-                if !(1..=1000).contains(n_sines) {
-                    return Err(invalid(
-                        format!("{field}.n_sines"),
-                        n_sines,
-                        "an integer in [1, 1000]",
-                    ));
-                }
-                let n = *n_sines;
-                let sines = (0..n)
-                    .map(|k| Sine {
-                        amplitude: *amplitude,
-                        freq_hz: if n == 1 {
-                            *f_min_hz
-                        } else {
-                            f_min_hz + (f_max_hz - f_min_hz) * k as f64 / (n - 1) as f64
-                        },
-                        phase: -PI * (k * (k + 1)) as f64 / n as f64,
-                    })
-                    .collect();
-                Signal::piecewise(PiecewiseLinear::constant(*offset), lim.lo, lim.hi)
-                    .with_sines(sines, *start_s, *end_s)
-            }
-            SignalSpec::Trapezoids { slew_per_s, pulses } => {
-                let f = format!("{field}.slew_per_s");
-                if !(slew_per_s.is_finite() && *slew_per_s > 0.0) {
-                    return Err(invalid(f, slew_per_s, "a number > 0"));
-                }
-                if let Some((max, why)) = lim.max_slew {
-                    if *slew_per_s > max * (1.0 + 1e-12) {
-                        return Err(invalid(f, slew_per_s, format!("at most {max} ({why})")));
-                    }
-                }
-                let mut pts = vec![(0.0, 0.0)];
-                let mut free_from = 0.0;
-                for (k, p) in pulses.iter().enumerate() {
-                    let pf = |name: &str| format!("{field}.pulses[{k}].{name}");
-                    if !(p.start_s.is_finite() && p.start_s >= free_from) {
-                        return Err(invalid(
-                            pf("start_s"),
-                            p.start_s,
-                            format!("a time >= {free_from} s (pulses in order, not overlapping)"),
-                        ));
-                    }
-                    if !(p.peak.is_finite() && p.peak > 0.0) {
-                        return Err(invalid(pf("peak"), p.peak, "a number > 0"));
-                    }
-                    if let Some((max, why)) = lim.max_peak {
-                        if p.peak >= max {
-                            return Err(invalid(pf("peak"), p.peak, format!("below {max} ({why})")));
-                        }
-                    }
-                    if !(p.hold_s.is_finite() && p.hold_s >= 0.0) {
-                        return Err(invalid(pf("hold_s"), p.hold_s, "a number >= 0"));
-                    }
-                    let ramp = p.peak / slew_per_s;
-                    let t1 = p.start_s + ramp;
-                    let t2 = t1 + p.hold_s;
-                    let t3 = t2 + ramp;
-                    pts.extend([(p.start_s, 0.0), (t1, p.peak), (t2, p.peak), (t3, 0.0)]);
-                    free_from = t3;
-                }
-                Signal::piecewise(PiecewiseLinear::new(pts), lim.lo, lim.hi)
-            }
+            } => multisine(
+                field, offset, amplitude, f_min_hz, f_max_hz, n_sines, start_s, end_s, lim,
+            )?,
+            SignalSpec::Trapezoids { slew_per_s, pulses } => trapezoids(field, slew_per_s, pulses, lim)?,
         };
         Ok(sig.scaled(si))
     }
@@ -382,6 +229,208 @@ fn window(field: &str, start: f64, end: f64) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// A pseudo-random binary sequence (`kind = "prbs"`).
+#[allow(clippy::too_many_arguments)]
+fn prbs(
+    field: &str,
+    start_s: &f64,
+    end_s: &f64,
+    bit_s: &f64,
+    low: &f64,
+    high: &f64,
+    seed: &u64,
+    lim: Limits,
+) -> Result<Signal> {
+    window(field, *start_s, *end_s)?;
+    if !(bit_s.is_finite() && *bit_s > 0.0) {
+        return Err(invalid(format!("{field}.bit_s"), bit_s, "a number > 0"));
+    }
+    if !(low.is_finite() && high.is_finite() && low <= high) {
+        return Err(invalid(
+            format!("{field}.high"),
+            high,
+            format!("a finite number >= low = {low}"),
+        ));
+    }
+    let n_bits = ((end_s - start_s) / bit_s).ceil() as usize;
+    if n_bits > 10_000_000 {
+        return Err(invalid(
+            format!("{field}.bit_s"),
+            bit_s,
+            "at most 10,000,000 bits in the window",
+        ));
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(*seed);
+    let mut pts = vec![(0.0, *low)];
+    let mut level = *low;
+    for b in 0..n_bits {
+        let t = (start_s + b as f64 * bit_s).min(*end_s);
+        let next = if rng.gen::<bool>() { *high } else { *low };
+        if next != level {
+            pts.push((t, level));
+            pts.push((t, next));
+            level = next;
+        }
+    }
+    if level != *low {
+        pts.push((*end_s, level));
+        pts.push((*end_s, *low));
+    }
+    Ok(Signal::piecewise(PiecewiseLinear::new(pts), lim.lo, lim.hi))
+}
+
+/// An amplitude-modulated PRBS (`kind = "aprbs"`).
+#[allow(clippy::too_many_arguments)]
+fn aprbs(
+    field: &str,
+    start_s: &f64,
+    end_s: &f64,
+    hold_s: &f64,
+    ramp_s: &f64,
+    low: &f64,
+    high: &f64,
+    seed: &u64,
+    lim: Limits,
+) -> Result<Signal> {
+    window(field, *start_s, *end_s)?;
+    if !(hold_s.is_finite() && *hold_s > 0.0) {
+        return Err(invalid(format!("{field}.hold_s"), hold_s, "a number > 0"));
+    }
+    if !(ramp_s.is_finite() && *ramp_s >= 0.0 && ramp_s < hold_s) {
+        return Err(invalid(
+            format!("{field}.ramp_s"),
+            ramp_s,
+            format!("in [0, hold_s = {hold_s})"),
+        ));
+    }
+    if !(low.is_finite() && high.is_finite() && low <= high) {
+        return Err(invalid(
+            format!("{field}.high"),
+            high,
+            format!("a finite number >= low = {low}"),
+        ));
+    }
+    if (end_s - start_s) / hold_s > 1e6 {
+        return Err(invalid(
+            format!("{field}.hold_s"),
+            hold_s,
+            "at most 1,000,000 levels in the window",
+        ));
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(*seed);
+    let mut pts = vec![(0.0, *low), (*start_s, *low)];
+    let mut t = *start_s;
+    while t < *end_s {
+        let level = low + (high - low) * rng.gen::<f64>();
+        pts.push(((t + ramp_s).min(*end_s), level));
+        t += hold_s;
+        pts.push((t.min(*end_s), level));
+    }
+    pts.push(((end_s + ramp_s).max(*end_s), *low));
+    Ok(Signal::piecewise(PiecewiseLinear::new(pts), lim.lo, lim.hi))
+}
+
+/// A Schroeder-phased multisine (`kind = "multisine"`).
+#[allow(clippy::too_many_arguments)]
+fn multisine(
+    field: &str,
+    offset: &f64,
+    amplitude: &f64,
+    f_min_hz: &f64,
+    f_max_hz: &f64,
+    n_sines: &usize,
+    start_s: &f64,
+    end_s: &f64,
+    lim: Limits,
+) -> Result<Signal> {
+    window(field, *start_s, *end_s)?;
+    finite(&format!("{field}.offset"), *offset)?;
+    if !(amplitude.is_finite() && *amplitude >= 0.0) {
+        return Err(invalid(
+            format!("{field}.amplitude"),
+            amplitude,
+            "a finite number >= 0",
+        ));
+    }
+    if !(f_min_hz.is_finite() && *f_min_hz > 0.0) {
+        return Err(invalid(format!("{field}.f_min_hz"), f_min_hz, "a number > 0"));
+    }
+    if !(f_max_hz.is_finite() && f_max_hz >= f_min_hz) {
+        return Err(invalid(
+            format!("{field}.f_max_hz"),
+            f_max_hz,
+            format!("a number >= f_min_hz = {f_min_hz}"),
+        ));
+    }
+    if !(1..=1000).contains(n_sines) {
+        return Err(invalid(
+            format!("{field}.n_sines"),
+            n_sines,
+            "an integer in [1, 1000]",
+        ));
+    }
+    let n = *n_sines;
+    let sines = (0..n)
+        .map(|k| Sine {
+            amplitude: *amplitude,
+            freq_hz: if n == 1 {
+                *f_min_hz
+            } else {
+                f_min_hz + (f_max_hz - f_min_hz) * k as f64 / (n - 1) as f64
+            },
+            phase: -PI * (k * (k + 1)) as f64 / n as f64,
+        })
+        .collect();
+    Ok(
+        Signal::piecewise(PiecewiseLinear::constant(*offset), lim.lo, lim.hi)
+            .with_sines(sines, *start_s, *end_s),
+    )
+}
+
+/// Trapezoidal pulses (`kind = "trapezoids"`).
+#[allow(clippy::too_many_arguments)]
+fn trapezoids(field: &str, slew_per_s: &f64, pulses: &[Pulse], lim: Limits) -> Result<Signal> {
+    let f = format!("{field}.slew_per_s");
+    if !(slew_per_s.is_finite() && *slew_per_s > 0.0) {
+        return Err(invalid(f, slew_per_s, "a number > 0"));
+    }
+    if let Some((max, why)) = lim.max_slew {
+        if *slew_per_s > max * (1.0 + 1e-12) {
+            return Err(invalid(f, slew_per_s, format!("at most {max} ({why})")));
+        }
+    }
+    let mut pts = vec![(0.0, 0.0)];
+    let mut free_from = 0.0;
+    for (k, p) in pulses.iter().enumerate() {
+        let pf = |name: &str| format!("{field}.pulses[{k}].{name}");
+        if !(p.start_s.is_finite() && p.start_s >= free_from) {
+            return Err(invalid(
+                pf("start_s"),
+                p.start_s,
+                format!("a time >= {free_from} s (pulses in order, not overlapping)"),
+            ));
+        }
+        if !(p.peak.is_finite() && p.peak > 0.0) {
+            return Err(invalid(pf("peak"), p.peak, "a number > 0"));
+        }
+        if let Some((max, why)) = lim.max_peak {
+            if p.peak >= max {
+                return Err(invalid(pf("peak"), p.peak, format!("below {max} ({why})")));
+            }
+        }
+        if !(p.hold_s.is_finite() && p.hold_s >= 0.0) {
+            return Err(invalid(pf("hold_s"), p.hold_s, "a number >= 0"));
+        }
+        let ramp = p.peak / slew_per_s;
+        let t1 = p.start_s + ramp;
+        let t2 = t1 + p.hold_s;
+        let t3 = t2 + ramp;
+        pts.extend([(p.start_s, 0.0), (t1, p.peak), (t2, p.peak), (t3, 0.0)]);
+        free_from = t3;
+    }
+    Ok(Signal::piecewise(PiecewiseLinear::new(pts), lim.lo, lim.hi))
 }
 
 #[cfg(test)]

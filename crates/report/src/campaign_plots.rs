@@ -1,0 +1,131 @@
+//! A campaign's plots: the envelope of the kept traces (traces.csv, envelope.csv,
+//! envelope.svg) and the histograms of its figures.
+
+use crate::campaign::{traces_header, CampaignFile, Row};
+use crate::Result;
+use rhonn::experiment::campaign::Envelope;
+use rhonn::experiment::campaign::RunRow;
+use rhonn::experiment::ScenarioSpec;
+
+/// The envelope files of a campaign that kept traces: traces.csv, envelope.csv and
+/// envelope.svg (None without traces).
+#[allow(clippy::type_complexity)]
+pub(crate) fn envelope_files(
+    spec: &ScenarioSpec,
+    file: &CampaignFile,
+    rows: &[Row],
+    grid: &[f64],
+    env: &[(String, Envelope, usize)],
+) -> Result<Option<(Vec<u8>, Vec<u8>, String)>> {
+    if env.is_empty() {
+        return Ok(None);
+    }
+    let mut traces_buf = Vec::new();
+    let mut env_buf = Vec::new();
+    let mut w = csv::Writer::from_writer(&mut traces_buf);
+    w.write_record(traces_header(spec))?;
+    for t in rows.iter().flat_map(|r| r.2.iter()) {
+        w.write_record(t)?;
+    }
+    w.flush().map_err(csv::Error::from)?;
+    drop(w);
+    let sc = spec.check()?;
+    let p_ref: Option<Vec<f64>> = sc.drive.setpoint().map(|sp| {
+        grid.iter()
+            .map(|&t| sp.eval(t) / rhonn::units::PA_PER_MPA)
+            .collect()
+    });
+    let mut w = csv::Writer::from_writer(&mut env_buf);
+    let mut h = vec!["t".to_string()];
+    for (name, _, _) in env {
+        for q in ["min", "q05", "median", "q95", "max"] {
+            h.push(format!("{name}_{q}_mpa"));
+        }
+    }
+    if p_ref.is_some() {
+        h.push("p_ref_mpa".into());
+    }
+    w.write_record(&h)?;
+    for (k, t) in grid.iter().enumerate() {
+        let mut r = vec![t.to_string()];
+        for (_, e, _) in env {
+            for v in [&e.min, &e.q05, &e.median, &e.q95, &e.max] {
+                r.push(format!("{:.4}", v[k]));
+            }
+        }
+        if let Some(p) = &p_ref {
+            r.push(p[k].to_string());
+        }
+        w.write_record(&r)?;
+    }
+    w.flush().map_err(csv::Error::from)?;
+    drop(w);
+    let label = |n: &str| match n {
+        "p_line" if p_ref.is_some() && env.len() > 1 => "p_line (RHONN adaptive)".to_string(),
+        "p_line_pi" => "p_line (PI baseline)".to_string(),
+        n => n.to_string(),
+    };
+    // The PI first, so that the adaptive controller's band lies on top.
+    let mut bands: Vec<crate::Band> = env
+        .iter()
+        .map(|(n, e, _)| crate::Band {
+            label: label(n),
+            envelope: e.clone(),
+        })
+        .collect();
+    bands.reverse();
+    let mut lines = Vec::new();
+    if let Some(p) = &p_ref {
+        lines.push(crate::Series {
+            label: "set-point".into(),
+            y: p.clone(),
+            dashed: true,
+        });
+    }
+    lines.push(crate::Series {
+        label: "P_min".into(),
+        y: vec![spec.plant.p_min_mpa; grid.len()],
+        dashed: true,
+    });
+    let n_tr = env[0].2;
+    let svg = crate::EnvelopePlot {
+        title: format!("{}: line pressure over {n_tr} runs", file.scenario),
+        y_label: "line pressure [MPa]".into(),
+        t: grid.to_vec(),
+        bands,
+        lines,
+    }
+    .render(1200, 600);
+    Ok(Some((traces_buf, env_buf, svg)))
+}
+
+/// Histograms of the figures that judge a controller (or every figure otherwise).
+pub(crate) fn histograms(names: &[String], rows: &[RunRow], scenario: &str) -> String {
+    let key = |n: &str| {
+        [
+            "ise_mpa2_s",
+            "max_abs_deviation_settled_mpa",
+            "time_below_p_min_after_1s_s",
+            "pi_ise_mpa2_s",
+            "pi_max_abs_deviation_settled_mpa",
+            "pi_time_below_p_min_after_1s_s",
+        ]
+        .contains(&n)
+            || n.ends_with("fit_percent")
+    };
+    let any_key = names.iter().any(|n| key(n));
+    let panels: Vec<crate::Histogram> = names
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| !any_key || key(n))
+        .map(|(k, n)| crate::Histogram {
+            title: format!("{}: {n}", scenario),
+            x_label: n.clone(),
+            values: rows
+                .iter()
+                .filter_map(|r| r.outcome.as_ref().ok().map(|f| f[k]))
+                .collect(),
+        })
+        .collect();
+    crate::Histogram::render(&panels, 3, 30)
+}
