@@ -177,3 +177,193 @@ pub(super) fn recursive(
         })
         .collect()
 }
+
+fn mean_std(cols: &[&[f64]]) -> (f64, f64) {
+    let n: usize = cols.iter().map(|c| c.len()).sum();
+    let m = cols.iter().flat_map(|c| c.iter()).sum::<f64>() / n as f64;
+    let v = cols
+        .iter()
+        .flat_map(|c| c.iter())
+        .map(|x| (x - m) * (x - m))
+        .sum::<f64>()
+        / n as f64;
+    (m, if v > 0.0 { v.sqrt() } else { 1.0 })
+}
+
+/// Train a model of `outputs` from `inputs` on `records` (uniformly sampled at the same
+/// interval; see [`Record::uniform`]).
+pub fn fit(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[String]) -> Result<Model> {
+    let model = fit_pruned(spec, records, inputs, outputs)?;
+    ensure_finite_model(&model, records)?;
+    Ok(model)
+}
+
+fn fit_pruned(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[String]) -> Result<Model> {
+    let full = fit_terms(spec, records, inputs, outputs, None)?;
+    match spec.max_terms {
+        Some(keep) if spec.kind == Kind::Rhonn && full.terms.len() > keep => {
+            // Prune by weight magnitude: the terms work on normalised signals, so their
+            // weights are comparable; keep the `keep` largest (largest over the outputs),
+            // in their original order, and train again.
+            let nphi = n_phi(spec, inputs.len(), outputs.len());
+            let mut rank: Vec<(usize, f64)> = (0..full.terms.len())
+                .map(|q| {
+                    (
+                        q,
+                        full.weights.iter().map(|w| w[nphi + q].abs()).fold(0.0, f64::max),
+                    )
+                })
+                .collect();
+            rank.sort_by(|a, b| b.1.total_cmp(&a.1));
+            let mut kept: Vec<usize> = rank[..keep].iter().map(|r| r.0).collect();
+            kept.sort_unstable();
+            let terms = kept.iter().map(|&q| full.terms[q].clone()).collect();
+            fit_terms(spec, records, inputs, outputs, Some(terms))
+        }
+        _ => Ok(full),
+    }
+}
+
+fn fit_terms(
+    spec: &ModelSpec,
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+    given_terms: Option<Vec<Vec<[usize; 2]>>>,
+) -> Result<Model> {
+    let mut model = blank_model(spec, records, inputs, outputs)?;
+    if spec.kind == Kind::Cascade {
+        cascade::fit(spec, records, &mut model)?;
+        return Ok(model);
+    }
+    let (ni, no) = (inputs.len(), outputs.len());
+    check_regressor_count(spec, ni, no)?;
+    model.terms = match (spec.kind, given_terms) {
+        (Kind::Rhonn, Some(t)) => t,
+        (Kind::Rhonn, None) => {
+            let sub = nonlinear_regressors(spec, ni, no);
+            let t = Terms::monomials(sub.len(), spec.degree, spec.max_factors);
+            (0..t.len())
+                .map(|k| t.factors(k).into_iter().map(|[i, e]| [sub[i], e]).collect())
+                .collect()
+        }
+        _ => vec![],
+    };
+    fit_weights(model, records)
+}
+
+/// Check the spec and the records and make an untrained model: names, sample time,
+/// normalisation and output ranges.
+fn blank_model(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[String]) -> Result<Model> {
+    spec.check()?;
+    if spec.kind == Kind::Cascade && outputs.len() != 1 {
+        return Err(invalid(
+            "--outputs",
+            outputs.join(","),
+            "exactly one output for a `cascade` model (its last neuron)",
+        ));
+    }
+    if records.is_empty() {
+        return Err(invalid("--data", "no files", "at least one CSV file"));
+    }
+    let lag = spec.max_lag();
+    for r in records {
+        r.check(lag + 2)?;
+    }
+    let dt = records[0].median_interval();
+    for r in &records[1..] {
+        let d = r.median_interval();
+        if (d - dt).abs() > 1e-6 * dt {
+            return Err(invalid(
+                format!("{}: sampling interval", r.source),
+                d,
+                format!("the first file's, {dt} s"),
+            ));
+        }
+    }
+    let ni = inputs.len();
+    let no = outputs.len();
+    let input_norm = (0..ni)
+        .map(|j| mean_std(&records.iter().map(|r| r.inputs[j].as_slice()).collect::<Vec<_>>()))
+        .collect();
+    let output_norm: Vec<(f64, f64)> = (0..no)
+        .map(|j| {
+            mean_std(
+                &records
+                    .iter()
+                    .map(|r| r.outputs[j].as_slice())
+                    .collect::<Vec<_>>(),
+            )
+        })
+        .collect();
+    let output_range = (0..no)
+        .map(|j| {
+            records
+                .iter()
+                .flat_map(|r| r.outputs[j].iter())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+                    (l.min(v), h.max(v))
+                })
+        })
+        .collect();
+    Ok(Model {
+        spec: spec.clone(),
+        inputs: inputs.to_vec(),
+        outputs: outputs.to_vec(),
+        sample_time_s: dt,
+        input_norm,
+        output_norm,
+        output_range,
+        terms: vec![],
+        weights: vec![],
+    })
+}
+
+/// Train the weights of a lagged model (`arx` or `rhonn`) whose terms are set.
+fn fit_weights(mut model: Model, records: &[Record]) -> Result<Model> {
+    let spec = model.spec.clone();
+    let spec = &spec;
+    let no = model.no();
+    let lag = spec.max_lag();
+    if model.terms.len() > crate::net::MAX_TERMS {
+        return Err(invalid(
+            "model.degree",
+            spec.degree,
+            format!(
+                "a structure with at most {} high-order terms (this one gives {}: lower degree, max_factors or the lags)",
+                crate::net::MAX_TERMS,
+                model.terms.len()
+            ),
+        ));
+    }
+    let nf = model.n_features();
+    let t = model.terms();
+    // The regression rows (series-parallel: lagged measured outputs).
+    let mut rows: Vec<Vec<f64>> = Vec::new();
+    let mut targets: Vec<Vec<f64>> = vec![Vec::new(); no];
+    for r in records {
+        let (un, yn) = model.normalise(r);
+        for k in lag..r.len() {
+            let mut feat = vec![0.0; nf];
+            model.features(&|j, i| yn[j][i], &un, k, &t, &mut feat);
+            rows.push(feat);
+            for j in 0..no {
+                targets[j].push(yn[j][k]);
+            }
+        }
+    }
+    let weights = match spec.law {
+        Estimator::BatchLs | Estimator::SimulationError | Estimator::MultiStep => {
+            batch_ls(&rows, &targets, spec.ridge)?
+        }
+        Estimator::Rls => recursive(&rows, &targets, spec.epochs, None),
+        Estimator::Gradient => recursive(&rows, &targets, spec.epochs, Some(spec.gain)),
+    };
+    model.weights = weights;
+    match spec.law {
+        Estimator::SimulationError => simulation_error(&mut model, records, None),
+        Estimator::MultiStep => simulation_error(&mut model, records, Some(spec.horizon)),
+        _ => {}
+    }
+    Ok(model)
+}

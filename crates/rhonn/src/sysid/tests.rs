@@ -1,4 +1,5 @@
 use super::*;
+use crate::sysid::estimate::batch_ls;
 
 /// Issue: "the Cholesky `expect` in `sysid/mod.rs` fires with `ridge = 0` on collinear
 /// data". A Gram matrix the factorisation refuses is now an error naming the ridge.
