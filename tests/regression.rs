@@ -178,6 +178,7 @@ fn what_users_read_carries_no_internal_notes_and_the_licenses_exist() {
         "predict",
         "campaign",
         "merge",
+        "identify",
         "bench",
         "reproduce",
         "show",

@@ -100,6 +100,50 @@ pub enum Command {
         #[arg(long, value_name = "DIR", required = true)]
         out: PathBuf,
     },
+    /// Identify a RHONN online from recordings, sample by sample, with the thesis's
+    /// stability-proven laws; then freeze it and validate it.
+    ///
+    /// The identifier runs over the --data records in time order (inputs held between
+    /// samples, or linear with `inputs = "linear"` in the model spec), series-parallel on
+    /// the measured outputs; unmeasured states are stood in for by filtered inputs
+    /// (`filters_s`). Model spec (TOML, every key optional): law (a [law] table),
+    /// gain, degree, max_factors, a_per_s, filters_s, inputs, epochs,
+    /// freeze_after_s, dead_zone. Writes into DIR:
+    ///   estimate.csv    record, t, per output <name> and <name>_hat (final pass)
+    ///   weights.csv     record, t, the weight norm of each neuron, error_energy
+    ///   validation.csv  with --validate: <name>, <name>_free_run, <name>_<K>_ahead
+    ///   summary.json    online RMS error and fit over the last half, convergence
+    ///                   time into a band, weight norms per pass, validation, findings
+    ///   model.json      the frozen model (settings, scaling, weights)
+    ///   estimate.svg, weights.svg, validation.svg
+    #[command(verbatim_doc_comment)]
+    Identify {
+        /// A CSV file (repeat for several recordings, identified in this order).
+        #[arg(long = "data", value_name = "FILE.csv", required = true)]
+        data: Vec<PathBuf>,
+        /// Input columns, comma-separated.
+        #[arg(long, value_delimiter = ',', required = true)]
+        inputs: Vec<String>,
+        /// Output columns, comma-separated.
+        #[arg(long, value_delimiter = ',', required = true)]
+        outputs: Vec<String>,
+        /// Model spec (TOML); defaults as listed above.
+        #[arg(long, value_name = "SPEC.toml")]
+        model: Option<PathBuf>,
+        /// Passes over the records (overrides the spec's `epochs`).
+        #[arg(long)]
+        epochs: Option<usize>,
+        /// A CSV file to validate the frozen model on (repeat): free run, and K samples
+        /// ahead with --steps-ahead.
+        #[arg(long, value_name = "FILE.csv")]
+        validate: Vec<PathBuf>,
+        /// Also predict K samples ahead on the validation records.
+        #[arg(long, value_name = "K")]
+        steps_ahead: Option<usize>,
+        /// Output folder.
+        #[arg(long, value_name = "DIR", required = true)]
+        out: PathBuf,
+    },
     /// Run a trained model on data and compare.
     ///
     /// Free run by default (the model sees the inputs and the first few measured

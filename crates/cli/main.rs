@@ -3,6 +3,7 @@
 //! call that a test can make.
 
 mod args;
+mod identify;
 mod progress;
 
 use anyhow::{Context, Result};
@@ -53,6 +54,25 @@ fn dispatch(cli: Cli) -> Result<()> {
             };
             cmd_fit(&data, &inputs, &outputs, model.as_deref(), &out, opts)
         }
+        Command::Identify {
+            data,
+            inputs,
+            outputs,
+            model,
+            epochs,
+            validate,
+            steps_ahead,
+            out,
+        } => identify::cmd_identify(identify::IdentifyArgs {
+            data: &data,
+            inputs: &inputs,
+            outputs: &outputs,
+            model: model.as_deref(),
+            epochs,
+            validate: &validate,
+            steps_ahead,
+            out: &out,
+        }),
         Command::Predict {
             model,
             data,

@@ -20,6 +20,7 @@ pub mod campaign;
 mod campaign_plots;
 mod csv_out;
 mod data_in;
+pub mod identify;
 pub mod plant_campaign;
 mod plant_report;
 mod plot;

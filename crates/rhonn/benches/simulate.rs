@@ -231,8 +231,45 @@ fn bench_control(c: &mut Criterion) {
     });
 }
 
+/// One `OnlineIdentifier::update` (2 outputs, 1 input, degree 2: 10 terms per neuron,
+/// 20 weights), and the 60 s pump-identify record (12,001 samples) identified online.
+fn bench_online(c: &mut Criterion) {
+    use rhonn::ident::{identify_records, OnlineIdentifier, OnlineSpec, Scaling};
+    let spec = OnlineSpec::default();
+    let mut id = OnlineIdentifier::new(&spec, 2, 1, 0.01, Scaling::identity(2, 1)).unwrap();
+    assert_eq!(id.n_terms(), 10);
+    let mut k = 0u64;
+    c.bench_function("online identifier: one update, 2 outputs, 20 weights", |b| {
+        b.iter(|| {
+            k += 1;
+            let t = k as f64 * 0.01;
+            let u = (t * 3.0).sin();
+            black_box(id.update(t, &[u], &[0.5 * u, (t * 0.7).cos()]).unwrap()[0])
+        })
+    });
+    let mut tr = Trace::default();
+    rhonn::experiment::run_full(&preset::load("pump-identify").unwrap().check().unwrap(), &mut tr).unwrap();
+    let col = |n: &str| tr.column(n).unwrap().to_vec();
+    let rec = [rhonn::data::Record {
+        source: "pump-identify".into(),
+        t: col("t"),
+        inputs: vec![col("current"), col("demand")],
+        outputs: vec![col("p_meas")],
+    }];
+    let outputs = ["p_meas".to_string()];
+    c.bench_function("online identification of the 60 s pump-identify record", |b| {
+        b.iter(|| {
+            identify_records(black_box(&spec), &rec, &outputs)
+                .unwrap()
+                .figures[0]
+                .rms_error_last_half
+        })
+    });
+}
+
 criterion_group!(
     benches,
+    bench_online,
     bench_runs,
     bench_discrete_step,
     bench_sysid,

@@ -1,0 +1,307 @@
+//! The files of `rhonn identify`: estimate.csv, weights.csv, validation.csv,
+//! summary.json, model.json and plots, all or nothing.
+
+use crate::{write_json, OutputSet, Result, Series, TimePlot};
+use rhonn::data::Record;
+use rhonn::ident::{OnlineRun, OnlineSpec, Scaling};
+use rhonn::metrics;
+use serde::Serialize;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Frozen-weight predictions on validation records.
+#[derive(Debug, Clone)]
+pub struct Validation {
+    /// The records.
+    pub records: Vec<Record>,
+    /// Free run, per record and sample, per output.
+    pub free_run: Vec<Vec<Vec<f64>>>,
+    /// K samples ahead, when asked.
+    pub ahead: Option<(usize, Vec<Vec<Vec<f64>>>)>,
+}
+
+/// Figures of a validation, per output.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ValidationFigures {
+    /// Output.
+    pub output: String,
+    /// Free run: RMS error (output units) and fit \[%\] over every validation record.
+    pub free_run_rms_error: f64,
+    /// Free-run fit \[%\].
+    pub free_run_fit_percent: f64,
+    /// K.
+    pub horizon: Option<usize>,
+    /// K samples ahead: RMS error, from sample K of each record on.
+    pub ahead_rms_error: Option<f64>,
+    /// K-step fit \[%\].
+    pub ahead_fit_percent: Option<f64>,
+}
+
+/// `summary.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct IdentifySummary {
+    /// The model's settings as used.
+    pub model: OnlineSpec,
+    /// Records identified on.
+    pub records: Vec<String>,
+    /// Sample time \[s\].
+    pub sample_time_s: f64,
+    /// Terms per neuron.
+    pub terms_per_neuron: usize,
+    /// Online figures over the final pass.
+    pub online: Vec<rhonn::ident::OnlineFigures>,
+    /// Final weight norm per neuron.
+    pub final_weight_norms: Vec<f64>,
+    /// Largest weight norm per neuron in each pass.
+    pub max_weight_norm_per_pass: Vec<Vec<f64>>,
+    /// Frozen-weight validation.
+    pub validation: Vec<ValidationFigures>,
+    /// Findings in words.
+    pub findings: Vec<String>,
+}
+
+/// `model.json`: the frozen online model (its settings, scaling and weights).
+#[derive(Debug, Clone, Serialize)]
+pub struct OnlineModelFile {
+    /// `online-rhonn`.
+    pub kind: &'static str,
+    /// Input columns.
+    pub inputs: Vec<String>,
+    /// Output columns.
+    pub outputs: Vec<String>,
+    /// Sample time \[s\].
+    pub sample_time_s: f64,
+    /// Settings.
+    pub model: OnlineSpec,
+    /// Scaling.
+    pub scaling: Scaling,
+    /// Weights per neuron (normalised units).
+    pub weights: Vec<Vec<f64>>,
+}
+
+/// Figures of validation predictions.
+pub fn validation_figures(v: &Validation, outputs: &[String]) -> Vec<ValidationFigures> {
+    (0..outputs.len())
+        .map(|j| {
+            let gather = |p: &[Vec<Vec<f64>>], from: usize| {
+                let (mut y, mut yh) = (Vec::new(), Vec::new());
+                for (r, pr) in v.records.iter().zip(p) {
+                    y.extend_from_slice(&r.outputs[j][from.min(r.len())..]);
+                    yh.extend(pr[from.min(r.len())..].iter().map(|e| e[j]));
+                }
+                (metrics::rms_error(&y, &yh), metrics::fit_percent(&y, &yh))
+            };
+            let (fr, ff) = gather(&v.free_run, 0);
+            let ahead = v.ahead.as_ref().map(|(k, p)| (*k, gather(p, *k)));
+            ValidationFigures {
+                output: outputs[j].clone(),
+                free_run_rms_error: fr,
+                free_run_fit_percent: ff,
+                horizon: ahead.map(|a| a.0),
+                ahead_rms_error: ahead.map(|a| a.1 .0),
+                ahead_fit_percent: ahead.map(|a| a.1 .1),
+            }
+        })
+        .collect()
+}
+
+/// Write everything of an identification into `dir`.
+#[allow(clippy::too_many_arguments)]
+pub fn write_identify(
+    dir: &Path,
+    run: &OnlineRun,
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+    model: &OnlineModelFile,
+    summary: &IdentifySummary,
+    validation: Option<&Validation>,
+) -> Result<Vec<PathBuf>> {
+    let mut set = OutputSet::new(dir)?;
+    set.write("estimate.csv", |w| estimate_csv(w, run, records, outputs))?;
+    set.write("weights.csv", |w| weights_csv(w, run, records, outputs))?;
+    if let Some(v) = validation {
+        set.write("validation.csv", |w| validation_csv(w, v, outputs))?;
+    }
+    set.write("summary.json", |w| write_json(w, summary))?;
+    set.write("model.json", |w| write_json(w, model))?;
+    let (est, wts) = plots(run, records, outputs);
+    set.write("estimate.svg", |w| w.write_all(est.as_bytes()))?;
+    set.write("weights.svg", |w| w.write_all(wts.as_bytes()))?;
+    if let Some(v) = validation {
+        let svg = validation_plot(v, outputs);
+        set.write("validation.svg", |w| w.write_all(svg.as_bytes()))?;
+    }
+    let _ = inputs;
+    set.commit()
+}
+
+fn estimate_csv(
+    w: &mut dyn Write,
+    run: &OnlineRun,
+    records: &[Record],
+    outputs: &[String],
+) -> std::io::Result<()> {
+    let mut h = vec!["record".to_string(), "t".into()];
+    for o in outputs {
+        h.push(o.clone());
+        h.push(format!("{o}_hat"));
+    }
+    writeln!(w, "{}", h.join(","))?;
+    for (ri, (r, est)) in records.iter().zip(&run.estimates).enumerate() {
+        for (k, e) in est.iter().enumerate() {
+            write!(w, "{ri},{}", r.t[k])?;
+            for (col, v) in r.outputs.iter().zip(e) {
+                write!(w, ",{},{v}", col[k])?;
+            }
+            writeln!(w)?;
+        }
+    }
+    Ok(())
+}
+
+fn weights_csv(
+    w: &mut dyn Write,
+    run: &OnlineRun,
+    records: &[Record],
+    outputs: &[String],
+) -> std::io::Result<()> {
+    let mut h = vec!["record".to_string(), "t".into()];
+    h.extend(outputs.iter().map(|o| format!("w_norm_{o}")));
+    h.push("error_energy".into());
+    writeln!(w, "{}", h.join(","))?;
+    let sc = run.identifier.scaling();
+    for (ri, ((r, est), norms)) in records
+        .iter()
+        .zip(&run.estimates)
+        .zip(&run.weight_norms)
+        .enumerate()
+    {
+        for k in 0..r.len() {
+            write!(w, "{ri},{}", r.t[k])?;
+            for n in &norms[k] {
+                write!(w, ",{n}")?;
+            }
+            // 1/2 sum of squared normalised errors: the part of the laws' Lyapunov
+            // function that can be measured.
+            let energy: f64 = (0..outputs.len())
+                .map(|j| 0.5 * ((est[k][j] - r.outputs[j][k]) / sc.y_scale[j]).powi(2))
+                .sum();
+            writeln!(w, ",{energy}")?;
+        }
+    }
+    Ok(())
+}
+
+fn validation_csv(w: &mut dyn Write, v: &Validation, outputs: &[String]) -> std::io::Result<()> {
+    let mut h = vec!["record".to_string(), "t".into()];
+    for o in outputs {
+        h.push(o.clone());
+        h.push(format!("{o}_free_run"));
+        if let Some((k, _)) = &v.ahead {
+            h.push(format!("{o}_{k}_ahead"));
+        }
+    }
+    writeln!(w, "{}", h.join(","))?;
+    for (ri, r) in v.records.iter().enumerate() {
+        for k in 0..r.len() {
+            write!(w, "{ri},{}", r.t[k])?;
+            for j in 0..outputs.len() {
+                write!(w, ",{},{}", r.outputs[j][k], v.free_run[ri][k][j])?;
+                if let Some((_, p)) = &v.ahead {
+                    write!(w, ",{}", p[ri][k][j])?;
+                }
+            }
+            writeln!(w)?;
+        }
+    }
+    Ok(())
+}
+
+/// Times of records laid end to end (each record's own times, shifted to follow the
+/// previous one).
+fn joined_times(records: &[Record]) -> Vec<f64> {
+    let mut t = Vec::new();
+    let mut shift = 0.0;
+    for r in records {
+        let t0 = r.t[0];
+        t.extend(r.t.iter().map(|x| x - t0 + shift));
+        shift = t.last().copied().unwrap_or(0.0) + r.median_interval();
+    }
+    t
+}
+
+fn plots(run: &OnlineRun, records: &[Record], outputs: &[String]) -> (String, String) {
+    let t = joined_times(records);
+    let panels: Vec<TimePlot> = outputs
+        .iter()
+        .enumerate()
+        .map(|(j, o)| TimePlot {
+            title: format!("online identification (final pass): {o}"),
+            y_label: o.clone(),
+            t: t.clone(),
+            series: vec![
+                Series::solid(
+                    format!("{o} measured"),
+                    records.iter().flat_map(|r| r.outputs[j].clone()).collect(),
+                ),
+                Series::solid(
+                    format!("{o} online estimate"),
+                    run.estimates.iter().flatten().map(|e| e[j]).collect(),
+                ),
+            ],
+        })
+        .collect();
+    let weights = TimePlot {
+        title: "weight norms (final pass)".into(),
+        y_label: "|w_i| (normalised units)".into(),
+        t,
+        series: outputs
+            .iter()
+            .enumerate()
+            .map(|(j, o)| {
+                Series::solid(
+                    format!("|w| of {o}'s neuron"),
+                    run.weight_norms.iter().flatten().map(|n| n[j]).collect(),
+                )
+            })
+            .collect(),
+    };
+    (
+        TimePlot::render(&panels, 900, 380),
+        TimePlot::render(&[weights], 900, 380),
+    )
+}
+
+fn validation_plot(v: &Validation, outputs: &[String]) -> String {
+    let t = joined_times(&v.records);
+    let panels: Vec<TimePlot> = outputs
+        .iter()
+        .enumerate()
+        .map(|(j, o)| {
+            let mut series = vec![
+                Series::solid(
+                    format!("{o} measured"),
+                    v.records.iter().flat_map(|r| r.outputs[j].clone()).collect(),
+                ),
+                Series::solid(
+                    format!("{o} free run (frozen weights)"),
+                    v.free_run.iter().flatten().map(|e| e[j]).collect(),
+                ),
+            ];
+            if let Some((k, p)) = &v.ahead {
+                series.push(Series::solid(
+                    format!("{o} {k} samples ahead"),
+                    p.iter().flatten().map(|e| e[j]).collect(),
+                ));
+            }
+            TimePlot {
+                title: format!("validation: {o}"),
+                y_label: o.clone(),
+                t: t.clone(),
+                series,
+            }
+        })
+        .collect();
+    TimePlot::render(&panels, 900, 380)
+}

@@ -1,0 +1,621 @@
+//! Online RHONN identification of sampled signals: [`OnlineIdentifier`] takes one sample
+//! at a time (`update(t, u, y) -> y_hat`), as a user's own loop or `rhonn identify` over
+//! recordings gives them, and runs the thesis's continuous-time identifier between
+//! samples (classical RK4 on the identifier's ODE, [`super::Identifier::rhs`]; any law
+//! of [`crate::law`]).
+//!
+//! - *Series-parallel*: each neuron is driven by the measured outputs, held between
+//!   samples; the estimate at a sample is computed before that sample is seen, so it is
+//!   a genuine one-sample-ahead prediction.
+//! - *Inputs*: held between samples (the default: sampled commands are held by the
+//!   actuator's DAC) or interpolated linearly (for inputs that were themselves sampled
+//!   from something continuous).
+//! - *States nobody measures* (an upper tank's level, a pump's stroke) are stood in for by
+//!   filtered regressors: each input also enters through first-order low-pass filters
+//!   with the time constants `filters_s`. A hidden state of a chain of reservoirs is a
+//!   filtered, nonlinearly distorted copy of the input; a few filters with spread time
+//!   constants span it, and the weights stay linear in the parameters, so the laws'
+//!   stability proofs (Lyapunov, bounded errors) hold unchanged. Parallel hidden neurons
+//!   would make the model nonlinear in its parameters and lose that proof.
+//! - *Noise*: a dead zone (errors below it do not adapt the weights, Ioannou & Sun 1996
+//!   section 8.5.4), the sigma laws of [`crate::law::sigma`], or both.
+//!
+//! Signals are normalised inside ([`Scaling`]): offset and scale per output and input.
+
+use super::{Identifier, Mode, Scratch};
+use crate::error::{invalid, Error, Result};
+use crate::law::{GainSpec, LawSpec};
+use crate::net::{Network, Sigmoid, Terms};
+use serde::{Deserialize, Serialize};
+
+/// How inputs move between two samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum InputHold {
+    /// Held at the last sample (zero-order hold).
+    #[default]
+    Hold,
+    /// Linear between the last sample and this one.
+    Linear,
+}
+
+/// An online identifier's structure and law, as `rhonn identify --model SPEC.toml`
+/// writes it. Every field has a default.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OnlineSpec {
+    /// Learning law (a `[law]` table as in scenarios); default `filtered-error` with
+    /// `gamma = gain / (T L)` per neuron (T the sample time, L the number of terms).
+    pub law: Option<LawSpec>,
+    /// Step size of the default law (default 0.5; ignored with a `law`).
+    pub gain: f64,
+    /// Degree of the high-order terms (default 2).
+    pub degree: usize,
+    /// Most distinct factors per term (default 2).
+    pub max_factors: usize,
+    /// Neuron pole a \[1/s\] (default 1 / (10 T)).
+    pub a_per_s: Option<f64>,
+    /// Time constants \[s\] of the input filters standing in for unmeasured states
+    /// (default none).
+    pub filters_s: Vec<f64>,
+    /// `hold` (default) or `linear`.
+    pub inputs: InputHold,
+    /// Passes over the recordings, weights carried (default 1).
+    pub epochs: usize,
+    /// Freeze the weights this many seconds into each pass (default never).
+    pub freeze_after_s: Option<f64>,
+    /// Errors below this, in each output's own units, do not adapt (default 0).
+    pub dead_zone: f64,
+}
+
+impl Default for OnlineSpec {
+    fn default() -> Self {
+        OnlineSpec {
+            law: None,
+            gain: 0.5,
+            degree: 2,
+            max_factors: 2,
+            a_per_s: None,
+            filters_s: Vec::new(),
+            inputs: InputHold::Hold,
+            epochs: 1,
+            freeze_after_s: None,
+            dead_zone: 0.0,
+        }
+    }
+}
+
+/// Offsets and scales of the outputs and the inputs: the identifier sees
+/// `(signal - offset) / scale`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Scaling {
+    /// Per output.
+    pub y_offset: Vec<f64>,
+    /// Per output, > 0.
+    pub y_scale: Vec<f64>,
+    /// Per input.
+    pub u_offset: Vec<f64>,
+    /// Per input, > 0.
+    pub u_scale: Vec<f64>,
+}
+
+impl Scaling {
+    /// No scaling for `ny` outputs and `nu` inputs.
+    pub fn identity(ny: usize, nu: usize) -> Self {
+        Scaling {
+            y_offset: vec![0.0; ny],
+            y_scale: vec![1.0; ny],
+            u_offset: vec![0.0; nu],
+            u_scale: vec![1.0; nu],
+        }
+    }
+
+    /// Mean and standard deviation of each column (a constant column gets scale 1).
+    pub fn of(outputs: &[&[f64]], inputs: &[&[f64]]) -> Self {
+        let ms = |c: &[f64]| {
+            let n = c.len().max(1) as f64;
+            let m = c.iter().sum::<f64>() / n;
+            let s = (c.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / n).sqrt();
+            (m, if s > 0.0 && s.is_finite() { s } else { 1.0 })
+        };
+        let (y_offset, y_scale) = outputs.iter().map(|c| ms(c)).unzip();
+        let (u_offset, u_scale) = inputs.iter().map(|c| ms(c)).unzip();
+        Scaling {
+            y_offset,
+            y_scale,
+            u_offset,
+            u_scale,
+        }
+    }
+}
+
+/// What [`OnlineIdentifier::snapshot`] saves.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    state: Vec<f64>,
+    t_last: Option<f64>,
+    y_last: Vec<f64>,
+    u_last: Vec<f64>,
+}
+
+/// The online identifier (see the module docs). Buffers are allocated once: an update
+/// does not allocate.
+#[derive(Debug, Clone)]
+pub struct OnlineIdentifier {
+    ident: Identifier,
+    scaling: Scaling,
+    hold: InputHold,
+    filters_s: Vec<f64>,
+    dead_zone: Vec<f64>,
+    period_s: f64,
+    state: Vec<f64>,
+    k: [Vec<f64>; 4],
+    tmp: Vec<f64>,
+    scratch: Scratch,
+    /// Last sample's time; its normalised outputs and regressor inputs (inputs,
+    /// filters, 1).
+    t_last: Option<f64>,
+    y_last: Vec<f64>,
+    u_last: Vec<f64>,
+    yn: Vec<f64>,
+    u_now: Vec<f64>,
+    u_mid: Vec<f64>,
+    y_hat: Vec<f64>,
+    frozen: bool,
+    free_run: bool,
+}
+
+impl OnlineIdentifier {
+    /// An identifier of `ny` outputs from `nu` inputs sampled every `period_s`.
+    pub fn new(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64, scaling: Scaling) -> Result<Self> {
+        check_spec(spec, ny, nu, period_s, &scaling)?;
+        let nf = spec.filters_s.len();
+        let m = nu * (1 + nf) + 1;
+        // Monomials of the outputs' sigmoids, the inputs and their filters, and one
+        // constant term (the last network input is 1; it takes no part in products,
+        // which it would only duplicate).
+        let mono = Terms::monomials(ny + m - 1, spec.degree, spec.max_factors);
+        let mut lists: Vec<Vec<[usize; 2]>> = (0..mono.len()).map(|k| mono.factors(k)).collect();
+        lists.push(vec![[ny + m - 1, 1]]);
+        let terms = Terms::from_lists(&lists, ny + m, "model.terms")?;
+        let l = terms.len();
+        if l > 400 {
+            return Err(invalid(
+                "model.degree",
+                spec.degree,
+                format!("a structure with at most 400 terms (this one has {l}: lower degree or max_factors, or use fewer filters)"),
+            ));
+        }
+        let a = spec.a_per_s.unwrap_or(0.1 / period_s);
+        let net = Network {
+            n: ny,
+            m,
+            sigmoid: Sigmoid::TANH,
+            state_scale: vec![1.0; ny],
+            input_scale: vec![1.0; m],
+            terms,
+            a: vec![a; ny],
+        };
+        let law_spec = spec.law.clone().unwrap_or_else(|| LawSpec::FilteredError {
+            gamma: vec![GainSpec::Scalar(spec.gain / (period_s * l as f64)); ny],
+        });
+        let law = law_spec.check(ny, l, "model.law")?;
+        let ident = Identifier::new(net, law, Mode::Train);
+        let state = ident.initial_state(&vec![0.0; ny], None);
+        let d = ident.dim();
+        let scratch = Scratch::for_identifier(&ident);
+        Ok(OnlineIdentifier {
+            dead_zone: scaling.y_scale.iter().map(|s| spec.dead_zone / s).collect(),
+            scaling,
+            hold: spec.inputs,
+            filters_s: spec.filters_s.clone(),
+            period_s,
+            k: std::array::from_fn(|_| vec![0.0; d]),
+            tmp: vec![0.0; d],
+            state,
+            scratch,
+            t_last: None,
+            y_last: vec![0.0; ny],
+            u_last: vec![0.0; m],
+            yn: vec![0.0; ny],
+            u_now: vec![0.0; m],
+            u_mid: vec![0.0; m],
+            y_hat: vec![0.0; ny],
+            ident,
+            frozen: false,
+            free_run: false,
+        })
+    }
+
+    /// Take the sample `(t, u, y)`: integrate from the last sample to `t`, return the
+    /// estimate of `y(t)` made before seeing `y` (the first sample returns `y`), then
+    /// learn from `y`. In a free run `y` is ignored (give anything of the right length).
+    pub fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<&[f64]> {
+        let (ny, nu) = (self.scaling.y_scale.len(), self.scaling.u_scale.len());
+        if u.len() != nu || y.len() != ny {
+            return Err(invalid(
+                "update",
+                format!("{} inputs and {} outputs", u.len(), y.len()),
+                format!("{nu} inputs and {ny} outputs"),
+            ));
+        }
+        if !t.is_finite()
+            || u.iter().any(|v| !v.is_finite())
+            || (!self.free_run && y.iter().any(|v| !v.is_finite()))
+        {
+            return Err(invalid(
+                format!("sample at t = {t} s"),
+                format!("u = {u:?}, y = {y:?}"),
+                "finite numbers",
+            ));
+        }
+        for i in 0..ny {
+            self.yn[i] = (y[i] - self.scaling.y_offset[i]) / self.scaling.y_scale[i];
+        }
+        self.regressor_inputs(u);
+        let Some(t0) = self.t_last else {
+            // The first sample: the model starts at the measurement, the filters at rest.
+            let yn = std::mem::take(&mut self.yn);
+            self.set_estimate_normalised(&yn);
+            self.yn = yn;
+            self.start_filters();
+            self.remember(t);
+            return Ok(self.denormalised());
+        };
+        let h = t - t0;
+        if !(h > 0.0) {
+            return Err(invalid(
+                "t",
+                t,
+                format!("a time after the previous sample's, {t0} s"),
+            ));
+        }
+        let adapt = !self.frozen
+            && !self.free_run
+            && (0..ny).any(|i| (self.estimate_normalised(i) - self.y_last[i]).abs() >= self.dead_zone[i]);
+        self.ident.mode = match (self.free_run, adapt) {
+            (true, _) => Mode::Parallel,
+            (false, true) => Mode::Train,
+            (false, false) => Mode::SeriesParallel,
+        };
+        let (y0, u0) = (std::mem::take(&mut self.y_last), std::mem::take(&mut self.u_last));
+        self.integrate(h, &y0, &u0);
+        self.advance_filters(h, &u0);
+        (self.y_last, self.u_last) = (y0, u0);
+        if self.state.iter().any(|v| !v.is_finite()) {
+            return Err(Error::NotFinite {
+                what: format!("the online identifier's state at t = {t} s"),
+                cause: format!(
+                    "the weights diverged (last estimate {:?}, measured {:?}): lower the gain, add a dead zone, or use a sigma law",
+                    self.y_hat, y
+                ),
+            });
+        }
+        self.remember(t);
+        Ok(self.denormalised())
+    }
+
+    /// Keep this sample as the last one.
+    fn remember(&mut self, t: f64) {
+        self.t_last = Some(t);
+        self.y_last.copy_from_slice(&self.yn);
+        self.u_last.copy_from_slice(&self.u_now);
+    }
+
+    /// Stop (`true`) or resume adapting the weights.
+    pub fn freeze(&mut self, frozen: bool) {
+        self.frozen = frozen;
+    }
+
+    /// Run free (`true`): the model on its own outputs, weights frozen; or back to
+    /// series-parallel.
+    pub fn set_free_run(&mut self, free: bool) {
+        self.free_run = free;
+    }
+
+    /// Forget the last sample (a new record starts): the next update restarts the model
+    /// at its measurement; the weights stay.
+    pub fn reset(&mut self) {
+        self.t_last = None;
+    }
+
+    /// Put the model's estimate at `y` (output units), as at a record's first sample.
+    pub fn set_estimate(&mut self, y: &[f64]) {
+        let yn: Vec<f64> = (0..y.len())
+            .map(|i| (y[i] - self.scaling.y_offset[i]) / self.scaling.y_scale[i])
+            .collect();
+        self.set_estimate_normalised(&yn);
+    }
+
+    /// Weights, one vector per output's neuron (normalised units).
+    pub fn weights(&self) -> Vec<Vec<f64>> {
+        self.ident.weights(&self.state)
+    }
+
+    /// Set the weights (e.g. saved ones).
+    pub fn set_weights(&mut self, w: &[Vec<f64>]) {
+        self.ident.set_weights(&mut self.state, w);
+    }
+
+    /// Number of terms per neuron.
+    pub fn n_terms(&self) -> usize {
+        self.ident.net.n_terms()
+    }
+
+    /// The scaling.
+    pub fn scaling(&self) -> &Scaling {
+        &self.scaling
+    }
+
+    /// Everything that changes with a sample (model, weights, law states, filters, the
+    /// last sample), to save and restore around a K-step-ahead prediction.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            state: self.state.clone(),
+            t_last: self.t_last,
+            y_last: self.y_last.clone(),
+            u_last: self.u_last.clone(),
+        }
+    }
+
+    /// Restore a [`OnlineIdentifier::snapshot`].
+    pub fn restore(&mut self, snap: &Snapshot) {
+        self.state.copy_from_slice(&snap.state);
+        self.t_last = snap.t_last;
+        self.y_last.copy_from_slice(&snap.y_last);
+        self.u_last.copy_from_slice(&snap.u_last);
+    }
+
+    fn estimate_normalised(&self, i: usize) -> f64 {
+        let b = self.ident.block();
+        let blk = &self.state[i * b..(i + 1) * b];
+        match self.ident.law.structure {
+            crate::law::Structure::FilteredError => blk[0],
+            crate::law::Structure::FilteredRegressor => {
+                let l = self.ident.net.n_terms();
+                super::dot(&blk[..l], &blk[l..2 * l])
+            }
+        }
+    }
+
+    fn set_estimate_normalised(&mut self, yn: &[f64]) {
+        if self.ident.law.structure == crate::law::Structure::FilteredError {
+            let b = self.ident.block();
+            for (i, y) in yn.iter().enumerate() {
+                self.state[i * b] = *y;
+            }
+        }
+    }
+
+    fn denormalised(&mut self) -> &[f64] {
+        for i in 0..self.y_hat.len() {
+            self.y_hat[i] = self.estimate_normalised(i) * self.scaling.y_scale[i] + self.scaling.y_offset[i];
+        }
+        &self.y_hat
+    }
+
+    /// The network's inputs for the sample `u`: normalised inputs, their filters (kept
+    /// from the last sample), and the constant 1.
+    fn regressor_inputs(&mut self, u: &[f64]) {
+        let nu = u.len();
+        for j in 0..nu {
+            self.u_now[j] = (u[j] - self.scaling.u_offset[j]) / self.scaling.u_scale[j];
+        }
+        if self.t_last.is_some() {
+            self.u_now[nu..].copy_from_slice(&self.u_last[nu..]);
+        }
+        let m = self.u_now.len();
+        self.u_now[m - 1] = 1.0;
+    }
+
+    fn start_filters(&mut self) {
+        let nu = self.scaling.u_scale.len();
+        for q in 0..self.filters_s.len() {
+            for j in 0..nu {
+                self.u_now[nu * (1 + q) + j] = self.u_now[j];
+            }
+        }
+    }
+
+    /// The filters over `h` with the input `u0` held (exact for a held input).
+    fn advance_filters(&mut self, h: f64, u0: &[f64]) {
+        let nu = self.scaling.u_scale.len();
+        for (q, tau) in self.filters_s.iter().enumerate() {
+            let k = 1.0 - (-h / tau).exp();
+            for j in 0..nu {
+                let f = &mut self.u_now[nu * (1 + q) + j];
+                *f = u0[nu * (1 + q) + j] + k * (u0[j] - u0[nu * (1 + q) + j]);
+            }
+        }
+    }
+
+    /// Classical RK4 over `h` (in substeps of at most one sample time), the measured
+    /// outputs `y0` held and the inputs held at `u0` or linear to `self.u_now`.
+    fn integrate(&mut self, h: f64, y0: &[f64], u0: &[f64]) {
+        // Substeps short enough for RK4 to follow the identifier's fastest motion (the
+        // neuron's pole a, and the weight-error oscillation sqrt(gamma |z|^2)), so the
+        // law's continuous-time stability carries over to the sampled run. The first
+        // stage's regressor gives |z|^2 (it does not depend on the substep).
+        self.ident.update_modes(y0, u0, &self.state, &mut self.scratch);
+        stage_inputs(
+            &mut self.u_mid,
+            u0,
+            &self.u_now,
+            self.scaling.u_scale.len(),
+            self.hold,
+            0.0,
+        );
+        self.ident
+            .rhs(y0, &self.u_mid, &self.state, &mut self.k[0], &mut self.scratch);
+        let rate = self.fastest_rate(y0);
+        let n_sub = (h / self.period_s)
+            .max(h * rate / 0.5)
+            .ceil()
+            .clamp(1.0, 10_000.0) as usize;
+        let hs = h / n_sub as f64;
+        let d = self.state.len();
+        for j in 0..n_sub {
+            let f = |x: f64| (j as f64 + x) / n_sub as f64;
+            if j > 0 {
+                self.ident.update_modes(y0, u0, &self.state, &mut self.scratch);
+                stage_inputs(
+                    &mut self.u_mid,
+                    u0,
+                    &self.u_now,
+                    self.scaling.u_scale.len(),
+                    self.hold,
+                    f(0.0),
+                );
+                self.ident
+                    .rhs(y0, &self.u_mid, &self.state, &mut self.k[0], &mut self.scratch);
+            }
+            let [k1, k2, k3, k4] = &mut self.k;
+            for i in 0..d {
+                self.tmp[i] = self.state[i] + 0.5 * hs * k1[i];
+            }
+            if self.hold == InputHold::Linear {
+                stage_inputs(
+                    &mut self.u_mid,
+                    u0,
+                    &self.u_now,
+                    self.scaling.u_scale.len(),
+                    self.hold,
+                    f(0.5),
+                );
+            }
+            self.ident.rhs(y0, &self.u_mid, &self.tmp, k2, &mut self.scratch);
+            for i in 0..d {
+                self.tmp[i] = self.state[i] + 0.5 * hs * k2[i];
+            }
+            self.ident.rhs(y0, &self.u_mid, &self.tmp, k3, &mut self.scratch);
+            for i in 0..d {
+                self.tmp[i] = self.state[i] + hs * k3[i];
+            }
+            if self.hold == InputHold::Linear {
+                stage_inputs(
+                    &mut self.u_mid,
+                    u0,
+                    &self.u_now,
+                    self.scaling.u_scale.len(),
+                    self.hold,
+                    f(1.0),
+                );
+            }
+            self.ident.rhs(y0, &self.u_mid, &self.tmp, k4, &mut self.scratch);
+            for i in 0..d {
+                self.state[i] += hs / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            }
+        }
+    }
+}
+
+impl OnlineIdentifier {
+    /// The identifier's fastest rate \[1/s\] after an evaluation of its derivative at
+    /// the measurements `y0` and the stage inputs (whose regressor the general path left
+    /// in the scratch; the fast path for single-factor terms does not, so it is
+    /// computed).
+    fn fastest_rate(&mut self, y0: &[f64]) -> f64 {
+        let l = self.ident.net.n_terms();
+        let sc = &mut self.scratch;
+        if self.ident.net.terms.plain_indices().is_some() || self.ident.mode == Mode::Parallel {
+            self.ident.net.regressor(y0, &self.u_mid, &mut sc.y, &mut sc.z);
+        }
+        let z2: f64 = sc.z[..l].iter().map(|v| v * v).sum();
+        let b = self.ident.block();
+        let a_max = self.ident.net.a.iter().copied().fold(0.0, f64::max);
+        let g_max = (0..self.ident.net.n)
+            .map(|i| match &self.ident.law.rule {
+                crate::law::Rule::Gradient(g) => match &g.gamma[i] {
+                    crate::law::Gain::Scalar(v) => *v,
+                    crate::law::Gain::Matrix(m) => m.iter().map(|v| v.abs()).sum::<f64>(),
+                },
+                crate::law::Rule::LeastSquares(_) => {
+                    let p = &self.state[i * b + 2 * l..i * b + 2 * l + l * l];
+                    (0..l).map(|k| p[k * l + k]).sum::<f64>()
+                }
+            })
+            .fold(0.0, f64::max);
+        a_max.max((g_max * z2).sqrt())
+    }
+}
+
+/// The network inputs at fraction `f` of the interval: `u0` held, or its first `nu`
+/// (the inputs, not their filters) linear to this sample's `u_now`.
+fn stage_inputs(u_mid: &mut [f64], u0: &[f64], u_now: &[f64], nu: usize, hold: InputHold, f: f64) {
+    u_mid.copy_from_slice(u0);
+    if hold == InputHold::Linear {
+        for c in 0..nu {
+            u_mid[c] = u0[c] + f * (u_now[c] - u0[c]);
+        }
+    }
+}
+
+fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64, s: &Scaling) -> Result<()> {
+    if ny == 0 || nu == 0 {
+        return Err(invalid(
+            "outputs and inputs",
+            format!("{ny} and {nu}"),
+            "at least one of each",
+        ));
+    }
+    if !(period_s.is_finite() && period_s > 0.0) {
+        return Err(invalid("sample time", period_s, "a finite number of seconds > 0"));
+    }
+    if !(1..=4).contains(&spec.degree) {
+        return Err(invalid("model.degree", spec.degree, "an integer in [1, 4]"));
+    }
+    if !(1..=spec.degree).contains(&spec.max_factors) {
+        return Err(invalid(
+            "model.max_factors",
+            spec.max_factors,
+            format!("an integer in [1, {}]", spec.degree),
+        ));
+    }
+    if !(spec.gain.is_finite() && spec.gain > 0.0) {
+        return Err(invalid("model.gain", spec.gain, "a finite number > 0"));
+    }
+    if let Some(a) = spec.a_per_s {
+        if !(a.is_finite() && a > 0.0) {
+            return Err(invalid(
+                "model.a_per_s",
+                a,
+                "a finite number > 0 (a stable neuron)",
+            ));
+        }
+    }
+    for (k, tau) in spec.filters_s.iter().enumerate() {
+        if !(tau.is_finite() && *tau > 0.0) {
+            return Err(invalid(
+                format!("model.filters_s[{k}]"),
+                tau,
+                "a time constant > 0 s",
+            ));
+        }
+    }
+    if !(1..=10_000).contains(&spec.epochs) {
+        return Err(invalid("model.epochs", spec.epochs, "an integer in [1, 10000]"));
+    }
+    if let Some(f) = spec.freeze_after_s {
+        if !(f.is_finite() && f >= 0.0) {
+            return Err(invalid("model.freeze_after_s", f, "a time >= 0 s"));
+        }
+    }
+    if !(spec.dead_zone.is_finite() && spec.dead_zone >= 0.0) {
+        return Err(invalid("model.dead_zone", spec.dead_zone, "a finite number >= 0"));
+    }
+    let ok = |v: &[f64], n: usize, positive: bool| {
+        v.len() == n && v.iter().all(|x| x.is_finite() && (!positive || *x > 0.0))
+    };
+    if !(ok(&s.y_offset, ny, false)
+        && ok(&s.y_scale, ny, true)
+        && ok(&s.u_offset, nu, false)
+        && ok(&s.u_scale, nu, true))
+    {
+        return Err(invalid(
+            "scaling",
+            format!("{s:?}"),
+            format!("{ny} output and {nu} input offsets and scales, scales > 0"),
+        ));
+    }
+    Ok(())
+}

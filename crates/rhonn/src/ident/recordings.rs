@@ -1,0 +1,230 @@
+//! Online identification of recordings (`rhonn identify` as a library call): an
+//! [`OnlineIdentifier`] run over records in time order for a number of passes, then
+//! frozen and run free or K samples ahead on other records.
+
+use super::online::{OnlineIdentifier, OnlineSpec, Scaling};
+use crate::data::Record;
+use crate::error::{invalid, Result};
+use crate::metrics;
+use serde::Serialize;
+
+/// Per output: how well the online estimate followed it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OnlineFigures {
+    /// Output column.
+    pub output: String,
+    /// RMS error over the last half of the final pass (output units).
+    pub rms_error_last_half: f64,
+    /// Fit \[%\] over the last half of the final pass.
+    pub fit_percent_last_half: f64,
+    /// First time \[s\] (from the final pass's start) after which |error| stays within
+    /// the band (twice the last half's RMS error), or None.
+    pub converged_s: Option<f64>,
+    /// The band \[output units\].
+    pub band: f64,
+}
+
+/// What an online identification over recordings gives.
+#[derive(Debug, Clone)]
+pub struct OnlineRun {
+    /// The identifier after the last pass (weights as learned).
+    pub identifier: OnlineIdentifier,
+    /// The final pass, per record: the estimate of each output at each sample.
+    pub estimates: Vec<Vec<Vec<f64>>>,
+    /// The final pass, per record and sample: the weight norm of each neuron.
+    pub weight_norms: Vec<Vec<Vec<f64>>>,
+    /// Per pass, the largest weight norm of each neuron.
+    pub max_norm_per_pass: Vec<Vec<f64>>,
+    /// Per output.
+    pub figures: Vec<OnlineFigures>,
+}
+
+/// The sample time of records: the first record's median interval; every record must
+/// be uniform within 1 % of it.
+pub fn sample_time(records: &[Record]) -> Result<f64> {
+    let dt = records.first().map_or(f64::NAN, |r| r.median_interval());
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(invalid(
+            "data",
+            "fewer than two samples",
+            "a record with at least two samples",
+        ));
+    }
+    for r in records {
+        for (k, w) in r.t.windows(2).enumerate() {
+            let d = w[1] - w[0];
+            if !(d > 0.0) || (d - dt).abs() > 0.01 * dt {
+                return Err(invalid(
+                    format!("{}, line {}, column `t`", r.source, k + 3),
+                    w[1],
+                    format!("{} s after the previous sample ({}): samples every {dt} s (a gap or an uneven interval; resample the record first)", w[0] + dt, w[0]),
+                ));
+            }
+        }
+    }
+    Ok(dt)
+}
+
+/// Identify `records` online with `spec`: `spec.epochs` passes, weights carried, the
+/// model restarted at each record's first measurement; scaled by the records' means and
+/// standard deviations.
+pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String]) -> Result<OnlineRun> {
+    let dt = sample_time(records)?;
+    let cols = |f: fn(&Record) -> &Vec<Vec<f64>>, j: usize| -> Vec<f64> {
+        records.iter().flat_map(|r| f(r)[j].iter().copied()).collect()
+    };
+    let (ny, nu) = (records[0].outputs.len(), records[0].inputs.len());
+    let ys: Vec<Vec<f64>> = (0..ny).map(|j| cols(|r| &r.outputs, j)).collect();
+    let us: Vec<Vec<f64>> = (0..nu).map(|j| cols(|r| &r.inputs, j)).collect();
+    let scaling = Scaling::of(
+        &ys.iter().map(|v| v.as_slice()).collect::<Vec<_>>(),
+        &us.iter().map(|v| v.as_slice()).collect::<Vec<_>>(),
+    );
+    let mut id = OnlineIdentifier::new(spec, ny, nu, dt, scaling)?;
+    let mut max_norm_per_pass = Vec::new();
+    let (mut estimates, mut weight_norms) = (Vec::new(), Vec::new());
+    let (mut u, mut y) = (vec![0.0; nu], vec![0.0; ny]);
+    for pass in 0..spec.epochs {
+        let last = pass + 1 == spec.epochs;
+        let mut max_norm = vec![0.0f64; ny];
+        for r in records {
+            id.reset();
+            id.freeze(false);
+            let (mut est, mut norms) = (Vec::new(), Vec::new());
+            for k in 0..r.len() {
+                if let Some(f) = spec.freeze_after_s {
+                    id.freeze(r.t[k] - r.t[0] >= f);
+                }
+                sample(r, k, &mut u, &mut y);
+                let yh = id.update(r.t[k], &u, &y)?.to_vec();
+                let n: Vec<f64> = id.weights().iter().map(|w| super::dot(w, w).sqrt()).collect();
+                for (m, v) in max_norm.iter_mut().zip(&n) {
+                    *m = m.max(*v);
+                }
+                if last {
+                    est.push(yh);
+                    norms.push(n);
+                }
+            }
+            if last {
+                estimates.push(est);
+                weight_norms.push(norms);
+            }
+        }
+        max_norm_per_pass.push(max_norm);
+    }
+    let figures = figures(records, &estimates, outputs, dt);
+    Ok(OnlineRun {
+        identifier: id,
+        estimates,
+        weight_norms,
+        max_norm_per_pass,
+        figures,
+    })
+}
+
+fn sample(r: &Record, k: usize, u: &mut [f64], y: &mut [f64]) {
+    for (j, c) in r.inputs.iter().enumerate() {
+        u[j] = c[k];
+    }
+    for (j, c) in r.outputs.iter().enumerate() {
+        y[j] = c[k];
+    }
+}
+
+fn figures(
+    records: &[Record],
+    estimates: &[Vec<Vec<f64>>],
+    outputs: &[String],
+    dt: f64,
+) -> Vec<OnlineFigures> {
+    (0..outputs.len())
+        .map(|j| {
+            let (mut y, mut yh) = (Vec::new(), Vec::new());
+            let (mut all_y, mut all_h) = (Vec::new(), Vec::new());
+            for (r, est) in records.iter().zip(estimates) {
+                let h = r.len() / 2;
+                y.extend_from_slice(&r.outputs[j][h..]);
+                yh.extend(est[h..].iter().map(|e| e[j]));
+                all_y.extend_from_slice(&r.outputs[j]);
+                all_h.extend(est.iter().map(|e| e[j]));
+            }
+            let rms = metrics::rms_error(&y, &yh);
+            let band = 2.0 * rms;
+            let last_out = all_y.iter().zip(&all_h).rposition(|(a, b)| (a - b).abs() > band);
+            let converged_s = match last_out {
+                None => Some(0.0),
+                Some(k) if k + 1 < all_y.len() => Some((k + 1) as f64 * dt),
+                Some(_) => None,
+            };
+            OnlineFigures {
+                output: outputs[j].clone(),
+                rms_error_last_half: rms,
+                fit_percent_last_half: metrics::fit_percent(&y, &yh),
+                converged_s,
+                band,
+            }
+        })
+        .collect()
+}
+
+/// Run the frozen `id` over `records`: free (`horizon = None`: from each record's first
+/// measurement on the inputs alone) or `K` samples ahead (the estimate of `y(t_k)` from
+/// the model restarted at the measurement `y(t_(k-K))` and run K samples on the inputs).
+/// Returns the prediction of each output at each sample, per record.
+pub fn predict_records(
+    id: &mut OnlineIdentifier,
+    records: &[Record],
+    horizon: Option<usize>,
+) -> Result<Vec<Vec<Vec<f64>>>> {
+    id.freeze(true);
+    let (ny, nu) = (records[0].outputs.len(), records[0].inputs.len());
+    let (mut u, mut y) = (vec![0.0; nu], vec![0.0; ny]);
+    let mut out = Vec::new();
+    for r in records {
+        let mut pred = Vec::with_capacity(r.len());
+        match horizon {
+            None => {
+                id.reset();
+                id.set_free_run(true);
+                for k in 0..r.len() {
+                    sample(r, k, &mut u, &mut y);
+                    pred.push(id.update(r.t[k], &u, &y)?.to_vec());
+                }
+            }
+            Some(kh) => {
+                // A frozen series-parallel tracker follows the measurements (so the
+                // filters and the model's state are those at each sample); from its state
+                // at sample k, restarted at y(t_k), a free run of kh samples predicts
+                // y(t_(k+kh)). The first kh samples have no prediction: they hold the
+                // measurement.
+                id.reset();
+                id.set_free_run(false);
+                let mut pred_k = vec![None; r.len()];
+                for k in 0..r.len() {
+                    sample(r, k, &mut u, &mut y);
+                    id.update(r.t[k], &u, &y)?;
+                    if k + kh < r.len() {
+                        let snap = id.snapshot();
+                        id.set_estimate(&y);
+                        id.set_free_run(true);
+                        let mut yh = Vec::new();
+                        for j in k + 1..=k + kh {
+                            sample(r, j, &mut u, &mut y);
+                            yh = id.update(r.t[j], &u, &y)?.to_vec();
+                        }
+                        id.set_free_run(false);
+                        id.restore(&snap);
+                        pred_k[k + kh] = Some(yh);
+                    }
+                }
+                for (k, p) in pred_k.into_iter().enumerate() {
+                    pred.push(p.unwrap_or_else(|| r.outputs.iter().map(|c| c[k]).collect()));
+                }
+            }
+        }
+        id.set_free_run(false);
+        out.push(pred);
+    }
+    Ok(out)
+}

@@ -1,0 +1,170 @@
+//! `rhonn identify` from the command line: the files it writes, its figures on the
+//! measured cascaded tanks, and clear errors for bad recordings.
+
+mod util;
+
+use std::path::{Path, PathBuf};
+use util::{files_in, rhonn, stderr};
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn tanks_identified_online_then_frozen_writes_every_file_and_the_figures_of_the_readme() {
+    let d = tempfile::tempdir().unwrap();
+    let data = repo().join("data/cascaded-tanks");
+    let o = rhonn(
+        d.path(),
+        &[
+            "identify",
+            "--data",
+            data.join("estimation.csv").to_str().unwrap(),
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--model",
+            repo().join("models/tanks-online.toml").to_str().unwrap(),
+            "--validate",
+            data.join("validation.csv").to_str().unwrap(),
+            "--steps-ahead",
+            "10",
+            "--out",
+            "id",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        files_in(&d.path().join("id")),
+        [
+            "estimate.csv",
+            "estimate.svg",
+            "model.json",
+            "summary.json",
+            "validation.csv",
+            "validation.svg",
+            "weights.csv",
+            "weights.svg"
+        ]
+    );
+    let est = std::fs::read_to_string(d.path().join("id/estimate.csv")).unwrap();
+    assert!(est.starts_with("record,t,y,y_hat\n"), "{}", &est[..40]);
+    assert_eq!(est.lines().count(), 1 + 1024);
+    let w = std::fs::read_to_string(d.path().join("id/weights.csv")).unwrap();
+    assert!(w.starts_with("record,t,w_norm_y,error_energy\n"));
+    let v = std::fs::read_to_string(d.path().join("id/validation.csv")).unwrap();
+    assert!(v.starts_with("record,t,y,y_free_run,y_10_ahead\n"));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("id/summary.json")).unwrap()).unwrap();
+    // README figures: online fit 94.0 % over the last half, validation free run 2.05 V,
+    // 10 samples ahead 1.06 V (ARX(2,2) free run: 0.709 V).
+    let online = s["online"][0]["fit_percent_last_half"].as_f64().unwrap();
+    assert!((online - 94.0).abs() < 0.1, "{online}");
+    let free = s["validation"][0]["free_run_rms_error"].as_f64().unwrap();
+    assert!((free - 2.046).abs() < 0.01, "{free}");
+    let ahead = s["validation"][0]["ahead_rms_error"].as_f64().unwrap();
+    assert!((ahead - 1.055).abs() < 0.01, "{ahead}");
+    assert!(!s["findings"].as_array().unwrap().is_empty());
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("id/model.json")).unwrap()).unwrap();
+    assert_eq!(m["kind"], "online-rhonn");
+    assert_eq!(
+        m["weights"][0].as_array().unwrap().len(),
+        s["terms_per_neuron"].as_u64().unwrap() as usize
+    );
+}
+
+fn identify_err(dir: &Path, file: &str, text: &str) -> String {
+    std::fs::write(dir.join(file), text).unwrap();
+    let o = rhonn(
+        dir,
+        &[
+            "identify",
+            "--data",
+            file,
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--out",
+            "bad",
+        ],
+    );
+    assert!(!o.status.success(), "accepted {text:?}");
+    assert!(!dir.join("bad").exists(), "half-written output for {text:?}");
+    stderr(&o)
+}
+
+#[test]
+fn bad_recordings_name_the_file_line_and_column_and_write_nothing() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let e = identify_err(p, "nan.csv", "t,u,y\n0,1,2\n1,NaN,2\n2,1,2\n");
+    assert!(e.contains("nan.csv, line 3, column `u`"), "{e}");
+    let e = identify_err(p, "text.csv", "t,u,y\n0,1,2\n1,1,high\n2,1,2\n");
+    assert!(
+        e.contains("text.csv, line 3, column `y`") && e.contains("`high`"),
+        "{e}"
+    );
+    let e = identify_err(p, "missing.csv", "t,u,z\n0,1,2\n1,1,2\n");
+    assert!(e.contains("missing.csv") && e.contains("no column `y`"), "{e}");
+    let e = identify_err(p, "back.csv", "t,u,y\n0,1,2\n2,1,2\n1,1,2\n");
+    assert!(e.contains("back.csv, line 4, column `t`"), "{e}");
+    let e = identify_err(p, "gap.csv", "t,u,y\n0,1,2\n1,1,2\n2,1,2\n3,1,2\n9,1,2\n10,1,2\n");
+    assert!(
+        e.contains("gap.csv, line 6, column `t`") && e.contains("samples every 1 s"),
+        "{e}"
+    );
+    let e = identify_err(p, "one.csv", "t,u,y\n0,1,2\n");
+    assert!(e.contains("one.csv") && e.contains("1 data rows"), "{e}");
+}
+
+#[test]
+fn a_bad_model_spec_names_the_key() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("r.csv"), "t,u,y\n0,1,2\n1,0,2\n2,1,3\n").unwrap();
+    std::fs::write(d.path().join("m.toml"), "filters_s = [-4.0]\n").unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "identify",
+            "--data",
+            "r.csv",
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--model",
+            "m.toml",
+            "--out",
+            "x",
+        ],
+    );
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("model.filters_s[0]") && stderr(&o).contains("-4"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::write(d.path().join("m.toml"), "gains = 1.0\n").unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "identify",
+            "--data",
+            "r.csv",
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--model",
+            "m.toml",
+            "--out",
+            "x",
+        ],
+    );
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("gains"), "{}", stderr(&o));
+    assert!(!d.path().join("x").exists());
+}
