@@ -73,6 +73,63 @@ fn tanks_identified_online_then_frozen_writes_every_file_and_the_figures_of_the_
         m["weights"][0].as_array().unwrap().len(),
         s["terms_per_neuron"].as_u64().unwrap() as usize
     );
+    let val = data.join("validation.csv").to_str().unwrap().to_string();
+    // `rhonn predict` runs the online model: the same figures as the validation above.
+    for (steps, key) in [(None, "free_run_rms_error"), (Some("10"), "ahead_rms_error")] {
+        let mut args = vec![
+            "predict",
+            "--model",
+            "id/model.json",
+            "--data",
+            &val,
+            "--out",
+            "p",
+        ];
+        if let Some(k) = steps {
+            args.extend(["--steps-ahead", k]);
+        }
+        std::fs::remove_dir_all(d.path().join("p")).ok();
+        let o = rhonn(d.path(), &args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let p: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.path().join("p/summary.json")).unwrap()).unwrap();
+        let rms = p["figures"][0]["rms_error"].as_f64().unwrap();
+        assert!(
+            (rms - s["validation"][0][key].as_f64().unwrap()).abs() < 1e-12,
+            "{key}: {rms}"
+        );
+        assert_eq!(
+            files_in(&d.path().join("p")),
+            ["prediction.csv", "prediction.svg", "summary.json"]
+        );
+    }
+    // A hand-edited model: a weight vector too short, a weight that is not a number.
+    let text = std::fs::read_to_string(d.path().join("id/model.json")).unwrap();
+    let mut bad: serde_json::Value = serde_json::from_str(&text).unwrap();
+    bad["weights"][0].as_array_mut().unwrap().pop();
+    std::fs::write(d.path().join("short.json"), bad.to_string()).unwrap();
+    let o = rhonn(
+        d.path(),
+        &["predict", "--model", "short.json", "--data", &val, "--out", "q"],
+    );
+    assert!(
+        !o.status.success() && stderr(&o).contains("`weights`"),
+        "{}",
+        stderr(&o)
+    );
+    let mut bad: serde_json::Value = serde_json::from_str(&text).unwrap();
+    bad["weights"][0][2] = serde_json::Value::String("NaN".into());
+    std::fs::write(d.path().join("nan.json"), bad.to_string()).unwrap();
+    let o = rhonn(
+        d.path(),
+        &["predict", "--model", "nan.json", "--data", &val, "--out", "q"],
+    );
+    assert!(
+        !o.status.success() && stderr(&o).contains("nan.json"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!d.path().join("q").exists());
 }
 
 fn identify_err(dir: &Path, file: &str, text: &str) -> String {

@@ -157,7 +157,7 @@ pub enum Command {
     ///   prediction.svg  measured and predicted against time
     #[command(verbatim_doc_comment)]
     Predict {
-        /// model.json written by `rhonn fit`.
+        /// model.json written by `rhonn fit` or `rhonn identify`.
         #[arg(long, value_name = "FILE")]
         model: PathBuf,
         /// A CSV file with the model's input and output columns.

@@ -1,10 +1,8 @@
 //! `rhonn identify`: read the recordings, one library call, write, print.
 
 use anyhow::{Context, Result};
-use rhonn::ident::{identify_records, predict_records, OnlineSpec};
-use rhonn_report::identify::{
-    validation_figures, write_identify, IdentifySummary, OnlineModelFile, Validation,
-};
+use rhonn::ident::{identify_records, predict_records, OnlineModel, OnlineSpec};
+use rhonn_report::identify::{validation_figures, write_identify, IdentifySummary, Validation};
 use std::path::{Path, PathBuf};
 
 /// The arguments of `rhonn identify`.
@@ -89,8 +87,8 @@ pub fn cmd_identify(a: IdentifyArgs) -> Result<()> {
         findings: findings(&run, &vfig),
         validation: vfig,
     };
-    let model = OnlineModelFile {
-        kind: "online-rhonn",
+    let model = OnlineModel {
+        kind: OnlineModel::KIND.into(),
         inputs: a.inputs.to_vec(),
         outputs: a.outputs.to_vec(),
         sample_time_s: dt,
@@ -154,4 +152,45 @@ fn findings(run: &rhonn::ident::OnlineRun, v: &[rhonn_report::identify::Validati
         }
     }
     out
+}
+
+/// `rhonn predict` with a `model.json` written by `rhonn identify`.
+pub fn cmd_predict_online(
+    model_path: &Path,
+    text: &str,
+    data: &Path,
+    out: &Path,
+    steps: Option<usize>,
+) -> Result<()> {
+    let m: OnlineModel = serde_json::from_str(text)
+        .map_err(|e| anyhow::anyhow!("{} is not a valid online model: {e}", model_path.display()))?;
+    let mut id = m
+        .identifier()
+        .with_context(|| format!("{} is not a valid model", model_path.display()))?;
+    let rec = rhonn_report::read_record(data, &m.inputs, &m.outputs, 2)?;
+    let recs = std::slice::from_ref(&rec);
+    rhonn::ident::sample_time(recs)?;
+    let pred = predict_records(&mut id, recs, steps)?.remove(0);
+    let figures =
+        rhonn_report::identify::online_prediction_figures(&rec, &pred, &m.outputs, steps.unwrap_or(0));
+    let files = rhonn_report::identify::write_online_prediction(
+        out,
+        &m,
+        &model_path.display().to_string(),
+        &rec,
+        &pred,
+        steps,
+        &figures,
+    )?;
+    let mode = steps.map_or("free run".to_string(), |k| format!("{k} steps ahead"));
+    for f in &figures {
+        println!(
+            "{} ({mode}): rms error {:.4}, fit {:.1} %, nrmse {:.4}",
+            f.output, f.rms_error, f.fit_percent, f.nrmse
+        );
+    }
+    for f in files {
+        println!("  wrote {}", f.display());
+    }
+    Ok(())
 }

@@ -301,11 +301,17 @@ fn cmd_predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
             rhonn::error::path_problem(model, &e)
         )
     })?;
-    let fitted: FittedModel = serde_json::from_str(&text)
-        .map_err(|e| anyhow::anyhow!("{} is not a model written by `rhonn fit`: {e}", model.display()))?;
     if steps == Some(0) {
         anyhow::bail!("--steps-ahead 0 is not allowed: give K >= 1, or leave it out for a free run");
     }
+    let kind = serde_json::from_str::<serde_json::Value>(&text)
+        .ok()
+        .and_then(|v| v.get("kind").and_then(|k| k.as_str()).map(str::to_string));
+    if kind.as_deref() == Some(rhonn::ident::OnlineModel::KIND) {
+        return identify::cmd_predict_online(model, &text, data, out, steps);
+    }
+    let fitted: FittedModel = serde_json::from_str(&text)
+        .map_err(|e| anyhow::anyhow!("{} is not a model written by `rhonn fit`: {e}", model.display()))?;
     fitted
         .validate()
         .with_context(|| format!("{} is not a valid model", model.display()))?;

@@ -3,7 +3,7 @@
 
 use crate::{write_json, OutputSet, Result, Series, TimePlot};
 use rhonn::data::Record;
-use rhonn::ident::{OnlineRun, OnlineSpec, Scaling};
+use rhonn::ident::{OnlineModel, OnlineRun, OnlineSpec};
 use rhonn::metrics;
 use serde::Serialize;
 use std::io::Write;
@@ -60,25 +60,6 @@ pub struct IdentifySummary {
     pub findings: Vec<String>,
 }
 
-/// `model.json`: the frozen online model (its settings, scaling and weights).
-#[derive(Debug, Clone, Serialize)]
-pub struct OnlineModelFile {
-    /// `online-rhonn`.
-    pub kind: &'static str,
-    /// Input columns.
-    pub inputs: Vec<String>,
-    /// Output columns.
-    pub outputs: Vec<String>,
-    /// Sample time \[s\].
-    pub sample_time_s: f64,
-    /// Settings.
-    pub model: OnlineSpec,
-    /// Scaling.
-    pub scaling: Scaling,
-    /// Weights per neuron (normalised units).
-    pub weights: Vec<Vec<f64>>,
-}
-
 /// Figures of validation predictions.
 pub fn validation_figures(v: &Validation, outputs: &[String]) -> Vec<ValidationFigures> {
     (0..outputs.len())
@@ -113,7 +94,7 @@ pub fn write_identify(
     records: &[Record],
     inputs: &[String],
     outputs: &[String],
-    model: &OnlineModelFile,
+    model: &OnlineModel,
     summary: &IdentifySummary,
     validation: Option<&Validation>,
 ) -> Result<Vec<PathBuf>> {
@@ -304,4 +285,103 @@ fn validation_plot(v: &Validation, outputs: &[String]) -> String {
         })
         .collect();
     TimePlot::render(&panels, 900, 380)
+}
+
+/// Per output, a prediction's figures (`rhonn predict` on an online model).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OnlinePredictionFigures {
+    /// Output.
+    pub output: String,
+    /// RMS error (output units), from sample K on (K steps ahead) or over all samples.
+    pub rms_error: f64,
+    /// Fit \[%\].
+    pub fit_percent: f64,
+    /// Normalised RMS error (by the output's range).
+    pub nrmse: f64,
+}
+
+/// Figures of `pred` against `record`'s outputs, from sample `first` on.
+pub fn online_prediction_figures(
+    record: &Record,
+    pred: &[Vec<f64>],
+    outputs: &[String],
+    first: usize,
+) -> Vec<OnlinePredictionFigures> {
+    (0..outputs.len())
+        .map(|j| {
+            let y = &record.outputs[j][first.min(record.len())..];
+            let yh: Vec<f64> = pred[first.min(record.len())..].iter().map(|e| e[j]).collect();
+            OnlinePredictionFigures {
+                output: outputs[j].clone(),
+                rms_error: metrics::rms_error(y, &yh),
+                fit_percent: metrics::fit_percent(y, &yh),
+                nrmse: metrics::nrmse(y, &yh),
+            }
+        })
+        .collect()
+}
+
+/// `rhonn predict` on an online model: prediction.csv (t, per output `<name>` and
+/// `<name>_hat`), summary.json and prediction.svg.
+pub fn write_online_prediction(
+    dir: &Path,
+    model: &OnlineModel,
+    model_path: &str,
+    record: &Record,
+    pred: &[Vec<f64>],
+    steps_ahead: Option<usize>,
+    figures: &[OnlinePredictionFigures],
+) -> Result<Vec<PathBuf>> {
+    #[derive(Serialize)]
+    struct Summary<'a> {
+        model: &'a str,
+        kind: &'a str,
+        data: &'a str,
+        mode: String,
+        figures: &'a [OnlinePredictionFigures],
+    }
+    let mode = steps_ahead.map_or("free run".to_string(), |k| format!("{k} steps ahead"));
+    let mut set = OutputSet::new(dir)?;
+    set.write("prediction.csv", |w| {
+        let mut h = vec!["t".to_string()];
+        for o in &model.outputs {
+            h.push(o.clone());
+            h.push(format!("{o}_hat"));
+        }
+        writeln!(w, "{}", h.join(","))?;
+        for (k, p) in pred.iter().enumerate() {
+            write!(w, "{}", record.t[k])?;
+            for (col, v) in record.outputs.iter().zip(p) {
+                write!(w, ",{},{v}", col[k])?;
+            }
+            writeln!(w)?;
+        }
+        Ok(())
+    })?;
+    let summary = Summary {
+        model: model_path,
+        kind: &model.kind,
+        data: &record.source,
+        mode: mode.clone(),
+        figures,
+    };
+    set.write("summary.json", |w| write_json(w, &summary))?;
+    let t = record.t.clone();
+    let panels: Vec<TimePlot> = model
+        .outputs
+        .iter()
+        .enumerate()
+        .map(|(j, o)| TimePlot {
+            title: format!("{}: {o}, online RHONN ({mode})", record.source),
+            y_label: o.clone(),
+            t: t.clone(),
+            series: vec![
+                Series::solid(format!("{o} measured"), record.outputs[j].clone()),
+                Series::solid(format!("{o} predicted"), pred.iter().map(|e| e[j]).collect()),
+            ],
+        })
+        .collect();
+    let svg = TimePlot::render(&panels, 900, 380);
+    set.write("prediction.svg", |w| w.write_all(svg.as_bytes()))?;
+    set.commit()
 }

@@ -466,7 +466,7 @@ impl DiscreteIdentifier {
 mod online;
 mod recordings;
 mod spec;
-pub use online::{InputHold, OnlineIdentifier, OnlineSpec, Scaling, Snapshot};
+pub use online::{InputHold, OnlineIdentifier, OnlineModel, OnlineSpec, Scaling, Snapshot};
 pub use recordings::{identify_records, predict_records, sample_time, OnlineFigures, OnlineRun};
 pub use spec::{IdentSettings, IdentifierSpec, SigmoidSpec};
 

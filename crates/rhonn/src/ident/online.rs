@@ -66,6 +66,10 @@ pub struct OnlineSpec {
     pub freeze_after_s: Option<f64>,
     /// Errors below this, in each output's own units, do not adapt (default 0).
     pub dead_zone: f64,
+    /// Whether the measured outputs enter the regressor (default true). Without them
+    /// the regressor depends on the inputs and their filters only, so the model learned
+    /// online (series-parallel) is the very model that runs free.
+    pub output_terms: bool,
 }
 
 impl Default for OnlineSpec {
@@ -81,6 +85,7 @@ impl Default for OnlineSpec {
             epochs: 1,
             freeze_after_s: None,
             dead_zone: 0.0,
+            output_terms: true,
         }
     }
 }
@@ -129,6 +134,69 @@ impl Scaling {
     }
 }
 
+/// A frozen online model as `model.json` holds it: `rhonn identify` writes it and
+/// `rhonn predict` runs it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OnlineModel {
+    /// `online-rhonn`.
+    pub kind: String,
+    /// Input columns.
+    pub inputs: Vec<String>,
+    /// Output columns.
+    pub outputs: Vec<String>,
+    /// Sample time \[s\].
+    pub sample_time_s: f64,
+    /// Settings.
+    pub model: OnlineSpec,
+    /// Scaling.
+    pub scaling: Scaling,
+    /// Weights per neuron (normalised units).
+    pub weights: Vec<Vec<f64>>,
+}
+
+impl OnlineModel {
+    /// The kind name in `model.json`.
+    pub const KIND: &'static str = "online-rhonn";
+
+    /// The identifier with these weights, frozen; every size and value checked (the file
+    /// may have been edited by hand).
+    pub fn identifier(&self) -> Result<OnlineIdentifier> {
+        if self.kind != Self::KIND {
+            return Err(invalid("kind", &self.kind, Self::KIND));
+        }
+        let (ny, nu) = (self.outputs.len(), self.inputs.len());
+        let mut id = OnlineIdentifier::new(&self.model, ny, nu, self.sample_time_s, self.scaling.clone())?;
+        let l = id.n_terms();
+        if self.weights.len() != ny || self.weights.iter().any(|w| w.len() != l) {
+            return Err(invalid(
+                "weights",
+                format!(
+                    "{} vectors of lengths {:?}",
+                    self.weights.len(),
+                    self.weights.iter().map(Vec::len).collect::<Vec<_>>()
+                ),
+                format!("{ny} vectors of {l} weights (one per output, one per term)"),
+            ));
+        }
+        if let Some((i, k)) = self
+            .weights
+            .iter()
+            .enumerate()
+            .find_map(|(i, w)| w.iter().position(|v| !v.is_finite()).map(|k| (i, k)))
+        {
+            return Err(invalid(
+                format!("weights[{i}][{k}]"),
+                self.weights[i][k],
+                "a finite number",
+            ));
+        }
+        id.set_weights(&self.weights);
+        id.freeze(true);
+        Ok(id)
+    }
+}
+
 /// What [`OnlineIdentifier::snapshot`] saves.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Snapshot {
@@ -174,8 +242,11 @@ impl OnlineIdentifier {
         // Monomials of the outputs' sigmoids, the inputs and their filters, and one
         // constant term (the last network input is 1; it takes no part in products,
         // which it would only duplicate).
-        let mono = Terms::monomials(ny + m - 1, spec.degree, spec.max_factors);
-        let mut lists: Vec<Vec<[usize; 2]>> = (0..mono.len()).map(|k| mono.factors(k)).collect();
+        let first = if spec.output_terms { 0 } else { ny };
+        let mono = Terms::monomials(ny + m - 1 - first, spec.degree, spec.max_factors);
+        let mut lists: Vec<Vec<[usize; 2]>> = (0..mono.len())
+            .map(|k| mono.factors(k).into_iter().map(|[i, e]| [i + first, e]).collect())
+            .collect();
         lists.push(vec![[ny + m - 1, 1]]);
         let terms = Terms::from_lists(&lists, ny + m, "model.terms")?;
         let l = terms.len();
