@@ -189,3 +189,28 @@ fn without_output_terms_the_frozen_model_runs_free_exactly_as_it_tracks() {
     assert_eq!(tracked, free);
     assert!(tracked.iter().any(|v| v.abs() > 1e-3));
 }
+
+/// With bounds, the estimate is held in them like a limited integrator, however far the
+/// weights would drive it.
+#[test]
+fn bounds_hold_the_estimate_in_the_identification_range() {
+    let mut sc = Scaling::identity(1, 1);
+    sc.y_bounds = Some(vec![[-0.2, 0.3]]);
+    let mut id = OnlineIdentifier::new(&OnlineSpec::default(), 1, 1, 0.1, sc).unwrap();
+    id.update(0.0, &[1.0], &[0.0]).unwrap();
+    let l = id.n_terms();
+    id.set_weights(&[vec![5.0; l]]);
+    id.freeze(true);
+    id.set_free_run(true);
+    let mut top: f64 = 0.0;
+    for k in 1..200 {
+        top = top.max(id.update(k as f64 * 0.1, &[1.0], &[0.0]).unwrap()[0]);
+    }
+    assert_eq!(top, 0.3);
+    let mut sc = Scaling::identity(1, 1);
+    sc.y_bounds = Some(vec![[1.0, 0.0]]);
+    let e = OnlineIdentifier::new(&OnlineSpec::default(), 1, 1, 0.1, sc)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("scaling.y_bounds"), "{e}");
+}

@@ -66,6 +66,9 @@ pub struct OnlineSpec {
     pub freeze_after_s: Option<f64>,
     /// Errors below this, in each output's own units, do not adapt (default 0).
     pub dead_zone: f64,
+    /// `rhonn identify` holds each estimate within the identification data's range
+    /// widened by this fraction of it on each side (default 0.1; negative: unbounded).
+    pub output_margin: f64,
     /// Whether the measured outputs enter the regressor (default true). Without them
     /// the regressor depends on the inputs and their filters only, so the model learned
     /// online (series-parallel) is the very model that runs free.
@@ -85,6 +88,7 @@ impl Default for OnlineSpec {
             epochs: 1,
             freeze_after_s: None,
             dead_zone: 0.0,
+            output_margin: 0.1,
             output_terms: true,
         }
     }
@@ -102,6 +106,10 @@ pub struct Scaling {
     pub u_offset: Vec<f64>,
     /// Per input, > 0.
     pub u_scale: Vec<f64>,
+    /// Per output, the range the model's estimate is held in (output units), like a
+    /// limited integrator; none: unbounded.
+    #[serde(default)]
+    pub y_bounds: Option<Vec<[f64; 2]>>,
 }
 
 impl Scaling {
@@ -112,6 +120,7 @@ impl Scaling {
             y_scale: vec![1.0; ny],
             u_offset: vec![0.0; nu],
             u_scale: vec![1.0; nu],
+            y_bounds: None,
         }
     }
 
@@ -130,6 +139,7 @@ impl Scaling {
             y_scale,
             u_offset,
             u_scale,
+            y_bounds: None,
         }
     }
 }
@@ -352,6 +362,7 @@ impl OnlineIdentifier {
         let (y0, u0) = (std::mem::take(&mut self.y_last), std::mem::take(&mut self.u_last));
         self.integrate(h, &y0, &u0);
         self.advance_filters(h, &u0);
+        self.hold_in_bounds();
         (self.y_last, self.u_last) = (y0, u0);
         if self.state.iter().any(|v| !v.is_finite()) {
             return Err(Error::NotFinite {
@@ -446,6 +457,24 @@ impl OnlineIdentifier {
                 let l = self.ident.net.n_terms();
                 super::dot(&blk[..l], &blk[l..2 * l])
             }
+        }
+    }
+
+    /// A filtered-error model's state held within the bounds (a limited integrator).
+    fn hold_in_bounds(&mut self) {
+        let Some(bounds) = &self.scaling.y_bounds else {
+            return;
+        };
+        if self.ident.law.structure != crate::law::Structure::FilteredError {
+            return;
+        }
+        let b = self.ident.block();
+        for (i, [lo, hi]) in bounds.iter().enumerate() {
+            let (lo, hi) = (
+                (lo - self.scaling.y_offset[i]) / self.scaling.y_scale[i],
+                (hi - self.scaling.y_offset[i]) / self.scaling.y_scale[i],
+            );
+            self.state[i * b] = self.state[i * b].clamp(lo, hi);
         }
     }
 
@@ -686,6 +715,25 @@ fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64, s: &Scalin
             "scaling",
             format!("{s:?}"),
             format!("{ny} output and {nu} input offsets and scales, scales > 0"),
+        ));
+    }
+    if let Some(b) = &s.y_bounds {
+        if b.len() != ny
+            || b.iter()
+                .any(|[lo, hi]| !(lo.is_finite() && hi.is_finite() && lo < hi))
+        {
+            return Err(invalid(
+                "scaling.y_bounds",
+                format!("{b:?}"),
+                format!("{ny} finite [low, high] pairs, low < high"),
+            ));
+        }
+    }
+    if !spec.output_margin.is_finite() {
+        return Err(invalid(
+            "model.output_margin",
+            spec.output_margin,
+            "a finite number (negative: unbounded)",
         ));
     }
     Ok(())

@@ -76,10 +76,22 @@ pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String
     let (ny, nu) = (records[0].outputs.len(), records[0].inputs.len());
     let ys: Vec<Vec<f64>> = (0..ny).map(|j| cols(|r| &r.outputs, j)).collect();
     let us: Vec<Vec<f64>> = (0..nu).map(|j| cols(|r| &r.inputs, j)).collect();
-    let scaling = Scaling::of(
+    let mut scaling = Scaling::of(
         &ys.iter().map(|v| v.as_slice()).collect::<Vec<_>>(),
         &us.iter().map(|v| v.as_slice()).collect::<Vec<_>>(),
     );
+    if spec.output_margin >= 0.0 {
+        scaling.y_bounds = Some(
+            ys.iter()
+                .map(|c| {
+                    let lo = c.iter().copied().fold(f64::INFINITY, f64::min);
+                    let hi = c.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                    let m = spec.output_margin * (hi - lo).max(f64::EPSILON);
+                    [lo - m, hi + m]
+                })
+                .collect(),
+        );
+    }
     let mut id = OnlineIdentifier::new(spec, ny, nu, dt, scaling)?;
     let mut max_norm_per_pass = Vec::new();
     let (mut estimates, mut weight_norms) = (Vec::new(), Vec::new());
