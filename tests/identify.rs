@@ -52,7 +52,11 @@ fn tanks_identified_online_then_frozen_writes_every_file_and_the_figures_of_the_
     assert!(est.starts_with("record,t,y,y_hat\n"), "{}", &est[..40]);
     assert_eq!(est.lines().count(), 1 + 1024);
     let w = std::fs::read_to_string(d.path().join("id/weights.csv")).unwrap();
-    assert!(w.starts_with("record,t,w_norm_y,error_energy\n"));
+    assert!(
+        w.starts_with("record,t,w_norm_y,error_energy,w_y_0,"),
+        "{}",
+        &w[..60]
+    );
     let v = std::fs::read_to_string(d.path().join("id/validation.csv")).unwrap();
     assert!(v.starts_with("record,t,y,y_free_run,y_10_ahead\n"));
     let s: serde_json::Value =
@@ -66,6 +70,19 @@ fn tanks_identified_online_then_frozen_writes_every_file_and_the_figures_of_the_
     let ahead = s["validation"][0]["ahead_rms_error"].as_f64().unwrap();
     assert!((ahead - 0.909).abs() < 0.01, "{ahead}");
     assert!(!s["findings"].as_array().unwrap().is_empty());
+    // Every weight is listed (21 terms <= 50), and named in the summary.
+    let terms: Vec<&str> = s["terms"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t.as_str().unwrap())
+        .collect();
+    assert_eq!(terms.len(), s["terms_per_neuron"].as_u64().unwrap() as usize);
+    assert_eq!(w.lines().next().unwrap().split(',').count(), 4 + terms.len());
+    assert!(
+        terms.contains(&"tanh(y)*u") && terms.contains(&"u[filter 80 s]") && terms.contains(&"1"),
+        "{terms:?}"
+    );
     let m: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(d.path().join("id/model.json")).unwrap()).unwrap();
     assert_eq!(m["kind"], "online-rhonn");

@@ -110,7 +110,8 @@ pub enum Command {
     /// gain, degree, max_factors, a_per_s, filters_s, inputs, epochs,
     /// freeze_after_s, dead_zone. Writes into DIR:
     ///   estimate.csv    record, t, per output <name> and <name>_hat (final pass)
-    ///   weights.csv     record, t, the weight norm of each neuron, error_energy
+    ///   weights.csv     record, t, the weight norm of each neuron, error_energy,
+    ///                   every weight w_<output>_<k> when there are at most 50
     ///   validation.csv  with --validate: <name>, <name>_free_run, <name>_<K>_ahead
     ///   summary.json    online RMS error and fit over the last half, convergence
     ///                   time into a band, weight norms per pass, validation, findings

@@ -81,6 +81,7 @@ pub fn cmd_identify(a: IdentifyArgs) -> Result<()> {
         records: records.iter().map(|r| r.source.clone()).collect(),
         sample_time_s: dt,
         terms_per_neuron: run.identifier.n_terms(),
+        terms: run.identifier.term_names(a.outputs, a.inputs),
         online: run.figures.clone(),
         final_weight_norms: final_norms,
         max_weight_norm_per_pass: run.max_norm_per_pass.clone(),

@@ -48,6 +48,9 @@ pub struct IdentifySummary {
     pub sample_time_s: f64,
     /// Terms per neuron.
     pub terms_per_neuron: usize,
+    /// The terms, in the order of each neuron's weights (weights.csv's `w_<output>_<k>`,
+    /// model.json's `weights`).
+    pub terms: Vec<String>,
     /// Online figures over the final pass.
     pub online: Vec<rhonn::ident::OnlineFigures>,
     /// Final weight norm per neuron.
@@ -150,6 +153,13 @@ fn weights_csv(
     let mut h = vec!["record".to_string(), "t".into()];
     h.extend(outputs.iter().map(|o| format!("w_norm_{o}")));
     h.push("error_energy".into());
+    let listed = run.weights.first().is_some_and(|r| !r.is_empty());
+    if listed {
+        let l = run.identifier.n_terms();
+        for o in outputs {
+            h.extend((0..l).map(|k| format!("w_{o}_{k}")));
+        }
+    }
     writeln!(w, "{}", h.join(","))?;
     let sc = run.identifier.scaling();
     for (ri, ((r, est), norms)) in records
@@ -168,7 +178,13 @@ fn weights_csv(
             let energy: f64 = (0..outputs.len())
                 .map(|j| 0.5 * ((est[k][j] - r.outputs[j][k]) / sc.y_scale[j]).powi(2))
                 .sum();
-            writeln!(w, ",{energy}")?;
+            write!(w, ",{energy}")?;
+            if listed {
+                for v in &run.weights[ri][k] {
+                    write!(w, ",{v}")?;
+                }
+            }
+            writeln!(w)?;
         }
     }
     Ok(())

@@ -467,7 +467,9 @@ mod online;
 mod recordings;
 mod spec;
 pub use online::{InputHold, OnlineIdentifier, OnlineModel, OnlineSpec, Scaling, Snapshot};
-pub use recordings::{identify_records, predict_records, sample_time, OnlineFigures, OnlineRun};
+pub use recordings::{
+    identify_records, predict_records, sample_time, OnlineFigures, OnlineRun, MAX_LISTED_WEIGHTS,
+};
 pub use spec::{IdentSettings, IdentifierSpec, SigmoidSpec};
 
 #[cfg(test)]

@@ -419,6 +419,41 @@ impl OnlineIdentifier {
         self.ident.set_weights(&mut self.state, w);
     }
 
+    /// Each term's name, in weight order, e.g. `tanh(y)*u`, `u^2`, `u[filter 20 s]`, `1`
+    /// (outputs are scaled before the tanh, inputs before entering).
+    pub fn term_names(&self, outputs: &[String], inputs: &[String]) -> Vec<String> {
+        let (ny, nu) = (outputs.len(), inputs.len());
+        let signal = |i: usize| -> String {
+            if i < ny {
+                format!("tanh({})", outputs[i])
+            } else if i - ny < nu {
+                inputs[i - ny].clone()
+            } else if i - ny < nu * (1 + self.filters_s.len()) {
+                let q = (i - ny) / nu - 1;
+                format!("{}[filter {} s]", inputs[(i - ny) % nu], self.filters_s[q])
+            } else {
+                "1".into()
+            }
+        };
+        let terms = &self.ident.net.terms;
+        (0..terms.len())
+            .map(|k| {
+                terms
+                    .factors(k)
+                    .iter()
+                    .map(|[i, e]| {
+                        if *e == 1 {
+                            signal(*i)
+                        } else {
+                            format!("{}^{e}", signal(*i))
+                        }
+                    })
+                    .collect::<Vec<_>>()
+                    .join("*")
+            })
+            .collect()
+    }
+
     /// Number of terms per neuron.
     pub fn n_terms(&self) -> usize {
         self.ident.net.n_terms()

@@ -33,11 +33,17 @@ pub struct OnlineRun {
     pub estimates: Vec<Vec<Vec<f64>>>,
     /// The final pass, per record and sample: the weight norm of each neuron.
     pub weight_norms: Vec<Vec<Vec<f64>>>,
+    /// The final pass, per record and sample: every weight, neuron after neuron, when
+    /// there are at most [`MAX_LISTED_WEIGHTS`] (else empty).
+    pub weights: Vec<Vec<Vec<f64>>>,
     /// Per pass, the largest weight norm of each neuron.
     pub max_norm_per_pass: Vec<Vec<f64>>,
     /// Per output.
     pub figures: Vec<OnlineFigures>,
 }
+
+/// Most weights listed one by one in a run's trace.
+pub const MAX_LISTED_WEIGHTS: usize = 50;
 
 /// The sample time of records: the first record's median interval; every record must
 /// be uniform within 1 % of it.
@@ -94,7 +100,8 @@ pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String
     }
     let mut id = OnlineIdentifier::new(spec, ny, nu, dt, scaling)?;
     let mut max_norm_per_pass = Vec::new();
-    let (mut estimates, mut weight_norms) = (Vec::new(), Vec::new());
+    let (mut estimates, mut weight_norms, mut weights) = (Vec::new(), Vec::new(), Vec::new());
+    let listed = ny * id.n_terms() <= MAX_LISTED_WEIGHTS;
     let (mut u, mut y) = (vec![0.0; nu], vec![0.0; ny]);
     for pass in 0..spec.epochs {
         let last = pass + 1 == spec.epochs;
@@ -102,25 +109,30 @@ pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String
         for r in records {
             id.reset();
             id.freeze(false);
-            let (mut est, mut norms) = (Vec::new(), Vec::new());
+            let (mut est, mut norms, mut all) = (Vec::new(), Vec::new(), Vec::new());
             for k in 0..r.len() {
                 if let Some(f) = spec.freeze_after_s {
                     id.freeze(r.t[k] - r.t[0] >= f);
                 }
                 sample(r, k, &mut u, &mut y);
                 let yh = id.update(r.t[k], &u, &y)?.to_vec();
-                let n: Vec<f64> = id.weights().iter().map(|w| super::dot(w, w).sqrt()).collect();
+                let w = id.weights();
+                let n: Vec<f64> = w.iter().map(|w| super::dot(w, w).sqrt()).collect();
                 for (m, v) in max_norm.iter_mut().zip(&n) {
                     *m = m.max(*v);
                 }
                 if last {
                     est.push(yh);
                     norms.push(n);
+                    if listed {
+                        all.push(w.concat());
+                    }
                 }
             }
             if last {
                 estimates.push(est);
                 weight_norms.push(norms);
+                weights.push(all);
             }
         }
         max_norm_per_pass.push(max_norm);
@@ -130,6 +142,7 @@ pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String
         identifier: id,
         estimates,
         weight_norms,
+        weights,
         max_norm_per_pass,
         figures,
     })
