@@ -52,6 +52,9 @@ pub struct Identifier {
     /// Mode.
     pub mode: Mode,
     zones: Vec<Zone>,
+    /// The gradient law's scalar gains, one per neuron, when every gain is one (the fast
+    /// paths' case), read once here rather than matched in every evaluation.
+    scalar_gains: Option<Vec<f64>>,
 }
 
 /// Work space of one identifier evaluation, allocated once per run (an owner that is
@@ -86,11 +89,13 @@ impl Identifier {
     /// An identifier in `mode`.
     pub fn new(net: Network, law: Law, mode: Mode) -> Self {
         let n = net.n;
+        let scalar_gains = law.rule.scalar_gains().map(|g| g.collect());
         Identifier {
             net,
             law,
             mode,
             zones: vec![Zone::Inside; n],
+            scalar_gains,
         }
     }
 
@@ -166,7 +171,7 @@ impl Identifier {
     pub fn rhs(&self, chi: &[f64], u: &[f64], s: &[f64], ds: &mut [f64], sc: &mut Scratch) {
         if self.law.structure == Structure::FilteredError
             && (self.law.robust == Robust::None || self.zones.iter().all(|z| *z == Zone::Inside))
-            && self.law.rule.scalar_gains().is_some()
+            && self.scalar_gains.is_some()
         {
             if let Some(idx) = self.net.terms.plain_indices() {
                 // The thesis's sizes with their loop lengths known to the compiler.
@@ -257,7 +262,7 @@ impl Identifier {
             dblk[0] = -self.net.a[i] * xh + acc;
             let dw = &mut dblk[1..];
             // gradient::descend's arithmetic, on z_k = y[idx_k]
-            if let (true, Some(Gain::Scalar(g))) = (train, self.law.rule.gain(i)) {
+            if let (true, Some(g)) = (train, self.scalar_gains.as_ref().map(|g| g[i])) {
                 let e = xh - chi[i];
                 for k in 0..l {
                     dw[k] = -(g * y[idx[k]] * e);
@@ -304,7 +309,7 @@ impl Identifier {
             }
             dblk[0] = -self.net.a[i] * xh + acc;
             // gradient::descend's arithmetic, on z_k = y[idx_k]
-            if let (true, Some(Gain::Scalar(g))) = (train, self.law.rule.gain(i)) {
+            if let (true, Some(g)) = (train, self.scalar_gains.as_ref().map(|g| g[i])) {
                 let e = xh - chi[i];
                 for k in 0..L {
                     dblk[1 + k] = -(g * y[idx[k]] * e);
