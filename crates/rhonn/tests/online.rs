@@ -214,3 +214,21 @@ fn bounds_hold_the_estimate_in_the_identification_range() {
         .to_string();
     assert!(e.contains("scaling.y_bounds"), "{e}");
 }
+
+/// A structure too large is refused before it is built, naming the key.
+#[test]
+fn a_huge_structure_is_an_error_not_a_hang() {
+    let spec = OnlineSpec {
+        filters_s: (1..=200).map(|k| k as f64).collect(),
+        degree: 4,
+        max_factors: 4,
+        ..OnlineSpec::default()
+    };
+    let e = OnlineIdentifier::new(&spec, 1, 3, 0.1, Scaling::identity(1, 3))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("model.degree") && e.contains("at most 400 terms"),
+        "{e}"
+    );
+}

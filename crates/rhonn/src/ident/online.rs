@@ -253,6 +253,23 @@ impl OnlineIdentifier {
         // constant term (the last network input is 1; it takes no part in products,
         // which it would only duplicate).
         let first = if spec.output_terms { 0 } else { ny };
+        // An upper bound on the monomials before building them (a spec with many filters
+        // and a high degree would otherwise take the memory before the check below).
+        let signals = (ny + m - 1 - first) as f64;
+        let bound: f64 = (1..=spec.degree)
+            .map(|k| {
+                (0..k)
+                    .map(|j| (signals + j as f64) / (j + 1) as f64)
+                    .product::<f64>()
+            })
+            .sum();
+        if bound > 1e6 {
+            return Err(invalid(
+                "model.degree",
+                spec.degree,
+                format!("a structure with at most 400 terms (degree {} over {signals} signals gives up to {bound:.0}: lower degree or max_factors, or use fewer filters)", spec.degree),
+            ));
+        }
         let mono = Terms::monomials(ny + m - 1 - first, spec.degree, spec.max_factors);
         let mut lists: Vec<Vec<[usize; 2]>> = (0..mono.len())
             .map(|k| mono.factors(k).into_iter().map(|[i, e]| [i + first, e]).collect())
