@@ -232,3 +232,38 @@ fn a_huge_structure_is_an_error_not_a_hang() {
         "{e}"
     );
 }
+
+/// `freeze_after_s`: the weights stop moving that long into each pass; `epochs` passes.
+#[test]
+fn weights_freeze_after_the_given_time_of_each_pass() {
+    let t: Vec<f64> = (0..400).map(|k| k as f64 * 0.1).collect();
+    let u: Vec<f64> = t.iter().map(|t| (t * 0.9).sin()).collect();
+    let y: Vec<f64> = t.iter().map(|t| (t * 0.9 - 0.5).sin() * 0.8).collect();
+    let rec = [Record {
+        source: "sine".into(),
+        t,
+        inputs: vec![u],
+        outputs: vec![y],
+    }];
+    let run = |freeze: Option<f64>, epochs: usize| {
+        let spec = OnlineSpec {
+            freeze_after_s: freeze,
+            epochs,
+            ..OnlineSpec::default()
+        };
+        identify_records(&spec, &rec, &["y".into()]).unwrap()
+    };
+    // Frozen from the start: the weights never leave zero.
+    let r = run(Some(0.0), 2);
+    assert_eq!(r.max_norm_per_pass, vec![vec![0.0], vec![0.0]]);
+    // Frozen after 10 s: the norm at 10 s is the norm at the end of the pass.
+    let r = run(Some(10.0), 1);
+    let norms = &r.weight_norms[0];
+    assert!(norms[50][0] > 0.0);
+    assert_eq!(norms[101][0], norms[399][0]);
+    assert_ne!(norms[50][0], norms[99][0]);
+    // Two passes carry the weights: the second pass starts from the first's weights, so its
+    // first sample's norm is not zero.
+    let r = run(None, 2);
+    assert!(r.weight_norms[0][0][0] > 0.0);
+}
