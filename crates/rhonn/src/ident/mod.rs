@@ -185,14 +185,32 @@ impl Identifier {
                 };
             }
         }
+        self.rhs_general(chi, u, s, ds, sc, false);
+    }
+
+    /// [`Identifier::rhs`] by its general path; with `same_regressor`, the regressor z
+    /// of the previous general evaluation is used again (valid when z did not change:
+    /// z from held measurements and held inputs, not in a free run), which saves its
+    /// sigmoids and products at every stage of a step.
+    pub fn rhs_general(
+        &self,
+        chi: &[f64],
+        u: &[f64],
+        s: &[f64],
+        ds: &mut [f64],
+        sc: &mut Scratch,
+        same_regressor: bool,
+    ) {
         let (n, l, b) = (self.net.n, self.net.n_terms(), self.block());
         self.outputs(s, &mut sc.xhat[..n]);
-        let src: &[f64] = if self.mode == Mode::Parallel {
-            &sc.xhat[..n]
-        } else {
-            chi
-        };
-        self.net.regressor(src, u, &mut sc.y, &mut sc.z);
+        if !same_regressor || self.mode == Mode::Parallel {
+            let src: &[f64] = if self.mode == Mode::Parallel {
+                &sc.xhat[..n]
+            } else {
+                chi
+            };
+            self.net.regressor(src, u, &mut sc.y, &mut sc.z);
+        }
         let z = &sc.z[..l];
         let train = self.mode == Mode::Train;
         for i in 0..n {

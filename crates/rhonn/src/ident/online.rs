@@ -597,9 +597,18 @@ impl OnlineIdentifier {
             self.hold,
             0.0,
         );
-        self.ident
-            .rhs(y0, &self.u_mid, &self.state, &mut self.k[0], &mut self.scratch);
-        let rate = self.fastest_rate(y0);
+        // With inputs and measurements held over the sample, the regressor is the same at
+        // every stage: computed once by the general path, used again by every later stage.
+        let reuse = self.hold == InputHold::Hold;
+        self.ident.rhs_general(
+            y0,
+            &self.u_mid,
+            &self.state,
+            &mut self.k[0],
+            &mut self.scratch,
+            false,
+        );
+        let rate = self.fastest_rate();
         let n_sub = (h / self.period_s)
             .max(h * rate / 0.5)
             .ceil()
@@ -618,8 +627,14 @@ impl OnlineIdentifier {
                     self.hold,
                     f(0.0),
                 );
-                self.ident
-                    .rhs(y0, &self.u_mid, &self.state, &mut self.k[0], &mut self.scratch);
+                self.ident.rhs_general(
+                    y0,
+                    &self.u_mid,
+                    &self.state,
+                    &mut self.k[0],
+                    &mut self.scratch,
+                    reuse,
+                );
             }
             let [k1, k2, k3, k4] = &mut self.k;
             for i in 0..d {
@@ -635,11 +650,13 @@ impl OnlineIdentifier {
                     f(0.5),
                 );
             }
-            self.ident.rhs(y0, &self.u_mid, &self.tmp, k2, &mut self.scratch);
+            self.ident
+                .rhs_general(y0, &self.u_mid, &self.tmp, k2, &mut self.scratch, reuse);
             for i in 0..d {
                 self.tmp[i] = self.state[i] + 0.5 * hs * k2[i];
             }
-            self.ident.rhs(y0, &self.u_mid, &self.tmp, k3, &mut self.scratch);
+            self.ident
+                .rhs_general(y0, &self.u_mid, &self.tmp, k3, &mut self.scratch, reuse);
             for i in 0..d {
                 self.tmp[i] = self.state[i] + hs * k3[i];
             }
@@ -653,7 +670,8 @@ impl OnlineIdentifier {
                     f(1.0),
                 );
             }
-            self.ident.rhs(y0, &self.u_mid, &self.tmp, k4, &mut self.scratch);
+            self.ident
+                .rhs_general(y0, &self.u_mid, &self.tmp, k4, &mut self.scratch, reuse);
             for i in 0..d {
                 self.state[i] += hs / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
             }
@@ -662,17 +680,11 @@ impl OnlineIdentifier {
 }
 
 impl OnlineIdentifier {
-    /// The identifier's fastest rate \[1/s\] after an evaluation of its derivative at
-    /// the measurements `y0` and the stage inputs (whose regressor the general path left
-    /// in the scratch; the fast path for single-factor terms does not, so it is
-    /// computed).
-    fn fastest_rate(&mut self, y0: &[f64]) -> f64 {
+    /// The identifier's fastest rate \[1/s\] after an evaluation of its derivative by
+    /// the general path (which left the regressor z in the scratch).
+    fn fastest_rate(&self) -> f64 {
         let l = self.ident.net.n_terms();
-        let sc = &mut self.scratch;
-        if self.ident.net.terms.plain_indices().is_some() || self.ident.mode == Mode::Parallel {
-            self.ident.net.regressor(y0, &self.u_mid, &mut sc.y, &mut sc.z);
-        }
-        let z2: f64 = sc.z[..l].iter().map(|v| v * v).sum();
+        let z2: f64 = self.scratch.z[..l].iter().map(|v| v * v).sum();
         let b = self.ident.block();
         let a_max = self.ident.net.a.iter().copied().fold(0.0, f64::max);
         let g_max = (0..self.ident.net.n)
