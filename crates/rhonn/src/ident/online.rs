@@ -581,6 +581,23 @@ impl OnlineIdentifier {
         }
     }
 
+    /// A substep's first stage: the robust laws' zones, the inputs at fraction `f`, and
+    /// the derivative into `k[0]` (with the previous regressor when `same_regressor`).
+    fn start_substep(&mut self, y0: &[f64], u0: &[f64], f: f64, same_regressor: bool) {
+        self.ident.update_modes(y0, u0, &self.state, &mut self.scratch);
+        let nu = self.scaling.u_scale.len();
+        stage_inputs(&mut self.u_mid, u0, &self.u_now, nu, self.hold, f);
+        let k1 = &mut self.k[0];
+        self.ident.rhs_general(
+            y0,
+            &self.u_mid,
+            &self.state,
+            k1,
+            &mut self.scratch,
+            same_regressor,
+        );
+    }
+
     /// Classical RK4 over `h` (in substeps of at most one sample time), the measured
     /// outputs `y0` held and the inputs held at `u0` or linear to `self.u_now`.
     fn integrate(&mut self, h: f64, y0: &[f64], u0: &[f64]) {
@@ -588,26 +605,10 @@ impl OnlineIdentifier {
         // neuron's pole a, and the weight-error oscillation sqrt(gamma |z|^2)), so the
         // law's continuous-time stability carries over to the sampled run. The first
         // stage's regressor gives |z|^2 (it does not depend on the substep).
-        self.ident.update_modes(y0, u0, &self.state, &mut self.scratch);
-        stage_inputs(
-            &mut self.u_mid,
-            u0,
-            &self.u_now,
-            self.scaling.u_scale.len(),
-            self.hold,
-            0.0,
-        );
         // With inputs and measurements held over the sample, the regressor is the same at
         // every stage: computed once by the general path, used again by every later stage.
         let reuse = self.hold == InputHold::Hold;
-        self.ident.rhs_general(
-            y0,
-            &self.u_mid,
-            &self.state,
-            &mut self.k[0],
-            &mut self.scratch,
-            false,
-        );
+        self.start_substep(y0, u0, 0.0, false);
         let rate = self.fastest_rate();
         let n_sub = (h / self.period_s)
             .max(h * rate / 0.5)
@@ -618,23 +619,7 @@ impl OnlineIdentifier {
         for j in 0..n_sub {
             let f = |x: f64| (j as f64 + x) / n_sub as f64;
             if j > 0 {
-                self.ident.update_modes(y0, u0, &self.state, &mut self.scratch);
-                stage_inputs(
-                    &mut self.u_mid,
-                    u0,
-                    &self.u_now,
-                    self.scaling.u_scale.len(),
-                    self.hold,
-                    f(0.0),
-                );
-                self.ident.rhs_general(
-                    y0,
-                    &self.u_mid,
-                    &self.state,
-                    &mut self.k[0],
-                    &mut self.scratch,
-                    reuse,
-                );
+                self.start_substep(y0, u0, f(0.0), reuse);
             }
             let [k1, k2, k3, k4] = &mut self.k;
             for i in 0..d {
