@@ -101,7 +101,6 @@ pub fn cmd_identify(a: IdentifyArgs) -> Result<()> {
         a.out,
         &run,
         &records,
-        a.inputs,
         a.outputs,
         &model,
         &summary,

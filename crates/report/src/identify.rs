@@ -3,6 +3,7 @@
 
 use crate::{write_json, OutputSet, Result, Series, TimePlot};
 use rhonn::data::Record;
+use rhonn::experiment::{Column, Trace};
 use rhonn::ident::{OnlineModel, OnlineRun, OnlineSpec};
 use rhonn::metrics;
 use serde::Serialize;
@@ -95,7 +96,6 @@ pub fn write_identify(
     dir: &Path,
     run: &OnlineRun,
     records: &[Record],
-    inputs: &[String],
     outputs: &[String],
     model: &OnlineModel,
     summary: &IdentifySummary,
@@ -116,8 +116,41 @@ pub fn write_identify(
         let svg = validation_plot(v, outputs);
         set.write("validation.svg", |w| w.write_all(svg.as_bytes()))?;
     }
-    let _ = inputs;
     set.commit()
+}
+
+/// A column of a table.
+fn col(name: impl Into<String>, values: Vec<f64>) -> Column {
+    Column {
+        name: name.into(),
+        unit: "",
+        values,
+    }
+}
+
+/// `record` (each record's index) and `t` over records laid end to end.
+fn record_columns(records: &[Record]) -> Vec<Column> {
+    let index = records
+        .iter()
+        .enumerate()
+        .flat_map(|(i, r)| std::iter::repeat(i as f64).take(r.len()));
+    vec![
+        col("record", index.collect()),
+        col("t", records.iter().flat_map(|r| r.t.iter().copied()).collect()),
+    ]
+}
+
+/// Column `j` of per-record, per-sample vectors, records laid end to end.
+fn flat(v: &[Vec<Vec<f64>>], j: usize) -> Vec<f64> {
+    v.iter().flatten().map(|e| e[j]).collect()
+}
+
+/// Output `j` of the records, laid end to end.
+fn measured(records: &[Record], j: usize) -> Vec<f64> {
+    records
+        .iter()
+        .flat_map(|r| r.outputs[j].iter().copied())
+        .collect()
 }
 
 fn estimate_csv(
@@ -126,22 +159,12 @@ fn estimate_csv(
     records: &[Record],
     outputs: &[String],
 ) -> std::io::Result<()> {
-    let mut h = vec!["record".to_string(), "t".into()];
-    for o in outputs {
-        h.push(o.clone());
-        h.push(format!("{o}_hat"));
+    let mut columns = record_columns(records);
+    for (j, o) in outputs.iter().enumerate() {
+        columns.push(col(o.clone(), measured(records, j)));
+        columns.push(col(format!("{o}_hat"), flat(&run.estimates, j)));
     }
-    writeln!(w, "{}", h.join(","))?;
-    for (ri, (r, est)) in records.iter().zip(&run.estimates).enumerate() {
-        for (k, e) in est.iter().enumerate() {
-            write!(w, "{ri},{}", r.t[k])?;
-            for (col, v) in r.outputs.iter().zip(e) {
-                write!(w, ",{},{v}", col[k])?;
-            }
-            writeln!(w)?;
-        }
-    }
-    Ok(())
+    crate::write_trace_csv(w, &Trace { columns })
 }
 
 fn weights_csv(
@@ -150,69 +173,44 @@ fn weights_csv(
     records: &[Record],
     outputs: &[String],
 ) -> std::io::Result<()> {
-    let mut h = vec!["record".to_string(), "t".into()];
-    h.extend(outputs.iter().map(|o| format!("w_norm_{o}")));
-    h.push("error_energy".into());
-    let listed = run.weights.first().is_some_and(|r| !r.is_empty());
-    if listed {
-        let l = run.identifier.n_terms();
-        for o in outputs {
-            h.extend((0..l).map(|k| format!("w_{o}_{k}")));
-        }
+    let mut columns = record_columns(records);
+    for (j, o) in outputs.iter().enumerate() {
+        columns.push(col(format!("w_norm_{o}"), flat(&run.weight_norms, j)));
     }
-    writeln!(w, "{}", h.join(","))?;
+    // 1/2 sum of squared normalised errors: the part of the laws' Lyapunov function that
+    // can be measured.
     let sc = run.identifier.scaling();
-    for (ri, ((r, est), norms)) in records
-        .iter()
-        .zip(&run.estimates)
-        .zip(&run.weight_norms)
-        .enumerate()
-    {
-        for k in 0..r.len() {
-            write!(w, "{ri},{}", r.t[k])?;
-            for n in &norms[k] {
-                write!(w, ",{n}")?;
+    let est = run.estimates.iter().flatten();
+    let energy = est
+        .zip(records.iter().flat_map(|r| (0..r.len()).map(move |k| (r, k))))
+        .map(|(e, (r, k))| {
+            (0..outputs.len())
+                .map(|j| 0.5 * ((e[j] - r.outputs[j][k]) / sc.y_scale[j]).powi(2))
+                .sum()
+        })
+        .collect();
+    columns.push(col("error_energy", energy));
+    if run.weights.first().is_some_and(|r| !r.is_empty()) {
+        let l = run.identifier.n_terms();
+        for (i, o) in outputs.iter().enumerate() {
+            for k in 0..l {
+                columns.push(col(format!("w_{o}_{k}"), flat(&run.weights, i * l + k)));
             }
-            // 1/2 sum of squared normalised errors: the part of the laws' Lyapunov
-            // function that can be measured.
-            let energy: f64 = (0..outputs.len())
-                .map(|j| 0.5 * ((est[k][j] - r.outputs[j][k]) / sc.y_scale[j]).powi(2))
-                .sum();
-            write!(w, ",{energy}")?;
-            if listed {
-                for v in &run.weights[ri][k] {
-                    write!(w, ",{v}")?;
-                }
-            }
-            writeln!(w)?;
         }
     }
-    Ok(())
+    crate::write_trace_csv(w, &Trace { columns })
 }
 
 fn validation_csv(w: &mut dyn Write, v: &Validation, outputs: &[String]) -> std::io::Result<()> {
-    let mut h = vec!["record".to_string(), "t".into()];
-    for o in outputs {
-        h.push(o.clone());
-        h.push(format!("{o}_free_run"));
-        if let Some((k, _)) = &v.ahead {
-            h.push(format!("{o}_{k}_ahead"));
+    let mut columns = record_columns(&v.records);
+    for (j, o) in outputs.iter().enumerate() {
+        columns.push(col(o.clone(), measured(&v.records, j)));
+        columns.push(col(format!("{o}_free_run"), flat(&v.free_run, j)));
+        if let Some((k, p)) = &v.ahead {
+            columns.push(col(format!("{o}_{k}_ahead"), flat(p, j)));
         }
     }
-    writeln!(w, "{}", h.join(","))?;
-    for (ri, r) in v.records.iter().enumerate() {
-        for k in 0..r.len() {
-            write!(w, "{ri},{}", r.t[k])?;
-            for j in 0..outputs.len() {
-                write!(w, ",{},{}", r.outputs[j][k], v.free_run[ri][k][j])?;
-                if let Some((_, p)) = &v.ahead {
-                    write!(w, ",{}", p[ri][k][j])?;
-                }
-            }
-            writeln!(w)?;
-        }
-    }
-    Ok(())
+    crate::write_trace_csv(w, &Trace { columns })
 }
 
 /// Times of records laid end to end (each record's own times, shifted to follow the
@@ -359,20 +357,12 @@ pub fn write_online_prediction(
     let mode = steps_ahead.map_or("free run".to_string(), |k| format!("{k} steps ahead"));
     let mut set = OutputSet::new(dir)?;
     set.write("prediction.csv", |w| {
-        let mut h = vec!["t".to_string()];
-        for o in &model.outputs {
-            h.push(o.clone());
-            h.push(format!("{o}_hat"));
+        let mut columns = vec![col("t", record.t.clone())];
+        for (j, o) in model.outputs.iter().enumerate() {
+            columns.push(col(o.clone(), record.outputs[j].clone()));
+            columns.push(col(format!("{o}_hat"), pred.iter().map(|e| e[j]).collect()));
         }
-        writeln!(w, "{}", h.join(","))?;
-        for (k, p) in pred.iter().enumerate() {
-            write!(w, "{}", record.t[k])?;
-            for (col, v) in record.outputs.iter().zip(p) {
-                write!(w, ",{},{v}", col[k])?;
-            }
-            writeln!(w)?;
-        }
-        Ok(())
+        crate::write_trace_csv(w, &Trace { columns })
     })?;
     let summary = Summary {
         model: model_path,

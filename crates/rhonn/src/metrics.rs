@@ -1,5 +1,19 @@
 //! Small pure functions of a measured series `y` and an estimate `yhat`.
 
+/// Mean and standard deviation (population) of columns taken together; a constant or
+/// empty set gets standard deviation 1 (a scale to divide by).
+pub fn mean_std(cols: &[&[f64]]) -> (f64, f64) {
+    let n: usize = cols.iter().map(|c| c.len()).sum();
+    let m = cols.iter().flat_map(|c| c.iter()).sum::<f64>() / n as f64;
+    let v = cols
+        .iter()
+        .flat_map(|c| c.iter())
+        .map(|x| (x - m) * (x - m))
+        .sum::<f64>()
+        / n as f64;
+    (m, if v > 0.0 { v.sqrt() } else { 1.0 })
+}
+
 /// Root mean square of `y - yhat`.
 pub fn rms_error(y: &[f64], yhat: &[f64]) -> f64 {
     let n = y.len().min(yhat.len());

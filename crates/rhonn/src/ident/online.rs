@@ -126,14 +126,9 @@ impl Scaling {
 
     /// Mean and standard deviation of each column (a constant column gets scale 1).
     pub fn of(outputs: &[&[f64]], inputs: &[&[f64]]) -> Self {
-        let ms = |c: &[f64]| {
-            let n = c.len().max(1) as f64;
-            let m = c.iter().sum::<f64>() / n;
-            let s = (c.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / n).sqrt();
-            (m, if s > 0.0 && s.is_finite() { s } else { 1.0 })
-        };
-        let (y_offset, y_scale) = outputs.iter().map(|c| ms(c)).unzip();
-        let (u_offset, u_scale) = inputs.iter().map(|c| ms(c)).unzip();
+        let ms = |c: &&[f64]| crate::metrics::mean_std(&[*c]);
+        let (y_offset, y_scale) = outputs.iter().map(ms).unzip();
+        let (u_offset, u_scale) = inputs.iter().map(ms).unzip();
         Scaling {
             y_offset,
             y_scale,

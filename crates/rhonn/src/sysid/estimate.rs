@@ -178,18 +178,6 @@ pub(super) fn recursive(
         .collect()
 }
 
-fn mean_std(cols: &[&[f64]]) -> (f64, f64) {
-    let n: usize = cols.iter().map(|c| c.len()).sum();
-    let m = cols.iter().flat_map(|c| c.iter()).sum::<f64>() / n as f64;
-    let v = cols
-        .iter()
-        .flat_map(|c| c.iter())
-        .map(|x| (x - m) * (x - m))
-        .sum::<f64>()
-        / n as f64;
-    (m, if v > 0.0 { v.sqrt() } else { 1.0 })
-}
-
 /// Train a model of `outputs` from `inputs` on `records` (uniformly sampled at the same
 /// interval; see [`Record::uniform`]).
 pub fn fit(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[String]) -> Result<Model> {
@@ -284,11 +272,13 @@ fn blank_model(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs:
     let ni = inputs.len();
     let no = outputs.len();
     let input_norm = (0..ni)
-        .map(|j| mean_std(&records.iter().map(|r| r.inputs[j].as_slice()).collect::<Vec<_>>()))
+        .map(|j| {
+            crate::metrics::mean_std(&records.iter().map(|r| r.inputs[j].as_slice()).collect::<Vec<_>>())
+        })
         .collect();
     let output_norm: Vec<(f64, f64)> = (0..no)
         .map(|j| {
-            mean_std(
+            crate::metrics::mean_std(
                 &records
                     .iter()
                     .map(|r| r.outputs[j].as_slice())
