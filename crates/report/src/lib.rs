@@ -18,6 +18,7 @@ rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &output)
 mod atomic;
 pub mod campaign;
 mod campaign_plots;
+pub mod commands;
 mod csv_out;
 mod data_in;
 pub mod identify;
@@ -56,6 +57,22 @@ pub enum Error {
     /// An error of the model library (a scenario, a run).
     #[error(transparent)]
     Rhonn(#[from] rhonn::Error),
+    /// A user's argument or file is not allowed; the message names it, the value and
+    /// what is allowed.
+    #[error("{0}")]
+    Input(String),
+    /// A data file is not readable as a recording.
+    #[error(transparent)]
+    Data(#[from] DataError),
+    /// A step of a command failed: which step, and why (`source`).
+    #[error("{context}")]
+    Context {
+        /// The step.
+        context: String,
+        /// Why.
+        #[source]
+        source: Box<Error>,
+    },
     /// A file cannot be written.
     #[error("cannot write {path}: {message}")]
     File {

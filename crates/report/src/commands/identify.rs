@@ -1,35 +1,42 @@
-//! `rhonn identify`: read the recordings, one library call, write, print.
+//! `rhonn identify` (online RHONN identification of recordings) and `rhonn predict` with
+//! its model.
 
-use anyhow::{Context, Result};
+use super::{context, read_text, Outcome};
+use crate::identify::{validation_figures, write_identify, IdentifySummary, Validation};
+use crate::{Error, Result};
 use rhonn::ident::{identify_records, predict_records, OnlineModel, OnlineSpec};
-use rhonn_report::identify::{validation_figures, write_identify, IdentifySummary, Validation};
 use std::path::{Path, PathBuf};
 
-/// The arguments of `rhonn identify`.
-pub struct IdentifyArgs<'a> {
-    pub data: &'a [PathBuf],
-    pub inputs: &'a [String],
-    pub outputs: &'a [String],
-    pub model: Option<&'a Path>,
+/// What `rhonn identify` takes.
+#[derive(Debug, Clone, Default)]
+pub struct IdentifyRequest {
+    /// The recordings to learn from, in order (CSV with `t` and the named columns).
+    pub data: Vec<PathBuf>,
+    /// Input columns.
+    pub inputs: Vec<String>,
+    /// Output columns.
+    pub outputs: Vec<String>,
+    /// The online model's spec (TOML); None: the defaults.
+    pub model: Option<PathBuf>,
+    /// Passes over the recordings (overrides the spec's `epochs`).
     pub epochs: Option<usize>,
-    pub validate: &'a [PathBuf],
+    /// Recordings the frozen model is validated on.
+    pub validate: Vec<PathBuf>,
+    /// Validation K samples ahead as well as in free run.
     pub steps_ahead: Option<usize>,
-    pub out: &'a Path,
+    /// The output folder.
+    pub out: PathBuf,
 }
 
 fn read_spec(p: &Path) -> Result<OnlineSpec> {
-    let text = std::fs::read_to_string(p).map_err(|e| {
-        anyhow::anyhow!(
-            "cannot read {}: {}",
-            p.display(),
-            rhonn::error::path_problem(p, &e)
-        )
-    })?;
-    toml::from_str(&text).map_err(|e| anyhow::anyhow!("cannot read model spec {}: {e}", p.display()))
+    toml::from_str::<OnlineSpec>(&read_text(p)?)
+        .map_err(|e| Error::Input(format!("cannot read model spec {}: {e}", p.display())))
 }
 
-pub fn cmd_identify(a: IdentifyArgs) -> Result<()> {
-    let mut spec = match a.model {
+/// `rhonn identify`: learn the recordings online, validate the frozen model, write the
+/// folder.
+pub fn identify(a: &IdentifyRequest) -> Result<Outcome> {
+    let mut spec = match a.model.as_deref() {
         Some(p) => read_spec(p)?,
         None => OnlineSpec::default(),
     };
@@ -37,21 +44,23 @@ pub fn cmd_identify(a: IdentifyArgs) -> Result<()> {
         spec.epochs = e;
     }
     if a.steps_ahead == Some(0) {
-        anyhow::bail!("--steps-ahead 0 is not allowed: give K >= 1 samples");
+        return Err(Error::Input(
+            "--steps-ahead 0 is not allowed: give K >= 1 samples".into(),
+        ));
     }
     let read = |paths: &[PathBuf]| -> Result<Vec<rhonn::data::Record>> {
         paths
             .iter()
-            .map(|p| rhonn_report::read_record(p, a.inputs, a.outputs, 2).map_err(anyhow::Error::from))
+            .map(|p| crate::read_record(p, &a.inputs, &a.outputs, 2).map_err(Error::from))
             .collect()
     };
-    let records = read(a.data)?;
-    let busy = crate::progress::Busy::start(format!("identifying online on {} record(s)", records.len()));
-    let run = identify_records(&spec, &records, a.outputs).context("online identification")?;
+    let records = read(&a.data)?;
+    let run = identify_records(&spec, &records, &a.outputs)
+        .map_err(|e| context("online identification")(e.into()))?;
     let validation = if a.validate.is_empty() {
         None
     } else {
-        let vrec = read(a.validate)?;
+        let vrec = read(&a.validate)?;
         rhonn::ident::sample_time(&vrec)?;
         let mut id = run.identifier.clone();
         let free_run = predict_records(&mut id, &vrec, None)?;
@@ -65,7 +74,6 @@ pub fn cmd_identify(a: IdentifyArgs) -> Result<()> {
             ahead,
         })
     };
-    drop(busy);
     let dt = rhonn::ident::sample_time(&records)?;
     let weights = run.identifier.weights();
     let final_norms: Vec<f64> = weights
@@ -74,14 +82,14 @@ pub fn cmd_identify(a: IdentifyArgs) -> Result<()> {
         .collect();
     let vfig = validation
         .as_ref()
-        .map(|v| validation_figures(v, a.outputs))
+        .map(|v| validation_figures(v, &a.outputs))
         .unwrap_or_default();
     let summary = IdentifySummary {
         model: spec.clone(),
         records: records.iter().map(|r| r.source.clone()).collect(),
         sample_time_s: dt,
         terms_per_neuron: run.identifier.n_terms(),
-        terms: run.identifier.term_names(a.outputs, a.inputs),
+        terms: run.identifier.term_names(&a.outputs, &a.inputs),
         online: run.figures.clone(),
         final_weight_norms: final_norms,
         max_weight_norm_per_pass: run.max_norm_per_pass.clone(),
@@ -90,46 +98,47 @@ pub fn cmd_identify(a: IdentifyArgs) -> Result<()> {
     };
     let model = OnlineModel {
         kind: OnlineModel::KIND.into(),
-        inputs: a.inputs.to_vec(),
-        outputs: a.outputs.to_vec(),
+        inputs: a.inputs.clone(),
+        outputs: a.outputs.clone(),
         sample_time_s: dt,
         model: spec,
         scaling: run.identifier.scaling().clone(),
         weights,
     };
     let files = write_identify(
-        a.out,
+        &a.out,
         &run,
         &records,
-        a.outputs,
+        &a.outputs,
         &model,
         &summary,
         validation.as_ref(),
     )?;
+    let mut o = Outcome {
+        files,
+        ..Outcome::default()
+    };
     for f in &summary.online {
-        println!(
+        o.lines.push(format!(
             "{}: online (last half of the final pass) RMS error {:.4}, fit {:.1} %",
             f.output, f.rms_error_last_half, f.fit_percent_last_half
-        );
+        ));
     }
     for v in &summary.validation {
-        print!(
+        let mut line = format!(
             "{}: frozen, free run on the validation data: RMS error {:.4}, fit {:.1} %",
             v.output, v.free_run_rms_error, v.free_run_fit_percent
         );
         if let (Some(k), Some(r), Some(f)) = (v.horizon, v.ahead_rms_error, v.ahead_fit_percent) {
-            print!("; {k} samples ahead: RMS error {r:.4}, fit {f:.1} %");
+            line += &format!("; {k} samples ahead: RMS error {r:.4}, fit {f:.1} %");
         }
-        println!();
+        o.lines.push(line);
     }
-    for f in files {
-        println!("  wrote {}", f.display());
-    }
-    Ok(())
+    Ok(o)
 }
 
 /// What the numbers mean, in words.
-fn findings(run: &rhonn::ident::OnlineRun, v: &[rhonn_report::identify::ValidationFigures]) -> Vec<String> {
+fn findings(run: &rhonn::ident::OnlineRun, v: &[crate::identify::ValidationFigures]) -> Vec<String> {
     let mut out = Vec::new();
     for f in &run.figures {
         out.push(match f.converged_s {
@@ -155,25 +164,28 @@ fn findings(run: &rhonn::ident::OnlineRun, v: &[rhonn_report::identify::Validati
 }
 
 /// `rhonn predict` with a `model.json` written by `rhonn identify`.
-pub fn cmd_predict_online(
+pub(super) fn predict_online(
     model_path: &Path,
     text: &str,
     data: &Path,
     out: &Path,
     steps: Option<usize>,
-) -> Result<()> {
-    let m: OnlineModel = serde_json::from_str(text)
-        .map_err(|e| anyhow::anyhow!("{} is not a valid online model: {e}", model_path.display()))?;
+) -> Result<Outcome> {
+    let m: OnlineModel = serde_json::from_str(text).map_err(|e| {
+        Error::Input(format!(
+            "{} is not a valid online model: {e}",
+            model_path.display()
+        ))
+    })?;
     let mut id = m
         .identifier()
-        .with_context(|| format!("{} is not a valid model", model_path.display()))?;
-    let rec = rhonn_report::read_record(data, &m.inputs, &m.outputs, 2)?;
+        .map_err(|e| context(format!("{} is not a valid model", model_path.display()))(e.into()))?;
+    let rec = crate::read_record(data, &m.inputs, &m.outputs, 2)?;
     let recs = std::slice::from_ref(&rec);
     rhonn::ident::sample_time(recs)?;
     let pred = predict_records(&mut id, recs, steps)?.remove(0);
-    let figures =
-        rhonn_report::identify::online_prediction_figures(&rec, &pred, &m.outputs, steps.unwrap_or(0));
-    let files = rhonn_report::identify::write_online_prediction(
+    let figures = crate::identify::online_prediction_figures(&rec, &pred, &m.outputs, steps.unwrap_or(0));
+    let files = crate::identify::write_online_prediction(
         out,
         &m,
         &model_path.display().to_string(),
@@ -182,15 +194,16 @@ pub fn cmd_predict_online(
         steps,
         &figures,
     )?;
+    let mut o = Outcome {
+        files,
+        ..Outcome::default()
+    };
     let mode = steps.map_or("free run".to_string(), |k| format!("{k} steps ahead"));
     for f in &figures {
-        println!(
+        o.lines.push(format!(
             "{} ({mode}): rms error {:.4}, fit {:.1} %, nrmse {:.4}",
             f.output, f.rms_error, f.fit_percent, f.nrmse
-        );
+        ));
     }
-    for f in files {
-        println!("  wrote {}", f.display());
-    }
-    Ok(())
+    Ok(o)
 }

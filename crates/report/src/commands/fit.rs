@@ -1,0 +1,224 @@
+//! `rhonn fit` and `rhonn predict`: offline models of recordings.
+
+use super::{context, read_text, unit_of, Outcome};
+use crate::{Error, Result};
+use rhonn::data::Record;
+use rhonn::sysid::{parse_spec_file, FittedModel, ModelSpec, RecordFigures};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// What `rhonn fit` takes.
+#[derive(Debug, Clone, Default)]
+pub struct FitRequest {
+    /// The training recordings (CSV with `t` and the named columns).
+    pub data: Vec<PathBuf>,
+    /// Input columns.
+    pub inputs: Vec<String>,
+    /// Output columns.
+    pub outputs: Vec<String>,
+    /// A model spec (TOML); None: the default structure.
+    pub model: Option<PathBuf>,
+    /// `--resample`: the uniform grid's interval \[s\] (None: each record's median).
+    pub resample_s: Option<f64>,
+    /// `--units`: `COLUMN=UNIT` pairs.
+    pub units: Vec<String>,
+    /// The output folder.
+    pub out: PathBuf,
+}
+
+/// `--units COL=UNIT,...`: every column named must be an input or an output.
+pub fn parse_units(
+    pairs: &[String],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<BTreeMap<String, String>> {
+    let mut map = BTreeMap::new();
+    for p in pairs {
+        let (col, unit) = p
+            .split_once('=')
+            .filter(|(c, u)| !c.trim().is_empty() && !u.trim().is_empty())
+            .ok_or_else(|| {
+                Error::Input(format!(
+                    "--units `{p}` is not allowed: give COLUMN=UNIT pairs separated by commas, e.g. --units u=V,y=mm"
+                ))
+            })?;
+        let col = col.trim();
+        if !inputs.iter().chain(outputs).any(|c| c == col) {
+            let all: Vec<&str> = inputs.iter().chain(outputs).map(String::as_str).collect();
+            return Err(Error::Input(format!(
+                "--units names column `{col}`, which is not among the inputs and outputs ({})",
+                all.join(", ")
+            )));
+        }
+        map.insert(col.to_string(), unit.trim().to_string());
+    }
+    Ok(map)
+}
+
+/// Read recordings and put each on a uniform grid (`resample_s`, else its median
+/// interval); each must keep at least `min_rows` samples.
+pub fn read_data(
+    paths: &[PathBuf],
+    inputs: &[String],
+    outputs: &[String],
+    min_rows: usize,
+    resample_s: Option<f64>,
+) -> Result<Vec<Record>> {
+    if let Some(dt) = resample_s {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(Error::Input(format!(
+                "--resample {dt} is not allowed: give a sample time in seconds, finite and > 0"
+            )));
+        }
+    }
+    let mut recs = Vec::new();
+    for p in paths {
+        let r = crate::read_record(p, inputs, outputs, min_rows)?;
+        let dt = resample_s.unwrap_or_else(|| r.median_interval());
+        let u = r.uniform(dt);
+        if u.len() < min_rows {
+            return Err(Error::Input(format!(
+                "{}: {} samples on the grid of {dt} s, the model needs at least {min_rows}: give a shorter --resample",
+                p.display(),
+                u.len()
+            )));
+        }
+        recs.push(u);
+    }
+    Ok(recs)
+}
+
+/// The model structures of a spec file (one, or an ensemble's members), checked.
+fn read_specs(model: Option<&Path>) -> Result<Vec<ModelSpec>> {
+    let specs = match model {
+        None => vec![ModelSpec::default()],
+        Some(p) => parse_spec_file(&read_text(p)?)
+            .map_err(|e| Error::Input(format!("cannot read model spec {}: {e}", p.display())))?,
+    };
+    for (k, spec) in specs.iter().enumerate() {
+        let at = if specs.len() > 1 {
+            format!("in members[{k}]")
+        } else {
+            "in the model spec".to_string()
+        };
+        spec.check().map_err(|e| context(at)(e.into()))?;
+    }
+    Ok(specs)
+}
+
+/// `rhonn fit`: fit the structure of `req.model` (or the default) to the recordings and
+/// write `model.json` and `summary.json` into `req.out`.
+pub fn fit(req: &FitRequest) -> Result<Outcome> {
+    let (inputs, outputs) = (&req.inputs, &req.outputs);
+    let units = parse_units(&req.units, inputs, outputs)?;
+    let specs = read_specs(req.model.as_deref())?;
+    let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
+    let recs = read_data(&req.data, inputs, outputs, max_lag + 2, req.resample_s)?;
+    let sample_s = recs.first().map_or(0.0, |r| r.median_interval());
+    let mut o = Outcome::default();
+    for w in rhonn::sysid::data_warnings(&recs, inputs, outputs, max_lag, sample_s, "--resample") {
+        o.notes.push(format!("warning: {w}"));
+    }
+    let (mut fitted, summary) = rhonn::sysid::train(&specs, &recs, inputs, outputs)?;
+    fitted.units = units;
+    o.files = crate::write_fit(&req.out, &fitted, &summary)?;
+    o.lines.push(if fitted.members.is_empty() {
+        format!(
+            "fitted a {:?} model with {} features per output on {} record(s)",
+            specs[0].kind,
+            fitted.model.n_features(),
+            recs.len()
+        )
+    } else {
+        format!(
+            "fitted an ensemble of {} models ({} features per output in all) on {} record(s)",
+            1 + fitted.members.len(),
+            fitted.all_members().map(|m| m.n_features()).sum::<usize>(),
+            recs.len()
+        )
+    });
+    training_lines(
+        &mut o,
+        &summary.training.free_run,
+        "free run (training data)",
+        &fitted.units,
+    );
+    if let Some(b) = &summary.baseline_arx {
+        training_lines(&mut o, &b.free_run, "ARX baseline, free run", &fitted.units);
+    }
+    Ok(o)
+}
+
+fn training_lines(o: &mut Outcome, figures: &[RecordFigures], label: &str, units: &BTreeMap<String, String>) {
+    for rec in figures {
+        for f in &rec.outputs {
+            o.lines.push(format!(
+                "  {label}: {} {}: rms error {:.4}{}, fit {:.1} %",
+                rec.data,
+                f.output,
+                f.rms_error,
+                unit_of(units, &f.output),
+                f.fit_percent
+            ));
+        }
+    }
+}
+
+/// `rhonn predict`: predict a recording with a `model.json` of `rhonn fit` or of
+/// `rhonn identify`, free run or `steps` ahead, and write the prediction into `out`.
+pub fn predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> Result<Outcome> {
+    let text = read_text(model)?;
+    if steps == Some(0) {
+        return Err(Error::Input(
+            "--steps-ahead 0 is not allowed: give K >= 1, or leave it out for a free run".into(),
+        ));
+    }
+    let kind = serde_json::from_str::<serde_json::Value>(&text)
+        .ok()
+        .and_then(|v| v.get("kind").and_then(|k| k.as_str()).map(str::to_string));
+    if kind.as_deref() == Some(rhonn::ident::OnlineModel::KIND) {
+        return super::identify::predict_online(model, &text, data, out, steps);
+    }
+    let fitted: FittedModel = serde_json::from_str(&text).map_err(|e| {
+        Error::Input(format!(
+            "{} is not a model written by `rhonn fit`: {e}",
+            model.display()
+        ))
+    })?;
+    fitted
+        .validate()
+        .map_err(|e| context(format!("{} is not a valid model", model.display()))(e.into()))?;
+    let m = &fitted.model;
+    let needed = rhonn::sysid::samples_needed(&fitted, steps);
+    let recs = read_data(&[data.to_path_buf()], &m.inputs, &m.outputs, needed, None)?;
+    let p = rhonn::sysid::predict(&fitted, &recs[0], steps)?;
+    let mut o = Outcome::default();
+    if let Some(dt) = p.resampled_from_s {
+        // Intervals read off decimal times carry float noise: shown to the nanosecond.
+        let ns = |v: f64| (v * 1e9).round() / 1e9;
+        o.notes.push(format!(
+            "note: {} is sampled every {} s; predicting on the model's grid of {} s ({} samples)",
+            data.display(),
+            ns(dt),
+            ns(m.sample_time_s),
+            p.record.len()
+        ));
+    }
+    o.files = crate::write_prediction(out, &fitted, &p, &model.display().to_string())?;
+    let mode = p.mode();
+    for (j, f) in p.figures.iter().enumerate() {
+        let unit = unit_of(&fitted.units, &f.output);
+        let mut line = format!(
+            "{} ({mode}): rms error {:.4}{unit}, fit {:.1} %, nrmse {:.4}",
+            f.output, f.rms_error, f.fit_percent, f.nrmse
+        );
+        if let Some((_, fb)) = &p.baseline {
+            line += &format!(
+                "; ARX baseline: rms error {:.4}{unit}, fit {:.1} %",
+                fb[j].rms_error, fb[j].fit_percent
+            );
+        }
+        o.lines.push(line);
+    }
+    Ok(o)
+}

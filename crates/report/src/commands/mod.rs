@@ -1,0 +1,93 @@
+//! Each command of `rhonn` as one library call: read the inputs a user names, run, write
+//! the output folder, and say what happened in [`Outcome`] (lines for stdout, notes and
+//! warnings for stderr, the files written). The binary parses arguments and prints an
+//! `Outcome`; the Python package and tests call the same functions.
+
+mod fit;
+mod identify;
+mod run;
+
+pub use fit::{fit, parse_units, predict, read_data, FitRequest};
+pub use identify::{identify, IdentifyRequest};
+pub use run::{bench, run, show, REPRODUCED};
+
+use crate::campaign::CampaignOutcome;
+use std::path::{Path, PathBuf};
+
+/// What a command did, to be shown to its user.
+#[derive(Debug, Clone, Default)]
+pub struct Outcome {
+    /// Lines for stderr (warnings and notes, each with its `warning:` or `note:`).
+    pub notes: Vec<String>,
+    /// Lines for stdout: the figures.
+    pub lines: Vec<String>,
+    /// The files written.
+    pub files: Vec<PathBuf>,
+}
+
+impl Outcome {
+    /// Print: the notes to stderr, the lines to stdout, then one `  wrote FILE` per file.
+    pub fn print(&self) {
+        for n in &self.notes {
+            eprintln!("{n}");
+        }
+        for l in &self.lines {
+            println!("{l}");
+        }
+        for f in &self.files {
+            println!("  wrote {}", f.display());
+        }
+    }
+
+    /// Append another outcome (a command made of several).
+    pub fn extend(&mut self, other: Outcome) {
+        self.notes.extend(other.notes);
+        self.lines.extend(other.lines);
+        self.files.extend(other.files);
+    }
+}
+
+/// What a campaign (run, resumed or merged) tells its user.
+pub fn campaign_outcome(o: &CampaignOutcome) -> Outcome {
+    let line = if o.already_complete {
+        format!("campaign already complete in {}", o.dir.display())
+    } else {
+        format!(
+            "campaign {}: {} runs, {} failed; wrote {}",
+            o.scenario,
+            o.runs,
+            o.failed,
+            o.dir.join("runs.csv").display()
+        )
+    };
+    Outcome {
+        notes: o.notes.clone(),
+        lines: vec![line],
+        files: Vec::new(),
+    }
+}
+
+/// A file's text, or an error naming the file and what the system said.
+pub(crate) fn read_text(p: &Path) -> crate::Result<String> {
+    std::fs::read_to_string(p).map_err(|e| {
+        crate::Error::Input(format!(
+            "cannot read {}: {}",
+            p.display(),
+            rhonn::error::path_problem(p, &e)
+        ))
+    })
+}
+
+/// An error that says in which step of a command `source` happened.
+pub(crate) fn context(what: impl Into<String>) -> impl FnOnce(crate::Error) -> crate::Error {
+    let context = what.into();
+    move |e| crate::Error::Context {
+        context,
+        source: Box::new(e),
+    }
+}
+
+/// " V" for a column with a unit, else "".
+pub(crate) fn unit_of(units: &std::collections::BTreeMap<String, String>, col: &str) -> String {
+    units.get(col).map_or(String::new(), |u| format!(" {u}"))
+}

@@ -1,0 +1,71 @@
+//! Each command of `rhonn` as a library call (what the binary and the Python package call).
+
+use rhonn_report::commands::{self, FitRequest};
+use rhonn_report::Error;
+use std::path::PathBuf;
+
+fn tanks(file: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cascaded-tanks").join(file)
+}
+
+fn names(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| s.to_string()).collect()
+}
+
+#[test]
+fn fit_then_predict_as_library_calls() {
+    let dir = tempfile::tempdir().unwrap();
+    let req = FitRequest {
+        data: vec![tanks("estimation.csv")],
+        inputs: names(&["u"]),
+        outputs: names(&["y"]),
+        units: names(&["y=V"]),
+        out: dir.path().join("fit"),
+        ..FitRequest::default()
+    };
+    let o = commands::fit(&req).unwrap();
+    assert!(o.lines[0].starts_with("fitted a"), "{:?}", o.lines);
+    assert!(o.lines.iter().any(|l| l.contains("ARX baseline, free run") && l.contains(" V, fit")));
+    let model = dir.path().join("fit/model.json");
+    assert!(o.files.contains(&model) && model.exists());
+    let p = commands::predict(&model, &tanks("validation.csv"), &dir.path().join("pred"), Some(10)).unwrap();
+    assert!(p.lines[0].starts_with("y (10 step(s) ahead): rms error"), "{:?}", p.lines);
+    assert!(dir.path().join("pred/prediction.csv").exists());
+}
+
+#[test]
+fn bad_arguments_are_input_errors_naming_the_argument() {
+    let dir = tempfile::tempdir().unwrap();
+    let req = FitRequest {
+        data: vec![tanks("estimation.csv")],
+        inputs: names(&["u"]),
+        outputs: names(&["y"]),
+        units: names(&["z=V"]),
+        out: dir.path().join("fit"),
+        ..FitRequest::default()
+    };
+    match commands::fit(&req) {
+        Err(Error::Input(m)) => assert!(m.contains("--units names column `z`"), "{m}"),
+        other => panic!("expected an input error, got {other:?}"),
+    }
+    assert!(!dir.path().join("fit").exists(), "nothing written for a refused fit");
+    let req = FitRequest {
+        resample_s: Some(-1.0),
+        units: Vec::new(),
+        ..req
+    };
+    assert!(matches!(commands::fit(&req), Err(Error::Input(m)) if m.contains("--resample -1")));
+    let e = commands::predict(&dir.path().join("none.json"), &tanks("validation.csv"), dir.path(), None);
+    assert!(matches!(e, Err(Error::Input(m)) if m.contains("none.json")));
+    assert!(matches!(commands::bench(&[], false, 0.0), Err(Error::Input(m)) if m.contains("--seconds 0")));
+}
+
+#[test]
+fn run_and_show_a_shipped_scenario() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = commands::run("tanks-identify", Some(dir.path().join("t"))).unwrap();
+    assert!(o.lines[0].starts_with("tanks-identify:"), "{:?}", o.lines);
+    assert!(dir.path().join("t/summary.json").exists());
+    assert!(commands::show("thesis-ch3").unwrap().contains("[current_a]"));
+    assert!(commands::show("no-such-scenario").is_err());
+}
