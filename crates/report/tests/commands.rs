@@ -5,7 +5,9 @@ use rhonn_report::Error;
 use std::path::PathBuf;
 
 fn tanks(file: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cascaded-tanks").join(file)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/cascaded-tanks")
+        .join(file)
 }
 
 fn names(v: &[&str]) -> Vec<String> {
@@ -25,11 +27,24 @@ fn fit_then_predict_as_library_calls() {
     };
     let o = commands::fit(&req).unwrap();
     assert!(o.lines[0].starts_with("fitted a"), "{:?}", o.lines);
-    assert!(o.lines.iter().any(|l| l.contains("ARX baseline, free run") && l.contains(" V, fit")));
+    assert!(o
+        .lines
+        .iter()
+        .any(|l| l.contains("ARX baseline, free run") && l.contains(" V, fit")));
     let model = dir.path().join("fit/model.json");
     assert!(o.files.contains(&model) && model.exists());
-    let p = commands::predict(&model, &tanks("validation.csv"), &dir.path().join("pred"), Some(10)).unwrap();
-    assert!(p.lines[0].starts_with("y (10 step(s) ahead): rms error"), "{:?}", p.lines);
+    let p = commands::predict(
+        &model,
+        &tanks("validation.csv"),
+        &dir.path().join("pred"),
+        Some(10),
+    )
+    .unwrap();
+    assert!(
+        p.lines[0].starts_with("y (10 step(s) ahead): rms error"),
+        "{:?}",
+        p.lines
+    );
     assert!(dir.path().join("pred/prediction.csv").exists());
 }
 
@@ -48,14 +63,22 @@ fn bad_arguments_are_input_errors_naming_the_argument() {
         Err(Error::Input(m)) => assert!(m.contains("--units names column `z`"), "{m}"),
         other => panic!("expected an input error, got {other:?}"),
     }
-    assert!(!dir.path().join("fit").exists(), "nothing written for a refused fit");
+    assert!(
+        !dir.path().join("fit").exists(),
+        "nothing written for a refused fit"
+    );
     let req = FitRequest {
         resample_s: Some(-1.0),
         units: Vec::new(),
         ..req
     };
     assert!(matches!(commands::fit(&req), Err(Error::Input(m)) if m.contains("--resample -1")));
-    let e = commands::predict(&dir.path().join("none.json"), &tanks("validation.csv"), dir.path(), None);
+    let e = commands::predict(
+        &dir.path().join("none.json"),
+        &tanks("validation.csv"),
+        dir.path(),
+        None,
+    );
     assert!(matches!(e, Err(Error::Input(m)) if m.contains("none.json")));
     assert!(matches!(commands::bench(&[], false, 0.0), Err(Error::Input(m)) if m.contains("--seconds 0")));
 }

@@ -88,12 +88,22 @@ pub fn read_data(
     Ok(recs)
 }
 
-/// The model structures of a spec file (one, or an ensemble's members), checked.
+/// The model structures of a spec file (one, or an ensemble's members), checked; None:
+/// the default structure.
 fn read_specs(model: Option<&Path>) -> Result<Vec<ModelSpec>> {
-    let specs = match model {
+    match model {
+        None => model_specs(None, ""),
+        Some(p) => model_specs(Some(&read_text(p)?), &p.display().to_string()),
+    }
+}
+
+/// The model structures of a spec's TOML text (one, or an ensemble's `[[members]]`),
+/// checked; None: the default structure. `source` names the spec in errors.
+pub fn model_specs(text: Option<&str>, source: &str) -> Result<Vec<ModelSpec>> {
+    let specs = match text {
         None => vec![ModelSpec::default()],
-        Some(p) => parse_spec_file(&read_text(p)?)
-            .map_err(|e| Error::Input(format!("cannot read model spec {}: {e}", p.display())))?,
+        Some(text) => parse_spec_file(text)
+            .map_err(|e| Error::Input(format!("cannot read model spec {source}: {e}")))?,
     };
     for (k, spec) in specs.iter().enumerate() {
         let at = if specs.len() > 1 {

@@ -29,8 +29,13 @@ pub struct IdentifyRequest {
 }
 
 fn read_spec(p: &Path) -> Result<OnlineSpec> {
-    toml::from_str::<OnlineSpec>(&read_text(p)?)
-        .map_err(|e| Error::Input(format!("cannot read model spec {}: {e}", p.display())))
+    online_spec(&read_text(p)?, &p.display().to_string())
+}
+
+/// An online model's settings from TOML; `source` names them in errors.
+pub fn online_spec(text: &str, source: &str) -> Result<OnlineSpec> {
+    toml::from_str::<OnlineSpec>(text)
+        .map_err(|e| Error::Input(format!("cannot read model spec {source}: {e}")))
 }
 
 /// `rhonn identify`: learn the recordings online, validate the frozen model, write the

@@ -7,8 +7,8 @@ mod fit;
 mod identify;
 mod run;
 
-pub use fit::{fit, parse_units, predict, read_data, FitRequest};
-pub use identify::{identify, IdentifyRequest};
+pub use fit::{fit, model_specs, parse_units, predict, read_data, FitRequest};
+pub use identify::{identify, online_spec, IdentifyRequest};
 pub use run::{bench, run, show, REPRODUCED};
 
 use crate::campaign::CampaignOutcome;

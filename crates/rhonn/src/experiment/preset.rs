@@ -66,7 +66,8 @@ impl AnyScenario {
             AnyScenario::Plant(s) => &s.description,
         }
     }
-    fn parse(text: &str, source: &str) -> Result<Self> {
+    /// A scenario of either kind from its TOML text; `source` names it in errors.
+    pub fn parse(text: &str, source: &str) -> Result<Self> {
         if is_plant_scenario(text) {
             PlantScenarioSpec::from_toml(text, source).map(|s| AnyScenario::Plant(Box::new(s)))
         } else {

@@ -1,0 +1,440 @@
+"""rhonn: online identification and adaptive control of nonlinear plants with Recurrent
+High-Order Neural Networks, on a Rust core.
+
+The same code as the ``rhonn`` command line, with numpy arrays in and out (SI units)::
+
+    import rhonn
+    result = rhonn.run("thesis-ch5")
+    result.summary["identification"]
+    model = rhonn.fit(u, y, dt=4.0, model="models/cascaded-tanks.toml")
+    y_hat = model.predict(u_val, y_val)               # free run, shape (n, p)
+    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0)
+    y_est = ident.update(t, u_k, y_k)                 # one sample of your own loop
+
+Errors are ``ValueError`` (a bad argument, scenario or file content), ``OSError`` (a
+file that cannot be read or written) or ``RuntimeError`` (a run that failed), with the
+command line's message.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import tempfile
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _rhonn
+from ._rhonn import OnlineIdentifier as _OnlineIdentifier
+
+__version__ = _rhonn.__version__
+__all__ = [
+    "run",
+    "fit",
+    "load",
+    "campaign",
+    "scenarios",
+    "show",
+    "Model",
+    "OnlineIdentifier",
+    "RunResult",
+]
+
+ArrayLike = Any
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def _to_pandas(columns: Mapping[str, Any]):
+    try:
+        import pandas as pd
+    except ImportError as e:  # pragma: no cover - depends on the environment
+        raise ImportError("to_pandas() needs pandas: pip install pandas") from e
+    return pd.DataFrame(dict(columns))
+
+
+@dataclass
+class RunResult:
+    """What ``rhonn.run`` returns.
+
+    Attributes
+    ----------
+    trajectory : dict of str to numpy.ndarray
+        trajectory.csv's columns (SI units: s, Pa, m, A, m^3/s, V), ``t`` first.
+    summary : dict
+        summary.json's content (figures in display units, the unit in each key).
+    validation : dict of str to numpy.ndarray or None
+        validation.csv's columns for runs with an identifier.
+    """
+
+    trajectory: Dict[str, np.ndarray]
+    summary: Dict[str, Any]
+    validation: Optional[Dict[str, np.ndarray]] = None
+    out: Optional[str] = field(default=None)
+
+    def to_pandas(self):
+        """The trajectory as a ``pandas.DataFrame`` (needs pandas)."""
+        return _to_pandas(self.trajectory)
+
+
+def _scenario_args(scenario: Union[str, "os.PathLike[str]", Mapping[str, Any]]):
+    """(name, toml_text) for the Rust side."""
+    if isinstance(scenario, Mapping):
+        name = str(scenario.get("name", "<dict>"))
+        return name, _rhonn.json_to_toml(json.dumps(dict(scenario)))
+    if isinstance(scenario, (str, os.PathLike)):
+        return os.fspath(scenario), None
+    raise TypeError(
+        f"scenario must be a shipped name, a path to a TOML file or a dict of its tables, not {type(scenario).__name__}"
+    )
+
+
+def run(scenario: Union[str, "os.PathLike[str]", Mapping[str, Any]], *, out: Optional[PathLike] = None) -> RunResult:
+    """Run a scenario as ``rhonn run`` does.
+
+    Parameters
+    ----------
+    scenario : str, path or dict
+        A shipped scenario's name (``rhonn.scenarios()``), a path to a TOML file, or a dict
+        of the TOML's tables (as ``tomllib.loads(rhonn.show(name))`` gives).
+    out : str or path, optional
+        Also write the run's folder (CSV, JSON, SVG) there, as the command does.
+
+    Returns
+    -------
+    RunResult
+    """
+    name, text = _scenario_args(scenario)
+    outp = None if out is None else os.fspath(out)
+    traj, val, summary = _rhonn.run(name, text, outp)
+    return RunResult(trajectory=traj, summary=json.loads(summary), validation=val, out=outp)
+
+
+def _matrix(name: str, a: ArrayLike) -> np.ndarray:
+    """A float64 C-contiguous (n, k) array from ``a`` ((n,) is one column)."""
+    arr = np.asarray(a)
+    if arr.dtype.kind not in "fiub":
+        raise TypeError(f"{name} must hold real numbers, not {arr.dtype}")
+    arr = np.ascontiguousarray(arr, dtype=np.float64)
+    if arr.ndim == 1:
+        arr = arr.reshape(-1, 1)
+    if arr.ndim != 2:
+        raise ValueError(f"{name} must be 1-D (one signal) or 2-D (samples, signals), not {arr.ndim}-D with shape {arr.shape}")
+    if arr.shape[0] == 0:
+        raise ValueError(f"{name} is empty: give at least one sample (row)")
+    bad = np.argwhere(~np.isfinite(arr))
+    if len(bad):
+        i, j = bad[0]
+        raise ValueError(f"{name}[{i}, {j}] = {arr[i, j]} is not allowed: every value must be finite")
+    return arr
+
+
+def _recordings(name: str, a: Union[ArrayLike, Sequence[ArrayLike]]) -> List[np.ndarray]:
+    if isinstance(a, (list, tuple)) and len(a) > 0 and all(np.ndim(x) >= 1 and not np.isscalar(x) for x in a) and any(
+        isinstance(x, np.ndarray) for x in a
+    ):
+        return [_matrix(f"{name}[{k}]", x) for k, x in enumerate(a)]
+    return [_matrix(name, a)]
+
+
+def _names(given: Optional[Sequence[str]], n: int, prefix: str, arg: str) -> List[str]:
+    if given is None:
+        return [prefix] if n == 1 else [f"{prefix}{k}" for k in range(n)]
+    names = [str(x) for x in given]
+    if len(names) != n:
+        raise ValueError(f"{arg} names {len(names)} signals but the arrays have {n} columns")
+    if len(set(names)) != len(names):
+        raise ValueError(f"{arg} = {names} repeats a name: give each signal its own")
+    return names
+
+
+def _spec_text(model, arg: str = "model"):
+    """(toml_text, source) of a model spec given as None, a path or a dict."""
+    if model is None:
+        return None, "the default model"
+    if isinstance(model, Mapping):
+        return _rhonn.json_to_toml(json.dumps(dict(model))), f"{arg} (dict)"
+    if isinstance(model, (str, os.PathLike)):
+        path = os.fspath(model)
+        try:
+            with open(path, encoding="utf-8") as f:
+                return f.read(), path
+        except OSError as e:
+            raise OSError(f"cannot read {path}: {e.strerror}") from e
+    raise TypeError(f"{arg} must be None, a path to a TOML file or a dict, not {type(model).__name__}")
+
+
+def fit(
+    u: Union[ArrayLike, Sequence[ArrayLike]],
+    y: Union[ArrayLike, Sequence[ArrayLike]],
+    dt: float,
+    *,
+    model: Union[None, PathLike, Mapping[str, Any]] = None,
+    inputs: Optional[Sequence[str]] = None,
+    outputs: Optional[Sequence[str]] = None,
+) -> Model:
+    """Fit a model to recordings, as ``rhonn fit`` does (beside an ARX baseline).
+
+    Parameters
+    ----------
+    u : array_like of shape (n, m) or (n,), or a list of such arrays
+        Inputs, one row per sample (a list: one array per recording).
+    y : array_like of shape (n, p) or (n,), or a list of such arrays
+        Measured outputs, as ``u``.
+    dt : float
+        Sample time [s].
+    model : str, path or dict, optional
+        The structure (a model spec TOML such as ``models/cascaded-tanks.toml``, or a dict
+        of its keys); None: the default.
+    inputs, outputs : sequence of str, optional
+        Signal names (default ``u``/``u0, u1, ...`` and ``y``/``y0, ...``).
+
+    Returns
+    -------
+    Model
+        ``.predict(u, y, steps_ahead=None)``, ``.save(path)``, ``.summary``.
+    """
+    us, ys = _recordings("u", u), _recordings("y", y)
+    if len(us) != len(ys):
+        raise ValueError(f"u has {len(us)} recordings and y {len(ys)}: give one of each per recording")
+    for k, (a, b) in enumerate(zip(us, ys)):
+        if a.shape[0] != b.shape[0]:
+            raise ValueError(f"recording {k}: u has {a.shape[0]} rows and y {b.shape[0]}: give one row per sample in both")
+        if a.shape[1] != us[0].shape[1] or b.shape[1] != ys[0].shape[1]:
+            raise ValueError(f"recording {k} has other columns than recording 0")
+    if not isinstance(dt, (int, float, np.floating, np.integer)) or isinstance(dt, bool):
+        raise TypeError(f"dt must be a number of seconds, not {type(dt).__name__}")
+    ins = _names(inputs, us[0].shape[1], "u", "inputs")
+    outs = _names(outputs, ys[0].shape[1], "y", "outputs")
+    text, source = _spec_text(model)
+    return Model(_rhonn.fit(us, ys, float(dt), ins, outs, text, source))
+
+
+def _steps(steps_ahead) -> Optional[int]:
+    if steps_ahead is None:
+        return None
+    if isinstance(steps_ahead, bool) or not isinstance(steps_ahead, (int, np.integer)):
+        raise TypeError(f"steps_ahead must be an int K >= 1 or None, not {type(steps_ahead).__name__}")
+    if steps_ahead < 1:
+        raise ValueError(f"steps_ahead = {steps_ahead} is not allowed: give K >= 1, or None for a free run")
+    return int(steps_ahead)
+
+
+class Model:
+    """A model of recordings: from ``rhonn.fit``, ``rhonn.load`` or
+    ``OnlineIdentifier.freeze()``; the same ``model.json`` as the command line."""
+
+    def __init__(self, inner: "_rhonn.Model"):
+        if not isinstance(inner, _rhonn.Model):
+            raise TypeError("Model is made by rhonn.fit, rhonn.load or OnlineIdentifier.freeze()")
+        self._inner = inner
+
+    def predict(self, u: ArrayLike, y: ArrayLike, steps_ahead: Optional[int] = None) -> np.ndarray:
+        """Predict the outputs: free run (``steps_ahead=None``) or K steps ahead.
+
+        Parameters
+        ----------
+        u : array_like of shape (n, m) or (n,)
+            Inputs, sampled at the model's ``sample_time_s``.
+        y : array_like of shape (n, p) or (n,)
+            Measured outputs (a free run uses only the first samples).
+        steps_ahead : int, optional
+            K >= 1, or None for a free run.
+
+        Returns
+        -------
+        numpy.ndarray of shape (n, p)
+            Samples before the first prediction repeat ``y``.
+        """
+        return self._inner.predict(_matrix("u", u), _matrix("y", y), _steps(steps_ahead))
+
+    def score(self, u: ArrayLike, y: ArrayLike, steps_ahead: Optional[int] = None) -> List[Dict[str, Any]]:
+        """The figures ``rhonn predict`` gives for the same data and horizon.
+
+        Returns
+        -------
+        list of dict
+            Per output: ``output``, ``rms_error`` (output units), ``fit_percent``
+            (100 (1 - |y - y_hat| / |y - mean y|)), ``nrmse``, ``samples`` (those scored:
+            from the first predicted sample on).
+        """
+        return json.loads(self._inner.score_json(_matrix("u", u), _matrix("y", y), _steps(steps_ahead)))
+
+    def save(self, path: PathLike) -> None:
+        """Write ``model.json`` (read by ``rhonn predict`` and ``rhonn.load``)."""
+        self._inner.save(os.fspath(path))
+
+    def to_json(self) -> str:
+        """The model as model.json's text."""
+        return self._inner.to_json()
+
+    @property
+    def summary(self) -> Optional[Dict[str, Any]]:
+        """The fit's summary.json as a dict (None for a loaded or online model)."""
+        s = self._inner.summary_json
+        return None if s is None else json.loads(s)
+
+    @property
+    def warnings(self) -> List[str]:
+        """What the data checks found (as ``rhonn fit`` prints them)."""
+        return list(self._inner.warnings)
+
+    @property
+    def kind(self) -> str:
+        """``"fit"`` or ``"online-rhonn"``."""
+        return self._inner.kind
+
+    @property
+    def inputs(self) -> List[str]:
+        """Input names."""
+        return list(self._inner.inputs)
+
+    @property
+    def outputs(self) -> List[str]:
+        """Output names."""
+        return list(self._inner.outputs)
+
+    @property
+    def sample_time_s(self) -> float:
+        """Sample time [s]."""
+        return self._inner.sample_time_s
+
+    def __repr__(self) -> str:
+        return repr(self._inner)
+
+
+def load(path: PathLike) -> Model:
+    """Read a ``model.json`` written by ``rhonn fit``, ``rhonn identify`` or ``Model.save``."""
+    return Model(_rhonn.load(os.fspath(path)))
+
+
+class OnlineIdentifier(_OnlineIdentifier):
+    """Online RHONN identification, one sample at a time (``rhonn identify``'s identifier).
+
+    Parameters
+    ----------
+    inputs, outputs : sequence of str
+        Signal names.
+    dt : float
+        Sample time [s].
+    model : str, path or dict, optional
+        Settings (``models/tanks-online.toml``'s keys: law, gain, degree, filters_s, ...).
+    y_offset, y_scale, u_offset, u_scale : sequence of float, optional
+        The identifier sees ``(signal - offset) / scale``.
+    y_bounds : sequence of (low, high), optional
+        Per output, the range its estimate is held in (as ``rhonn identify`` sets from
+        the records' range and ``output_margin``).
+
+    Examples
+    --------
+    >>> ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0)
+    >>> y_est = ident.update(0.0, [3.2], [5.2])
+    """
+
+    def __new__(
+        cls, inputs, outputs, dt, model=None, y_offset=None, y_scale=None, u_offset=None, u_scale=None, y_bounds=None
+    ):
+        text, _ = _spec_text(model)
+        return super().__new__(
+            cls,
+            [str(x) for x in inputs],
+            [str(x) for x in outputs],
+            float(dt),
+            text,
+            None if y_offset is None else [float(v) for v in y_offset],
+            None if y_scale is None else [float(v) for v in y_scale],
+            None if u_offset is None else [float(v) for v in u_offset],
+            None if u_scale is None else [float(v) for v in u_scale],
+            None if y_bounds is None else [(float(lo), float(hi)) for lo, hi in y_bounds],
+        )
+
+    def freeze(self) -> Model:
+        """Stop adapting; return the frozen model (``predict``, ``save``)."""
+        return Model(super().freeze())
+
+
+def _read_table(path: str) -> Dict[str, np.ndarray]:
+    with open(path, newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))
+    header, body = rows[0], rows[1:]
+    table: Dict[str, np.ndarray] = {}
+    for j, name in enumerate(header):
+        col = [r[j] for r in body]
+        try:
+            table[name] = np.array([float(v) if v != "" else np.nan for v in col], dtype=np.float64)
+        except ValueError:
+            table[name] = np.array(col, dtype=object)
+    return table
+
+
+class CampaignTable(dict):
+    """runs.csv of a campaign as a dict of column name -> array (``.to_pandas()``)."""
+
+    out: str = ""
+
+    def to_pandas(self):
+        """The table as a ``pandas.DataFrame`` (needs pandas)."""
+        return _to_pandas(self)
+
+
+def campaign(
+    scenario: Union[str, "os.PathLike[str]", Mapping[str, Any]],
+    runs: int = 100,
+    seed: int = 0,
+    threads: Optional[int] = None,
+    *,
+    out: Optional[PathLike] = None,
+    corners: bool = False,
+) -> CampaignTable:
+    """A Monte Carlo campaign over the scenario's tolerances, as ``rhonn campaign`` does.
+
+    Parameters
+    ----------
+    scenario : str, path or dict
+        As for ``run``.
+    runs : int
+        Number of runs (ignored with ``corners=True``: every corner once).
+    seed : int
+        The campaign's seed (runs are reproducible from it).
+    threads : int, optional
+        Worker threads (None: every core).
+    out : str or path, optional
+        The campaign's folder (runs.csv, summary.json, plots); a folder left by an
+        interrupted campaign is resumed. None: a temporary folder, removed afterwards.
+
+    Returns
+    -------
+    CampaignTable
+        runs.csv's columns: ``run``, the drawn parameters, ``status``, the figures.
+    """
+    for arg, v, lo, hi in (("runs", runs, 1, 10_000_000), ("seed", seed, 0, 2**64 - 1)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
+            raise ValueError(f"{arg} = {v!r} is not allowed: give an int in [{lo}, {hi}]")
+    if threads is not None and (isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1):
+        raise ValueError(f"threads = {threads!r} is not allowed: give an int >= 1, or None for every core")
+    name, text = _scenario_args(scenario)
+
+    def go(folder: str) -> CampaignTable:
+        d = _rhonn.campaign(name, int(runs), int(seed), folder, text, threads, bool(corners))
+        t = CampaignTable(_read_table(os.path.join(d, "runs.csv")))
+        t.out = d
+        return t
+
+    if out is not None:
+        return go(os.fspath(out))
+    with tempfile.TemporaryDirectory(prefix="rhonn-campaign-") as tmp:
+        t = go(os.path.join(tmp, "campaign"))
+        t.out = ""
+        return t
+
+
+def scenarios() -> Dict[str, str]:
+    """The shipped scenarios: name -> one-line description."""
+    return dict(_rhonn.scenarios())
+
+
+def show(scenario: str) -> str:
+    """A scenario's TOML text (copy it to start your own)."""
+    return _rhonn.show(scenario)

@@ -1,0 +1,115 @@
+//! numpy arrays in and out: every array from Python is checked (shape, size, finite
+//! values) before it reaches the library, and the error names the argument.
+
+use crate::errors::value_error;
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rhonn::data::Record;
+
+/// The columns of a 2-D array (n, k), each checked finite; `name` names the argument.
+pub fn columns(name: &str, a: &PyReadonlyArray2<'_, f64>, k: usize) -> PyResult<Vec<Vec<f64>>> {
+    let v = a.as_array();
+    let (n, cols) = v.dim();
+    if n == 0 {
+        return Err(value_error(format!(
+            "{name} is empty: give at least one sample (row)"
+        )));
+    }
+    if cols != k {
+        return Err(value_error(format!(
+            "{name} has {cols} columns; {k} are needed (one per signal)"
+        )));
+    }
+    if let Some(((i, j), x)) = v.indexed_iter().find(|(_, x)| !x.is_finite()) {
+        return Err(value_error(format!(
+            "{name}[{i}, {j}] = {x} is not allowed: every value must be finite"
+        )));
+    }
+    Ok((0..k).map(|j| v.column(j).to_vec()).collect())
+}
+
+/// A 1-D float64 array or a sequence of numbers, of `out.len()` finite values, into
+/// `out` (a float64 array is read without a copy).
+pub fn vector_into(name: &str, a: &Bound<'_, PyAny>, out: &mut [f64]) -> PyResult<()> {
+    let owned: Vec<f64>;
+    let arr;
+    let contiguous = a
+        .cast::<PyArray1<f64>>()
+        .ok()
+        .map(|x| x.readonly())
+        .filter(|r| r.is_c_contiguous());
+    let values: &[f64] = if let Some(r) = contiguous {
+        arr = r;
+        arr.as_slice()
+            .map_err(|_| value_error(format!("{name} must be a contiguous array")))?
+    } else {
+        owned = a.extract::<Vec<f64>>().map_err(|_| {
+            pyo3::exceptions::PyTypeError::new_err(format!(
+                "{name} must be a 1-D array or a sequence of {} numbers, not {}",
+                out.len(),
+                a.get_type().name().map(|n| n.to_string()).unwrap_or_default()
+            ))
+        })?;
+        &owned
+    };
+    if values.len() != out.len() {
+        return Err(value_error(format!(
+            "{name} has {} values; {} are needed",
+            values.len(),
+            out.len()
+        )));
+    }
+    for (i, (o, x)) in out.iter_mut().zip(values).enumerate() {
+        if !x.is_finite() {
+            return Err(value_error(format!(
+                "{name}[{i}] = {x} is not allowed: every value must be finite"
+            )));
+        }
+        *o = *x;
+    }
+    Ok(())
+}
+
+/// A record sampled every `dt` s from inputs `u` (n, m) and outputs `y` (n, p).
+pub fn record(
+    source: &str,
+    dt: f64,
+    u: &PyReadonlyArray2<'_, f64>,
+    y: &PyReadonlyArray2<'_, f64>,
+    inputs: &[String],
+    outputs: &[String],
+) -> PyResult<Record> {
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(value_error(format!(
+            "dt = {dt} is not allowed: give the sample time in seconds, finite and > 0"
+        )));
+    }
+    if outputs.is_empty() {
+        return Err(value_error("outputs is empty: name at least one output"));
+    }
+    let inputs_c = columns("u", u, inputs.len())?;
+    let outputs_c = columns("y", y, outputs.len())?;
+    let (n, ny) = (u.as_array().dim().0, y.as_array().dim().0);
+    if ny != n {
+        return Err(value_error(format!(
+            "u has {n} rows and y {ny}: give one row per sample in both"
+        )));
+    }
+    Ok(Record {
+        source: source.to_string(),
+        t: (0..n).map(|k| k as f64 * dt).collect(),
+        inputs: inputs_c,
+        outputs: outputs_c,
+    })
+}
+
+/// A dict of column name -> 1-D float64 array; each array takes over its column's
+/// memory (no copy).
+pub fn columns_dict(py: Python<'_>, cols: impl Iterator<Item = (String, Vec<f64>)>) -> PyResult<Py<PyAny>> {
+    let d = PyDict::new(py);
+    for (name, values) in cols {
+        d.set_item(name, PyArray1::from_vec(py, values))?;
+    }
+    Ok(d.into_any().unbind())
+}

@@ -1,0 +1,216 @@
+//! `rhonn._rhonn`: the Rust side of the Python package `rhonn` (the pure-Python
+//! `rhonn/__init__.py` checks arguments and shapes the results). Glue only: every call is
+//! a `rhonn` or `rhonn_report` library call, made with the GIL released when it can take
+//! long. No panic reaches Python: sizes and values from the caller are checked here or
+//! by the library, which returns errors.
+
+mod arrays;
+mod errors;
+mod model;
+mod online;
+
+use arrays::{columns_dict, record};
+use errors::{report_err, rhonn_err};
+use numpy::PyReadonlyArray2;
+use pyo3::prelude::*;
+use rhonn::experiment::{preset::AnyScenario, run_full, run_plant_scenario, Trace};
+use std::path::PathBuf;
+
+/// A scenario given as a shipped name, a path, or TOML text.
+fn scenario(name_or_path: &str, toml_text: Option<&str>) -> PyResult<AnyScenario> {
+    match toml_text {
+        Some(text) => AnyScenario::parse(text, name_or_path).map_err(rhonn_err),
+        None => rhonn::experiment::preset::load_any(name_or_path).map_err(rhonn_err),
+    }
+}
+
+/// TOML text of a JSON object (a scenario or model spec given as a Python dict).
+#[pyfunction]
+fn json_to_toml(json: &str) -> PyResult<String> {
+    let v: serde_json::Value =
+        serde_json::from_str(json).map_err(|e| errors::value_error(format!("not JSON: {e}")))?;
+    let t = toml::Value::try_from(v)
+        .map_err(|e| errors::value_error(format!("cannot be written as TOML: {e}")))?;
+    toml::to_string(&t).map_err(|e| errors::value_error(format!("cannot be written as TOML: {e}")))
+}
+
+/// A run's trajectory (name -> SI array), validation columns, and summary.json's text.
+type RunResult = (Py<PyAny>, Option<Py<PyAny>>, String);
+
+/// Run a scenario; write its folder too when `out` is given.
+#[pyfunction]
+#[pyo3(signature = (name, toml_text=None, out=None))]
+fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>) -> PyResult<RunResult> {
+    match scenario(name, toml_text)? {
+        AnyScenario::Pump(spec) => {
+            let sc = spec.check().map_err(rhonn_err)?;
+            let (trace, output) = py
+                .detach(|| {
+                    let mut trace = Trace::default();
+                    run_full(&sc, &mut trace).map(|o| (trace, o))
+                })
+                .map_err(rhonn_err)?;
+            if let Some(dir) = out {
+                py.detach(|| rhonn_report::write_run(&dir, &trace, &output))
+                    .map_err(report_err)?;
+            }
+            let summary = errors::json(&output.summary)?;
+            let cols = |t: Trace| t.columns.into_iter().map(|c| (c.name, c.values));
+            let traj = columns_dict(py, cols(trace))?;
+            let val = output.validation.map(|v| columns_dict(py, cols(v))).transpose()?;
+            Ok((traj, val, summary))
+        }
+        AnyScenario::Plant(spec) => {
+            let output = py.detach(|| run_plant_scenario(&spec, None)).map_err(rhonn_err)?;
+            if let Some(dir) = out {
+                py.detach(|| rhonn_report::write_plant_run(&dir, &output))
+                    .map_err(report_err)?;
+            }
+            let summary = errors::json(&output.summary)?;
+            let cols = |c: Vec<rhonn::experiment::PlantColumn>| c.into_iter().map(|c| (c.name, c.values));
+            let traj = columns_dict(py, cols(output.trajectory))?;
+            let val = output.validation.map(|v| columns_dict(py, cols(v))).transpose()?;
+            Ok((traj, val, summary))
+        }
+    }
+}
+
+/// Fit a model to recordings given as arrays (`us[k]`: (n, m), `ys[k]`: (n, p), one pair
+/// per recording, sampled every `dt` s).
+#[pyfunction]
+#[pyo3(signature = (us, ys, dt, inputs, outputs, spec_toml=None, spec_source="the model spec"))]
+#[allow(clippy::too_many_arguments)]
+fn fit(
+    py: Python<'_>,
+    us: Vec<PyReadonlyArray2<'_, f64>>,
+    ys: Vec<PyReadonlyArray2<'_, f64>>,
+    dt: f64,
+    inputs: Vec<String>,
+    outputs: Vec<String>,
+    spec_toml: Option<&str>,
+    spec_source: &str,
+) -> PyResult<model::Model> {
+    let specs = rhonn_report::commands::model_specs(spec_toml, spec_source).map_err(report_err)?;
+    let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
+    let mut recs = Vec::new();
+    for (k, (u, y)) in us.iter().zip(&ys).enumerate() {
+        let r = record(&format!("recording {k}"), dt, u, y, &inputs, &outputs)?;
+        if r.len() < max_lag + 2 {
+            return Err(errors::value_error(format!(
+                "recording {k} has {} samples; the model needs at least {}",
+                r.len(),
+                max_lag + 2
+            )));
+        }
+        recs.push(r);
+    }
+    let notes = rhonn::sysid::data_warnings(&recs, &inputs, &outputs, max_lag, dt, "dt");
+    let (fitted, summary) = py
+        .detach(|| rhonn::sysid::train(&specs, &recs, &inputs, &outputs))
+        .map_err(rhonn_err)?;
+    Ok(model::Model::fitted(fitted, Some(errors::json(&summary)?), notes))
+}
+
+/// Run a Monte Carlo campaign into `out` (resumes a folder left by an interrupted one);
+/// returns the folder. `threads`: worker threads (None: every core).
+#[pyfunction]
+#[pyo3(signature = (name, runs, seed, out, toml_text=None, threads=None, corners=false, envelope_runs=1000))]
+#[allow(clippy::too_many_arguments)]
+fn campaign(
+    py: Python<'_>,
+    name: &str,
+    runs: u64,
+    seed: u64,
+    out: PathBuf,
+    toml_text: Option<&str>,
+    threads: Option<usize>,
+    corners: bool,
+    envelope_runs: u64,
+) -> PyResult<String> {
+    use rhonn_report::campaign::{run_campaign, CampaignOptions};
+    let sc = scenario(name, toml_text)?;
+    let opts = CampaignOptions {
+        runs,
+        seed,
+        shard: [1, 1],
+        corners,
+        envelope_runs,
+    };
+    let go = || match &sc {
+        AnyScenario::Pump(spec) => run_campaign(spec, &opts, &out, &|_| {}),
+        AnyScenario::Plant(spec) => {
+            rhonn_report::plant_campaign::run_plant_campaign(spec, &opts, &out, &|_| {})
+        }
+    };
+    let outcome = py.detach(|| match threads {
+        Some(0) => Err(rhonn_report::Error::Input(
+            "threads = 0 is not allowed: give 1 or more, or None for every core".into(),
+        )),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| rhonn_report::Error::Campaign(format!("cannot start {n} worker threads: {e}")))?
+            .install(go),
+        None => go(),
+    });
+    Ok(outcome.map_err(report_err)?.dir.display().to_string())
+}
+
+/// For the bench (`python/bench.py`): the median seconds of `repeats` runs of a pump
+/// scenario made from Rust exactly as `run` makes them (checked scenario, `run_full`
+/// into a `Trace`), without the conversion to Python objects.
+#[pyfunction]
+fn _rust_run_seconds(py: Python<'_>, name: &str, repeats: usize) -> PyResult<f64> {
+    let AnyScenario::Pump(spec) = scenario(name, None)? else {
+        return Err(errors::value_error(format!("{name} is not a pump scenario")));
+    };
+    let sc = spec.check().map_err(rhonn_err)?;
+    let mut times = py
+        .detach(|| {
+            (0..repeats.max(1))
+                .map(|_| {
+                    let start = std::time::Instant::now();
+                    let mut trace = Trace::default();
+                    run_full(&sc, &mut trace).map(|o| {
+                        std::hint::black_box((trace, o));
+                        start.elapsed().as_secs_f64()
+                    })
+                })
+                .collect::<Result<Vec<f64>, _>>()
+        })
+        .map_err(rhonn_err)?;
+    times.sort_by(f64::total_cmp);
+    Ok(times[times.len() / 2])
+}
+
+/// The shipped scenarios: (name, description).
+#[pyfunction]
+fn scenarios() -> Vec<(String, String)> {
+    rhonn::experiment::preset::list()
+        .into_iter()
+        .map(|(n, d)| (n.to_string(), d))
+        .collect()
+}
+
+/// A scenario's TOML text (a shipped one as shipped).
+#[pyfunction]
+fn show(name: &str) -> PyResult<String> {
+    rhonn_report::commands::show(name).map_err(report_err)
+}
+
+/// The Rust side of `rhonn`.
+#[pymodule]
+fn _rhonn(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
+    m.add_function(wrap_pyfunction!(campaign, m)?)?;
+    m.add_function(wrap_pyfunction!(scenarios, m)?)?;
+    m.add_function(wrap_pyfunction!(show, m)?)?;
+    m.add_function(wrap_pyfunction!(json_to_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(_rust_run_seconds, m)?)?;
+    m.add_function(wrap_pyfunction!(model::load, m)?)?;
+    m.add_class::<model::Model>()?;
+    m.add_class::<online::OnlineIdentifier>()?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,135 @@
+"""Every bad argument raises a Python exception whose message names the argument; no
+panic crosses into Python."""
+
+import numpy as np
+import pytest
+
+import rhonn
+
+N = 200
+U = np.sin(np.arange(N) * 0.1)
+Y = np.cos(np.arange(N) * 0.07)
+
+
+@pytest.fixture(scope="module")
+def model():
+    return rhonn.fit(U, Y, dt=0.1)
+
+
+@pytest.mark.parametrize(
+    "kwargs, exc, words",
+    [
+        (dict(u=np.zeros((N, 1, 1)), y=Y), ValueError, "u must be 1-D"),
+        (dict(u=U[:-1], y=Y), ValueError, "u has 199 rows and y 200"),
+        (dict(u=np.where(np.arange(N) == 5, np.nan, U), y=Y), ValueError, "u[5, 0] = nan"),
+        (dict(u=U, y=np.where(np.arange(N) == 7, np.inf, Y)), ValueError, "y[7, 0] = inf"),
+        (dict(u=U.astype(complex), y=Y), TypeError, "u must hold real numbers"),
+        (dict(u=np.array(["a"] * N), y=Y), TypeError, "u must hold real numbers"),
+        (dict(u=np.zeros((0, 1)), y=np.zeros((0, 1))), ValueError, "u is empty"),
+        (dict(u=U, y=Y, dt=0.0), ValueError, "dt = 0"),
+        (dict(u=U, y=Y, dt=-1.0), ValueError, "dt = -1"),
+        (dict(u=U, y=Y, dt="4"), TypeError, "dt must be a number"),
+        (dict(u=U, y=Y, inputs=["a", "b"]), ValueError, "inputs names 2 signals"),
+        (dict(u=U, y=Y, model={"kind": "arx", "na": 0, "nb": 0}), ValueError, "in the model spec"),
+        (dict(u=U, y=Y, model={"no_such_key": 1}), ValueError, "no_such_key"),
+        (dict(u=U, y=Y, model=42), TypeError, "model must be None, a path"),
+        (dict(u=U, y=Y, model="/no/such/spec.toml"), OSError, "/no/such/spec.toml"),
+    ],
+)
+def test_fit_refuses(kwargs, exc, words):
+    args = dict(dt=0.1)
+    args.update(kwargs)
+    with pytest.raises(exc) as e:
+        rhonn.fit(args.pop("u"), args.pop("y"), **args)
+    assert words in str(e.value)
+
+
+def test_predict_refuses(model):
+    with pytest.raises(ValueError, match="steps_ahead = 0"):
+        model.predict(U, Y, steps_ahead=0)
+    with pytest.raises(TypeError, match="steps_ahead must be an int"):
+        model.predict(U, Y, steps_ahead=2.5)
+    with pytest.raises(ValueError, match="u has 2 columns; 1 are needed"):
+        model.predict(np.zeros((N, 2)), Y)
+    with pytest.raises(ValueError, match="needs at least"):
+        model.predict(U[:2], Y[:2], steps_ahead=10)
+
+
+def test_run_and_campaign_refuse(tmp_path):
+    with pytest.raises(ValueError, match="unknown scenario `no-such`"):
+        rhonn.run("no-such")
+    with pytest.raises(TypeError, match="scenario must be"):
+        rhonn.run(3)
+    with pytest.raises(ValueError, match="runs = 0"):
+        rhonn.campaign("tanks-control", runs=0)
+    with pytest.raises(ValueError, match="threads = 0"):
+        rhonn.campaign("tanks-control", runs=2, threads=0)
+    with pytest.raises(ValueError, match="duration"):
+        spec = {"name": "bad", "duration_s": -1.0}
+        rhonn.run(spec)
+
+
+def test_load_refuses(tmp_path):
+    with pytest.raises(OSError, match="missing.json"):
+        rhonn.load(tmp_path / "missing.json")
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"kind": "online-rhonn", "weights": []}')
+    with pytest.raises(ValueError, match="bad.json is not a valid online model"):
+        rhonn.load(bad)
+    bad.write_text("not json")
+    with pytest.raises(ValueError, match="bad.json is not JSON"):
+        rhonn.load(bad)
+
+
+def test_online_identifier_refuses():
+    with pytest.raises(ValueError, match="dt = 0"):
+        rhonn.OnlineIdentifier(["u"], ["y"], dt=0.0)
+    with pytest.raises(ValueError, match=r"y_scale\[0\] = 0"):
+        rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0, y_scale=[0.0])
+    with pytest.raises(ValueError, match="outputs is empty"):
+        rhonn.OnlineIdentifier(["u"], [], dt=1.0)
+    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0)
+    with pytest.raises(ValueError, match="u has 2 values; 1 are needed"):
+        ident.update(0.0, [1.0, 2.0], [0.0])
+    with pytest.raises(ValueError, match=r"(?i)y\[0\] = nan"):
+        ident.update(0.0, [1.0], [float("nan")])
+    with pytest.raises(TypeError, match="u must be a 1-D array or a sequence"):
+        ident.update(0.0, "abc", [0.0])
+    ident.update(0.0, [1.0], [0.0])
+    with pytest.raises(ValueError):
+        ident.update(0.0, [1.0], [0.0])  # time does not increase
+
+
+def test_odd_inputs_raise_exceptions_never_panics(tmp_path):
+    """A Rust panic would arrive as pyo3's PanicException, a BaseException that
+    `except Exception` does not catch: this test would then fail."""
+    m = rhonn.fit(U, Y, dt=0.1)
+    odd = [
+        lambda: rhonn.fit(U, np.zeros((N, 0)), dt=0.1),
+        lambda: rhonn.fit(np.zeros((N, 0)), Y, dt=0.1),
+        lambda: rhonn.fit(U[:2], Y[:2], dt=0.1),
+        lambda: rhonn.fit([U, U], [Y], dt=0.1),
+        lambda: rhonn.fit(U, Y, dt=float("nan")),
+        lambda: rhonn.fit(U, Y, dt=1e308),
+        lambda: rhonn.fit(U, Y, dt=0.1, model={"kind": "rhonn", "degree": 99, "na": 50, "nb": 50}),
+        lambda: m.predict(U[:1], Y[:1]),
+        lambda: m.predict(np.zeros((N, 0)), Y),
+        lambda: m.predict(U, Y, steps_ahead=10**12),
+        lambda: rhonn._rhonn.Model.from_json("{}"),
+        lambda: rhonn._rhonn.Model.from_json('{"kind": "online-rhonn"}'),
+        lambda: rhonn.campaign("tanks-control", runs=10**8),
+        lambda: rhonn.run({"name": "x"}),
+        lambda: rhonn.run({"plant": {"kind": "tanks"}}),
+        lambda: rhonn.OnlineIdentifier([], ["y"], dt=1.0).update(0.0, [], [1.0]),
+        lambda: rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0, model={"degree": 40, "max_factors": 40}),
+        lambda: rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0, y_bounds=[(1.0, 0.0)]),
+        lambda: rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0).update(float("inf"), [0.0], [0.0]),
+    ]
+    raised = 0
+    for k, call in enumerate(odd):
+        try:
+            call()
+        except Exception as e:  # noqa: BLE001 - any ordinary exception is fine here
+            assert str(e), f"case {k}: an exception without a message"
+            raised += 1
+    assert raised >= len(odd) - 3, raised

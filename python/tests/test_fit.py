@@ -1,0 +1,96 @@
+"""rhonn.fit / Model.predict / save / load on the cascaded tanks, against the command."""
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import rhonn
+
+from conftest import read_csv
+
+
+@pytest.fixture(scope="module")
+def tanks_model(tanks, root):
+    est, _ = tanks
+    return rhonn.fit(est["u"], est["y"], dt=4.0, model=root / "models/cascaded-tanks.toml", inputs=["u"], outputs=["y"])
+
+
+@pytest.fixture(scope="module")
+def command_prediction(tmp_path_factory, root, rhonn_bin):
+    d = tmp_path_factory.mktemp("cli")
+    data = root / "data/cascaded-tanks"
+    run = lambda *a: subprocess.run([rhonn_bin, *map(str, a)], check=True, capture_output=True, cwd=root)
+    run("fit", "--data", data / "estimation.csv", "--inputs", "u", "--outputs", "y",
+        "--model", root / "models/cascaded-tanks.toml", "--out", d / "fit")
+    run("predict", "--model", d / "fit/model.json", "--data", data / "validation.csv", "--out", d / "pred")
+    run("predict", "--model", d / "fit/model.json", "--data", data / "validation.csv", "--out", d / "pred10",
+        "--steps-ahead", "10")
+    return d
+
+
+def rms_from(pred, y, first):
+    return float(np.sqrt(np.mean((pred[first:] - y[first:]) ** 2)))
+
+
+def test_tanks_free_run_equals_the_command(tanks, tanks_model, command_prediction):
+    _, val = tanks
+    pred = tanks_model.predict(val["u"], val["y"])
+    assert pred.shape == (len(val["t"]), 1)
+    cli = json.loads((command_prediction / "pred/summary.json").read_text())["outputs"][0]
+    first = len(val["t"]) - cli["samples"]
+    rms = rms_from(pred[:, 0], val["y"], first)
+    assert abs(rms - cli["rms_error"]) < 1e-6, (rms, cli["rms_error"])
+    assert rms < 0.23  # the README's 0.222 V
+    score = tanks_model.score(val["u"], val["y"])[0]
+    assert score["samples"] == cli["samples"]
+    for k in ("rms_error", "fit_percent", "nrmse"):
+        assert abs(score[k] - cli[k]) < 1e-6, k
+    csv = read_csv(command_prediction / "pred/prediction.csv")
+    np.testing.assert_allclose(pred[:, 0], csv["y_hat"], rtol=0, atol=1e-9)
+
+
+def test_the_commands_model_loads_and_predicts_the_same(tanks, tanks_model, command_prediction):
+    _, val = tanks
+    m = rhonn.load(command_prediction / "fit/model.json")
+    assert m.kind == "fit" and m.inputs == ["u"] and m.outputs == ["y"] and m.sample_time_s == 4.0
+    np.testing.assert_allclose(m.predict(val["u"], val["y"]), tanks_model.predict(val["u"], val["y"]), atol=1e-9)
+
+
+def test_save_load_round_trip(tmp_path, tanks, tanks_model):
+    _, val = tanks
+    tanks_model.save(tmp_path / "model.json")
+    back = rhonn.load(tmp_path / "model.json")
+    for k in (None, 10):
+        np.testing.assert_array_equal(back.predict(val["u"], val["y"], k), tanks_model.predict(val["u"], val["y"], k))
+    assert not list(tmp_path.glob("*.partial"))
+
+
+def test_summary_and_k_steps_ahead_equal_the_command(tanks, tanks_model, command_prediction):
+    _, val = tanks
+    s = tanks_model.summary
+    assert s["training"]["free_run"][0]["outputs"][0]["output"] == "y"
+    p10 = tanks_model.predict(val["u"], val["y"], steps_ahead=10)
+    cli = json.loads((command_prediction / "pred10/summary.json").read_text())["outputs"][0]
+    first = len(val["t"]) - cli["samples"]
+    assert abs(rms_from(p10[:, 0], val["y"], first) - cli["rms_error"]) < 1e-6
+
+
+def test_several_recordings_and_default_names(tanks):
+    est, _ = tanks
+    h = len(est["u"]) // 2
+    m = rhonn.fit([est["u"][:h], est["u"][h:]], [est["y"][:h], est["y"][h:]], dt=4.0)
+    assert m.inputs == ["u"] and m.outputs == ["y"]
+    assert len(m.summary["training"]["free_run"]) == 2
+
+
+def test_non_contiguous_and_integer_arrays_are_accepted(tanks):
+    est, _ = tanks
+    u2 = np.repeat(est["u"][:, None], 2, axis=1)[:, ::2]  # a strided view
+    assert not u2.flags["C_CONTIGUOUS"]
+    y = est["y"]
+    a = rhonn.fit(u2, y, dt=4.0)
+    b = rhonn.fit(np.ascontiguousarray(u2), y, dt=4)
+    np.testing.assert_array_equal(a.predict(u2, y), b.predict(est["u"], y))
+    rhonn.fit(np.round(est["u"] * 100).astype(np.int64), y, dt=4.0)

@@ -1,0 +1,52 @@
+"""rhonn.OnlineIdentifier in a user's own loop: the same estimates as `rhonn identify`."""
+
+import json
+import subprocess
+
+import numpy as np
+
+import rhonn
+
+from conftest import read_csv
+
+
+def test_same_estimates_as_rhonn_identify(tmp_path, root, rhonn_bin, tanks):
+    est, _ = tanks
+    spec = root / "models/tanks-online.toml"
+    subprocess.run(
+        [rhonn_bin, "identify", "--data", str(root / "data/cascaded-tanks/estimation.csv"), "--inputs", "u",
+         "--outputs", "y", "--model", str(spec), "--epochs", "1", "--out", str(tmp_path / "id")],
+        check=True, capture_output=True, cwd=root,
+    )
+    cli_model = json.loads((tmp_path / "id/model.json").read_text())
+    sc = cli_model["scaling"]
+    ident = rhonn.OnlineIdentifier(
+        ["u"], ["y"], dt=4.0, model=spec, y_offset=sc["y_offset"], y_scale=sc["y_scale"],
+        u_offset=sc["u_offset"], u_scale=sc["u_scale"], y_bounds=sc["y_bounds"],
+    )
+    y_hat = np.array([ident.update(t, [u], [y])[0] for t, u, y in zip(est["t"], est["u"], est["y"])])
+    w = ident.weights
+    assert w.shape == (1, len(ident.term_names))
+    np.testing.assert_allclose(w, np.array(cli_model["weights"]), rtol=1e-9, atol=1e-12)
+    estimate = read_csv(tmp_path / "id/estimate.csv")
+    np.testing.assert_allclose(y_hat, estimate["y_hat"], rtol=0, atol=1e-9)
+
+
+def test_freeze_gives_a_model_that_saves_and_predicts(tmp_path, tanks):
+    est, val = tanks
+    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0, y_offset=[5.0], y_scale=[2.0], u_offset=[5.0], u_scale=[2.0])
+    errors = []
+    for t, u, y in zip(est["t"], est["u"], est["y"]):
+        errors.append(ident.update(t, np.array([u]), np.array([y]))[0] - y)
+    errors = np.abs(errors)
+    assert errors[-200:].mean() < errors[:200].mean()
+    model = ident.freeze()
+    w = ident.weights.copy()
+    ident.update(est["t"][-1] + 4.0, [5.0], [5.0])
+    np.testing.assert_array_equal(ident.weights, w)  # frozen: the weights stay
+    assert model.kind == "online-rhonn"
+    model.save(tmp_path / "online.json")
+    back = rhonn.load(tmp_path / "online.json")
+    p1 = model.predict(val["u"], val["y"], steps_ahead=5)
+    np.testing.assert_array_equal(p1, back.predict(val["u"], val["y"], steps_ahead=5))
+    assert p1.shape == (len(val["u"]), 1) and np.all(np.isfinite(p1))
