@@ -232,18 +232,30 @@ fn reproduce_runs_every_thesis_scenario() {
         let r = &who["regulation"];
         for key in [
             "ise_mpa2_s",
+            "iae_mpa_s",
             "max_abs_deviation_settled_mpa",
+            "max_abs_deviation_after_0_1s_mpa",
             "time_current_saturated_s",
+            "time_within_1pct_s",
+            "within_1pct_percent",
         ] {
             assert!(r[key].as_f64().is_some(), "{key}");
         }
+        assert_eq!(
+            r["overshoot_percent"].as_array().map(Vec::len),
+            Some(4),
+            "one per set-point step"
+        );
         assert_eq!(r["signals_bounded"], serde_json::Value::Bool(true));
         assert!(who["time_below_p_min_after_1s_s"].as_f64().is_some());
     }
+    let b = &s["control"]["baseline"];
+    assert_eq!(b["controller"], "cascade-pi");
+    assert_eq!(b["kp_mm_per_mpa"].as_f64(), Some(0.2));
     let weights = std::fs::read_to_string(dir.join("weights.svg")).unwrap();
     assert!(weights.contains("MPa/(s mm)"));
     let pressure = std::fs::read_to_string(dir.join("pressure.svg")).unwrap();
-    assert!(pressure.contains("PI baseline") && pressure.contains("RHONN adaptive"));
+    assert!(pressure.contains("cascade PI baseline") && pressure.contains("RHONN adaptive"));
 }
 
 #[test]
@@ -260,8 +272,24 @@ fn bad_adaptive_controller_settings_are_clear_errors() {
             "`controller.lambda_per_s` = -1 is not allowed: a finite number > 0",
         ),
         (
-            shipped.replace("baseline_ti_s = 0.15", "baseline_ti_s = 0.0"),
+            shipped.replace("baseline_ti_s = 0.05", "baseline_ti_s = 0.0"),
             "`controller.baseline_ti_s` = 0 is not allowed: a number > 0",
+        ),
+        (
+            shipped.replace("baseline = \"cascade-pi\"", "baseline = \"pid\""),
+            "`controller.baseline` = \"pid\" is not allowed: \"cascade-pi\" (the same sensors) or \"pi\"",
+        ),
+        (
+            shipped.replace("baseline_setpoint_weight = 0.6", "baseline_setpoint_weight = 1.5"),
+            "`controller.baseline_setpoint_weight` = 1.5 is not allowed: a number in [0, 1]",
+        ),
+        (
+            shipped.replace("baseline_ti_s = 0.05", "baseline_ti_s = 0.05\nbaseline_kp_a_per_mpa = 0.15"),
+            "`controller.baseline_kp_a_per_mpa` = a value is not allowed: absent with baseline = \"cascade-pi\"",
+        ),
+        (
+            shipped.replace("integral_per_s2 = 1000.0", "integral_per_s2 = -1.0"),
+            "`controller.integral_per_s2` = -1 is not allowed: a finite number >= 0",
         ),
         (
             shipped.replace(

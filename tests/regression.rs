@@ -395,14 +395,14 @@ fn each_controller_keeps_its_colour_across_the_plots_of_a_run() {
     };
     let color_of = |file: &str, label: &str| mark_of(file, label)[0].0.clone();
     // Legend marks are drawn as their series: solid lines touch, dashes leave a gap.
-    let solid = mark_of("pressure.svg", "p_line (PI baseline)");
+    let solid = mark_of("pressure.svg", "p_line (cascade PI baseline)");
     assert_eq!(solid[0].2, solid[1].1, "{solid:?}");
     let dashed = mark_of("pressure.svg", "set-point");
     assert!(dashed[1].1 > dashed[0].2, "{dashed:?}");
     let pi = [
-        color_of("pressure.svg", "p_line (PI baseline)"),
-        color_of("inputs.svg", "current (PI baseline)"),
-        color_of("stroke.svg", "stroke (PI baseline)"),
+        color_of("pressure.svg", "p_line (cascade PI baseline)"),
+        color_of("inputs.svg", "current (cascade PI baseline)"),
+        color_of("stroke.svg", "stroke (cascade PI baseline)"),
     ];
     let adaptive = [
         color_of("pressure.svg", "p_line (RHONN adaptive)"),

@@ -103,12 +103,12 @@ pub(crate) fn envelope_files(
 pub(crate) fn histograms(names: &[String], rows: &[RunRow], scenario: &str) -> String {
     let key = |n: &str| {
         [
-            "ise_mpa2_s",
+            "iae_mpa_s",
             "max_abs_deviation_settled_mpa",
             "time_below_p_min_after_1s_s",
-            "pi_ise_mpa2_s",
-            "pi_max_abs_deviation_settled_mpa",
-            "pi_time_below_p_min_after_1s_s",
+            "baseline_iae_mpa_s",
+            "baseline_max_abs_deviation_settled_mpa",
+            "baseline_time_below_p_min_after_1s_s",
         ]
         .contains(&n)
             || n.ends_with("fit_percent")

@@ -425,8 +425,30 @@ impl EnvelopePlot {
     }
 }
 
+/// The adaptive weights' norms over time, one panel each (none for other runs).
+fn weight_plots(trace: &Trace, name: &str, t: &[f64]) -> Vec<TimePlot> {
+    [
+        ("w_norm", "|W| (drift) [MPa/s]"),
+        ("w1_norm", "|W_1| (gain) [MPa/(s mm)]"),
+    ]
+    .iter()
+    .filter_map(|(c, label)| {
+        trace.column(c).map(|y| TimePlot {
+            title: format!("{name}: adaptive weights, {c}"),
+            y_label: (*label).into(),
+            t: t.to_vec(),
+            series: vec![Series {
+                label: (*c).into(),
+                y: y.to_vec(),
+                dashed: false,
+            }],
+        })
+    })
+    .collect()
+}
+
 /// The plots of a run: `pressure.svg` (line pressure, set-point, P_min), `stroke.svg`,
-/// `inputs.svg` (current and demand); adaptive runs show the PI baseline beside the
+/// `inputs.svg` (current and demand); adaptive runs show the baseline beside the
 /// adaptive controller in each, the stroke reference, and `weights.svg` (the adaptive
 /// weights' norms). Returns `(file name, SVG)`.
 pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
@@ -439,6 +461,11 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
     let name = &summary.scenario.name;
     let p_min = summary.scenario.plant.p_min_mpa;
     let adaptive = trace.column("p_line_pi").is_some();
+    // The baseline by name: "cascade PI baseline" or "PI baseline".
+    let base = match summary.control.as_ref().map(|c| c.baseline.controller) {
+        Some("cascade-pi") => "cascade PI baseline",
+        _ => "PI baseline",
+    };
     let mut p_series = vec![Series::solid(
         if adaptive {
             "p_line (RHONN adaptive)"
@@ -449,7 +476,7 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
     )];
     if let Some(p) = col("p_line_pi", PA_PER_MPA) {
         // Drawn first, so that the adaptive controller's line lies on top.
-        p_series.insert(0, Series::solid("p_line (PI baseline)", p));
+        p_series.insert(0, Series::solid(format!("p_line ({base})"), p));
     }
     if let Some(r) = col("p_ref", PA_PER_MPA) {
         p_series.push(Series::dashed("set-point", r));
@@ -476,7 +503,7 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
         col("current", 1.0).unwrap_or_default(),
     )];
     if let Some(i) = col("current_pi", 1.0) {
-        i_series.push(Series::solid("current (PI baseline)", i));
+        i_series.push(Series::solid(format!("current ({base})"), i));
     }
     let current = TimePlot {
         title: format!("{name}: solenoid current"),
@@ -492,9 +519,10 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
         },
         col("stroke", M_PER_MM).unwrap_or_default(),
     )];
+    let stroke_base = format!("stroke ({base})");
     for (c, label) in [
         ("stroke_ref", "stroke reference x_d"),
-        ("stroke_pi", "stroke (PI baseline)"),
+        ("stroke_pi", stroke_base.as_str()),
     ] {
         if let Some(y) = col(c, M_PER_MM) {
             x_series.push(Series {
@@ -504,24 +532,7 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
             });
         }
     }
-    let weights = [
-        ("w_norm", "|W| (drift) [MPa/s]"),
-        ("w1_norm", "|W_1| (gain) [MPa/(s mm)]"),
-    ]
-    .iter()
-    .filter_map(|(c, label)| {
-        col(c, 1.0).map(|y| TimePlot {
-            title: format!("{name}: adaptive weights, {c}"),
-            y_label: (*label).into(),
-            t: t.clone(),
-            series: vec![Series {
-                label: (*c).into(),
-                y,
-                dashed: false,
-            }],
-        })
-    })
-    .collect::<Vec<_>>();
+    let weights = weight_plots(trace, name, &t);
     let demand = TimePlot {
         title: format!("{name}: demanded flow"),
         y_label: "demand [dm^3/s]".into(),

@@ -194,7 +194,7 @@ fn figures(out: &RunOutput) -> ([f64; 3], [f64; 3], bool, bool) {
 }
 
 #[test]
-fn nominal_plant_adaptive_beats_pi_in_the_same_run() {
+fn nominal_plant_adaptive_beats_the_cascade_pi_in_the_same_run() {
     let mut spec = preset::load("control-adaptive").unwrap();
     spec.duration_s = 60.0;
     let sc = spec.check().unwrap();
@@ -230,7 +230,7 @@ fn nominal_plant_adaptive_beats_pi_in_the_same_run() {
 }
 
 #[test]
-fn fast_unmodeled_dynamics_and_a_delay_adaptive_stays_above_p_min_and_beats_pi() {
+fn fast_unmodeled_dynamics_and_a_delay_adaptive_stays_above_p_min_and_beats_the_robust_cascade_pi() {
     type Change = Box<dyn Fn(&mut ScenarioSpec)>;
     let cases: [(&str, Change); 3] = [
         ("lag 1 ms", Box::new(|s| s.plant.solenoid_lag_ms = 1.0)),
@@ -250,7 +250,7 @@ fn fast_unmodeled_dynamics_and_a_delay_adaptive_stays_above_p_min_and_beats_pi()
 }
 
 #[test]
-fn a_slow_solenoid_20_ms_adaptive_stays_bounded_and_beats_pi() {
+fn a_slow_solenoid_20_ms_adaptive_stays_bounded_and_beats_the_cascade_pi() {
     // Documented in the README: with a 20 ms lag the adaptive controller spends about
     // 1.2 s below P_min (the PI: 21 s); it stays bounded and has the lower ISE.
     let out = run_case(|s| s.plant.solenoid_lag_ms = 20.0);
@@ -263,7 +263,7 @@ fn a_slow_solenoid_20_ms_adaptive_stays_bounded_and_beats_pi() {
 }
 
 #[test]
-fn every_corner_of_the_uncertainty_box_bounded_and_lower_ise_than_pi() {
+fn every_corner_of_the_uncertainty_box_bounded_and_lower_ise_than_the_cascade_pi() {
     let mut worse_max_dev = Vec::new();
     let mut below = Vec::new();
     for k in 0..32u64 {
@@ -297,5 +297,102 @@ fn every_corner_of_the_uncertainty_box_bounded_and_lower_ise_than_pi() {
     assert!(
         worse_max_dev.iter().all(slow_valve_fast_ramp),
         "max dev not lower: {worse_max_dev:?}"
+    );
+}
+
+/// Issue "fair classical baseline": the search of `tune_cascade_pi`, rerun on a
+/// neighbourhood of both shipped tunings (with gain sets that fail each criterion),
+/// picks exactly those tunings.
+#[test]
+fn the_tuning_search_picks_both_shipped_cascade_pi_tunings() {
+    use rhonn::experiment::tuning::{grid, search};
+    use rhonn::experiment::{NOMINAL_OPTIMAL, ROBUST};
+    let spec = preset::load("control-adaptive").unwrap();
+    let g = grid(&[0.2, 0.25, 0.75, 1.0], &[0.05, 0.1], &[0.2, 0.6], &[4.0, 6.0]);
+    let (scores, optimal, robust) = search(&spec, &g);
+    assert_eq!(optimal.unwrap().gains, NOMINAL_OPTIMAL);
+    assert_eq!(robust.unwrap().gains, ROBUST);
+    // Each criterion rules something out: the grid is not trivially robust.
+    assert!(scores.iter().any(|s| s.within_overshoot_limit() && !s.robust()));
+    assert!(scores.iter().any(|s| !s.within_overshoot_limit()));
+    let r = robust.unwrap();
+    assert!(r.lag_5ms.holds(&r.nominal) && r.delay_1.holds(&r.nominal) && r.doubled.holds(&r.nominal));
+    let o = optimal.unwrap();
+    assert!(
+        !o.lag_5ms.holds(&o.nominal),
+        "the nominal-optimal tuning is fragile"
+    );
+}
+
+/// The issue's goals: lower IAE than the nominal-optimal cascade PI on the nominal plant
+/// and at least 30 of the 32 corners, lower than the robust one with every lag and the
+/// delay, and within 1 % of the set-point at least 60 % of the nominal run.
+#[test]
+fn adaptive_has_lower_iae_than_both_cascade_pi_tunings_where_the_goals_say() {
+    use rhonn::experiment::tuning::{robustness_cases, with_cascade_pi};
+    use rhonn::experiment::NOMINAL_OPTIMAL;
+    let cases = robustness_cases(&preset::load("control-adaptive").unwrap()).unwrap();
+    assert_eq!(cases.len(), 37);
+    let mut corners_won = 0;
+    for (name, spec) in &cases {
+        let out = run_full(&spec.check().unwrap(), &mut NoRecorder).unwrap();
+        let ra = out.summary.figures.regulation.clone().unwrap();
+        let c = out.summary.control.as_ref().unwrap();
+        assert_eq!(c.baseline.controller, "cascade-pi");
+        let robust = c.baseline.figures.regulation.clone().unwrap();
+        let opt = run_full(
+            &with_cascade_pi(spec, NOMINAL_OPTIMAL).check().unwrap(),
+            &mut NoRecorder,
+        )
+        .unwrap()
+        .summary
+        .figures
+        .regulation
+        .unwrap();
+        if name == "nominal" {
+            assert!(
+                ra.iae_mpa_s < opt.iae_mpa_s,
+                "nominal: {} vs {}",
+                ra.iae_mpa_s,
+                opt.iae_mpa_s
+            );
+            assert!(
+                ra.within_1pct_percent >= 60.0,
+                "within 1 %: {}",
+                ra.within_1pct_percent
+            );
+        } else if name.starts_with("solenoid") || name.starts_with("transport") {
+            assert!(
+                ra.iae_mpa_s < robust.iae_mpa_s,
+                "{name}: {} vs {}",
+                ra.iae_mpa_s,
+                robust.iae_mpa_s
+            );
+        } else {
+            corners_won += (ra.iae_mpa_s < opt.iae_mpa_s) as usize;
+        }
+    }
+    assert!(corners_won >= 30, "{corners_won} of 32 corners");
+}
+
+/// The integral action removes the adaptive controller's steady offset: without it the
+/// pressure sits below the set-point in quiet stretches and is within 1 % a quarter of the
+/// run; with it, more than half.
+#[test]
+fn integral_action_removes_the_steady_offset() {
+    let share = |ki: f64| {
+        let mut spec = preset::load("control-adaptive").unwrap();
+        if let Some(rhonn::experiment::ControllerSpec::RhonnAdaptive { integral_per_s2, .. }) =
+            &mut spec.controller
+        {
+            *integral_per_s2 = Some(ki);
+        }
+        let out = run_full(&spec.check().unwrap(), &mut NoRecorder).unwrap();
+        out.summary.figures.regulation.unwrap().within_1pct_percent
+    };
+    let (without, with) = (share(0.0), share(1000.0));
+    assert!(
+        without < 30.0 && with > 55.0,
+        "within 1 %: {without} without, {with} with"
     );
 }

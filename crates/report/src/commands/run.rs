@@ -50,8 +50,8 @@ pub fn run(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
     }
     if let Some(c) = &summary.control {
         l.push(format!(
-            "  RHONN adaptive vs PI baseline (kp {} A/MPa, ti {} s) on an identical plant:",
-            c.baseline.kp_a_per_mpa, c.baseline.ti_s
+            "  RHONN adaptive vs the baseline {} on an identical plant:",
+            c.baseline.describe()
         ));
         l.extend(c.findings.iter().map(|line| format!("    {line}")));
         l.push(format!(

@@ -268,6 +268,20 @@ pub struct CascadeSettings {
     pub ball_fraction: f64,
     /// Pressure scale of the sigmoid p_n \[MPa\].
     pub p_scale_mpa: f64,
+    /// Integral action k_i on the tracking error \[1/s^2\] (0: none): the control law
+    /// aims at `dp/dt = -lambda (p - r) - k_i int(p - r) dt`.
+    ///
+    /// Why it keeps the loop stable: the identifier's error and weights stay bounded
+    /// (Lyapunov, with the projection), so the model's mismatch d = (W S + W_1 S' x) -
+    /// dp/dt is bounded, and the tracking error eps = p - r obeys
+    /// `eps' = -lambda eps - k_i int(eps) + d`, whose characteristic polynomial
+    /// `s^2 + lambda s + k_i` is Hurwitz for lambda, k_i > 0 (lambda 100, k_i 1000:
+    /// real poles at -10.1 and -89.9 1/s). eps is then bounded by a multiple of sup |d|
+    /// (input-to-state stable), and a constant d (the model's residual bias, which left
+    /// eps 0.07-0.15 MPa below the set-point without it) is absorbed by the integral:
+    /// eps -> 0. Integral separation (only |eps| <= 1 MPa is integrated) and the
+    /// anti-windup only stop the integration, which keeps the integral bounded.
+    pub integral_per_s2: f64,
 }
 
 impl Default for CascadeSettings {
@@ -283,6 +297,7 @@ impl Default for CascadeSettings {
             gamma_w1: 10.0,
             ball_fraction: 0.5,
             p_scale_mpa: 10.0,
+            integral_per_s2: 1000.0,
         }
     }
 }
@@ -299,6 +314,9 @@ pub struct CascadeState {
     /// |W_1| (MPa/(s mm) units).
     pub w1_norm: f64,
 }
+
+/// Tracking errors integrated by the integral action: within this band \[MPa\].
+pub const INTEGRAL_BAND_MPA: f64 = 1.0;
 
 /// The pump's RHONN cascade controller: call [`RhonnCascade::update`] every period.
 #[derive(Debug, Clone)]
@@ -318,6 +336,8 @@ pub struct RhonnCascade {
     ball_set: bool,
     x_d: f64,
     projections: u64,
+    /// int (p - r) dt since the identification phase ended \[MPa s\].
+    integral: f64,
 }
 
 impl RhonnCascade {
@@ -358,6 +378,7 @@ impl RhonnCascade {
             ball_set: false,
             x_d: 0.0,
             projections: 0,
+            integral: 0.0,
         }
     }
 
@@ -404,17 +425,34 @@ impl RhonnCascade {
         let (s, s1) = Self::features(sig, scale, p);
         let (f, g) = self.neuron.drift_and_gain(&s, &s1);
         let g = g.max(1e-9);
-        let x_d = ((-lambda * (p - r) - f) / g).clamp(0.0, self.x_max_mm);
-        // dx_d/dt from the model: d/dt of (-lambda (p - r) - W S) / (W_1 S'), with the
-        // weights' rates from the learning law (S, S' and r taken as constant).
+        // Integral action after the identification phase, held (anti-windup) while the
+        // stroke reference or the current is saturated in the error's direction.
+        let ki = if ident { 0.0 } else { self.settings.integral_per_s2 };
+        // Integral separation: only small errors are integrated (a set-point step or a
+        // demand ramp is the proportional part's job), so the integral does not wind up
+        // on a transient and overshoot after it.
+        let near = (p - r).abs() <= INTEGRAL_BAND_MPA;
+        let candidate = self.integral + if near { self.period_s * (p - r) } else { 0.0 };
+        let x_d_raw = (-lambda * (p - r) - ki * candidate - f) / g;
+        let x_d = x_d_raw.clamp(0.0, self.x_max_mm);
+        // dx_d/dt from the model: d/dt of (-lambda (p - r) - k_i int(p - r) - W S) / (W_1 S'),
+        // with the weights' rates from the learning law (S, S' and r taken as constant).
         let e = self.neuron.xh - p;
         let p_dot = f + g * x;
         let w_dot_s: f64 = -self.settings.gamma_w * e * dot(&s, &s);
         let w1_dot_s1: f64 = -self.settings.gamma_w1 * e * x * dot(&s1, &s1);
-        let x_d_dot = (-lambda * p_dot - w_dot_s - w1_dot_s1 * x_d) / g;
+        let x_d_dot = (-lambda * p_dot - ki * (p - r) - w_dot_s - w1_dot_s1 * x_d) / g;
         self.x_d = x_d;
         let st = &self.settings;
         let i = self.amp_per_mm * (x_d + st.stroke_gain * (x_d - x) + st.lead_s * x_d_dot);
+        if ki > 0.0 {
+            // p > r asks for less stroke: winding while the output sits at its bottom.
+            let low = x_d_raw < 0.0 || i < 0.0;
+            let high = x_d_raw > self.x_max_mm || i > self.i_max;
+            if !((low && p > r) || (high && p < r)) {
+                self.integral = candidate;
+            }
+        }
         i.clamp(0.0, self.i_max)
     }
 

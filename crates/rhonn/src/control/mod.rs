@@ -5,10 +5,12 @@
 
 pub mod adaptive;
 mod cascade;
+mod cascade_pi;
 mod pi;
 mod rhonn_indirect;
 pub use adaptive::{AffineNeuron, CascadeSettings, CascadeState, RhonnCascade};
 pub use cascade::Cascade;
+pub use cascade_pi::{CascadePi, CascadePiGains};
 pub use pi::Pi;
 pub use rhonn_indirect::{IndirectSettings, RhonnIndirect};
 

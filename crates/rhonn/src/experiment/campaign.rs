@@ -353,6 +353,8 @@ pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
                 "ise_mpa2_s",
                 "max_abs_deviation_settled_mpa",
                 "time_current_saturated_s",
+                "iae_mpa_s",
+                "within_1pct_percent",
             ]
             .map(String::from),
         );
@@ -363,9 +365,11 @@ pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
     ) {
         v.extend(
             [
-                "pi_ise_mpa2_s",
-                "pi_max_abs_deviation_settled_mpa",
-                "pi_time_below_p_min_after_1s_s",
+                "baseline_ise_mpa2_s",
+                "baseline_max_abs_deviation_settled_mpa",
+                "baseline_time_below_p_min_after_1s_s",
+                "baseline_iae_mpa_s",
+                "baseline_within_1pct_percent",
                 "w_norm_max",
                 "w1_distance_max",
             ]
@@ -396,6 +400,8 @@ pub fn figure_values(summary: &Summary) -> Vec<f64> {
             r.ise_mpa2_s,
             r.max_abs_deviation_settled_mpa,
             r.time_current_saturated_s,
+            r.iae_mpa_s,
+            r.within_1pct_percent,
         ]);
     }
     if let Some(c) = &summary.control {
@@ -405,6 +411,8 @@ pub fn figure_values(summary: &Summary) -> Vec<f64> {
             rb.map_or(f64::NAN, |r| r.ise_mpa2_s),
             rb.map_or(f64::NAN, |r| r.max_abs_deviation_settled_mpa),
             b.time_below_p_min_after_1s_s,
+            rb.map_or(f64::NAN, |r| r.iae_mpa_s),
+            rb.map_or(f64::NAN, |r| r.within_1pct_percent),
             c.adaptive.w_norm_max,
             c.adaptive.w1_distance_max,
         ]);

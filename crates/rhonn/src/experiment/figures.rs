@@ -43,6 +43,18 @@ pub struct Regulation {
     pub ise_mpa2_s: f64,
     /// Time with the current at 0 or at its maximum \[s\].
     pub time_current_saturated_s: f64,
+    /// Integral of |p_line - p_ref| over the run \[MPa s\].
+    pub iae_mpa_s: f64,
+    /// max |p - p_ref| from 0.1 s after each set-point change on \[MPa\].
+    pub max_abs_deviation_after_0_1s_mpa: f64,
+    /// Time with |p - p_ref| within 1 % of p_ref \[s\] (on the dense output, five points
+    /// per solver step, crossings interpolated linearly).
+    pub time_within_1pct_s: f64,
+    /// Share of the run within 1 % of the set-point \[%\].
+    pub within_1pct_percent: f64,
+    /// Overshoot of each set-point step beyond its new value within the step's first
+    /// second, in % of the step (0 when the pressure does not pass it).
+    pub overshoot_percent: Vec<f64>,
     /// Whether every signal stayed bounded: pressure and stroke within their limits,
     /// the controller's output finite and in range, and (adaptive) every weight inside
     /// its projection ball (a non-finite value stops the run with an error instead).
@@ -97,17 +109,71 @@ pub struct Summary {
     pub warnings: Vec<String>,
 }
 
-/// The PI baseline of an adaptive run.
+/// The baseline of an adaptive run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BaselineReport {
-    /// Its kind (`pi`).
+    /// Its kind (`cascade-pi` or `pi`).
     pub controller: &'static str,
-    /// Proportional gain \[A/MPa\].
-    pub kp_a_per_mpa: f64,
+    /// The PI's proportional gain \[A/MPa\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kp_a_per_mpa: Option<f64>,
+    /// The cascade PI's outer proportional gain \[mm/MPa\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kp_mm_per_mpa: Option<f64>,
     /// Integral time \[s\].
     pub ti_s: f64,
+    /// The cascade PI's set-point weight.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub setpoint_weight: Option<f64>,
+    /// The cascade PI's stroke gain.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stroke_gain: Option<f64>,
     /// Its run's figures.
     pub figures: Figures,
+}
+
+impl BaselineReport {
+    /// The baseline's settings and (empty) figures.
+    pub fn of(b: &super::Baseline, figures: Figures) -> Self {
+        let mut r = BaselineReport {
+            controller: b.name(),
+            kp_a_per_mpa: None,
+            kp_mm_per_mpa: None,
+            ti_s: 0.0,
+            setpoint_weight: None,
+            stroke_gain: None,
+            figures,
+        };
+        match b {
+            super::Baseline::Pi(s) => {
+                r.kp_a_per_mpa = Some(s.kp * crate::units::PA_PER_MPA);
+                r.ti_s = s.ti_s;
+            }
+            super::Baseline::CascadePi(s) => {
+                let g = s.gains_mpa();
+                r.kp_mm_per_mpa = Some(g.kp_mm_per_mpa);
+                r.ti_s = g.ti_s;
+                r.setpoint_weight = Some(g.setpoint_weight);
+                r.stroke_gain = Some(g.stroke_gain);
+            }
+        }
+        r
+    }
+
+    /// Its gains in words, e.g. `cascade-pi (kp 1 mm/MPa, ti 0.2 s, b 0.6, g 2)`.
+    pub fn describe(&self) -> String {
+        match (self.kp_a_per_mpa, self.kp_mm_per_mpa) {
+            (Some(kp), _) => format!("{} (kp {kp} A/MPa, ti {} s)", self.controller, self.ti_s),
+            (None, Some(kp)) => format!(
+                "{} (kp {kp} mm/MPa, ti {} s, b {}, g {})",
+                self.controller,
+                self.ti_s,
+                self.setpoint_weight.unwrap_or(1.0),
+                self.stroke_gain.unwrap_or(0.0)
+            ),
+            (None, None) => self.controller.to_string(),
+        }
+    }
 }
 
 /// The adaptive controller against its baseline.
@@ -141,6 +207,71 @@ impl ControlReport {
     }
 }
 
+/// One line per figure of an adaptive run against its baseline `base`: both numbers and
+/// which is better.
+pub(super) fn comparison(fa: &Figures, fb: &Figures, base: &str) -> Vec<String> {
+    let (Some(ra), Some(rb)) = (&fa.regulation, &fb.regulation) else {
+        return Vec::new();
+    };
+    let line = |what: &str, va: f64, vb: f64, unit: &str, lower_better: bool| {
+        let verdict = if va == vb {
+            "equal".to_string()
+        } else if (va < vb) == lower_better {
+            "adaptive better".to_string()
+        } else {
+            format!("{base} better")
+        };
+        format!("{what}: adaptive {va:.3} {unit}, {base} {vb:.3} {unit} ({verdict})")
+    };
+    let over = |r: &Regulation| r.overshoot_percent.iter().fold(0.0f64, |a, &b| a.max(b));
+    vec![
+        line("IAE", ra.iae_mpa_s, rb.iae_mpa_s, "MPa s", true),
+        line("ISE", ra.ise_mpa2_s, rb.ise_mpa2_s, "MPa^2 s", true),
+        line(
+            "max |p - p_ref| from 0.1 s after each set-point change",
+            ra.max_abs_deviation_after_0_1s_mpa,
+            rb.max_abs_deviation_after_0_1s_mpa,
+            "MPa",
+            true,
+        ),
+        line(
+            "max |p - p_ref| from 1 s after each set-point change",
+            ra.max_abs_deviation_settled_mpa,
+            rb.max_abs_deviation_settled_mpa,
+            "MPa",
+            true,
+        ),
+        line(
+            "largest overshoot of a set-point step",
+            over(ra),
+            over(rb),
+            "%",
+            true,
+        ),
+        line(
+            "share of the run within 1 % of the set-point",
+            ra.within_1pct_percent,
+            rb.within_1pct_percent,
+            "%",
+            false,
+        ),
+        line(
+            "time below P_min after the first second",
+            fa.time_below_p_min_after_1s_s,
+            fb.time_below_p_min_after_1s_s,
+            "s",
+            true,
+        ),
+        line(
+            "time with the current saturated",
+            ra.time_current_saturated_s,
+            rb.time_current_saturated_s,
+            "s",
+            true,
+        ),
+    ]
+}
+
 /// The run's figures, accumulated step by step on the solver's dense output, so that
 /// they do not depend on the output interval: time-weighted figures are integrated
 /// with 3-point Gauss-Legendre quadrature on each step (split where the set-point has a
@@ -166,6 +297,11 @@ pub(super) struct Accumulator<'a> {
     max_dev: f64,
     max_dev_settled: f64,
     saturated: f64,
+    iae: f64,
+    max_dev_0_1: f64,
+    within: f64,
+    /// Per set-point step after t = 0: (time, old value, new value, largest overshoot %).
+    steps: Vec<(f64, f64, f64, f64)>,
 }
 
 impl<'a> Accumulator<'a> {
@@ -187,6 +323,13 @@ impl<'a> Accumulator<'a> {
                 splits.push(c + SETTLE_S);
             }
         }
+        let steps = match setpoint {
+            Some(sp) => changes[1..]
+                .iter()
+                .map(|&c| (c, sp.eval(c - 1e-9), sp.eval(c + 1e-9), 0.0))
+                .collect(),
+            None => Vec::new(),
+        };
         splits.retain(|&v| v > 0.0 && v < t_end);
         splits.sort_by(f64::total_cmp);
         splits.dedup();
@@ -208,6 +351,10 @@ impl<'a> Accumulator<'a> {
             max_dev: 0.0,
             max_dev_settled: 0.0,
             saturated: 0.0,
+            iae: 0.0,
+            max_dev_0_1: 0.0,
+            within: 0.0,
+            steps,
         }
     }
 
@@ -275,20 +422,23 @@ impl<'a> Accumulator<'a> {
             p_hi = p_hi.max(p);
         }
         (self.p_lo, self.p_hi) = (p_lo, p_hi);
-        for &(t, p) in &pts {
-            if let Some((sp, sg)) = seg {
-                let dev = mpa((p - sp.eval_in(sg, t)).abs());
+        if let Some((sp, sg)) = seg {
+            // The set-point at the five points, evaluated once.
+            let r = pts.map(|(t, _)| sp.eval_in(sg, t));
+            for (&(_, p), &rk) in pts.iter().zip(&r) {
+                let dev = mpa((p - rk).abs());
                 self.max_dev = self.max_dev.max(dev);
                 if settled {
                     self.max_dev_settled = self.max_dev_settled.max(dev);
                 }
             }
-        }
-        if let Some((sp, sg)) = seg {
-            self.ise += h * GAUSS
-                .iter()
-                .zip(&pts[1..4])
-                .map(|((_, w), &(t, p))| w * mpa(p - sp.eval_in(sg, t)).powi(2))
+            self.add_tracking(&pts, &r, mid);
+            let inner = || GAUSS.iter().zip(&pts[1..4]).zip(&r[1..4]);
+            self.iae += h * inner()
+                .map(|(((_, w), &(_, p)), &rk)| w * mpa((p - rk).abs()))
+                .sum::<f64>();
+            self.ise += h * inner()
+                .map(|(((_, w), &(_, p)), &rk)| w * mpa(p - rk).powi(2))
                 .sum::<f64>();
             let i = solver.system().pump().current_at(mid);
             if i <= 0.0 || i >= self.i_max {
@@ -323,6 +473,37 @@ impl<'a> Accumulator<'a> {
         }
     }
 
+    /// The tracking figures of one interval's five points (`r`: the set-point there).
+    fn add_tracking(&mut self, pts: &[(f64, f64); 5], r: &[f64; 5], mid: f64) {
+        let step = self.steps.iter().rposition(|s| s.0 <= mid);
+        let last_change = step.map_or(0.0, |k| self.steps[k].0);
+        // Signed distance outside the 1 % band (< 0 inside).
+        let out: [f64; 5] = std::array::from_fn(|k| (pts[k].1 - r[k]).abs() - 0.01 * r[k].abs());
+        for k in 0..4 {
+            let (dt, da, db) = (pts[k + 1].0 - pts[k].0, out[k], out[k + 1]);
+            self.within += match (da <= 0.0, db <= 0.0) {
+                (true, true) => dt,
+                (false, false) => 0.0,
+                // One crossing, located linearly between the points.
+                (true, false) => dt * da / (da - db),
+                (false, true) => dt * db / (db - da),
+            };
+        }
+        for (&(t, p), &rk) in pts.iter().zip(r) {
+            if t >= last_change + 0.1 {
+                self.max_dev_0_1 = self.max_dev_0_1.max(mpa((p - rk).abs()));
+            }
+            if let Some(k) = step.filter(|_| t < last_change + SETTLE_S) {
+                let (_, old, new, worst) = &mut self.steps[k];
+                let size = (*new - *old).abs();
+                if size > 0.0 {
+                    let over = (*new - *old).signum() * (p - rk) / size * 100.0;
+                    *worst = worst.max(over);
+                }
+            }
+        }
+    }
+
     pub(super) fn figures(
         &self,
         duration_s: f64,
@@ -345,6 +526,11 @@ impl<'a> Accumulator<'a> {
                 max_abs_deviation_settled_mpa: self.max_dev_settled,
                 ise_mpa2_s: self.ise,
                 time_current_saturated_s: self.saturated,
+                iae_mpa_s: self.iae,
+                max_abs_deviation_after_0_1s_mpa: self.max_dev_0_1,
+                time_within_1pct_s: self.within,
+                within_1pct_percent: 100.0 * self.within / duration_s,
+                overshoot_percent: self.steps.iter().map(|s| s.3).collect(),
                 signals_bounded: self.p_lo >= 0.0
                     && self.p_hi <= self.p_max * (1.0 + 1e-12)
                     && self.x_hi <= self.x_max * (1.0 + 1e-12),

@@ -9,10 +9,12 @@ mod integrated;
 mod plant_run;
 mod plant_scenario;
 pub mod preset;
+mod pump_controllers;
 mod pump_loop;
 mod run;
 mod scenario;
 mod trace;
+pub mod tuning;
 
 pub use bench::{bench, bench_plant, BenchFigures};
 pub use plant_run::{
@@ -22,6 +24,7 @@ pub use plant_run::{
 pub use plant_scenario::{
     is_plant_scenario, ControlSpec, LoopSpec, PlantScenarioSpec, PlantSection, ValidationSpec,
 };
+pub use pump_controllers::{Baseline, CascadePiGainsMpa, CascadePiSettings, NOMINAL_OPTIMAL, ROBUST};
 pub use run::{
     run, run_full, solver_options, AdaptiveReport, BaselineReport, ControlReport, Figures, IdentReport,
     Integrated, ModelFile, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,

@@ -6,6 +6,7 @@ pub use super::figures::*;
 use super::ident_figures::IdentAcc;
 pub use super::ident_figures::*;
 pub use super::integrated::Integrated;
+use super::pump_controllers::Baseline;
 use super::pump_loop::{act, OutputClock, Sensors};
 use super::scenario::{AdaptiveSettings, Drive, ProfileSpec, Scenario, SolverSettings};
 use super::trace::{Column, NoRecorder, Recorder, Sample, Trace};
@@ -66,6 +67,7 @@ impl Ctl {
                 Ctl::Closed(Box::new(pi))
             }
             Drive::Adaptive(a) => Ctl::Closed(Box::new(cascade_for(sc, &a.cascade))),
+            Drive::CascadePi(s) => Ctl::Closed(Box::new(s.controller(p.t_control))),
         }
     }
 }
@@ -280,7 +282,10 @@ impl Recorder for BaselineCollector {
 /// noise), then the adaptive cascade, its samples carrying the baseline's.
 fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) -> Result<RunOutput> {
     let mut base_sc = sc.clone();
-    base_sc.drive = Drive::Pi(a.baseline.clone());
+    base_sc.drive = match &a.baseline {
+        Baseline::Pi(s) => Drive::Pi(s.clone()),
+        Baseline::CascadePi(s) => Drive::CascadePi(s.clone()),
+    };
     let mut base = BaselineCollector {
         wants: rec.wants_samples(),
         stride: rec.stride(),
@@ -312,48 +317,10 @@ fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) ->
     let adaptive = adaptive.expect("an adaptive run reports its weights");
     let mut total = st;
     add_stats(&mut total, st_b);
-    let mut findings = Vec::new();
-    if let (Some(ra), Some(rb)) = (&fig.regulation, &fig_b.regulation) {
-        let mut line = |what: &str, va: f64, vb: f64, unit: &str| {
-            let verdict = if va < vb {
-                "adaptive better"
-            } else if va > vb {
-                "PI better"
-            } else {
-                "equal"
-            };
-            findings.push(format!(
-                "{what}: adaptive {va:.3} {unit}, PI {vb:.3} {unit} ({verdict})"
-            ));
-        };
-        line("ISE", ra.ise_mpa2_s, rb.ise_mpa2_s, "MPa^2 s");
-        line(
-            "max |p - p_ref| from 1 s after each set-point change",
-            ra.max_abs_deviation_settled_mpa,
-            rb.max_abs_deviation_settled_mpa,
-            "MPa",
-        );
-        line(
-            "time below P_min after the first second",
-            fig.time_below_p_min_after_1s_s,
-            fig_b.time_below_p_min_after_1s_s,
-            "s",
-        );
-        line(
-            "time with the current saturated",
-            ra.time_current_saturated_s,
-            rb.time_current_saturated_s,
-            "s",
-        );
-    }
+    let findings = super::figures::comparison(&fig, &fig_b, a.baseline.name());
     let control = ControlReport {
         adaptive,
-        baseline: BaselineReport {
-            controller: "pi",
-            kp_a_per_mpa: a.baseline.kp * PA_PER_MPA,
-            ti_s: a.baseline.ti_s,
-            figures: fig_b,
-        },
+        baseline: BaselineReport::of(&a.baseline, fig_b),
         findings,
     };
     let mut summary = report(sc, total, fig, None);
@@ -373,8 +340,7 @@ fn plant_initial(sc: &Scenario) -> [f64; PLANT_DIM] {
     x[STROKE] = sc.initial[STROKE];
     x[CURRENT_EFF] = match &sc.drive {
         Drive::OpenLoop(sig) => sig.eval(0.0).clamp(0.0, sc.params.i_max),
-        Drive::Pi(s) => s.bias,
-        Drive::Adaptive(a) => a.baseline.bias,
+        d => d.bias().unwrap_or(0.0),
     };
     x
 }
@@ -382,8 +348,7 @@ fn plant_initial(sc: &Scenario) -> [f64; PLANT_DIM] {
 fn pump_system(sc: &Scenario) -> PumpSystem {
     let current = match &sc.drive {
         Drive::OpenLoop(sig) => Input::Signal(sig.clone()),
-        Drive::Pi(s) => Input::Held(s.bias),
-        Drive::Adaptive(a) => Input::Held(a.baseline.bias),
+        d => Input::Held(d.bias().unwrap_or(0.0)),
     };
     PumpSystem::new(sc.params.clone(), current, Input::Signal(sc.demand.clone()))
 }

@@ -2,6 +2,9 @@
 //! [`Scenario`] that the runner accepts. Every failure names the field, the value and
 //! what is allowed; unknown keys are errors.
 
+use super::pump_controllers::{
+    check_baseline, check_cascade_pi, Baseline, BaselineKeys, CascadePiGainsMpa, CascadePiSettings, ROBUST,
+};
 use crate::control::CascadeSettings;
 use crate::error::{invalid, Error, Result};
 use crate::ident::{IdentSettings, IdentifierSpec};
@@ -133,12 +136,48 @@ pub enum ControllerSpec {
         /// Radius of the gain weights' ball as a fraction of the largest safe radius, in (0, 1) (0.5).
         #[serde(default)]
         ball_fraction: Option<f64>,
+        /// Integral action on the tracking error k_i \[1/s^2\] (0: none).
+        #[serde(default)]
+        integral_per_s2: Option<f64>,
+        /// The baseline run beside it: `cascade-pi` (the same sensors; the default) or
+        /// `pi` (the pressure only; the default when `baseline_kp_a_per_mpa` is given).
+        #[serde(default)]
+        baseline: Option<String>,
         /// The PI baseline's proportional gain \[A/MPa\] (0.15).
         #[serde(default)]
         baseline_kp_a_per_mpa: Option<f64>,
-        /// The PI baseline's integral time \[s\] (0.15).
+        /// The baseline's integral time \[s\] (PI 0.15; cascade PI: the robust tuning).
         #[serde(default)]
         baseline_ti_s: Option<f64>,
+        /// The cascade PI baseline's outer gain \[mm/MPa\] (the robust tuning).
+        #[serde(default)]
+        baseline_kp_mm_per_mpa: Option<f64>,
+        /// The cascade PI baseline's set-point weight (the robust tuning).
+        #[serde(default)]
+        baseline_setpoint_weight: Option<f64>,
+        /// The cascade PI baseline's stroke gain (the robust tuning).
+        #[serde(default)]
+        baseline_stroke_gain: Option<f64>,
+    },
+    /// Cascade PI (`rhonn::control::CascadePi`): an outer PI on the measured pressure
+    /// with set-point weighting gives a stroke reference; an inner proportional loop on
+    /// the measured stroke with the pilot valve's static inverse as feed-forward gives the
+    /// current. Unset gains take the robust tuning.
+    CascadePi {
+        /// Pressure set-point \[MPa\].
+        setpoint_mpa: SignalSpec,
+        /// Outer proportional gain \[mm/MPa\].
+        #[serde(default)]
+        kp_mm_per_mpa: Option<f64>,
+        /// Outer integral time \[s\].
+        #[serde(default)]
+        ti_s: Option<f64>,
+        /// Set-point weight b of the proportional term, in [0, 1].
+        #[serde(default)]
+        setpoint_weight: Option<f64>,
+        /// Inner stroke feedback gain g.
+        #[serde(default)]
+        stroke_gain: Option<f64>,
     },
 }
 
@@ -215,8 +254,8 @@ pub struct AdaptiveSettings {
     pub setpoint: Signal,
     /// The cascade's settings.
     pub cascade: CascadeSettings,
-    /// The PI baseline run beside it on an identical plant (same set-point).
-    pub baseline: PiSettings,
+    /// The baseline run beside it on an identical plant (same set-point).
+    pub baseline: Baseline,
 }
 
 /// How the current is produced.
@@ -226,8 +265,10 @@ pub enum Drive {
     OpenLoop(Signal),
     /// A PI regulator.
     Pi(PiSettings),
-    /// The RHONN adaptive cascade, compared with a PI baseline in the same run.
+    /// The RHONN adaptive cascade, compared with a baseline in the same run.
     Adaptive(Box<AdaptiveSettings>),
+    /// The cascade PI.
+    CascadePi(CascadePiSettings),
 }
 
 impl Drive {
@@ -237,6 +278,17 @@ impl Drive {
             Drive::OpenLoop(_) => None,
             Drive::Pi(s) => Some(&s.setpoint),
             Drive::Adaptive(a) => Some(&a.setpoint),
+            Drive::CascadePi(s) => Some(&s.setpoint),
+        }
+    }
+
+    /// The current at t = 0 of a regulated run \[A\] (None for an open-loop profile).
+    pub fn bias(&self) -> Option<f64> {
+        match self {
+            Drive::OpenLoop(_) => None,
+            Drive::Pi(s) => Some(s.bias),
+            Drive::Adaptive(a) => Some(a.baseline.bias()),
+            Drive::CascadePi(s) => Some(s.bias),
         }
     }
 }
@@ -307,7 +359,7 @@ pub fn check_folder_name(field: &str, value: &str) -> Result<()> {
 }
 
 /// Check a PI's gains (fields named `<prefix>kp_a_per_mpa` ...) and convert to SI.
-fn check_pi(
+pub(super) fn check_pi(
     kp_a_per_mpa: f64,
     ti_s: f64,
     bias_a: Option<f64>,
@@ -536,6 +588,25 @@ impl ScenarioSpec {
                 Drive::Pi(pi)
             }
             (None, Some(spec @ ControllerSpec::RhonnAdaptive { .. })) => self.check_adaptive(spec, params)?,
+            (
+                None,
+                Some(ControllerSpec::CascadePi {
+                    setpoint_mpa,
+                    kp_mm_per_mpa,
+                    ti_s,
+                    setpoint_weight,
+                    stroke_gain,
+                }),
+            ) => {
+                let setpoint = self.check_setpoint(setpoint_mpa, params)?;
+                let g = CascadePiGainsMpa {
+                    kp_mm_per_mpa: kp_mm_per_mpa.unwrap_or(ROBUST.kp_mm_per_mpa),
+                    ti_s: ti_s.unwrap_or(ROBUST.ti_s),
+                    setpoint_weight: setpoint_weight.unwrap_or(ROBUST.setpoint_weight),
+                    stroke_gain: stroke_gain.unwrap_or(ROBUST.stroke_gain),
+                };
+                Drive::CascadePi(check_cascade_pi(g, setpoint, params, "controller.")?)
+            }
         })
     }
 
@@ -552,8 +623,13 @@ impl ScenarioSpec {
             gamma_w,
             gamma_w1,
             ball_fraction,
+            integral_per_s2,
+            baseline: baseline_kind,
             baseline_kp_a_per_mpa,
             baseline_ti_s,
+            baseline_kp_mm_per_mpa,
+            baseline_setpoint_weight,
+            baseline_stroke_gain,
         } = spec
         else {
             return Err(invalid("controller.kind", "another kind", "rhonn-adaptive"));
@@ -587,6 +663,7 @@ impl ScenarioSpec {
             gamma_w1: non_neg("gamma_w1", *gamma_w1, d.gamma_w1)?,
             ball_fraction: ball_fraction.unwrap_or(d.ball_fraction),
             p_scale_mpa: d.p_scale_mpa,
+            integral_per_s2: non_neg("integral_per_s2", *integral_per_s2, d.integral_per_s2)?,
         };
         if !(cascade.ball_fraction > 0.0 && cascade.ball_fraction < 1.0) {
             return Err(invalid(
@@ -595,13 +672,17 @@ impl ScenarioSpec {
                 "a number in (0, 1) (1 would let W_1 S' reach zero)",
             ));
         }
-        let baseline = check_pi(
-            baseline_kp_a_per_mpa.unwrap_or(0.15),
-            baseline_ti_s.unwrap_or(0.15),
-            None,
-            setpoint.clone(),
+        let baseline = check_baseline(
+            BaselineKeys {
+                kind: baseline_kind.as_deref(),
+                kp_a_per_mpa: *baseline_kp_a_per_mpa,
+                ti_s: *baseline_ti_s,
+                kp_mm_per_mpa: *baseline_kp_mm_per_mpa,
+                setpoint_weight: *baseline_setpoint_weight,
+                stroke_gain: *baseline_stroke_gain,
+            },
+            &setpoint,
             params,
-            "controller.baseline_",
         )?;
         Ok(Drive::Adaptive(Box::new(AdaptiveSettings {
             setpoint,

@@ -1,0 +1,213 @@
+//! Fair baselines for the pump's adaptive controller: the cascade PI's tuning search and
+//! the robustness study's plants. `examples/tune_cascade_pi.rs` and
+//! `examples/control_robustness.rs` print them; tests rerun them.
+//!
+//! The search scores every gain set of a grid on the `control-adaptive` scenario (its
+//! set-points, demand, noise and seed) with the cascade PI as the only controller, by IAE,
+//! the overshoot of each set-point step and the time within 1 % of the set-point, and
+//! measures its robustness in simulation: with every feedback gain doubled (kp, ki, g:
+//! a 6 dB gain margin), with a 5 ms solenoid lag and with a one-period transport delay.
+//! A variant "holds" when its IAE stays within twice the nominal one and it is within 1 %
+//! of the set-point at least half as long.
+//!
+//! Why simulation rather than a linearisation: at every operating point the pilot valve's
+//! spool sits at its switching point (s = 0), where the pump's equations change branch
+//! (on the s < 0 branch the valve draws line flow); the one-sided linearisations differ,
+//! and a loop one of them calls unstable (kp 1 mm/MPa at 10 MPa: a pole at |z| = 1.014)
+//! is well damped in the simulated pump.
+
+use super::campaign::{apply, base_values, draw, Plan, Sampling};
+use super::pump_controllers::CascadePiGainsMpa;
+use super::scenario::{ControllerSpec, ScenarioSpec};
+use super::{run_full, NoRecorder};
+use rayon::prelude::*;
+
+/// One run's figures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TuningRun {
+    /// IAE \[MPa s\] (infinite when the run failed).
+    pub iae_mpa_s: f64,
+    /// The largest overshoot of a set-point step \[%\].
+    pub overshoot_percent: f64,
+    /// Share of the run within 1 % of the set-point \[%\].
+    pub within_1pct_percent: f64,
+}
+
+impl TuningRun {
+    /// Whether a variant of the plant or loop still regulates like `nominal`.
+    pub fn holds(&self, nominal: &TuningRun) -> bool {
+        self.iae_mpa_s <= 2.0 * nominal.iae_mpa_s
+            && self.within_1pct_percent >= 0.5 * nominal.within_1pct_percent
+    }
+}
+
+/// A gain set's scores.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TuningScore {
+    /// The gains.
+    pub gains: CascadePiGainsMpa,
+    /// On the nominal plant.
+    pub nominal: TuningRun,
+    /// With kp, ki and g doubled.
+    pub doubled: TuningRun,
+    /// With a 5 ms solenoid lag.
+    pub lag_5ms: TuningRun,
+    /// With a one-period transport delay.
+    pub delay_1: TuningRun,
+}
+
+impl TuningScore {
+    /// Every step's overshoot at most 10 % on the nominal plant.
+    pub fn within_overshoot_limit(&self) -> bool {
+        self.nominal.overshoot_percent <= 10.0
+    }
+
+    /// The overshoot limit, and every variant holds.
+    pub fn robust(&self) -> bool {
+        self.within_overshoot_limit()
+            && self.doubled.holds(&self.nominal)
+            && self.lag_5ms.holds(&self.nominal)
+            && self.delay_1.holds(&self.nominal)
+    }
+}
+
+/// `spec` (an adaptive scenario) with the cascade PI of `g` as its only controller.
+pub fn with_cascade_pi(spec: &ScenarioSpec, g: CascadePiGainsMpa) -> ScenarioSpec {
+    let mut s = spec.clone();
+    let setpoint_mpa = match &s.controller {
+        Some(ControllerSpec::RhonnAdaptive { setpoint_mpa, .. })
+        | Some(ControllerSpec::CascadePi { setpoint_mpa, .. })
+        | Some(ControllerSpec::Pi { setpoint_mpa, .. }) => setpoint_mpa.clone(),
+        None => return s,
+    };
+    s.controller = Some(ControllerSpec::CascadePi {
+        setpoint_mpa,
+        kp_mm_per_mpa: Some(g.kp_mm_per_mpa),
+        ti_s: Some(g.ti_s),
+        setpoint_weight: Some(g.setpoint_weight),
+        stroke_gain: Some(g.stroke_gain),
+    });
+    s
+}
+
+fn simulate(spec: &ScenarioSpec) -> TuningRun {
+    let figures = spec
+        .check()
+        .and_then(|sc| run_full(&sc, &mut NoRecorder))
+        .ok()
+        .and_then(|out| out.summary.figures.regulation);
+    match figures {
+        Some(r) => TuningRun {
+            iae_mpa_s: r.iae_mpa_s,
+            overshoot_percent: r.overshoot_percent.iter().fold(0.0f64, |a, &b| a.max(b)),
+            within_1pct_percent: r.within_1pct_percent,
+        },
+        None => TuningRun {
+            iae_mpa_s: f64::INFINITY,
+            overshoot_percent: f64::INFINITY,
+            within_1pct_percent: 0.0,
+        },
+    }
+}
+
+/// Score one gain set on `spec`'s set-points, demand and noise.
+pub fn score(spec: &ScenarioSpec, gains: CascadePiGainsMpa) -> TuningScore {
+    let doubled = CascadePiGainsMpa {
+        kp_mm_per_mpa: 2.0 * gains.kp_mm_per_mpa,
+        stroke_gain: 2.0 * gains.stroke_gain,
+        ..gains
+    };
+    let mut lag = with_cascade_pi(spec, gains);
+    lag.plant.solenoid_lag_ms = 5.0;
+    let mut delay = with_cascade_pi(spec, gains);
+    delay.plant.transport_delay_periods = 1;
+    TuningScore {
+        gains,
+        nominal: simulate(&with_cascade_pi(spec, gains)),
+        doubled: simulate(&with_cascade_pi(spec, doubled)),
+        lag_5ms: simulate(&lag),
+        delay_1: simulate(&delay),
+    }
+}
+
+/// Every combination of the given kp \[mm/MPa\], ti \[s\], b and g.
+pub fn grid(kp: &[f64], ti: &[f64], b: &[f64], g: &[f64]) -> Vec<CascadePiGainsMpa> {
+    let mut v = Vec::new();
+    for &kp_mm_per_mpa in kp {
+        for &ti_s in ti {
+            for &setpoint_weight in b {
+                for &stroke_gain in g {
+                    v.push(CascadePiGainsMpa {
+                        kp_mm_per_mpa,
+                        ti_s,
+                        setpoint_weight,
+                        stroke_gain,
+                    });
+                }
+            }
+        }
+    }
+    v
+}
+
+/// The grid of `tune_cascade_pi` (5,400 gain sets).
+pub fn full_grid() -> Vec<CascadePiGainsMpa> {
+    grid(
+        &[
+            0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5, 0.6, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0,
+        ],
+        &[0.03, 0.05, 0.07, 0.1, 0.15, 0.2, 0.3, 0.4, 0.8],
+        &[0.2, 0.4, 0.6, 0.8, 1.0],
+        &[0.5, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0],
+    )
+}
+
+/// The search on every core: (all scores, the nominal-optimal one, the robust one).
+pub fn search(
+    spec: &ScenarioSpec,
+    gains: &[CascadePiGainsMpa],
+) -> (Vec<TuningScore>, Option<TuningScore>, Option<TuningScore>) {
+    let scores: Vec<TuningScore> = gains.par_iter().map(|g| score(spec, *g)).collect();
+    let best = |ok: &dyn Fn(&TuningScore) -> bool| {
+        scores
+            .iter()
+            .filter(|s| ok(s) && s.nominal.iae_mpa_s.is_finite())
+            .min_by(|a, b| a.nominal.iae_mpa_s.total_cmp(&b.nominal.iae_mpa_s))
+            .copied()
+    };
+    let optimal = best(&TuningScore::within_overshoot_limit);
+    let robust = best(&TuningScore::robust);
+    (scores, optimal, robust)
+}
+
+/// The plants of the robustness study, each as the scenario `spec` changed: nominal,
+/// solenoid lags of 1, 5 and 20 ms, a one-period transport delay, and the 32 corners of
+/// the thesis's uncertainty box.
+pub fn robustness_cases(spec: &ScenarioSpec) -> crate::Result<Vec<(String, ScenarioSpec)>> {
+    let (plan, base) = (Plan::of(spec)?, base_values(spec));
+    let mut v = vec![("nominal".to_string(), spec.clone())];
+    for lag in [1.0, 5.0, 20.0] {
+        let mut s = spec.clone();
+        s.plant.solenoid_lag_ms = lag;
+        v.push((format!("solenoid lag {lag} ms"), s));
+    }
+    let mut s = spec.clone();
+    s.plant.transport_delay_periods = 1;
+    v.push(("transport delay 1 period".into(), s));
+    for k in 0..32u64 {
+        let f = draw(&plan, 0, k, Sampling::Corners);
+        let pct = |j: usize| 100.0 * (f[j] / base[j] - 1.0);
+        v.push((
+            format!(
+                "beta {:+.0}% mu1 {:+.0}% mu2 {:+.0}% Q0 {:+.0}% slew {:+.0}%",
+                pct(0),
+                pct(1),
+                pct(2),
+                pct(3),
+                pct(4)
+            ),
+            apply(spec, &f),
+        ));
+    }
+    Ok(v)
+}
