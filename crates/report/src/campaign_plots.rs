@@ -62,10 +62,10 @@ pub(crate) fn envelope_files(
     drop(w);
     let label = |n: &str| match n {
         "p_line" if p_ref.is_some() && env.len() > 1 => "p_line (RHONN adaptive)".to_string(),
-        "p_line_pi" => "p_line (PI baseline)".to_string(),
+        "p_line_pi" => format!("p_line ({})", baseline_label(spec)),
         n => n.to_string(),
     };
-    // The PI first, so that the adaptive controller's band lies on top.
+    // The baseline first, so that the adaptive controller's band lies on top.
     let mut bands: Vec<crate::Band> = env
         .iter()
         .map(|(n, e, _)| crate::Band {
@@ -97,6 +97,23 @@ pub(crate) fn envelope_files(
     }
     .render(1200, 600);
     Ok(Some((traces_buf, env_buf, svg)))
+}
+
+/// How plots name an adaptive scenario's baseline.
+fn baseline_label(spec: &ScenarioSpec) -> &'static str {
+    let pi = match &spec.controller {
+        Some(rhonn::experiment::ControllerSpec::RhonnAdaptive {
+            baseline,
+            baseline_kp_a_per_mpa,
+            ..
+        }) => baseline.as_deref() == Some("pi") || (baseline.is_none() && baseline_kp_a_per_mpa.is_some()),
+        _ => true,
+    };
+    if pi {
+        "PI baseline"
+    } else {
+        "cascade PI baseline"
+    }
 }
 
 /// Histograms of the figures that judge a controller (or every figure otherwise).
