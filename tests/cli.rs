@@ -17,6 +17,7 @@ fn run_thesis_ch3_writes_csv_summary_and_plots() {
         [
             "inputs.svg",
             "pressure.svg",
+            "report.html",
             "stroke.svg",
             "summary.json",
             "trajectory.csv"

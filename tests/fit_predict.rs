@@ -47,7 +47,16 @@ fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
         ],
     );
     assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(files_in(&d.path().join("m")), ["model.json", "summary.json"]);
+    assert_eq!(
+        files_in(&d.path().join("m")),
+        [
+            "model.json",
+            "report.html",
+            "summary.json",
+            "training_0.svg",
+            "training_1.svg"
+        ]
+    );
     let o = rhonn(
         d.path(),
         &[
@@ -63,7 +72,13 @@ fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(
         files_in(&d.path().join("p")),
-        ["prediction.csv", "prediction.svg", "summary.json"]
+        [
+            "prediction.csv",
+            "prediction.svg",
+            "report.html",
+            "residuals.svg",
+            "summary.json"
+        ]
     );
     let csv = std::fs::read_to_string(d.path().join("p/prediction.csv")).unwrap();
     assert!(csv.starts_with("t,y,y_hat,y_hat_arx\n"));
@@ -249,7 +264,13 @@ fn cascade_models_run_free_and_bad_cascade_specs_are_clear_errors() {
         assert!(o.status.success(), "{}", stderr(&o));
         assert_eq!(
             files_in(&d.path().join("p")),
-            ["prediction.csv", "prediction.svg", "summary.json"]
+            [
+                "prediction.csv",
+                "prediction.svg",
+                "report.html",
+                "residuals.svg",
+                "summary.json"
+            ]
         );
         let s: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(d.path().join("p/summary.json")).unwrap()).unwrap();

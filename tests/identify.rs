@@ -41,6 +41,7 @@ fn tanks_identified_online_then_frozen_writes_every_file_and_the_figures_of_the_
             "estimate.csv",
             "estimate.svg",
             "model.json",
+            "report.html",
             "summary.json",
             "validation.csv",
             "validation.svg",
@@ -117,7 +118,7 @@ fn tanks_identified_online_then_frozen_writes_every_file_and_the_figures_of_the_
         );
         assert_eq!(
             files_in(&d.path().join("p")),
-            ["prediction.csv", "prediction.svg", "summary.json"]
+            ["prediction.csv", "prediction.svg", "report.html", "summary.json"]
         );
     }
     // A hand-edited model: a weight vector too short, a weight that is not a number.

@@ -25,6 +25,7 @@ fn tanks_scenarios_are_listed_and_run_like_the_pumps() {
         files_in(&dir),
         [
             "inputs.svg",
+            "report.html",
             "states.svg",
             "summary.json",
             "trajectory.csv",
@@ -49,7 +50,13 @@ fn tanks_scenarios_are_listed_and_run_like_the_pumps() {
     let dir = d.path().join("out/tanks-control");
     assert_eq!(
         files_in(&dir),
-        ["inputs.svg", "states.svg", "summary.json", "trajectory.csv"]
+        [
+            "inputs.svg",
+            "report.html",
+            "states.svg",
+            "summary.json",
+            "trajectory.csv"
+        ]
     );
     let s = json(&dir.join("summary.json"));
     let c = s["control"].as_array().unwrap();
@@ -98,7 +105,10 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let dir = d.path().join("c");
-    assert_eq!(files_in(&dir), ["campaign.json", "runs.csv", "summary.json"]);
+    assert_eq!(
+        files_in(&dir),
+        ["campaign.json", "report.html", "runs.csv", "summary.json"]
+    );
     let full = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
     assert_eq!(full.lines().count(), 201);
     let s = json(&dir.join("summary.json"));

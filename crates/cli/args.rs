@@ -237,4 +237,11 @@ pub enum Command {
         /// A shipped scenario's name or a path to a TOML file.
         scenario: String,
     },
+    /// Rebuild DIR/report.html (one self-contained page: settings, figures, findings,
+    /// every plot) from the folder's files, e.g. for a run of an older version or a merged
+    /// campaign. Every command that writes a folder writes it too.
+    Report {
+        /// A folder written by run, reproduce, fit, predict, identify or campaign.
+        dir: PathBuf,
+    },
 }

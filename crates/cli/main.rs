@@ -129,7 +129,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             }
         }
         Command::Merge { dirs, out } => {
-            commands::campaign_outcome(&campaign::merge_campaigns(&dirs, &out)?).print()
+            commands::campaign_report(&campaign::merge_campaigns(&dirs, &out)?)?.print()
         }
         Command::Reproduce { out } => {
             let root = out.unwrap_or_else(|| PathBuf::from("out"));
@@ -138,6 +138,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             }
         }
         Command::Show { scenario } => print!("{}", commands::show(&scenario)?),
+        Command::Report { dir } => commands::report(&dir)?.print(),
     }
     Ok(())
 }
@@ -158,6 +159,6 @@ fn cmd_campaign(scenario: &str, opts: &campaign::CampaignOptions, out: Option<Pa
         }
     };
     reporter.finish();
-    commands::campaign_outcome(&outcome?).print();
+    commands::campaign_report(&outcome?)?.print();
     Ok(())
 }

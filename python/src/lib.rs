@@ -153,7 +153,9 @@ fn campaign(
             .install(go),
         None => go(),
     });
-    Ok(outcome.map_err(report_err)?.dir.display().to_string())
+    let dir = outcome.map_err(report_err)?.dir;
+    rhonn_report::write_report(&dir).map_err(report_err)?;
+    Ok(dir.display().to_string())
 }
 
 /// For the bench (`python/bench.py`): the median seconds of `repeats` runs of a pump

@@ -21,16 +21,19 @@ mod campaign_plots;
 pub mod commands;
 mod csv_out;
 mod data_in;
+mod html;
 pub mod identify;
 pub mod plant_campaign;
 mod plant_report;
 mod plot;
 mod prediction;
+mod residuals;
 mod style;
 
 pub use atomic::OutputSet;
 pub use csv_out::write_trace_csv;
 pub use data_in::{read_record, DataError};
+pub use html::write_report;
 pub use plant_report::write_plant_run;
 pub use plot::{bin_counts, plot_identification, plot_run, Band, EnvelopePlot, Histogram, Series, TimePlot};
 pub use prediction::{plot_prediction, prediction_trace, write_prediction};
@@ -114,14 +117,26 @@ pub(crate) fn write_json(w: &mut dyn std::io::Write, v: &impl serde::Serialize) 
 }
 
 /// Write what `rhonn fit` writes into `dir`: `model.json` (the fitted model, as
-/// `rhonn predict` reads it) and `summary.json`, all or nothing; returns the files.
+/// `rhonn predict` reads it), `summary.json`, and `training.svg` (measured against the
+/// model's free run on each training record, `training_free_run`, beside the ARX
+/// baseline's), all or nothing; returns the files.
 pub fn write_fit(
     dir: &Path,
     fitted: &rhonn::sysid::FittedModel,
     summary: &rhonn::sysid::FitSummary,
+    training_free_run: &[rhonn::sysid::Prediction],
 ) -> Result<Vec<PathBuf>> {
     let mut set = OutputSet::new(dir)?;
     set.write("model.json", |w| write_json(w, fitted))?;
     set.write("summary.json", |w| write_json(w, summary))?;
+    for (k, p) in training_free_run.iter().enumerate() {
+        let svg = plot_prediction(fitted, p);
+        let name = if training_free_run.len() == 1 {
+            "training.svg".to_string()
+        } else {
+            format!("training_{k}.svg")
+        };
+        set.write(&name, |w| w.write_all(svg.as_bytes()))?;
+    }
     set.commit()
 }

@@ -68,14 +68,14 @@ pub fn plot_prediction(fitted: &FittedModel, p: &Prediction) -> String {
                     dashed: false,
                 },
                 Series {
-                    label: format!("{name}_hat ({mode})"),
+                    label: format!("{name}_hat ({mode}, fit {:.1} %)", p.figures[j].fit_percent),
                     y: scaled(&p.outputs[j]),
                     dashed: true,
                 },
             ];
-            if let Some((pb, _)) = &p.baseline {
+            if let Some((pb, fb)) = &p.baseline {
                 series.push(Series {
-                    label: "ARX baseline".into(),
+                    label: format!("ARX baseline (fit {:.1} %)", fb[j].fit_percent),
                     y: scaled(&pb[j]),
                     dashed: true,
                 });
@@ -105,5 +105,13 @@ pub fn write_prediction(
     set.write("prediction.csv", |w| crate::write_trace_csv(w, &trace))?;
     set.write("summary.json", |w| write_json(w, &p.summary(model)))?;
     set.write("prediction.svg", |w| w.write_all(svg.as_bytes()))?;
+    let residuals = crate::residuals::plot_residuals(
+        &p.record,
+        &p.outputs,
+        p.first,
+        &fitted.model.inputs,
+        &fitted.model.outputs,
+    );
+    set.write("residuals.svg", |w| w.write_all(residuals.as_bytes()))?;
     set.commit()
 }

@@ -131,7 +131,14 @@ pub fn fit(req: &FitRequest) -> Result<Outcome> {
     }
     let (mut fitted, summary) = rhonn::sysid::train(&specs, &recs, inputs, outputs)?;
     fitted.units = units;
-    o.files = crate::write_fit(&req.out, &fitted, &summary)?;
+    // The free run on each training record, for the plots (at most 8 records drawn).
+    let training: Vec<_> = recs
+        .iter()
+        .take(8)
+        .map(|r| rhonn::sysid::predict(&fitted, r, None))
+        .collect::<rhonn::Result<_>>()?;
+    o.files = crate::write_fit(&req.out, &fitted, &summary, &training)?;
+    o.files.push(crate::write_report(&req.out)?);
     o.lines.push(if fitted.members.is_empty() {
         format!(
             "fitted a {:?} model with {} features per output on {} record(s)",
@@ -215,6 +222,7 @@ pub fn predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
         ));
     }
     o.files = crate::write_prediction(out, &fitted, &p, &model.display().to_string())?;
+    o.files.push(crate::write_report(out)?);
     let mode = p.mode();
     for (j, f) in p.figures.iter().enumerate() {
         let unit = unit_of(&fitted.units, &f.output);

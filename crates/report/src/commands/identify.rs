@@ -123,6 +123,7 @@ pub fn identify(a: &IdentifyRequest) -> Result<Outcome> {
         files,
         ..Outcome::default()
     };
+    o.files.push(crate::write_report(&a.out)?);
     for f in &summary.online {
         o.lines.push(format!(
             "{}: online (last half of the final pass) RMS error {:.4}, fit {:.1} %",
@@ -203,6 +204,7 @@ pub(super) fn predict_online(
         files,
         ..Outcome::default()
     };
+    o.files.push(crate::write_report(out)?);
     let mode = steps.map_or("free run".to_string(), |k| format!("{k} steps ahead"));
     for f in &figures {
         o.lines.push(format!(

@@ -47,6 +47,22 @@ impl Outcome {
     }
 }
 
+/// What a campaign (run, resumed or merged) tells its user, after writing its
+/// `report.html`.
+pub fn campaign_report(o: &CampaignOutcome) -> crate::Result<Outcome> {
+    let mut out = campaign_outcome(o);
+    out.files.push(crate::write_report(&o.dir)?);
+    Ok(out)
+}
+
+/// `rhonn report DIR`: (re)build a folder's `report.html` from its files.
+pub fn report(dir: &Path) -> crate::Result<Outcome> {
+    Ok(Outcome {
+        files: vec![crate::write_report(dir)?],
+        ..Outcome::default()
+    })
+}
+
 /// What a campaign (run, resumed or merged) tells its user.
 pub fn campaign_outcome(o: &CampaignOutcome) -> Outcome {
     let line = if o.already_complete {

@@ -25,6 +25,7 @@ pub fn run(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
     let output = run_full(&sc, &mut trace)?;
     let summary = &output.summary;
     o.files = crate::write_run(&dir, &trace, &output).map_err(written(&spec.name))?;
+    o.files.push(crate::write_report(&dir)?);
     let f = &summary.figures;
     let l = &mut o.lines;
     l.push(format!(
@@ -82,6 +83,7 @@ fn run_plant(spec: &PlantScenarioSpec, out: Option<PathBuf>) -> Result<Outcome> 
         files: crate::write_plant_run(&dir, &output).map_err(written(&spec.name))?,
         ..Outcome::default()
     };
+    o.files.push(crate::write_report(&dir)?);
     let s = &output.summary;
     o.lines.push(format!(
         "{}: {} s simulated, plant {}",
