@@ -5,9 +5,35 @@
 //! * **nominal-optimal**: the lowest nominal IAE with every step's overshoot at most 10 %;
 //! * **robust**: the lowest nominal IAE with that overshoot limit that still regulates
 //!   with doubled gains (6 dB), a 5 ms solenoid lag and a one-period delay.
+//!
+//! `--margins`: instead of the search, the gain and phase margins of both shipped tunings
+//! measured on the simulated pump by sine injection at the current
+//! (`tuning::margins`), at 5, 10 and 15 MPa with no demand and with 1.8 dm^3/s.
 
-use rhonn::experiment::preset;
-use rhonn::experiment::tuning::{full_grid, search, TuningScore};
+use rhonn::experiment::tuning::{full_grid, margins, search, TuningScore};
+use rhonn::experiment::{preset, CascadePiGainsMpa, NOMINAL_OPTIMAL, ROBUST};
+
+/// The worst gain and phase margins over the operating points (5, 10, 15 MPa; no demand
+/// and 1.8 dm^3/s), measured on the simulated pump (`tuning::margins`).
+fn show_margins(what: &str, g: CascadePiGainsMpa) -> Result<(), rhonn::Error> {
+    let (mut gm, mut pm) = (f64::INFINITY, f64::INFINITY);
+    for p in [5.0, 10.0, 15.0] {
+        for q in [0.0, 1.8] {
+            let (a, b) = margins(g, p, q)?;
+            println!(
+                "  {what} at {p} MPa, {q} dm^3/s: gain margin {:.1} dB, phase margin {b:.0} deg",
+                20.0 * a.log10()
+            );
+            gm = gm.min(a);
+            pm = pm.min(b);
+        }
+    }
+    println!(
+        "  {what}: worst gain margin {:.1} dB, worst phase margin {pm:.0} deg",
+        20.0 * gm.log10()
+    );
+    Ok(())
+}
 
 fn show(what: &str, s: &TuningScore) {
     let (g, n) = (s.gains, s.nominal);
@@ -34,6 +60,10 @@ fn show(what: &str, s: &TuningScore) {
 }
 
 fn main() -> Result<(), rhonn::Error> {
+    if std::env::args().any(|a| a == "--margins") {
+        show_margins("nominal-optimal", NOMINAL_OPTIMAL)?;
+        return show_margins("robust", ROBUST);
+    }
     let spec = preset::load("control-adaptive")?;
     let grid = full_grid();
     let (_, optimal, robust) = search(&spec, &grid);

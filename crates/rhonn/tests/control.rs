@@ -396,3 +396,22 @@ fn integral_action_removes_the_steady_offset() {
         "within 1 %: {without} without, {with} with"
     );
 }
+
+/// The loop gain measured on the simulated pump by sine injection behaves as a loop
+/// gain: above 1 at low frequency, below 1 near Nyquist, with a phase between -180 and
+/// -90 degrees around the crossover of the robust cascade PI (about 100 rad/s).
+#[test]
+fn the_measured_loop_gain_of_the_robust_cascade_pi_crosses_one_with_phase_margin() {
+    use rhonn::experiment::tuning::{loop_gain, margins};
+    use rhonn::experiment::ROBUST;
+    let (low, _) = loop_gain(ROBUST, 10.0, 0.0, 40.0).unwrap();
+    let (high, _) = loop_gain(ROBUST, 10.0, 0.0, 300.0).unwrap();
+    assert!(low > 1.0 && high < 1.0, "|L(40)| = {low}, |L(300)| = {high}");
+    let (_, ph) = loop_gain(ROBUST, 10.0, 0.0, 150.0).unwrap();
+    assert!(-180.0 < ph && ph < -90.0, "arg L(150) = {ph}");
+    let (gm, pm) = margins(ROBUST, 10.0, 0.0).unwrap();
+    assert!(
+        gm > 2.0 && (30.0..60.0).contains(&pm),
+        "gain margin {gm}, phase margin {pm} deg"
+    );
+}

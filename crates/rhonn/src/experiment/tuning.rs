@@ -211,3 +211,124 @@ pub fn robustness_cases(spec: &ScenarioSpec) -> crate::Result<Vec<(String, Scena
     }
     Ok(v)
 }
+
+/// The cascade PI with a sinusoid added to its output after `t_on`, keeping what it
+/// computed (for the loop gain at the current).
+struct Injected {
+    inner: crate::control::CascadePi,
+    amplitude_a: f64,
+    w: f64,
+    t_on: f64,
+    computed: Vec<f64>,
+}
+
+impl crate::control::Controller for Injected {
+    fn name(&self) -> &'static str {
+        "cascade-pi with injection"
+    }
+    fn measurements(&self) -> &[usize] {
+        self.inner.measurements()
+    }
+    fn control(&mut self, t: f64, measured: &[f64], setpoint: f64) -> f64 {
+        let c = self.inner.control(t, measured, setpoint);
+        self.computed.push(c);
+        c + if t >= self.t_on {
+            self.amplitude_a * (self.w * t).sin()
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The loop gain L(jw) at the current of the cascade PI `gains` on the nominal pump held
+/// at `p_mpa` with a constant demand `q_dm3_s`, **measured on the simulated pump**: a
+/// sinusoid of 5 mA at `w` \[rad/s\] is added to the controller's output u = c + d; with
+/// c = -L u, L = -C/U from the first harmonics of c and u over whole periods after the
+/// transient (a describing function: the pilot valve's two branches are averaged as the
+/// loop sees them). Returns (|L|, arg L in degrees).
+pub fn loop_gain(gains: CascadePiGainsMpa, p_mpa: f64, q_dm3_s: f64, w: f64) -> crate::Result<(f64, f64)> {
+    use crate::plant::{Input, PumpParams, PumpSystem};
+    let k = PumpParams::default();
+    let q = q_dm3_s * 1e-3;
+    let x_eq = (q + k.q_0) / (k.k_l * k.omega);
+    let i_eq = k.k_a * x_eq / k.phi;
+    let plant = PumpSystem::new(k.clone(), Input::Held(i_eq), Input::Held(q));
+    let setpoint = crate::signal::Signal::constant(p_mpa * 1e6);
+    let settings = super::pump_controllers::check_cascade_pi(gains, setpoint.clone(), &k, "")?;
+    let period = 2.0 * std::f64::consts::PI / w;
+    let t_on = 1.0;
+    let (skip, count) = (3.0, (8.0f64).max((2.0 / period).ceil()));
+    let duration = t_on + (skip + count) * period + k.t_control;
+    let mut ctl = Injected {
+        inner: settings.controller(k.t_control),
+        amplitude_a: 0.005,
+        w,
+        t_on,
+        computed: Vec::new(),
+    };
+    let x0 = [p_mpa * 1e6, x_eq, i_eq];
+    let run = super::any_plant::closed_loop(plant, &x0, &mut ctl, 0, &setpoint, k.t_control, duration)?;
+    let (from, to) = (t_on + skip * period, t_on + (skip + count) * period);
+    let (mut cu, mut cc) = ((0.0, 0.0), (0.0, 0.0));
+    for ((&t, &u), &c) in run.t.iter().zip(&run.u).zip(&ctl.computed) {
+        if t >= from && t < to {
+            let (s, co) = (w * t).sin_cos();
+            cu = (cu.0 + u * co, cu.1 - u * s);
+            cc = (cc.0 + c * co, cc.1 - c * s);
+        }
+    }
+    // L = -C / U
+    let den = cu.0 * cu.0 + cu.1 * cu.1;
+    let l = (
+        -(cc.0 * cu.0 + cc.1 * cu.1) / den,
+        -(cc.1 * cu.0 - cc.0 * cu.1) / den,
+    );
+    Ok((l.0.hypot(l.1), l.1.atan2(l.0).to_degrees()))
+}
+
+/// Gain margin (factor) and phase margin (degrees) of the cascade PI `gains` at one
+/// operating point, from [`loop_gain`] on a log grid of 2-620 rad/s (the Nyquist
+/// frequency is 628 rad/s). Where |L| is large (low frequencies) the injected sinusoid
+/// hardly moves the loop and the measurement is poor, so the phase is unwrapped from the
+/// highest frequency down and crossings are taken where |L| < 20. Without a -180 degree
+/// crossing below Nyquist the gain margin is bounded by 1/|L| at 620 rad/s (returned).
+pub fn margins(gains: CascadePiGainsMpa, p_mpa: f64, q_dm3_s: f64) -> crate::Result<(f64, f64)> {
+    let n = 48;
+    let ws: Vec<f64> = (0..n)
+        .map(|j| 2.0 * 310f64.powf(j as f64 / (n - 1) as f64))
+        .collect();
+    let ls: Vec<(f64, f64)> = ws
+        .par_iter()
+        .map(|&w| loop_gain(gains, p_mpa, q_dm3_s, w))
+        .collect::<crate::Result<_>>()?;
+    let mut phase = vec![0.0; n];
+    for j in (0..n).rev() {
+        let mut p = ls[j].1;
+        let reference = if j == n - 1 { -180.0 } else { phase[j + 1] };
+        while p - reference > 180.0 {
+            p -= 360.0;
+        }
+        while p - reference < -180.0 {
+            p += 360.0;
+        }
+        phase[j] = p;
+    }
+    let (mut gm, mut pm) = (1.0 / ls[n - 1].0, f64::INFINITY);
+    for j in (1..n).rev() {
+        let (m0, m1) = (ls[j - 1].0, ls[j].0);
+        if m0.max(m1) > 20.0 {
+            break;
+        }
+        if (m0 - 1.0) * (m1 - 1.0) <= 0.0 && m0 != m1 {
+            let a = m0.ln() / (m0.ln() - m1.ln());
+            pm = pm.min(180.0 + phase[j - 1] + a * (phase[j] - phase[j - 1]));
+        }
+        let (p0, p1) = (phase[j - 1] + 180.0, phase[j] + 180.0);
+        // A gain margin is read where the loop gain is below 1 (above the crossover).
+        if p0 * p1 <= 0.0 && p0 != p1 && m0.max(m1) < 1.0 {
+            let a = p0 / (p0 - p1);
+            gm = gm.min(1.0 / (m0.ln() + a * (m1.ln() - m0.ln())).exp());
+        }
+    }
+    Ok((gm, pm))
+}
