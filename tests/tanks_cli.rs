@@ -107,7 +107,13 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
     let dir = d.path().join("c");
     assert_eq!(
         files_in(&dir),
-        ["campaign.json", "report.html", "runs.csv", "summary.json"]
+        [
+            "campaign.json",
+            "histograms.svg",
+            "report.html",
+            "runs.csv",
+            "summary.json"
+        ]
     );
     let full = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
     assert_eq!(full.lines().count(), 201);

@@ -6,7 +6,8 @@
 //! The files and their rules are those of the pump's campaigns: `campaign.json` first,
 //! each finished run appended and flushed to `runs.partial.csv` (rerunning the same
 //! command resumes), then `runs.csv` sorted by run index and `summary.json`, all or
-//! nothing. No envelope plot: that one is the pump's pressure.
+//! nothing, with `histograms.svg` (one histogram per figure). No envelope plot yet: that
+//! one is the pump's pressure.
 
 use crate::atomic::OutputSet;
 use crate::campaign::{CampaignOptions, CampaignOutcome, Progress};
@@ -316,6 +317,23 @@ fn finish(
         figures: stats,
     };
     set.write("summary.json", |w: &mut dyn Write| write_json(w, &summary))?;
+    // One histogram per figure over the runs that finished.
+    let panels: Vec<crate::Histogram> = fig_names
+        .iter()
+        .enumerate()
+        .map(|(k, name)| crate::Histogram {
+            title: format!("{}: {name}", spec.name),
+            x_label: name.clone(),
+            values: rows
+                .iter()
+                .filter(|(_, r)| r[1] == "ok")
+                .filter_map(|(_, r)| r[2 + n_params + k].parse::<f64>().ok())
+                .filter(|x| x.is_finite())
+                .collect(),
+        })
+        .collect();
+    let svg = crate::Histogram::render(&panels, 3, 30);
+    set.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
     set.commit()?;
     let partial = dir.join("runs.partial.csv");
     std::fs::remove_file(&partial).map_err(|e| {
