@@ -75,7 +75,9 @@ fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
         [
             "prediction.csv",
             "prediction.svg",
+            "prediction_zoom.svg",
             "report.html",
+            "residual_histogram.svg",
             "residuals.svg",
             "summary.json"
         ]
@@ -267,7 +269,9 @@ fn cascade_models_run_free_and_bad_cascade_specs_are_clear_errors() {
             [
                 "prediction.csv",
                 "prediction.svg",
+                "prediction_zoom.svg",
                 "report.html",
+                "residual_histogram.svg",
                 "residuals.svg",
                 "summary.json"
             ]

@@ -91,6 +91,38 @@ pub fn plot_prediction(fitted: &FittedModel, p: &Prediction) -> String {
     TimePlot::render(&plots, 900, 380)
 }
 
+/// `prediction_zoom.svg`: the prediction around its largest error (100 samples either
+/// side of it, over every output), where a whole long record drawn at once is a band.
+pub fn plot_zoom(fitted: &FittedModel, p: &Prediction) -> String {
+    let n = p.record.len();
+    let err_at = |k: usize| {
+        (0..p.outputs.len())
+            .map(|j| (p.outputs[j][k] - p.record.outputs[j][k]).abs())
+            .fold(0.0f64, f64::max)
+    };
+    let worst = (p.first.min(n)..n)
+        .max_by(|&a, &b| err_at(a).total_cmp(&err_at(b)))
+        .unwrap_or(0);
+    let (a, b) = (worst.saturating_sub(100), (worst + 101).min(n));
+    let cut = |v: &[f64]| v[a..b].to_vec();
+    let zoomed = Prediction {
+        record: rhonn::data::Record {
+            source: p.record.source.clone(),
+            t: cut(&p.record.t),
+            inputs: p.record.inputs.iter().map(|c| cut(c)).collect(),
+            outputs: p.record.outputs.iter().map(|c| cut(c)).collect(),
+        },
+        outputs: p.outputs.iter().map(|c| cut(c)).collect(),
+        baseline: p
+            .baseline
+            .as_ref()
+            .map(|(pb, fb)| (pb.iter().map(|c| cut(c)).collect(), fb.clone())),
+        first: p.first.saturating_sub(a),
+        ..p.clone()
+    };
+    plot_prediction(fitted, &zoomed).replace(": measured and predicted, ", ": around the largest error, ")
+}
+
 /// Write `prediction.csv`, `summary.json` (naming the model's source `model`) and
 /// `prediction.svg` into `dir`, all or nothing; returns the files written.
 pub fn write_prediction(
@@ -113,5 +145,9 @@ pub fn write_prediction(
         &fitted.model.outputs,
     );
     set.write("residuals.svg", |w| w.write_all(residuals.as_bytes()))?;
+    let hist = crate::residuals::residual_histograms(&p.record, &p.outputs, p.first, &fitted.model.outputs);
+    set.write("residual_histogram.svg", |w| w.write_all(hist.as_bytes()))?;
+    let zoom = plot_zoom(fitted, p);
+    set.write("prediction_zoom.svg", |w| w.write_all(zoom.as_bytes()))?;
     set.commit()
 }

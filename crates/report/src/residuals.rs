@@ -178,6 +178,31 @@ pub fn plot_residuals(
     svg
 }
 
+/// `residual_histogram.svg`: the distribution of each output's residuals (from sample
+/// `first` on).
+pub fn residual_histograms(
+    record: &rhonn::data::Record,
+    predicted: &[Vec<f64>],
+    first: usize,
+    outputs: &[String],
+) -> String {
+    let panels: Vec<crate::Histogram> = outputs
+        .iter()
+        .enumerate()
+        .map(|(j, name)| crate::Histogram {
+            title: format!("{name}: residuals (measured - predicted)"),
+            x_label: format!("{name} - {name}_hat"),
+            values: record.outputs[j]
+                .iter()
+                .zip(&predicted[j])
+                .skip(first)
+                .map(|(y, yh)| y - yh)
+                .collect(),
+        })
+        .collect();
+    crate::Histogram::render(&panels, 2, 40)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
