@@ -24,6 +24,16 @@ fn write_record(path: &Path, seed: u64, n: usize) {
     std::fs::write(path, text).unwrap();
 }
 
+/// The files `rhonn predict` writes for a model of `rhonn fit`.
+const PREDICTION_FILES: [&str; 7] = [
+    "prediction.csv",
+    "prediction.svg",
+    "prediction_zoom.svg",
+    "report.html",
+    "residual_histogram.svg",
+    "residuals.svg",
+    "summary.json",
+];
 #[test]
 fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
     let d = tempfile::tempdir().unwrap();
@@ -70,18 +80,7 @@ fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
         ],
     );
     assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(
-        files_in(&d.path().join("p")),
-        [
-            "prediction.csv",
-            "prediction.svg",
-            "prediction_zoom.svg",
-            "report.html",
-            "residual_histogram.svg",
-            "residuals.svg",
-            "summary.json"
-        ]
-    );
+    assert_eq!(files_in(&d.path().join("p")), PREDICTION_FILES);
     let csv = std::fs::read_to_string(d.path().join("p/prediction.csv")).unwrap();
     assert!(csv.starts_with("t,y,y_hat,y_hat_arx\n"));
     assert_eq!(csv.lines().count(), 401);
@@ -264,18 +263,7 @@ fn cascade_models_run_free_and_bad_cascade_specs_are_clear_errors() {
     for extra in [&[][..], &["--steps-ahead", "3"][..]] {
         let o = predict(extra);
         assert!(o.status.success(), "{}", stderr(&o));
-        assert_eq!(
-            files_in(&d.path().join("p")),
-            [
-                "prediction.csv",
-                "prediction.svg",
-                "prediction_zoom.svg",
-                "report.html",
-                "residual_histogram.svg",
-                "residuals.svg",
-                "summary.json"
-            ]
-        );
+        assert_eq!(files_in(&d.path().join("p")), PREDICTION_FILES);
         let s: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(d.path().join("p/summary.json")).unwrap()).unwrap();
         assert_eq!(

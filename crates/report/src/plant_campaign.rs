@@ -265,16 +265,21 @@ fn finish(
     notes: Vec<String>,
 ) -> Result<CampaignOutcome> {
     let failed = rows.iter().filter(|(_, r)| r[1] != "ok").count();
-    let stats: Vec<FigureStats> = fig_names
-        .iter()
-        .enumerate()
-        .map(|(k, name)| {
-            let mut v: Vec<f64> = rows
-                .iter()
+    // Each figure's finite values over the runs that finished, read once.
+    let values: Vec<Vec<f64>> = (0..fig_names.len())
+        .map(|k| {
+            rows.iter()
                 .filter(|(_, r)| r[1] == "ok")
                 .filter_map(|(_, r)| r[2 + n_params + k].parse::<f64>().ok())
                 .filter(|x| x.is_finite())
-                .collect();
+                .collect()
+        })
+        .collect();
+    let stats: Vec<FigureStats> = fig_names
+        .iter()
+        .zip(&values)
+        .map(|(name, v)| {
+            let mut v = v.clone();
             v.sort_by(f64::total_cmp);
             let q = |p: f64| quantile_sorted(&v, p);
             FigureStats {
@@ -320,16 +325,11 @@ fn finish(
     // One histogram per figure over the runs that finished.
     let panels: Vec<crate::Histogram> = fig_names
         .iter()
-        .enumerate()
-        .map(|(k, name)| crate::Histogram {
+        .zip(values)
+        .map(|(name, values)| crate::Histogram {
             title: format!("{}: {name}", spec.name),
             x_label: name.clone(),
-            values: rows
-                .iter()
-                .filter(|(_, r)| r[1] == "ok")
-                .filter_map(|(_, r)| r[2 + n_params + k].parse::<f64>().ok())
-                .filter(|x| x.is_finite())
-                .collect(),
+            values,
         })
         .collect();
     let svg = crate::Histogram::render(&panels, 3, 30);
