@@ -183,6 +183,7 @@ fn what_users_read_carries_no_internal_notes_and_the_licenses_exist() {
         "reproduce",
         "show",
         "scenarios",
+        "report",
     ] {
         let args: Vec<&str> = cmd.split_whitespace().chain(["--help"]).collect();
         let o = rhonn(d.path(), &args);
