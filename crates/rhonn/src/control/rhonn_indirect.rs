@@ -171,6 +171,12 @@ impl Controller for RhonnIndirect {
     fn adaptive(&self, t: f64) -> Option<AdaptiveView> {
         let identifying = t < self.settings.identification_s;
         let y_hat = self.neuron.xh * self.settings.y_scale;
-        Some(self.neuron.view(y_hat, None, identifying, self.projections))
+        Some(AdaptiveView::of(
+            &self.neuron,
+            y_hat,
+            None,
+            identifying,
+            self.projections,
+        ))
     }
 }

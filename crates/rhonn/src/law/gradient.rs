@@ -11,15 +11,8 @@
 use super::gain::Gain;
 use super::LearningLaw;
 
-/// `dw = -g phi e` for a scalar gain `g`: the one place this product is written (the
-/// identifier's fast paths and the adaptive controller's neurons call it, so their
-/// results stay those of the general law bit for bit).
-#[inline(always)]
-pub fn descend(g: f64, phi: &[f64], e: f64, dw: &mut [f64]) {
-    for (d, p) in dw.iter_mut().zip(phi) {
-        *d = -(g * p * e);
-    }
-}
+pub use rhonn_core::law::descend;
+use rhonn_core::law::{normalisation, normalized_step};
 
 /// The gradient law, one gain per neuron.
 #[derive(Debug, Clone, PartialEq)]
@@ -73,15 +66,10 @@ impl LearningLaw for Gradient {
         _states: &mut [f64],
         work: &mut [f64],
     ) {
-        let norm = 1.0 + phi.iter().map(|p| p * p).sum::<f64>();
         match &self.gamma[neuron] {
-            Gain::Scalar(g) => {
-                let c = g * e / norm;
-                for (w, p) in w.iter_mut().zip(phi) {
-                    *w -= p * c;
-                }
-            }
+            Gain::Scalar(g) => normalized_step(*g, phi, e, w),
             gain => {
+                let norm = normalisation(phi);
                 let q = &mut work[..phi.len()];
                 gain.apply(phi, q);
                 for (w, q) in w.iter_mut().zip(q.iter()) {

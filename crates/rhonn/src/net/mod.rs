@@ -2,54 +2,14 @@
 //! sigmoids of the states, external inputs, and high-order terms `z_k = prod y_j^d_j`.
 
 use crate::error::{invalid, Result};
-use serde::{Deserialize, Serialize};
 
 /// Most inputs `y` (sigmoids of states plus external inputs) a network may have.
 pub const MAX_Y: usize = 64;
 /// Most high-order terms `L` a network may have (scratch vectors live on the stack).
 pub const MAX_TERMS: usize = 256;
 
-/// `s(v) = a / (1 + exp(-b v)) - c`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Sigmoid {
-    /// Amplitude.
-    pub a: f64,
-    /// Slope.
-    pub b: f64,
-    /// Offset.
-    pub c: f64,
-}
-
-impl Sigmoid {
-    /// The logistic function (a = b = 1, c = 0), range (0, 1).
-    pub const LOGISTIC: Sigmoid = Sigmoid {
-        a: 1.0,
-        b: 1.0,
-        c: 0.0,
-    };
-    /// tanh (a = b = 2, c = 1), range (-1, 1).
-    pub const TANH: Sigmoid = Sigmoid {
-        a: 2.0,
-        b: 2.0,
-        c: 1.0,
-    };
-
-    /// Evaluate.
-    #[inline(always)]
-    pub fn eval(&self, v: f64) -> f64 {
-        let bv = self.b * v;
-        // Saturated arguments (raw SI pressures are ~1e6) would send exp() down its
-        // slow overflow path; the limits are exact to double precision there.
-        if bv > 40.0 {
-            self.a - self.c
-        } else if bv < -745.0 {
-            -self.c
-        } else {
-            self.a / (1.0 + (-bv).exp()) - self.c
-        }
-    }
-}
+/// `s(v) = a / (1 + exp(-b v)) - c` (in `rhonn_core`: the same on a microcontroller).
+pub use rhonn_core::Sigmoid;
 
 /// High-order terms: term `k` is `prod_{j in I_k} y_j^{d_j(k)}`.
 #[derive(Debug, Clone, PartialEq, Default)]

@@ -70,6 +70,28 @@ impl Default for PumpParams {
 }
 
 impl PumpParams {
+    /// The coefficients of the pump's equations (`rhonn_core::pump`).
+    #[inline(always)]
+    pub fn equations(&self) -> rhonn_core::pump::PumpEquations {
+        rhonn_core::pump::PumpEquations {
+            v_l0: self.v_l0,
+            beta: self.beta,
+            alpha_v: self.alpha_v,
+            k_l: self.k_l,
+            omega: self.omega,
+            q_0: self.q_0,
+            a_a: self.a_a,
+            mu_1: self.mu_1,
+            mu_2: self.mu_2,
+            phi: self.phi,
+            k_c: self.k_c,
+            k_a: self.k_a,
+            k: self.k,
+            f_u: self.f_u,
+            gamma_l: self.gamma_l,
+            p_0: self.p_0,
+        }
+    }
     /// Steady-state stroke at current `i` (s = 0): phi I / K_a \[m\].
     pub fn steady_stroke(&self, i: f64) -> f64 {
         self.phi * i / self.k_a
@@ -265,6 +287,14 @@ impl PumpParamsSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_core_crates_thesis_equations_are_the_nominal_parameters() {
+        assert_eq!(
+            PumpParams::default().equations(),
+            rhonn_core::pump::PumpEquations::THESIS
+        );
+    }
 
     #[test]
     fn steady_state_checks_of_spec() {

@@ -48,16 +48,7 @@ pub struct PumpSystem {
     dpa_pos: bool,
 }
 
-/// Intermediate quantities of the pilot valve.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Pilot {
-    /// Pilot valve stroke s \[m\].
-    pub s: f64,
-    /// Pressure drop across the pilot valve \[Pa\].
-    pub dpa: f64,
-    /// Pilot flow Q_a \[m^3/s\].
-    pub q_a: f64,
-}
+pub use rhonn_core::pump::Pilot;
 
 impl PumpSystem {
     /// A pump with the given inputs.
@@ -118,31 +109,17 @@ impl PumpSystem {
         self.bp_from = f64::INFINITY;
     }
 
-    /// The pilot valve at `(P_l, x)` and current `i`, on the branch `neg` (s < 0).
+    /// The pilot valve at `(P_l, x)` and current `i`, on the branch `neg` (s < 0)
+    /// (`rhonn_core::pump`: the same equations on a microcontroller).
     #[inline(always)]
     pub fn pilot(&self, p: f64, x: f64, i: f64, neg: bool) -> Pilot {
-        let k = &self.params;
-        let s = (k.phi * i - k.k_a * x) / (k.k_c + k.k_a);
-        let bias = (k.f_u - k.k * x) / k.a_a;
-        let dpa = if neg {
-            (1.0 - k.gamma_l) * p - bias
-        } else {
-            k.gamma_l * p + bias - k.p_0
-        };
-        let mag = dpa.abs().sqrt();
-        let q_a = if dpa >= 0.0 { 1.0 } else { -1.0 } * s * (k.mu_1 + k.mu_2 * s.abs()) * mag;
-        Pilot { s, dpa, q_a }
+        self.params.equations().pilot(p, x, i, neg)
     }
 
     /// Derivatives `(dP_l/dt, dx/dt)` at `(P_l, x)` with inputs `i`, `q` on branch `neg`.
     #[inline(always)]
     pub fn derivative(&self, p: f64, x: f64, i: f64, q: f64, neg: bool) -> (f64, f64) {
-        let k = &self.params;
-        let pil = self.pilot(p, x, i, neg);
-        let draw = if neg { pil.q_a.abs() } else { 0.0 };
-        let v_l = k.v_l0 * (1.0 + k.alpha_v * p);
-        let dp = k.beta / v_l * (k.k_l * k.omega * x - q - k.q_0 - draw);
-        (dp, pil.q_a / k.a_a)
+        self.params.equations().derivative(p, x, i, q, neg)
     }
 
     /// The current acting on the pilot valve in state `x` at `t` \[A\]: the lagged
