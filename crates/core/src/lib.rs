@@ -16,7 +16,8 @@
 //! The controller and the laws are generic over [`Real`] (`f64`, or `f32` for a
 //! single-precision FPU such as a Cortex-M4F's); the host library uses `f64`.
 //!
-//! Modules: [`sigmoid`] (`s(v) = a / (1 + exp(-b v)) - c`), [`law`] (the gradient step
+//! Modules: [`sigmoid`] (`s(v) = a / (1 + exp(-b v)) - c`), [`terms`] (the high-order
+//! terms `z_k = prod y_j^d_j`), [`law`] (the gradient step
 //! `-g phi e`, its normalised sampled form, projection onto a ball), [`pi`] (PI with
 //! anti-windup), [`adaptive`] (the affine RHONN neuron and the pump's RHONN adaptive
 //! cascade), [`pump`] (the pump's pilot valve and line equations, and a fixed-step
@@ -33,6 +34,7 @@ pub mod pi;
 pub mod pump;
 pub mod real;
 pub mod sigmoid;
+pub mod terms;
 
 pub use real::Real;
 pub use sigmoid::Sigmoid;

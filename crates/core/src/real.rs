@@ -45,6 +45,31 @@ pub trait Real:
     fn clamp(self, lo: Self, hi: Self) -> Self;
     /// The bits, for comparing values exactly.
     fn bits(self) -> u64;
+    /// `self^n`: the platform's `powi` for `f64` with the `std` feature (the host
+    /// library), [`powi_by_squaring`] otherwise.
+    fn powi(self, n: i32) -> Self;
+}
+
+/// `x^n` by squaring and multiplying, as compiler-builtins' `__powidf2` (the platform's
+/// `powi` on targets without a math library) does.
+#[inline]
+pub fn powi_by_squaring<T: Real>(x: T, n: i32) -> T {
+    let (mut a, mut b, mut r) = (x, n.unsigned_abs(), T::of(1.0));
+    loop {
+        if b & 1 != 0 {
+            r *= a;
+        }
+        b /= 2;
+        if b == 0 {
+            break;
+        }
+        a *= a;
+    }
+    if n < 0 {
+        T::of(1.0) / r
+    } else {
+        r
+    }
 }
 
 impl Real for f64 {
@@ -84,6 +109,17 @@ impl Real for f64 {
     fn bits(self) -> u64 {
         self.to_bits()
     }
+    #[inline(always)]
+    fn powi(self, n: i32) -> Self {
+        #[cfg(feature = "std")]
+        {
+            f64::powi(self, n)
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            powi_by_squaring(self, n)
+        }
+    }
 }
 
 impl Real for f32 {
@@ -122,5 +158,9 @@ impl Real for f32 {
     #[inline(always)]
     fn bits(self) -> u64 {
         self.to_bits() as u64
+    }
+    #[inline(always)]
+    fn powi(self, n: i32) -> Self {
+        powi_by_squaring(self, n)
     }
 }

@@ -28,18 +28,15 @@ impl Gain {
     /// out = Gain v.
     #[inline]
     pub fn apply(&self, v: &[f64], out: &mut [f64]) {
+        self.as_core().apply(v, out)
+    }
+
+    /// The gain borrowed as `rhonn_core`'s laws take it.
+    #[inline]
+    pub fn as_core(&self) -> rhonn_core::law::Gain<'_, f64> {
         match self {
-            Gain::Scalar(g) => {
-                for (o, x) in out.iter_mut().zip(v) {
-                    *o = g * x;
-                }
-            }
-            Gain::Matrix(m) => {
-                let l = v.len();
-                for r in 0..l {
-                    out[r] = (0..l).map(|c| m[r * l + c] * v[c]).sum();
-                }
-            }
+            Gain::Scalar(g) => rhonn_core::law::Gain::Scalar(*g),
+            Gain::Matrix(m) => rhonn_core::law::Gain::Matrix(m),
         }
     }
 

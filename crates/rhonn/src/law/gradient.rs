@@ -12,7 +12,7 @@ use super::gain::Gain;
 use super::LearningLaw;
 
 pub use rhonn_core::law::descend;
-use rhonn_core::law::{normalisation, normalized_step};
+use rhonn_core::law::{descend_with, normalized_step_with};
 
 /// The gradient law, one gain per neuron.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,16 +45,7 @@ impl LearningLaw for Gradient {
         _dstates: &mut [f64],
         work: &mut [f64],
     ) {
-        match &self.gamma[neuron] {
-            Gain::Scalar(g) => descend(*g, phi, e, dw),
-            gain => {
-                let q = &mut work[..phi.len()];
-                gain.apply(phi, q);
-                for (d, q) in dw.iter_mut().zip(q.iter()) {
-                    *d = -(q * e);
-                }
-            }
-        }
+        descend_with(self.gamma[neuron].as_core(), phi, e, dw, work)
     }
 
     fn update(
@@ -66,17 +57,7 @@ impl LearningLaw for Gradient {
         _states: &mut [f64],
         work: &mut [f64],
     ) {
-        match &self.gamma[neuron] {
-            Gain::Scalar(g) => normalized_step(*g, phi, e, w),
-            gain => {
-                let norm = normalisation(phi);
-                let q = &mut work[..phi.len()];
-                gain.apply(phi, q);
-                for (w, q) in w.iter_mut().zip(q.iter()) {
-                    *w -= q * e / norm;
-                }
-            }
-        }
+        normalized_step_with(self.gamma[neuron].as_core(), phi, e, w, work)
     }
 }
 

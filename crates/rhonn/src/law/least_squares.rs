@@ -18,14 +18,6 @@ pub struct LeastSquares {
 }
 
 /// `q = P phi` for a row-major L x L `P`.
-#[inline]
-fn times(p: &[f64], phi: &[f64], q: &mut [f64]) {
-    let l = phi.len();
-    for (r, q) in q.iter_mut().enumerate().take(l) {
-        *q = super::dot(&p[r * l..(r + 1) * l], phi);
-    }
-}
-
 impl LearningLaw for LeastSquares {
     fn name(&self) -> &'static str {
         "least-squares"
@@ -52,34 +44,11 @@ impl LearningLaw for LeastSquares {
         dp: &mut [f64],
         work: &mut [f64],
     ) {
-        let l = phi.len();
-        let q = &mut work[..l];
-        times(p, phi, q);
-        for k in 0..l {
-            dw[k] = -q[k] * e;
-        }
-        let trace: f64 = (0..l).map(|k| p[k * l + k]).sum();
-        let shrink = trace > self.floor[neuron] * l as f64;
-        for r in 0..l {
-            for c in 0..l {
-                dp[r * l + c] = if shrink { -q[r] * q[c] } else { 0.0 };
-            }
-        }
+        rhonn_core::law::least_squares_derivative(phi, e, p, self.floor[neuron], dw, dp, work)
     }
 
     fn update(&self, _neuron: usize, phi: &[f64], e: f64, w: &mut [f64], p: &mut [f64], work: &mut [f64]) {
-        let l = phi.len();
-        let q = &mut work[..l];
-        times(p, phi, q);
-        let den = 1.0 + super::dot(phi, q);
-        for k in 0..l {
-            w[k] -= q[k] * (e / den);
-        }
-        for r in 0..l {
-            for c in 0..l {
-                p[r * l + c] -= q[r] * q[c] / den;
-            }
-        }
+        rhonn_core::law::least_squares_step(phi, e, w, p, work)
     }
 }
 

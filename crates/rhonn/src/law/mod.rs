@@ -38,7 +38,7 @@ pub use least_squares::LeastSquares;
 
 #[inline(always)]
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+    rhonn_core::law::dot(a, b)
 }
 
 /// A learning law: how one neuron's weights move given its regressor `phi` and its error

@@ -147,18 +147,7 @@ impl Terms {
     /// `z` from `y` (no allocation).
     #[inline]
     pub fn eval(&self, y: &[f64], z: &mut [f64]) {
-        for k in 0..self.len() {
-            let mut v = 1.0;
-            for f in self.offsets[k]..self.offsets[k + 1] {
-                let yj = y[self.idx[f]];
-                v *= match self.exp[f] {
-                    1 => yj,
-                    2 => yj * yj,
-                    d => yj.powi(d),
-                };
-            }
-            z[k] = v;
-        }
+        rhonn_core::terms::eval(&self.offsets, &self.idx, &self.exp, y, z)
     }
 
     /// Term `k` as `(index, exponent)` factors.
