@@ -263,6 +263,10 @@ struct CampaignSummary<'a> {
     figures: Vec<FigureStats>,
     /// Runs whose pressure traces make the envelope, per series.
     envelope_runs: Vec<(String, usize)>,
+    /// The failed runs and those with the largest key figure, each with its scenario file.
+    worst_runs: Vec<crate::worst_runs::WorstRun>,
+    /// The worst runs in words.
+    findings: Vec<String>,
 }
 
 /// Write `runs.csv` (sorted) and `summary.json` atomically, then drop the partial file.
@@ -299,6 +303,10 @@ fn finish(
         }
     }
     let ok = rows.iter().filter(|r| r.outcome.is_ok()).count();
+    let (key, worst) = crate::worst_runs::describe(spec, &names, &rows)
+        .map_err(|e| Error::Campaign(format!("cannot write a worst run's scenario: {e}")))?;
+    let worst_runs: Vec<_> = worst.iter().map(|(w, _)| w.clone()).collect();
+    let worst_files: Vec<String> = worst.iter().map(|(w, _)| w.file.clone()).collect();
     let summary = CampaignSummary {
         campaign: file,
         runs_ok: ok,
@@ -307,6 +315,8 @@ fn finish(
         plan: Plan::of(spec)?,
         figures: statistics(&names, &rows),
         envelope_runs,
+        findings: crate::worst_runs::findings(key, &worst_runs),
+        worst_runs,
     };
     let mut out = crate::OutputSet::new(dir)?;
     out.write("runs.csv", |w| w.write_all(&buf))?;
@@ -318,6 +328,9 @@ fn finish(
         serde_json::to_writer_pretty(&mut *w, file).map_err(std::io::Error::other)?;
         writeln!(w)
     })?;
+    for (w, text) in &worst {
+        out.write(&w.file, |f| f.write_all(text.as_bytes()))?;
+    }
     let svg = histograms(&names, &rows, &file.scenario);
     out.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
     if let Some((traces_buf, env_buf, svg)) = env_files {
@@ -326,6 +339,7 @@ fn finish(
         out.write("envelope.svg", |w| w.write_all(svg.as_bytes()))?;
     }
     out.commit()?;
+    crate::worst_runs::remove_stale(dir, &worst_files)?;
     for name in ["runs.partial.csv", "traces.partial.csv"] {
         let partial = dir.join(name);
         if partial.exists() {

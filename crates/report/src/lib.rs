@@ -29,6 +29,7 @@ mod plot;
 mod prediction;
 mod residuals;
 mod style;
+pub mod worst_runs;
 
 pub use atomic::OutputSet;
 pub use csv_out::write_trace_csv;
