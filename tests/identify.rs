@@ -42,13 +42,27 @@ fn tanks_identified_online_then_frozen_writes_every_file_and_the_figures_of_the_
             "estimate.svg",
             "model.json",
             "report.html",
+            "residual_histogram.svg",
+            "residuals.svg",
             "summary.json",
             "validation.csv",
             "validation.svg",
+            "validation_residuals.svg",
             "weights.csv",
             "weights.svg"
         ]
     );
+    // The residual plots: the autocorrelation and the input cross-correlation, each with
+    // its 99 % band, for the online estimate and for the frozen model's free run.
+    for f in ["residuals.svg", "validation_residuals.svg"] {
+        let svg = std::fs::read_to_string(d.path().join("id").join(f)).unwrap();
+        assert!(svg.contains("y: autocorrelation of the residuals"), "{f}");
+        assert!(
+            svg.contains("y: cross-correlation of input u and the residuals"),
+            "{f}"
+        );
+        assert_eq!(svg.matches("99 % band of white noise").count(), 2, "{f}");
+    }
     let est = std::fs::read_to_string(d.path().join("id/estimate.csv")).unwrap();
     assert!(est.starts_with("record,t,y,y_hat\n"), "{}", &est[..40]);
     assert_eq!(est.lines().count(), 1 + 1024);

@@ -112,11 +112,42 @@ pub fn write_identify(
     let (est, wts) = plots(run, records, outputs);
     set.write("estimate.svg", |w| w.write_all(est.as_bytes()))?;
     set.write("weights.svg", |w| w.write_all(wts.as_bytes()))?;
+    // The online estimate's residuals over the last half of the final pass (the first
+    // half is learning, as for the summary's figures), and the frozen model's free run
+    // on the validation records.
+    let (all, est) = joined(records, &run.estimates, outputs.len());
+    let half = all.len() / 2;
+    let acf = crate::residuals::plot_residuals(&all, &est, half, &model.inputs, outputs);
+    set.write("residuals.svg", |w| w.write_all(acf.as_bytes()))?;
+    let hist = crate::residuals::residual_histograms(&all, &est, half, outputs);
+    set.write("residual_histogram.svg", |w| w.write_all(hist.as_bytes()))?;
     if let Some(v) = validation {
         let svg = validation_plot(v, outputs);
         set.write("validation.svg", |w| w.write_all(svg.as_bytes()))?;
+        let (vj, vest) = joined(&v.records, &v.free_run, outputs.len());
+        let acf = crate::residuals::plot_residuals(&vj, &vest, 0, &model.inputs, outputs);
+        set.write("validation_residuals.svg", |w| w.write_all(acf.as_bytes()))?;
     }
     set.commit()
+}
+
+/// The records laid end to end as one, and the per-output estimates `est` (per record,
+/// per sample, per output) over them.
+fn joined(records: &[Record], est: &[Vec<Vec<f64>>], n_out: usize) -> (Record, Vec<Vec<f64>>) {
+    let n_in = records.first().map_or(0, |r| r.inputs.len());
+    let record = Record {
+        source: records
+            .iter()
+            .map(|r| r.source.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+        t: joined_times(records),
+        inputs: (0..n_in)
+            .map(|i| records.iter().flat_map(|r| r.inputs[i].iter().copied()).collect())
+            .collect(),
+        outputs: (0..n_out).map(|j| measured(records, j)).collect(),
+    };
+    (record, (0..n_out).map(|j| flat(est, j)).collect())
 }
 
 /// A column of a table.
