@@ -255,6 +255,23 @@ fn reproduce_runs_every_thesis_scenario() {
     assert_eq!(b["kp_mm_per_mpa"].as_f64(), Some(0.2));
     let weights = std::fs::read_to_string(dir.join("weights.svg")).unwrap();
     assert!(weights.contains("MPa/(s mm)"));
+    // The weights against their bounds and the identifier's error energy are drawn, and
+    // the projection holds: |W_1 - centre| never leaves the ball (trajectory.csv).
+    assert!(weights.contains("gain weights against their ball") && weights.contains("ball radius (bound)"));
+    assert!(weights.contains("Lyapunov function, measurable part"));
+    let traj = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
+    let head: Vec<&str> = traj.lines().next().unwrap().split(',').collect();
+    let (d, r) = (
+        head.iter().position(|h| *h == "w1_distance").unwrap(),
+        head.iter().position(|h| *h == "w1_ball_radius").unwrap(),
+    );
+    let mut closest = f64::INFINITY;
+    for line in traj.lines().skip(1) {
+        let f: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!(f[d] <= f[r] * (1.0 + 1e-12), "{line}");
+        closest = closest.min(f[r] - f[d]);
+    }
+    assert!(closest.is_finite());
     let pressure = std::fs::read_to_string(dir.join("pressure.svg")).unwrap();
     assert!(pressure.contains("cascade PI baseline") && pressure.contains("RHONN adaptive"));
 }

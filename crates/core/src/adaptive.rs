@@ -309,6 +309,10 @@ pub struct CascadeState<T = f64> {
     pub w_norm: T,
     /// |W_1| (MPa/(s mm) units).
     pub w1_norm: T,
+    /// |W_1 - centre| (MPa/(s mm) units): the projection keeps it within `ball_radius`.
+    pub w1_distance: T,
+    /// Radius of W_1's ball (MPa/(s mm) units).
+    pub ball_radius: T,
 }
 
 /// Tracking errors integrated by the integral action: within this band \[MPa\].
@@ -468,6 +472,8 @@ impl<T: Real> RhonnCascade<T> {
             p_hat: self.neuron.xh * T::of(1e6),
             w_norm: self.neuron.w_norm(),
             w1_norm: self.neuron.w1_norm(),
+            w1_distance: self.neuron.w1_distance(),
+            ball_radius: self.neuron.radius,
         }
     }
 

@@ -425,26 +425,57 @@ impl EnvelopePlot {
     }
 }
 
-/// The adaptive weights' norms over time, one panel each (none for other runs).
+/// The adaptive controller's weights against their bounds and its identifier's error
+/// energy, one panel each (none for other runs): |W| (projected onto a ball of radius
+/// `w_bound`, far off this scale), |W_1|, |W_1 - centre| against the ball's radius (the
+/// projection keeps it inside; the centre moves to the identified W_1 when the
+/// identification phase ends), and 1/2 (p^ - p)^2, the measurable part of the
+/// identifier's Lyapunov function.
 fn weight_plots(trace: &Trace, name: &str, t: &[f64]) -> Vec<TimePlot> {
-    [
-        ("w_norm", "|W| (drift) [MPa/s]"),
-        ("w1_norm", "|W_1| (gain) [MPa/(s mm)]"),
-    ]
-    .iter()
-    .filter_map(|(c, label)| {
-        trace.column(c).map(|y| TimePlot {
-            title: format!("{name}: adaptive weights, {c}"),
-            y_label: (*label).into(),
-            t: t.to_vec(),
-            series: vec![Series {
-                label: (*c).into(),
-                y: y.to_vec(),
-                dashed: false,
-            }],
-        })
-    })
-    .collect()
+    let (Some(w), Some(w1)) = (trace.column("w_norm"), trace.column("w1_norm")) else {
+        return Vec::new();
+    };
+    let panel = |title: &str, y_label: &str, series: Vec<Series>| TimePlot {
+        title: format!("{name}: {title}"),
+        y_label: y_label.into(),
+        t: t.to_vec(),
+        series,
+    };
+    let mut out = vec![
+        panel(
+            "adaptive weights, w_norm",
+            "|W| (drift) [MPa/s]",
+            vec![Series::solid("w_norm", w.to_vec())],
+        ),
+        panel(
+            "adaptive weights, w1_norm",
+            "|W_1| (gain) [MPa/(s mm)]",
+            vec![Series::solid("w1_norm", w1.to_vec())],
+        ),
+    ];
+    if let (Some(d), Some(r)) = (trace.column("w1_distance"), trace.column("w1_ball_radius")) {
+        out.push(panel(
+            "gain weights against their ball",
+            "[MPa/(s mm)]",
+            vec![
+                Series::solid("|W_1 - centre|", d.to_vec()),
+                Series::dashed("ball radius (bound)", r.to_vec()),
+            ],
+        ));
+    }
+    if let (Some(ph), Some(p)) = (trace.column("p_line_model"), trace.column("p_line")) {
+        let energy = ph
+            .iter()
+            .zip(p)
+            .map(|(a, b)| 0.5 * ((a - b) / PA_PER_MPA).powi(2))
+            .collect();
+        out.push(panel(
+            "identifier's error energy 1/2 (p^ - p)^2 (Lyapunov function, measurable part)",
+            "[MPa^2]",
+            vec![Series::solid("1/2 (p^ - p)^2", energy)],
+        ));
+    }
+    out
 }
 
 /// The plots of a run: `pressure.svg` (line pressure, set-point, P_min), `stroke.svg`,

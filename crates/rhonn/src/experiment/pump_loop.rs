@@ -152,6 +152,8 @@ fn adaptive_state(
         p_hat: v.model_output,
         w_norm: v.w_norm,
         w1_norm: v.w1_norm,
+        w1_distance: v.w1_distance,
+        ball_radius: v.ball_radius,
     };
     if !(u.is_finite()
         && st.w_norm.is_finite()

@@ -138,6 +138,8 @@ impl Recorder for Trace {
                     ("p_line_model", "Pa"),
                     ("w_norm", "MPa/s"),
                     ("w1_norm", "MPa/(s mm)"),
+                    ("w1_distance", "MPa/(s mm)"),
+                    ("w1_ball_radius", "MPa/(s mm)"),
                 ]);
             }
             if s.baseline.is_some() {
@@ -166,6 +168,8 @@ impl Recorder for Trace {
             s.control.map(|c| c.p_hat),
             s.control.map(|c| c.w_norm),
             s.control.map(|c| c.w1_norm),
+            s.control.map(|c| c.w1_distance),
+            s.control.map(|c| c.ball_radius),
             s.baseline.map(|b| b.p_line),
             s.baseline.map(|b| b.stroke),
             s.baseline.map(|b| b.current),
