@@ -4,8 +4,10 @@ solve_ivp(RK45) at rhonn's tolerances (rtol 1e-6; atol 1 Pa, 1e-9 m, 1e-9 for th
 identifier's states), timed, against `rhonn bench` on the same model (training run
 only), in 5 interleaved rounds; prints the best time of each and the ratio. Not part of the test command.
 
-Usage: python3 bench/scipy_ch5.py [path/to/rhonn]   (default target/release/rhonn; needs
-numpy, scipy, and a release build: cargo build --release)
+Usage: python3 bench/scipy_ch5.py [path/to/rhonn] [--json FILE]   (default
+target/release/rhonn; needs numpy, scipy, and a release build: cargo build --release).
+With --json FILE it also writes both timings as a comparison file for
+`rhonn bench --out DIR --compare FILE` (bars side by side in DIR/bench.svg).
 
 The scipy model is written as a user would: the limited integrators as derivatives
 zeroed at the bounds, the valve branch chosen inside the right-hand side (no event
@@ -73,7 +75,15 @@ def rhonn_once(exe, path):
 
 
 def main():
-    exe = sys.argv[1] if len(sys.argv) > 1 else "target/release/rhonn"
+    args = sys.argv[1:]
+    json_out = None
+    if "--json" in args:
+        i = args.index("--json")
+        if i + 1 >= len(args):
+            sys.exit("scipy_ch5.py: --json needs a file name")
+        json_out = args[i + 1]
+        del args[i : i + 2]
+    exe = args[0] if args else "target/release/rhonn"
     toml = subprocess.run([exe, "show", "thesis-ch5"], check=True, capture_output=True, text=True).stdout
     toml = toml.replace("validate = true", "validate = false")
     # Interleaved rounds, the best of each side (shared machines change speed over
@@ -91,6 +101,17 @@ def main():
           f"(final p_line {yf[0] / 1e6:.3f} MPa, stroke {yf[1] * 1e3:.4f} mm)")
     print(f"rhonn (event-locating DOPRI5, same tolerances): {tr * 1e3:.3f} ms, {nr} rhs evaluations")
     print(f"ratio: {ts / tr:.0f}x (best of 5 interleaved rounds each)")
+    if json_out:
+        run = "thesis-ch5 training (40 s), best of 5 rounds"
+        rows = [
+            {"run": run, "tool": "scipy solve_ivp(RK45), rtol 1e-6", "median_s": ts, "rhs_evaluations": int(nfev)},
+            {"run": run, "tool": "rhonn (event-locating DOPRI5), rtol 1e-6", "median_s": tr, "rhs_evaluations": int(nr)},
+        ]
+        tmp = json_out + ".partial"
+        with open(tmp, "w") as f:
+            json.dump(rows, f, indent=1)
+        os.replace(tmp, json_out)
+        print(f"wrote {json_out}")
 
 
 if __name__ == "__main__":

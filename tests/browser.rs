@@ -123,7 +123,14 @@ fn folders(d: &Path) -> Vec<(&'static str, PathBuf)> {
     let (est, val) = (data.join("estimation.csv"), data.join("validation.csv"));
     let (est, val) = (est.to_str().unwrap(), val.to_str().unwrap());
     let spec = root.join("models/tanks-online.toml");
-    let runs: [(&str, Vec<&str>); 6] = [
+    let compare = d.join("compare.json");
+    std::fs::write(
+        &compare,
+        r#"[{"run": "thesis-ch5 training", "tool": "scipy solve_ivp(RK45)", "median_s": 0.2, "rhs_evaluations": 11936},
+            {"run": "thesis-ch5 training", "tool": "rhonn", "median_s": 0.001, "rhs_evaluations": 11100}]"#,
+    )
+    .unwrap();
+    let runs: [(&str, Vec<&str>); 7] = [
         ("run", vec!["run", "thesis-ch5", "--out", "run"]),
         ("control", vec!["run", "control-adaptive", "--out", "control"]),
         (
@@ -185,6 +192,20 @@ fn folders(d: &Path) -> Vec<(&'static str, PathBuf)> {
                 "campaign",
             ],
         ),
+        (
+            "bench",
+            vec![
+                "bench",
+                "thesis-ch3",
+                "thesis-ch5",
+                "--seconds",
+                "0.05",
+                "--compare",
+                compare.to_str().unwrap(),
+                "--out",
+                "bench",
+            ],
+        ),
     ];
     runs.into_iter()
         .map(|(name, args)| {
@@ -229,6 +250,21 @@ fn every_kind_of_report_renders_in_a_real_browser() {
             ] {
                 assert!(html.contains(text), "predict: no `{text}`");
             }
+        }
+        // What each kind must show besides its plots.
+        let must: &[&str] = match name {
+            "bench" => &[
+                "measured side by side",
+                "scipy solve_ivp(RK45)",
+                "runs per second",
+            ],
+            "campaign" => &["worst runs by iae_mpa_s", "worst-run-"],
+            "control" => &["ball radius (bound)", "Lyapunov function"],
+            "identify" => &["autocorrelation of the residuals", "99 % band of white noise"],
+            _ => &[],
+        };
+        for text in must {
+            assert!(html.contains(text), "{name}: no `{text}`");
         }
         let Some(chrome) = &chrome else { continue };
         let seen = open(chrome, d.path(), &report);

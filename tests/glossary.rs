@@ -161,6 +161,12 @@ fn the_glossary_names_every_figure_the_outputs_write() {
             "identify",
         ],
     ];
+    let o = rhonn(
+        d.path(),
+        &["bench", "thesis-ch3", "--seconds", "0.05", "--out", "bench"],
+    );
+    assert!(o.status.success(), "bench: {}", stderr(&o));
+    read_summary(&d.path().join("bench"));
     for args in calls {
         let o = rhonn(d.path(), &args);
         assert!(o.status.success(), "{args:?}: {}", stderr(&o));

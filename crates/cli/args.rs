@@ -187,6 +187,14 @@ pub enum Command {
         /// Time budget per scenario and phase [s].
         #[arg(long, default_value_t = 1.0)]
         seconds: f64,
+        /// Also write DIR/summary.json, DIR/bench.svg (bars) and DIR/report.html.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// A JSON list of another tool's timings measured beside rhonn ({run, tool,
+        /// median_s, rhs_evaluations}, as `python3 bench/scipy_ch5.py --json FILE` writes),
+        /// drawn beside rhonn's in DIR/bench.svg (needs --out).
+        #[arg(long, value_name = "FILE.json")]
+        compare: Option<PathBuf>,
     },
     /// Monte Carlo campaign over the thesis's tolerances (beta, mu_1, mu_2 +-20 %, Q_0 +-10 %,
     /// demand slew +-10 %, uniform draws), every core busy. Writes DIR/runs.csv (one row per

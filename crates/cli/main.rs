@@ -98,7 +98,9 @@ fn dispatch(cli: Cli) -> Result<()> {
             scenarios,
             json,
             seconds,
-        } => commands::bench(&scenarios, json, seconds)?.print(),
+            out,
+            compare,
+        } => commands::bench(&scenarios, json, seconds, out.as_deref(), compare.as_deref())?.print(),
         Command::Campaign {
             scenario,
             runs,

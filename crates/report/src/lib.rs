@@ -16,6 +16,7 @@ rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &output)
 #![deny(missing_docs)]
 
 mod atomic;
+pub mod bench_report;
 pub mod campaign;
 mod campaign_plots;
 pub mod commands;

@@ -16,7 +16,7 @@ const PALETTE: [RGBColor; 5] = [
 pub const BASELINE: RGBColor = RGBColor(255, 127, 14);
 /// Set-points and references.
 pub const REFERENCE: RGBColor = RGBColor(40, 40, 40);
-/// Limits (P_min).
+/// Limits (P_min, a bound).
 pub const LIMIT: RGBColor = RGBColor(214, 39, 40);
 
 /// The role a series' label says it has.
@@ -25,7 +25,7 @@ fn role_color(label: &str) -> Option<RGBColor> {
         Some(BASELINE)
     } else if label.contains("set-point") || label.contains("reference") {
         Some(REFERENCE)
-    } else if label == "P_min" || label.contains("limit") {
+    } else if label == "P_min" || label.contains("limit") || label.contains("bound") {
         Some(LIMIT)
     } else {
         None

@@ -117,12 +117,28 @@ fn run_plant(spec: &PlantScenarioSpec, out: Option<PathBuf>) -> Result<Outcome> 
 
 /// `rhonn bench`: time each scenario (default [`REPRODUCED`]) for about `seconds`; a table,
 /// or JSON.
-pub fn bench(names: &[String], json: bool, seconds: f64) -> Result<Outcome> {
+pub fn bench(
+    names: &[String],
+    json: bool,
+    seconds: f64,
+    out: Option<&Path>,
+    compare: Option<&Path>,
+) -> Result<Outcome> {
     if !(seconds.is_finite() && seconds > 0.0 && seconds <= 3600.0) {
         return Err(Error::Input(format!(
             "--seconds {seconds} is not allowed: give a time in (0, 3600] s"
         )));
     }
+    // The comparison file is read before the timings, so a bad one fails at once.
+    let compared = match (out, compare) {
+        (_, None) => Vec::new(),
+        (Some(_), Some(p)) => crate::bench_report::read_compared(p)?,
+        (None, Some(_)) => {
+            return Err(Error::Input(
+                "--compare needs --out DIR (the comparison is drawn in DIR/bench.svg)".into(),
+            ))
+        }
+    };
     let default = REPRODUCED.map(String::from);
     let names: &[String] = if names.is_empty() { &default } else { names };
     let mut all = Vec::new();
@@ -154,6 +170,9 @@ pub fn bench(names: &[String], json: bool, seconds: f64) -> Result<Outcome> {
     if json {
         o.lines
             .push(serde_json::to_string_pretty(&all).map_err(|e| Error::Input(e.to_string()))?);
+    }
+    if let Some(dir) = out {
+        o.files = crate::bench_report::write_bench(dir, &all, &compared)?;
     }
     Ok(o)
 }
