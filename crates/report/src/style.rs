@@ -4,20 +4,22 @@
 
 use plotters::prelude::*;
 
-/// Colours of the lines that are not a baseline, a reference or a limit, in order.
-const PALETTE: [RGBColor; 5] = [
-    RGBColor(31, 119, 180),  // blue
-    RGBColor(44, 160, 44),   // green
-    RGBColor(148, 103, 189), // purple
-    RGBColor(140, 86, 75),   // brown
-    RGBColor(23, 190, 207),  // teal
+/// Colours of the lines that are not a baseline, a reference or a limit, in order: the
+/// Okabe-Ito palette (Okabe and Ito 2008, "Color Universal Design"), chosen so that the
+/// colours of a plot stay apart for readers with any of the three colour-vision
+/// deficiencies (checked by the tests below).
+const PALETTE: [RGBColor; 4] = [
+    RGBColor(0, 114, 178),   // blue
+    RGBColor(0, 158, 115),   // bluish green
+    RGBColor(204, 121, 167), // reddish purple
+    RGBColor(86, 180, 233),  // sky blue
 ];
 /// Every baseline (the PI, the ARX model): orange in every plot.
-pub const BASELINE: RGBColor = RGBColor(255, 127, 14);
+pub const BASELINE: RGBColor = RGBColor(230, 159, 0);
 /// Set-points and references.
 pub const REFERENCE: RGBColor = RGBColor(40, 40, 40);
-/// Limits (P_min, a bound).
-pub const LIMIT: RGBColor = RGBColor(214, 39, 40);
+/// Limits (P_min, a bound): vermillion, always dashed.
+pub const LIMIT: RGBColor = RGBColor(213, 94, 0);
 
 /// The role a series' label says it has.
 fn role_color(label: &str) -> Option<RGBColor> {
@@ -139,5 +141,88 @@ mod tests {
             legend_corner(&[], 0.3, 0.2),
             SeriesLabelPosition::UpperRight
         ));
+    }
+
+    /// CIE L*a*b* of an sRGB colour as a reader with normal vision, one of the three
+    /// colour-vision deficiencies (Machado, Oliveira and Fernandes 2009, severity 1,
+    /// applied in linear RGB) or in greyscale (relative luminance) sees it.
+    fn seen_lab(c: RGBColor, vision: &str) -> [f64; 3] {
+        let lin = |v: u8| {
+            let v = v as f64 / 255.0;
+            if v <= 0.04045 {
+                v / 12.92
+            } else {
+                ((v + 0.055) / 1.055).powf(2.4)
+            }
+        };
+        let l = [lin(c.0), lin(c.1), lin(c.2)];
+        let m: [[f64; 3]; 3] = match vision {
+            "protanopia" => [
+                [0.152286, 1.052583, -0.204868],
+                [0.114503, 0.786281, 0.099216],
+                [-0.003882, -0.048116, 1.051998],
+            ],
+            "deuteranopia" => [
+                [0.367322, 0.860646, -0.227968],
+                [0.280085, 0.672501, 0.047413],
+                [-0.011820, 0.042940, 0.968881],
+            ],
+            "tritanopia" => [
+                [1.255528, -0.076749, -0.178779],
+                [-0.078411, 0.930809, 0.147602],
+                [0.004733, 0.691367, 0.303900],
+            ],
+            "grey" => [[0.2126, 0.7152, 0.0722]; 3],
+            _ => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        };
+        let s: Vec<f64> = m
+            .iter()
+            .map(|r| (r[0] * l[0] + r[1] * l[1] + r[2] * l[2]).clamp(0.0, 1.0))
+            .collect();
+        let xyz = [
+            (0.4124 * s[0] + 0.3576 * s[1] + 0.1805 * s[2]) / 0.95047,
+            0.2126 * s[0] + 0.7152 * s[1] + 0.0722 * s[2],
+            (0.0193 * s[0] + 0.1192 * s[1] + 0.9505 * s[2]) / 1.08883,
+        ];
+        let f = |t: f64| {
+            if t > 0.008856 {
+                t.cbrt()
+            } else {
+                7.787 * t + 16.0 / 116.0
+            }
+        };
+        let [fx, fy, fz] = xyz.map(f);
+        [116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz)]
+    }
+
+    fn delta_e(a: RGBColor, b: RGBColor, vision: &str) -> f64 {
+        let (p, q) = (seen_lab(a, vision), seen_lab(b, vision));
+        ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+    }
+
+    /// The colours that share a plot stay apart (CIE76 distance at least 15, where 2.3
+    /// is a just-noticeable difference) for normal vision and for each colour-vision
+    /// deficiency: the two series of the palette that plots draw together (controller
+    /// and model, measured and predicted), the baseline, the reference and the limit.
+    /// In greyscale the controller under test and its baseline stay apart (the
+    /// reference and the limits are dashed there, so their style tells them apart).
+    #[test]
+    fn the_colours_stay_apart_for_colour_blind_readers_and_in_grey() {
+        let solid = [PALETTE[0], PALETTE[1], BASELINE];
+        let all = [PALETTE[0], PALETTE[1], BASELINE, REFERENCE, LIMIT];
+        for vision in ["normal", "protanopia", "deuteranopia", "tritanopia"] {
+            for (i, a) in all.iter().enumerate() {
+                for b in &all[i + 1..] {
+                    let d = delta_e(*a, *b, vision);
+                    assert!(d >= 15.0, "{vision}: {a:?} and {b:?} only {d:.1} apart");
+                }
+            }
+        }
+        let d = delta_e(solid[0], solid[2], "grey");
+        assert!(d >= 20.0, "grey: controller and baseline only {d:.1} apart");
+        // The old palette (matplotlib's tab10) fails: its green and orange are 5 apart
+        // for protanopia.
+        let (green, orange) = (RGBColor(44, 160, 44), RGBColor(255, 127, 14));
+        assert!(delta_e(green, orange, "protanopia") < 15.0);
     }
 }
