@@ -65,3 +65,36 @@ fn the_worst_runs_rerun_with_the_figures_of_the_campaign() {
         first["value"].as_f64().unwrap()
     );
 }
+
+#[test]
+fn a_tank_campaigns_worst_run_reruns_with_its_figure() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "campaign",
+            "tanks-control",
+            "--runs",
+            "6",
+            "--seed",
+            "2",
+            "--out",
+            "t",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("t/summary.json")).unwrap()).unwrap();
+    let worst = summary["worst_runs"].as_array().unwrap();
+    assert_eq!(worst.len(), 5);
+    let values: Vec<f64> = worst.iter().map(|w| w["value"].as_f64().unwrap()).collect();
+    assert!(values.windows(2).all(|p| p[0] >= p[1]), "{values:?}");
+    let o = rhonn(
+        &d.path().join("t"),
+        &["run", worst[0]["file"].as_str().unwrap(), "--out", "../rerun"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rerun: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("rerun/summary.json")).unwrap()).unwrap();
+    assert_eq!(rerun["control"][0]["iae"].as_f64().unwrap(), values[0]);
+}

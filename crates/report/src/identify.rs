@@ -278,6 +278,30 @@ fn plots(run: &OnlineRun, records: &[Record], outputs: &[String]) -> (String, St
             ],
         })
         .collect();
+    // The online error against its band (twice the final RMS error; the summary's
+    // `converged_s` is the time from which it stays inside).
+    let mut panels = panels;
+    for (j, o) in outputs.iter().enumerate() {
+        let e: Vec<f64> = run
+            .estimates
+            .iter()
+            .flatten()
+            .zip(records.iter().flat_map(|r| r.outputs[j].iter()))
+            .map(|(est, y)| est[j] - y)
+            .collect();
+        let mut series = vec![Series::solid(format!("{o}_hat - {o}"), e.clone())];
+        if let Some(f) = run.figures.get(j) {
+            let b = f.band;
+            series.push(Series::dashed(format!("band +-{b:.4} (limit)"), vec![b; e.len()]));
+            series.push(Series::dashed("-band (limit)", vec![-b; e.len()]));
+        }
+        panels.push(TimePlot {
+            title: format!("online error (final pass): {o}"),
+            y_label: format!("{o}_hat - {o}"),
+            t: t.clone(),
+            series,
+        });
+    }
     let weights = TimePlot {
         title: "weight norms (final pass)".into(),
         y_label: "|w_i| (normalised units)".into(),

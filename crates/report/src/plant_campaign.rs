@@ -304,8 +304,17 @@ fn finish(
         runs: usize,
         failed: usize,
         figures: Vec<FigureStats>,
+        worst_runs: Vec<crate::worst_runs::WorstRun>,
+        findings: Vec<String>,
     }
+    let worst = worst_runs(spec, rows, fig_names, n_params)?;
+    let worst_list: Vec<_> = worst.iter().map(|(w, _)| w.clone()).collect();
+    let worst_files: Vec<String> = worst.iter().map(|(w, _)| w.file.clone()).collect();
+    let key = crate::worst_runs::plant_key_figure(fig_names).map(|(k, _)| fig_names[k].as_str());
     let mut set = OutputSet::new(dir)?;
+    for (w, text) in &worst {
+        set.write(&w.file, |f| f.write_all(text.as_bytes()))?;
+    }
     set.write("runs.csv", |w| {
         let mut c = csv::Writer::from_writer(w);
         c.write_record(header)?;
@@ -320,6 +329,8 @@ fn finish(
         runs: rows.len(),
         failed,
         figures: stats,
+        findings: crate::worst_runs::findings(key, &worst_list),
+        worst_runs: worst_list,
     };
     set.write("summary.json", |w: &mut dyn Write| write_json(w, &summary))?;
     // One histogram per figure over the runs that finished.
@@ -335,6 +346,7 @@ fn finish(
     let svg = crate::Histogram::render(&panels, 3, 30);
     set.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
     set.commit()?;
+    crate::worst_runs::remove_stale(dir, &worst_files)?;
     let partial = dir.join("runs.partial.csv");
     std::fs::remove_file(&partial).map_err(|e| {
         err(format!(
@@ -351,4 +363,30 @@ fn finish(
         already_complete: false,
         notes,
     })
+}
+
+/// The worst runs of the campaign's rows (see `worst_runs::describe_plant`).
+fn worst_runs(
+    spec: &PlantScenarioSpec,
+    rows: &[(u64, Vec<String>)],
+    fig_names: &[String],
+    n_params: usize,
+) -> Result<Vec<(crate::worst_runs::WorstRun, String)>> {
+    let params = nominal_plant_parameters(&spec.plant.kind)?;
+    let names: Vec<&str> = params.iter().map(|p| p.name).collect();
+    let key = crate::worst_runs::plant_key_figure(fig_names);
+    let runs: Vec<crate::worst_runs::PlantRun> = rows
+        .iter()
+        .map(|(i, r)| {
+            let values = r[2..2 + n_params]
+                .iter()
+                .map(|v| v.parse().unwrap_or(f64::NAN))
+                .collect();
+            let error = (r[1] != "ok").then(|| r[1].trim_start_matches("failed: ").to_string());
+            let value = key.and_then(|(k, _)| r[2 + n_params + k].parse::<f64>().ok());
+            (*i, values, value, error)
+        })
+        .collect();
+    crate::worst_runs::describe_plant(spec, &names, key.map(|(_, larger)| larger), &runs)
+        .map_err(|e| err(format!("cannot write a worst run's scenario: {e}")))
 }

@@ -619,11 +619,25 @@ pub fn plot_identification(
         let y: Vec<f64> = y.iter().map(|v| v / k).collect();
         let yh: Vec<f64> = yh.iter().map(|v| v / k).collect();
         let e: Vec<f64> = y.iter().zip(&yh).map(|(a, b)| b - a).collect();
+        // The convergence band of the training (its figures' `convergence_band`).
+        let band = summary
+            .identification
+            .as_ref()
+            .and_then(|r| r.training.iter().find(|f| f.state == col))
+            .map(|f| f.convergence_band);
+        let mut err_series = vec![Series::solid("error", e.clone())];
+        if let Some(b) = band {
+            err_series.push(Series::dashed(
+                format!("convergence band +-{b:.4} {unit} (limit)"),
+                vec![b; e.len()],
+            ));
+            err_series.push(Series::dashed("-band (limit)", vec![-b; e.len()]));
+        }
         errors.push(TimePlot {
             title: format!("{name}: identification error of the {label}"),
             y_label: format!("{col}_hat - {col} [{unit}]"),
             t: t.to_vec(),
-            series: vec![Series::solid("error", e.clone())],
+            series: err_series,
         });
         states.push(TimePlot {
             title: format!("{name}: {label}, actual and identified"),

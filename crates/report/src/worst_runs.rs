@@ -97,6 +97,85 @@ pub fn describe(spec: &ScenarioSpec, names: &[String], rows: &[RunRow]) -> Resul
     Ok((key, out))
 }
 
+/// One run of a plant campaign as [`describe_plant`] ranks it: index, drawn parameter
+/// values (the plant's order), the key figure (None: failed or not finite), the error.
+pub type PlantRun = (u64, Vec<f64>, Option<f64>, Option<String>);
+
+/// The figure a plant campaign's runs are ranked by, and whether larger is worse: the
+/// controller's IAE (larger is worse), else the first validation fit (smaller is worse).
+pub fn plant_key_figure(names: &[String]) -> Option<(usize, bool)> {
+    names
+        .iter()
+        .position(|n| n == "controller_iae")
+        .map(|k| (k, true))
+        .or_else(|| {
+            names
+                .iter()
+                .position(|n| n.ends_with("validation_fit_percent"))
+                .map(|k| (k, false))
+        })
+}
+
+/// [`describe`] for a plant campaign: the failed runs, then the largest key figures, each
+/// with the scenario (the plant's parameters set to the run's) as TOML.
+pub fn describe_plant(
+    spec: &rhonn::experiment::PlantScenarioSpec,
+    param_names: &[&str],
+    larger_is_worse: Option<bool>,
+    runs: &[PlantRun],
+) -> Result<Vec<(WorstRun, String)>, toml::ser::Error> {
+    let mut failed: Vec<&PlantRun> = runs.iter().filter(|r| r.3.is_some()).collect();
+    failed.truncate(WORST);
+    let mut ok: Vec<&PlantRun> = runs
+        .iter()
+        .filter(|r| r.3.is_none() && r.2.is_some_and(f64::is_finite))
+        .collect();
+    if let Some(larger) = larger_is_worse {
+        let badness = |r: &PlantRun| {
+            if larger {
+                r.2.unwrap_or(0.0)
+            } else {
+                -r.2.unwrap_or(0.0)
+            }
+        };
+        ok.sort_by(|a, b| badness(b).total_cmp(&badness(a)).then(a.0.cmp(&b.0)));
+        failed.extend(ok.into_iter().take(WORST - failed.len()));
+    }
+    let mut out = Vec::new();
+    for (index, values, value, error) in failed {
+        let described = param_names
+            .iter()
+            .zip(values)
+            .map(|(n, v)| format!("{n}={}", significant(*v)))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let mut run_spec = spec.clone();
+        run_spec.name = format!("{}-run-{index}", spec.name);
+        run_spec.description = format!("run {index} of a campaign over {}: {described}", spec.name);
+        for (n, v) in param_names.iter().zip(values) {
+            run_spec.plant.parameters.insert((*n).to_string(), *v);
+        }
+        let file = format!("worst-run-{index}.toml");
+        let text = format!(
+            "# Run {index} of a campaign over `{}`: its scenario with the run's drawn parameters.\n# Rerun with every plot, from the campaign's folder: rhonn run {file}\n{}",
+            spec.name,
+            toml::to_string(&run_spec)?
+        );
+        out.push((
+            WorstRun {
+                run: *index,
+                value: *value,
+                error: error.clone(),
+                parameters: described,
+                rerun: format!("rhonn run {file}"),
+                file,
+            },
+            text,
+        ));
+    }
+    Ok(out)
+}
+
 fn params(values: &[f64; 5]) -> String {
     TOLERANCES
         .iter()
