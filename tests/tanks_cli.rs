@@ -105,8 +105,9 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let dir = d.path().join("c");
+    let files = files_in(&dir);
     assert_eq!(
-        files_in(&dir),
+        files[..5],
         [
             "campaign.json",
             "histograms.svg",
@@ -115,6 +116,11 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
             "summary.json"
         ]
     );
+    // The five worst runs' scenarios.
+    assert_eq!(files.len(), 10, "{files:?}");
+    assert!(files[5..]
+        .iter()
+        .all(|f| f.starts_with("worst-run-") && f.ends_with(".toml")));
     let full = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
     assert_eq!(full.lines().count(), 201);
     let s = json(&dir.join("summary.json"));
