@@ -52,6 +52,21 @@ fn tanks_identified_online_then_frozen_writes_every_file_and_the_figures_of_the_
             "weights.svg"
         ]
     );
+    // The validation plot's legend carries the fits of summary.json.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("id/summary.json")).unwrap()).unwrap();
+    let val = std::fs::read_to_string(d.path().join("id/validation.svg")).unwrap();
+    let v = &summary["validation"][0];
+    for (key, text) in [
+        ("free_run_fit_percent", "y free run (frozen weights, fit"),
+        ("ahead_fit_percent", "y 10 samples ahead (fit"),
+    ] {
+        let fit = v[key].as_f64().unwrap();
+        assert!(
+            val.contains(&format!("{text} {fit:.1} %)")),
+            "{key} {fit:.1} not in the legend"
+        );
+    }
     // The residual plots: the autocorrelation and the input cross-correlation, each with
     // its 99 % band, for the online estimate and for the frozen model's free run.
     for f in ["residuals.svg", "validation_residuals.svg"] {

@@ -55,7 +55,8 @@ fn tanks_scenarios_are_listed_and_run_like_the_pumps() {
             "report.html",
             "states.svg",
             "summary.json",
-            "trajectory.csv"
+            "trajectory.csv",
+            "weights.svg"
         ]
     );
     let s = json(&dir.join("summary.json"));
@@ -73,8 +74,17 @@ fn tanks_scenarios_are_listed_and_run_like_the_pumps() {
     let header = header.lines().next().unwrap();
     assert_eq!(
         header,
-        "t,h2_ref,h1,h2,voltage,h1_ref,h1_baseline,h2_baseline,voltage_baseline,h1_ref_baseline"
+        "t,h2_ref,h1,h2,voltage,h1_ref,w_norm,w1_norm,w1_distance,w1_ball_radius,h1_baseline,h2_baseline,voltage_baseline,h1_ref_baseline"
     );
+    // The adaptive controller's projection holds at every instant; its weights plot
+    // shows the gain weights against the ball's radius.
+    let traj = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
+    for line in traj.lines().skip(1) {
+        let f: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!(f[8] <= f[9] * (1.0 + 1e-9), "{line}");
+    }
+    let weights = std::fs::read_to_string(dir.join("weights.svg")).unwrap();
+    assert!(weights.contains("ball radius (bound)"));
     // show prints the shipped file; bench times it.
     let o = rhonn(d.path(), &["show", "tanks-control"]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("kind = \"tanks\""));

@@ -323,8 +323,11 @@ fn plots(run: &OnlineRun, records: &[Record], outputs: &[String]) -> (String, St
     )
 }
 
+/// The validation against the measurements, the fit of each prediction in its legend
+/// (the same figure as summary.json's `validation`).
 fn validation_plot(v: &Validation, outputs: &[String]) -> String {
     let t = joined_times(&v.records);
+    let figures = validation_figures(v, outputs);
     let panels: Vec<TimePlot> = outputs
         .iter()
         .enumerate()
@@ -335,13 +338,19 @@ fn validation_plot(v: &Validation, outputs: &[String]) -> String {
                     v.records.iter().flat_map(|r| r.outputs[j].clone()).collect(),
                 ),
                 Series::solid(
-                    format!("{o} free run (frozen weights)"),
+                    format!(
+                        "{o} free run (frozen weights, fit {:.1} %)",
+                        figures[j].free_run_fit_percent
+                    ),
                     v.free_run.iter().flatten().map(|e| e[j]).collect(),
                 ),
             ];
             if let Some((k, p)) = &v.ahead {
                 series.push(Series::solid(
-                    format!("{o} {k} samples ahead"),
+                    format!(
+                        "{o} {k} samples ahead (fit {:.1} %)",
+                        figures[j].ahead_fit_percent.unwrap_or(f64::NAN)
+                    ),
                     p.iter().flatten().map(|e| e[j]).collect(),
                 ));
             }

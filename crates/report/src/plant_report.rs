@@ -2,7 +2,8 @@
 //! `trajectory.csv` (SI, one column per state, input, estimate or reference),
 //! `validation.csv` (a frozen model's free run), `summary.json`, and plots in display
 //! units: `states.svg` (each state; measured and estimated, or both controllers with the
-//! set-point), `inputs.svg`, `validation.svg`.
+//! set-point), `inputs.svg`, `validation.svg`, and for an adaptive controller `weights.svg`
+//! (its weights against the ball's radius).
 
 use crate::atomic::OutputSet;
 use crate::plot::{Series, TimePlot};
@@ -30,7 +31,9 @@ fn panels(title: &str, cols: &[PlantColumn], keep: impl Fn(&PlantColumn) -> bool
         let series = Series {
             label: label(&c.name),
             y: c.values.iter().map(|v| q.to_display(*v)).collect(),
-            dashed: c.name.ends_with("_ref") || c.name.ends_with("_ref_baseline"),
+            dashed: c.name.ends_with("_ref")
+                || c.name.ends_with("_ref_baseline")
+                || c.name.starts_with("w1_ball_radius"),
         };
         match out.iter_mut().find(|(name, _)| *name == q.name) {
             Some((_, p)) => p.series.push(series),
@@ -50,7 +53,12 @@ fn panels(title: &str, cols: &[PlantColumn], keep: impl Fn(&PlantColumn) -> bool
 
 /// Legend labels that say the role (and so get the role's colour).
 fn label(name: &str) -> String {
-    if let Some(base) = name.strip_suffix("_ref_baseline") {
+    if let Some(rest) = name.strip_prefix("w1_ball_radius") {
+        format!(
+            "ball radius (bound){}",
+            if rest.is_empty() { "" } else { " (baseline)" }
+        )
+    } else if let Some(base) = name.strip_suffix("_ref_baseline") {
         format!("{base} set-point (baseline)")
     } else if let Some(base) = name.strip_suffix("_baseline") {
         format!("{base} (baseline)")
@@ -70,16 +78,31 @@ pub fn write_plant_run(dir: &Path, output: &PlantRunOutput) -> Result<Vec<PathBu
     set.write("trajectory.csv", |w| write_columns(w, &output.trajectory))?;
     set.write("summary.json", |w| write_json(w, &output.summary))?;
     let is_in = |c: &PlantColumn| c.input;
+    let is_weight = |c: &PlantColumn| {
+        rhonn::experiment::WEIGHT_QUANTITIES
+            .iter()
+            .any(|q| q.name == c.quantity.name)
+    };
     let mut plots = vec![
         (
             "states.svg",
-            TimePlot::render(&panels(name, &output.trajectory, |c| !is_in(c)), 900, 380),
+            TimePlot::render(
+                &panels(name, &output.trajectory, |c| !is_in(c) && !is_weight(c)),
+                900,
+                380,
+            ),
         ),
         (
             "inputs.svg",
             TimePlot::render(&panels(name, &output.trajectory, is_in), 900, 380),
         ),
     ];
+    if output.trajectory.iter().any(is_weight) {
+        plots.push((
+            "weights.svg",
+            TimePlot::render(&panels(name, &output.trajectory, is_weight), 900, 300),
+        ));
+    }
     if let Some(v) = &output.validation {
         set.write("validation.csv", |w| write_columns(w, v))?;
         let title = format!("{name} (frozen weights, free run)");

@@ -165,6 +165,9 @@ pub struct LoopRun {
     pub states: Vec<Vec<f64>>,
     /// A cascade's inner set-point at each instant, SI (empty for a single loop).
     pub inner_reference: Vec<f64>,
+    /// An adaptive controller's weights at each instant (empty for others): |W|, |W_1|,
+    /// |W_1 - centre| and the radius of W_1's ball, in the neuron's (scaled) units.
+    pub weights: Vec<[f64; 4]>,
     /// Integral of |y - r| over the run (rectangle rule at the control instants), SI s.
     pub iae: f64,
     /// Integral of (y - r)^2, SI^2 s.
@@ -207,6 +210,7 @@ pub fn closed_loop<P: Plant>(
         u: Vec::new(),
         states: vec![Vec::new(); plant.states().len()],
         inner_reference: Vec::new(),
+        weights: Vec::new(),
         iae: 0.0,
         ise: 0.0,
     };
@@ -239,6 +243,10 @@ pub fn closed_loop<P: Plant>(
         }
         if let Some(r1) = ctl.inner_reference() {
             run.inner_reference.push(r1);
+        }
+        if let Some(v) = ctl.adaptive(t) {
+            run.weights
+                .push([v.w_norm, v.w1_norm, v.w1_distance, v.ball_radius]);
         }
     }
     Ok(run)

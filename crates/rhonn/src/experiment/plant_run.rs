@@ -118,6 +118,17 @@ pub struct PlantRunOutput {
 }
 
 const TIME: Quantity = Quantity::si("t", "s", "time");
+/// An adaptive controller's weights (the neuron's scaled units): |W|, |W_1|, and W_1's
+/// distance from its ball's centre beside the ball's radius (the projection's bound).
+pub const WEIGHT_QUANTITIES: [Quantity; 3] = [
+    Quantity::si("w_norm", "1/s", "adaptive drift weights |W| (scaled units)"),
+    Quantity::si("w1_norm", "1/s", "adaptive gain weights |W_1| (scaled units)"),
+    Quantity::si(
+        "w1_ball",
+        "1/s",
+        "gain weights' distance from their ball's centre, and the ball's radius (bound)",
+    ),
+];
 
 /// Run `spec` with its parameters replaced by `parameters` (display units, in the
 /// plant's order) when given: a campaign's draw.
@@ -330,6 +341,14 @@ fn loop_columns<P: Plant>(
                 q,
                 run.inner_reference.clone(),
             ));
+        }
+        if !run.weights.is_empty() {
+            let w = |k: usize| run.weights.iter().map(|v| v[k]).collect::<Vec<f64>>();
+            let [wq, w1q, ballq] = WEIGHT_QUANTITIES;
+            cols.push(col(format!("w_norm{suffix}"), wq, w(0)));
+            cols.push(col(format!("w1_norm{suffix}"), w1q, w(1)));
+            cols.push(col(format!("w1_distance{suffix}"), ballq, w(2)));
+            cols.push(col(format!("w1_ball_radius{suffix}"), ballq, w(3)));
         }
     }
     cols
