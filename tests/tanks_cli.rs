@@ -117,9 +117,11 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
     let dir = d.path().join("c");
     let files = files_in(&dir);
     assert_eq!(
-        files[..5],
+        files[..7],
         [
             "campaign.json",
+            "envelope.csv",
+            "envelope.svg",
             "histograms.svg",
             "report.html",
             "runs.csv",
@@ -127,10 +129,26 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
         ]
     );
     // The five worst runs' scenarios.
-    assert_eq!(files.len(), 10, "{files:?}");
-    assert!(files[5..]
+    assert_eq!(files.len(), 12, "{files:?}");
+    assert!(files[7..]
         .iter()
         .all(|f| f.starts_with("worst-run-") && f.ends_with(".toml")));
+    // The envelope of both controllers' lower level over the 200 runs, with the set-point;
+    // each band's median within its min-max at every instant.
+    let env = std::fs::read_to_string(dir.join("envelope.csv")).unwrap();
+    let head: Vec<&str> = env.lines().next().unwrap().split(',').collect();
+    assert_eq!((head[1], head[11]), ("h2_min_mm", "h2_ref_mm"));
+    for line in env.lines().skip(1) {
+        let f: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        for b in [1, 6] {
+            assert!(f[b] <= f[b + 2] && f[b + 2] <= f[b + 4], "{line}");
+        }
+    }
+    assert!(env.lines().count() > 100);
+    assert_eq!(
+        json(&dir.join("summary.json"))["envelope_runs"][0][1].as_u64(),
+        Some(200)
+    );
     let full = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
     assert_eq!(full.lines().count(), 201);
     let s = json(&dir.join("summary.json"));
@@ -164,6 +182,7 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
         stderr(&o)
     );
     assert_eq!(std::fs::read_to_string(dir.join("runs.csv")).unwrap(), full);
+    assert_eq!(std::fs::read_to_string(dir.join("envelope.csv")).unwrap(), env);
     assert!(!dir.join("runs.partial.csv").exists());
     // Another seed into the same folder is refused.
     let o = rhonn(

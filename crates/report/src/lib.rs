@@ -25,6 +25,7 @@ mod data_in;
 mod html;
 pub mod identify;
 pub mod plant_campaign;
+mod plant_envelope;
 mod plant_report;
 mod plot;
 mod prediction;

@@ -175,7 +175,7 @@ pub fn run_plant_campaign(
     };
     run_missing(&job, indices, &mut done, progress)?;
     done.sort_by_key(|(i, _)| *i);
-    finish(spec, dir, &header, &done, &fig_names, params.len(), notes)
+    finish(&job, dir, &header, &done, &fig_names, notes)
 }
 
 /// What every run of a campaign shares.
@@ -255,17 +255,13 @@ fn run_missing(
     Ok(())
 }
 
-fn finish(
-    spec: &PlantScenarioSpec,
-    dir: &Path,
-    header: &[String],
+/// Each figure's finite values over the runs that finished (read once), and their
+/// statistics.
+fn figure_statistics(
     rows: &[(u64, Vec<String>)],
     fig_names: &[String],
     n_params: usize,
-    notes: Vec<String>,
-) -> Result<CampaignOutcome> {
-    let failed = rows.iter().filter(|(_, r)| r[1] != "ok").count();
-    // Each figure's finite values over the runs that finished, read once.
+) -> (Vec<Vec<f64>>, Vec<FigureStats>) {
     let values: Vec<Vec<f64>> = (0..fig_names.len())
         .map(|k| {
             rows.iter()
@@ -297,6 +293,20 @@ fn finish(
             }
         })
         .collect();
+    (values, stats)
+}
+
+fn finish(
+    job: &Job,
+    dir: &Path,
+    header: &[String],
+    rows: &[(u64, Vec<String>)],
+    fig_names: &[String],
+    notes: Vec<String>,
+) -> Result<CampaignOutcome> {
+    let (spec, n_params, envelope_runs) = (job.spec, job.base.len(), job.o.envelope_runs);
+    let failed = rows.iter().filter(|(_, r)| r[1] != "ok").count();
+    let (values, stats) = figure_statistics(rows, fig_names, n_params);
     #[derive(Serialize)]
     struct Summary<'a> {
         scenario: &'a str,
@@ -306,7 +316,17 @@ fn finish(
         figures: Vec<FigureStats>,
         worst_runs: Vec<crate::worst_runs::WorstRun>,
         findings: Vec<String>,
+        /// Runs whose traces make the envelope, per series (as the pump's campaigns).
+        envelope_runs: Vec<(String, usize)>,
     }
+    let envelope = crate::plant_envelope::plant_envelope(spec, rows, n_params, envelope_runs)?;
+    let envelope_counts: Vec<(String, usize)> = match (&envelope, &spec.control) {
+        (Some(e), Some(c)) => vec![
+            (c.output.clone(), e.runs),
+            (format!("{}_baseline", c.output), e.runs),
+        ],
+        _ => Vec::new(),
+    };
     let worst = worst_runs(spec, rows, fig_names, n_params)?;
     let worst_list: Vec<_> = worst.iter().map(|(w, _)| w.clone()).collect();
     let worst_files: Vec<String> = worst.iter().map(|(w, _)| w.file.clone()).collect();
@@ -331,6 +351,7 @@ fn finish(
         figures: stats,
         findings: crate::worst_runs::findings(key, &worst_list),
         worst_runs: worst_list,
+        envelope_runs: envelope_counts,
     };
     set.write("summary.json", |w: &mut dyn Write| write_json(w, &summary))?;
     // One histogram per figure over the runs that finished.
@@ -345,6 +366,10 @@ fn finish(
         .collect();
     let svg = crate::Histogram::render(&panels, 3, 30);
     set.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
+    if let Some(env) = &envelope {
+        set.write("envelope.csv", |w| w.write_all(&env.csv))?;
+        set.write("envelope.svg", |w| w.write_all(env.svg.as_bytes()))?;
+    }
     set.commit()?;
     crate::worst_runs::remove_stale(dir, &worst_files)?;
     let partial = dir.join("runs.partial.csv");

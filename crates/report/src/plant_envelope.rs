@@ -1,0 +1,131 @@
+//! The envelope of a plant control campaign: the regulated output of the controller under
+//! test and of the baseline over the kept runs (index below `--envelope-runs`), min to
+//! max, 5-95 % and the median per instant, with the set-point: `envelope.csv` and
+//! `envelope.svg`. The kept runs are simulated again when the campaign finishes (each
+//! run is deterministic in its drawn parameters), so resumed and sharded campaigns give
+//! the same envelope without storing traces.
+
+use crate::{Band, EnvelopePlot, Result, Series};
+use rhonn::experiment::campaign::Envelope;
+use rhonn::experiment::{run_plant_scenario, PlantColumn, PlantScenarioSpec};
+
+/// At most this many instants on the envelope's grid.
+const POINTS: usize = 600;
+
+/// What the envelope's files hold.
+pub struct PlantEnvelope {
+    /// `envelope.csv`.
+    pub csv: Vec<u8>,
+    /// `envelope.svg`.
+    pub svg: String,
+    /// Runs per band.
+    pub runs: usize,
+}
+
+/// The envelope of `rows` (runs.csv rows: index, status, `n_params` drawn values, figures)
+/// of a control scenario; None for other scenarios or when no kept run finished.
+pub fn plant_envelope(
+    spec: &PlantScenarioSpec,
+    rows: &[(u64, Vec<String>)],
+    n_params: usize,
+    envelope_runs: u64,
+) -> Result<Option<PlantEnvelope>> {
+    let Some(control) = &spec.control else {
+        return Ok(None);
+    };
+    let out = control.output.as_str();
+    let (base, reference) = (format!("{out}_baseline"), format!("{out}_ref"));
+    let mut traces: [Vec<Vec<f64>>; 2] = [Vec::new(), Vec::new()];
+    let (mut t, mut setpoint, mut unit) = (Vec::new(), Vec::new(), String::new());
+    for (index, r) in rows {
+        if *index >= envelope_runs || r[1] != "ok" {
+            continue;
+        }
+        let values: Vec<f64> = r[2..2 + n_params]
+            .iter()
+            .map(|v| v.parse().unwrap_or(f64::NAN))
+            .collect();
+        let run = run_plant_scenario(spec, Some(&values))?;
+        let find = |name: &str| run.trajectory.iter().find(|c| c.name == name);
+        let shown = |c: &PlantColumn| {
+            c.values
+                .iter()
+                .map(|v| c.quantity.to_display(*v))
+                .collect::<Vec<f64>>()
+        };
+        if let (Some(y), Some(yb)) = (find(out), find(&base)) {
+            if t.is_empty() {
+                t = find("t").map(|c| c.values.clone()).unwrap_or_default();
+                setpoint = find(&reference).map(shown).unwrap_or_default();
+                unit = y.quantity.display_unit.to_string();
+            }
+            traces[0].push(shown(y));
+            traces[1].push(shown(yb));
+        }
+    }
+    if traces[0].is_empty() {
+        return Ok(None);
+    }
+    let stride = t.len().div_ceil(POINTS).max(1);
+    let pick = |v: &[f64]| v.iter().step_by(stride).copied().collect::<Vec<f64>>();
+    let grid = pick(&t);
+    let envelopes: Vec<Envelope> = traces
+        .iter()
+        .map(|ts| {
+            let picked: Vec<Vec<f64>> = ts.iter().map(|v| pick(v)).collect();
+            let refs: Vec<&[f64]> = picked.iter().map(Vec::as_slice).collect();
+            Envelope::of(&refs, grid.len())
+        })
+        .collect();
+    let sp = pick(&setpoint);
+    let names = [out.to_string(), base.clone()];
+    let mut csv = Vec::new();
+    {
+        let mut w = csv::Writer::from_writer(&mut csv);
+        let mut h = vec!["t".to_string()];
+        for n in &names {
+            for q in ["min", "q05", "median", "q95", "max"] {
+                h.push(format!("{n}_{q}_{unit}"));
+            }
+        }
+        h.push(format!("{reference}_{unit}"));
+        w.write_record(&h)?;
+        for (k, tk) in grid.iter().enumerate() {
+            let mut r = vec![tk.to_string()];
+            for e in &envelopes {
+                for v in [&e.min, &e.q05, &e.median, &e.q95, &e.max] {
+                    r.push(format!("{:.4}", v[k]));
+                }
+            }
+            r.push(sp.get(k).map_or(String::new(), |v| v.to_string()));
+            w.write_record(&r)?;
+        }
+        w.flush().map_err(csv::Error::from)?;
+    }
+    // The baseline first, so that the controller under test lies on top.
+    let plot = EnvelopePlot {
+        title: format!(
+            "{}: {out} over {} runs, min-max and 5-95 %, median",
+            spec.name,
+            traces[0].len()
+        ),
+        y_label: format!("{out} [{unit}]"),
+        t: grid,
+        bands: vec![
+            Band {
+                label: format!("{out} (baseline)"),
+                envelope: envelopes[1].clone(),
+            },
+            Band {
+                label: format!("{out} (controller under test)"),
+                envelope: envelopes[0].clone(),
+            },
+        ],
+        lines: vec![Series::dashed("set-point", sp)],
+    };
+    Ok(Some(PlantEnvelope {
+        csv,
+        svg: plot.render(900, 450),
+        runs: traces[0].len(),
+    }))
+}
