@@ -100,7 +100,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             seconds,
             out,
             compare,
-        } => commands::bench(&scenarios, json, seconds, out.as_deref(), compare.as_deref())?.print(),
+        } => bench(&scenarios, json, seconds, out, compare)?,
         Command::Campaign {
             scenario,
             runs,
@@ -142,6 +142,33 @@ fn dispatch(cli: Cli) -> Result<()> {
         Command::Show { scenario } => print!("{}", commands::show(&scenario)?),
         Command::Report { dir } => commands::report(&dir)?.print(),
     }
+    Ok(())
+}
+
+/// `rhonn bench`, with one progress line per scenario on a terminal (nothing runs beside
+/// the timings).
+fn bench(
+    scenarios: &[String],
+    json: bool,
+    seconds: f64,
+    out: Option<PathBuf>,
+    compare: Option<PathBuf>,
+) -> Result<()> {
+    let terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let progress = |k: usize, n: usize, name: &str| {
+        if terminal {
+            eprintln!("timing {name} ({k}/{n}), about {:.0} s", 2.0 * seconds);
+        }
+    };
+    commands::bench(
+        scenarios,
+        json,
+        seconds,
+        out.as_deref(),
+        compare.as_deref(),
+        &progress,
+    )?
+    .print();
     Ok(())
 }
 

@@ -81,7 +81,7 @@ fn bad_arguments_are_input_errors_naming_the_argument() {
     );
     assert!(matches!(e, Err(Error::Input(m)) if m.contains("none.json")));
     assert!(
-        matches!(commands::bench(&[], false, 0.0, None, None), Err(Error::Input(m)) if m.contains("--seconds 0"))
+        matches!(commands::bench(&[], false, 0.0, None, None, &|_, _, _| {}), Err(Error::Input(m)) if m.contains("--seconds 0"))
     );
     // A comparison file: needs --out, and a bad one is refused (naming it) before any timing.
     let cmp = dir.path().join("cmp.json");
@@ -90,8 +90,11 @@ fn bad_arguments_are_input_errors_naming_the_argument() {
         r#"[{"run": "x", "tool": "scipy", "median_s": -1, "rhs_evaluations": null}]"#,
     )
     .unwrap();
-    let b =
-        |out: Option<&std::path::Path>| commands::bench(&["thesis-ch3".into()], false, 1.0, out, Some(&cmp));
+    let b = |out: Option<&std::path::Path>| {
+        commands::bench(&["thesis-ch3".into()], false, 1.0, out, Some(&cmp), &|_, _, _| {
+            panic!("timed before the comparison file was checked")
+        })
+    };
     assert!(matches!(b(None), Err(Error::Input(m)) if m.contains("--compare needs --out")));
     assert!(
         matches!(b(Some(dir.path())), Err(Error::Input(m)) if m.contains("cmp.json") && m.contains("median_s = -1"))

@@ -117,12 +117,15 @@ fn run_plant(spec: &PlantScenarioSpec, out: Option<PathBuf>) -> Result<Outcome> 
 
 /// `rhonn bench`: time each scenario (default [`REPRODUCED`]) for about `seconds`; a table,
 /// or JSON.
+/// `rhonn bench`: time each scenario (`progress(k, n, name)` before the k-th of n starts,
+/// for a progress line; it is not called inside the timings).
 pub fn bench(
     names: &[String],
     json: bool,
     seconds: f64,
     out: Option<&Path>,
     compare: Option<&Path>,
+    progress: &dyn Fn(usize, usize, &str),
 ) -> Result<Outcome> {
     if !(seconds.is_finite() && seconds > 0.0 && seconds <= 3600.0) {
         return Err(Error::Input(format!(
@@ -143,7 +146,8 @@ pub fn bench(
     let names: &[String] = if names.is_empty() { &default } else { names };
     let mut all = Vec::new();
     let mut o = Outcome::default();
-    for name in names {
+    for (k, name) in names.iter().enumerate() {
+        progress(k + 1, names.len(), name);
         let budget = std::time::Duration::from_secs_f64(seconds);
         let b = match preset::load_any(name)? {
             preset::AnyScenario::Pump(spec) => rhonn::experiment::bench(&spec.check()?, budget)?,
