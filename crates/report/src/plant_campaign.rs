@@ -400,16 +400,16 @@ fn worst_runs(
     let params = nominal_plant_parameters(&spec.plant.kind)?;
     let names: Vec<&str> = params.iter().map(|p| p.name).collect();
     let key = crate::worst_runs::plant_key_figure(fig_names);
-    let runs: Vec<crate::worst_runs::PlantRun> = rows
+    let runs: Vec<crate::worst_runs::Candidate> = rows
         .iter()
-        .map(|(i, r)| {
-            let values = r[2..2 + n_params]
+        .map(|(i, r)| crate::worst_runs::Candidate {
+            index: *i,
+            values: r[2..2 + n_params]
                 .iter()
                 .map(|v| v.parse().unwrap_or(f64::NAN))
-                .collect();
-            let error = (r[1] != "ok").then(|| r[1].trim_start_matches("failed: ").to_string());
-            let value = key.and_then(|(k, _)| r[2 + n_params + k].parse::<f64>().ok());
-            (*i, values, value, error)
+                .collect(),
+            value: key.and_then(|(k, _)| r[2 + n_params + k].parse::<f64>().ok()),
+            error: (r[1] != "ok").then(|| r[1].trim_start_matches("failed: ").to_string()),
         })
         .collect();
     crate::worst_runs::describe_plant(spec, &names, key.map(|(_, larger)| larger), &runs)

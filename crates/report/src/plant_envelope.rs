@@ -6,8 +6,9 @@
 //! the same envelope without storing traces.
 
 use crate::{Band, EnvelopePlot, Result, Series};
+use rayon::prelude::*;
 use rhonn::experiment::campaign::Envelope;
-use rhonn::experiment::{run_plant_scenario, PlantColumn, PlantScenarioSpec};
+use rhonn::experiment::{run_plant_scenario, PlantColumn, PlantRunOutput, PlantScenarioSpec};
 
 /// At most this many instants on the envelope's grid.
 const POINTS: usize = 600;
@@ -35,17 +36,25 @@ pub fn plant_envelope(
     };
     let out = control.output.as_str();
     let (base, reference) = (format!("{out}_baseline"), format!("{out}_ref"));
+    // The kept runs again, on every core (in index order: the same bytes whatever the
+    // threads).
+    let kept: Vec<&(u64, Vec<String>)> = rows
+        .iter()
+        .filter(|(index, r)| *index < envelope_runs && r[1] == "ok")
+        .collect();
+    let runs: Vec<PlantRunOutput> = kept
+        .par_iter()
+        .map(|(_, r)| {
+            let values: Vec<f64> = r[2..2 + n_params]
+                .iter()
+                .map(|v| v.parse().unwrap_or(f64::NAN))
+                .collect();
+            run_plant_scenario(spec, Some(&values))
+        })
+        .collect::<rhonn::Result<_>>()?;
     let mut traces: [Vec<Vec<f64>>; 2] = [Vec::new(), Vec::new()];
     let (mut t, mut setpoint, mut unit) = (Vec::new(), Vec::new(), String::new());
-    for (index, r) in rows {
-        if *index >= envelope_runs || r[1] != "ok" {
-            continue;
-        }
-        let values: Vec<f64> = r[2..2 + n_params]
-            .iter()
-            .map(|v| v.parse().unwrap_or(f64::NAN))
-            .collect();
-        let run = run_plant_scenario(spec, Some(&values))?;
+    for run in &runs {
         let find = |name: &str| run.trajectory.iter().find(|c| c.name == name);
         let shown = |c: &PlantColumn| {
             c.values

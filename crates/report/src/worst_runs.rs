@@ -36,70 +36,115 @@ pub fn key_figure(names: &[String]) -> Option<(usize, &'static str)> {
         .find_map(|k| names.iter().position(|n| n == k).map(|i| (i, k)))
 }
 
-/// The failed runs first, then the largest key figures; at most [`WORST`].
-pub fn worst<'a>(names: &[String], rows: &'a [RunRow]) -> (Option<&'static str>, Vec<&'a RunRow>) {
-    let key = key_figure(names);
-    let mut failed: Vec<&RunRow> = rows.iter().filter(|r| r.outcome.is_err()).collect();
-    failed.truncate(WORST);
-    let mut ok: Vec<(&RunRow, f64)> = match key {
-        Some((i, _)) => rows
+/// One run as the ranking sees it: index, drawn parameter values, its key figure (None:
+/// no key figure), and why it failed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    /// Run index.
+    pub index: u64,
+    /// The drawn parameter values (display units, in the order of their names).
+    pub values: Vec<f64>,
+    /// The key figure's value.
+    pub value: Option<f64>,
+    /// Why it failed (None: it finished).
+    pub error: Option<String>,
+}
+
+/// The failed runs first, then the worst key figures (the largest when `larger_is_worse`,
+/// else the smallest; None: no key figure, failed runs only), ties by index; at most
+/// [`WORST`].
+pub fn rank(runs: &[Candidate], larger_is_worse: Option<bool>) -> Vec<&Candidate> {
+    let mut out: Vec<&Candidate> = runs.iter().filter(|r| r.error.is_some()).collect();
+    out.truncate(WORST);
+    if let Some(larger) = larger_is_worse {
+        let badness = |r: &Candidate| {
+            let v = r.value.unwrap_or(f64::NAN);
+            if larger {
+                v
+            } else {
+                -v
+            }
+        };
+        let mut ok: Vec<&Candidate> = runs
             .iter()
-            .filter_map(|r| r.outcome.as_ref().ok().map(|v| (r, v[i])))
-            .filter(|(_, v)| v.is_finite())
-            .collect(),
-        None => Vec::new(),
-    };
-    ok.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.index.cmp(&b.0.index)));
-    let rest = WORST - failed.len();
-    failed.extend(ok.into_iter().take(rest).map(|(r, _)| r));
-    (key.map(|(_, k)| k), failed)
+            .filter(|r| r.error.is_none() && r.value.is_some_and(f64::is_finite))
+            .collect();
+        ok.sort_by(|a, b| badness(b).total_cmp(&badness(a)).then(a.index.cmp(&b.index)));
+        let rest = WORST - out.len();
+        out.extend(ok.into_iter().take(rest));
+    }
+    out
 }
 
 /// The key figure's name and the listed runs, each with its scenario file's text.
 pub type Listed = (Option<&'static str>, Vec<(WorstRun, String)>);
 
-/// The listed runs, with their scenario files' names and text.
-pub fn describe(spec: &ScenarioSpec, names: &[String], rows: &[RunRow]) -> Result<Listed, toml::ser::Error> {
-    let (key, runs) = worst(names, rows);
-    let key_index = key.and_then(|k| names.iter().position(|n| n == k));
+/// The ranked runs of a campaign over scenario `name`, each described with its
+/// parameters' `names` and written as the scenario `scenario_toml(run, description)` gives
+/// (the campaign's scenario with the run's parameters, named and described).
+fn list(
+    name: &str,
+    names: &[&str],
+    ranked: &[&Candidate],
+    scenario_toml: impl Fn(&Candidate, String) -> Result<String, toml::ser::Error>,
+) -> Result<Vec<(WorstRun, String)>, toml::ser::Error> {
     let mut out = Vec::new();
-    for r in runs {
-        let mut run_spec = apply(spec, &r.values);
-        run_spec.name = format!("{}-run-{}", spec.name, r.index);
-        run_spec.description = format!(
-            "run {} of a campaign over {}: {}",
-            r.index,
-            spec.name,
-            params(&r.values)
-        );
-        let file = format!("worst-run-{}.toml", r.index);
+    for c in ranked {
+        let parameters = names
+            .iter()
+            .zip(&c.values)
+            .map(|(n, v)| format!("{n}={}", significant(*v)))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let description = format!("run {} of a campaign over {name}: {parameters}", c.index);
+        let file = format!("worst-run-{}.toml", c.index);
         let text = format!(
-            "# Run {} of a campaign over `{}`: its scenario with the run's drawn parameters.\n# Rerun with every plot, from the campaign's folder: rhonn run {file}\n{}",
-            r.index,
-            spec.name,
-            toml::to_string(&run_spec)?
+            "# Run {} of a campaign over `{name}`: its scenario with the run's drawn parameters.\n# Rerun with every plot, from the campaign's folder: rhonn run {file}\n{}",
+            c.index,
+            scenario_toml(c, description)?
         );
         out.push((
             WorstRun {
-                run: r.index,
-                value: match (&r.outcome, key_index) {
-                    (Ok(v), Some(i)) => Some(v[i]),
-                    _ => None,
-                },
-                error: r.outcome.as_ref().err().cloned(),
-                parameters: params(&r.values),
+                run: c.index,
+                value: c.value,
+                error: c.error.clone(),
+                parameters,
                 rerun: format!("rhonn run {file}"),
                 file,
             },
             text,
         ));
     }
-    Ok((key, out))
+    Ok(out)
 }
 
-/// One run of a plant campaign as [`describe_plant`] ranks it: index, drawn parameter
-/// values (the plant's order), the key figure (None: failed or not finite), the error.
-pub type PlantRun = (u64, Vec<f64>, Option<f64>, Option<String>);
+/// The worst runs of a pump campaign, with their scenario files' text.
+pub fn describe(spec: &ScenarioSpec, names: &[String], rows: &[RunRow]) -> Result<Listed, toml::ser::Error> {
+    let key = key_figure(names);
+    let runs: Vec<Candidate> = rows
+        .iter()
+        .map(|r| Candidate {
+            index: r.index,
+            values: r.values.to_vec(),
+            value: match (&r.outcome, key) {
+                (Ok(v), Some((i, _))) => Some(v[i]),
+                _ => None,
+            },
+            error: r.outcome.as_ref().err().cloned(),
+        })
+        .collect();
+    let ranked = rank(&runs, key.map(|_| true));
+    let param_names: Vec<&str> = TOLERANCES.iter().map(|p| p.name).collect();
+    let listed = list(&spec.name, &param_names, &ranked, |c, description| {
+        let mut values = [0.0; 5];
+        values.copy_from_slice(&c.values);
+        let mut run_spec = apply(spec, &values);
+        run_spec.name = format!("{}-run-{}", spec.name, c.index);
+        run_spec.description = description;
+        toml::to_string(&run_spec)
+    })?;
+    Ok((key.map(|(_, k)| k), listed))
+}
 
 /// The figure a plant campaign's runs are ranked by, and whether larger is worse: the
 /// controller's IAE (larger is worse), else the first validation fit (smaller is worse).
@@ -116,73 +161,24 @@ pub fn plant_key_figure(names: &[String]) -> Option<(usize, bool)> {
         })
 }
 
-/// [`describe`] for a plant campaign: the failed runs, then the largest key figures, each
-/// with the scenario (the plant's parameters set to the run's) as TOML.
+/// [`describe`] for a plant campaign: the scenario with the plant's parameters set to
+/// the run's.
 pub fn describe_plant(
     spec: &rhonn::experiment::PlantScenarioSpec,
     param_names: &[&str],
     larger_is_worse: Option<bool>,
-    runs: &[PlantRun],
+    runs: &[Candidate],
 ) -> Result<Vec<(WorstRun, String)>, toml::ser::Error> {
-    let mut failed: Vec<&PlantRun> = runs.iter().filter(|r| r.3.is_some()).collect();
-    failed.truncate(WORST);
-    let mut ok: Vec<&PlantRun> = runs
-        .iter()
-        .filter(|r| r.3.is_none() && r.2.is_some_and(f64::is_finite))
-        .collect();
-    if let Some(larger) = larger_is_worse {
-        let badness = |r: &PlantRun| {
-            if larger {
-                r.2.unwrap_or(0.0)
-            } else {
-                -r.2.unwrap_or(0.0)
-            }
-        };
-        ok.sort_by(|a, b| badness(b).total_cmp(&badness(a)).then(a.0.cmp(&b.0)));
-        failed.extend(ok.into_iter().take(WORST - failed.len()));
-    }
-    let mut out = Vec::new();
-    for (index, values, value, error) in failed {
-        let described = param_names
-            .iter()
-            .zip(values)
-            .map(|(n, v)| format!("{n}={}", significant(*v)))
-            .collect::<Vec<_>>()
-            .join(", ");
+    let ranked = rank(runs, larger_is_worse);
+    list(&spec.name, param_names, &ranked, |c, description| {
         let mut run_spec = spec.clone();
-        run_spec.name = format!("{}-run-{index}", spec.name);
-        run_spec.description = format!("run {index} of a campaign over {}: {described}", spec.name);
-        for (n, v) in param_names.iter().zip(values) {
+        run_spec.name = format!("{}-run-{}", spec.name, c.index);
+        run_spec.description = description;
+        for (n, v) in param_names.iter().zip(&c.values) {
             run_spec.plant.parameters.insert((*n).to_string(), *v);
         }
-        let file = format!("worst-run-{index}.toml");
-        let text = format!(
-            "# Run {index} of a campaign over `{}`: its scenario with the run's drawn parameters.\n# Rerun with every plot, from the campaign's folder: rhonn run {file}\n{}",
-            spec.name,
-            toml::to_string(&run_spec)?
-        );
-        out.push((
-            WorstRun {
-                run: *index,
-                value: *value,
-                error: error.clone(),
-                parameters: described,
-                rerun: format!("rhonn run {file}"),
-                file,
-            },
-            text,
-        ));
-    }
-    Ok(out)
-}
-
-fn params(values: &[f64; 5]) -> String {
-    TOLERANCES
-        .iter()
-        .zip(values)
-        .map(|(p, v)| format!("{}={}", p.name, significant(*v)))
-        .collect::<Vec<_>>()
-        .join(", ")
+        toml::to_string(&run_spec)
+    })
 }
 
 /// `v` with 6 significant digits.
@@ -269,8 +265,9 @@ mod tests {
             row(2, Ok(vec![9.0, 5.0])),
             row(3, Ok(vec![0.5, f64::NAN])),
         ];
-        let (key, w) = worst(&names, &rows);
+        let spec = rhonn::experiment::preset::load("control-adaptive").unwrap();
+        let (key, w) = describe(&spec, &names, &rows).unwrap();
         assert_eq!(key, Some("iae_mpa_s"));
-        assert_eq!(w.iter().map(|r| r.index).collect::<Vec<_>>(), [1, 2, 0]);
+        assert_eq!(w.iter().map(|(r, _)| r.run).collect::<Vec<_>>(), [1, 2, 0]);
     }
 }
