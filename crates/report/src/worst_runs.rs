@@ -183,7 +183,10 @@ pub fn describe_plant(
 
 /// `v` with 6 significant digits.
 fn significant(v: f64) -> String {
-    if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e6) {
+    if v == 0.0 || !v.is_finite() {
+        return v.to_string();
+    }
+    if v.abs() < 1e-3 || v.abs() >= 1e6 {
         format!("{v:.5e}")
     } else {
         let digits = (5 - v.abs().log10().floor() as i32).clamp(0, 9) as usize;
@@ -269,5 +272,8 @@ mod tests {
         let (key, w) = describe(&spec, &names, &rows).unwrap();
         assert_eq!(key, Some("iae_mpa_s"));
         assert_eq!(w.iter().map(|(r, _)| r.run).collect::<Vec<_>>(), [1, 2, 0]);
+        assert_eq!(significant(0.0), "0");
+        assert_eq!(significant(1439.5071749), "1439.51");
+        assert_eq!(significant(6.635e-5), "6.63500e-5");
     }
 }
