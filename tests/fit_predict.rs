@@ -342,9 +342,12 @@ fn cascaded_tanks_free_run_beats_narx_and_arx_on_validation() {
     assert!(rms < 0.5 * arx, "RHONN {rms} V, ARX {arx} V");
 }
 
-/// The pump with the shipped model structure (chosen on pump-identify alone): trained
-/// on pump-identify, it predicts pump-validate's measured pressure 10 steps (50 ms)
-/// ahead with a fit of at least 80 %, better than the ARX baseline with the same lags.
+/// The pump with the shipped model structure (models/pump.toml, the grey box, chosen on
+/// pump-identify alone): trained on pump-identify, it predicts pump-validate's measured
+/// pressure 10 steps (50 ms) ahead at the README's 97.7 % (pinned within 0.5 points),
+/// far ahead of the ARX baseline with the same lags; on the stress records it never saw
+/// it holds within 3 points of that. The direct RHONN predictor (models/pump-direct.toml)
+/// stays above 80 % and ahead of its ARX.
 #[test]
 fn pump_model_predicts_the_validation_record_10_steps_ahead() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -378,24 +381,31 @@ fn pump_model_predicts_the_validation_record_10_steps_ahead() {
     for sc in ["pump-identify", "pump-validate"] {
         ok(&["run", sc, "--out", sc]);
     }
-    let spec = root.join("models/pump.toml");
-    ok(&[
-        "fit",
-        "--data",
-        "pump-identify/trajectory.csv",
-        "--inputs",
-        "current,demand",
-        "--outputs",
-        "p_meas",
-        "--model",
-        spec.to_str().unwrap(),
-        "--out",
-        "m",
-    ]);
+    let fit_model = |spec: &str| {
+        let spec = root.join(spec);
+        ok(&[
+            "fit",
+            "--data",
+            "pump-identify/trajectory.csv",
+            "--inputs",
+            "current,demand",
+            "--outputs",
+            "p_meas",
+            "--model",
+            spec.to_str().unwrap(),
+            "--out",
+            "m",
+        ]);
+    };
+    fit_model("models/pump-direct.toml");
     let (fit, arx, _) = predict("pump-validate/trajectory.csv", "p");
-    eprintln!("pump, 10 steps ahead on pump-validate: RHONN fit {fit:.2} %, ARX {arx:.2} %");
-    assert!(fit >= 80.0, "RHONN fit {fit} %");
-    assert!(fit > arx, "RHONN fit {fit} %, ARX {arx} %");
+    eprintln!("pump, 10 steps ahead on pump-validate: direct RHONN fit {fit:.2} %, ARX {arx:.2} %");
+    assert!(fit >= 80.0 && fit > arx, "direct RHONN fit {fit} %, ARX {arx} %");
+    fit_model("models/pump.toml");
+    let (fit, arx, _) = predict("pump-validate/trajectory.csv", "p");
+    eprintln!("pump, 10 steps ahead on pump-validate: grey box fit {fit:.2} %, ARX {arx:.2} %");
+    assert!((fit - 97.7).abs() < 0.5, "grey box fit {fit} %");
+    assert!(fit > arx + 10.0, "grey box fit {fit} %, ARX {arx} %");
     // rhonn's own SI columns are plotted in display units.
     let svg = std::fs::read_to_string(d.path().join("p/prediction.svg")).unwrap();
     assert!(svg.contains("p_meas [MPa]"), "no MPa axis");
@@ -418,16 +428,125 @@ fn pump_model_predicts_the_validation_record_10_steps_ahead() {
         (fit1 - fit).abs() < 0.05,
         "1 ms record {fit1} %, 5 ms record {fit} %"
     );
-    // Records with excitations and noise the model never saw (scenarios/stress): the
-    // RHONN stays ahead of its ARX baseline and above 75 % 10 steps ahead on each.
+    // Records with excitations and noise the model never saw (scenarios/stress): within
+    // 3 points of pump-validate's fit and ahead of the ARX baseline on each.
     for (k, name) in ["stress-multisine", "stress-noise", "stress-nodither"]
         .iter()
         .enumerate()
     {
         let sc = root.join(format!("scenarios/stress/{name}.toml"));
         ok(&["run", sc.to_str().unwrap(), "--out", name]);
-        let (fit, arx, _) = predict(&format!("{name}/trajectory.csv"), &format!("s{k}"));
-        eprintln!("{name}: RHONN fit {fit:.2} %, ARX {arx:.2} %");
-        assert!(fit > 75.0 && fit > arx, "{name}: RHONN {fit} %, ARX {arx} %");
+        let (fit_s, arx, _) = predict(&format!("{name}/trajectory.csv"), &format!("s{k}"));
+        eprintln!("{name}: grey box fit {fit_s:.2} %, ARX {arx:.2} %");
+        assert!(
+            (fit_s - fit).abs() < 3.0 && fit_s > arx,
+            "{name}: grey box {fit_s} %, pump-validate {fit} %, ARX {arx} %"
+        );
     }
+}
+
+/// The grey-box pump model (`kind = "pump"`) identifies parameters it does not start
+/// at: on a pump-identify record of a pump whose bulk modulus, leakage and pilot flow
+/// coefficient are off the thesis's table (within its tolerances), `rhonn fit` with
+/// models/pump.toml starts from the table and recovers each within 2 %; the model
+/// predicts that pump 10 steps ahead above 95 %.
+#[test]
+fn pump_grey_box_recovers_perturbed_parameters() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let d = tempfile::tempdir().unwrap();
+    let ok = |args: &[&str]| {
+        let o = rhonn(d.path(), args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        o
+    };
+    let shown = String::from_utf8(ok(&["show", "pump-identify"]).stdout).unwrap();
+    assert!(!shown.contains("[plant]"), "{shown}");
+    let toml = shown.replace("name = \"pump-identify\"", "name = \"off-table\"")
+        + "\n[plant]\nbeta_mpa = 1000.0\nq_0_dm3_s = 0.14\nmu_1 = 9.0e-5\n";
+    std::fs::write(d.path().join("off.toml"), toml).unwrap();
+    ok(&["run", "off.toml", "--out", "off"]);
+    let spec = root.join("models/pump.toml");
+    ok(&[
+        "fit",
+        "--data",
+        "off/trajectory.csv",
+        "--inputs",
+        "current,demand",
+        "--outputs",
+        "p_meas",
+        "--model",
+        spec.to_str().unwrap(),
+        "--out",
+        "m",
+    ]);
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("m/model.json")).unwrap()).unwrap();
+    let w: Vec<f64> = m["model"]["weights"][0]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    // PARAM_NAMES order: v_l0, beta, alpha_v, k_l, omega, q_0, a_a, mu_1, ...
+    for (name, j, truth) in [("beta", 1, 1.0e9), ("q_0", 5, 0.14e-3), ("mu_1", 7, 9.0e-5)] {
+        let rel = w[j] / truth - 1.0;
+        eprintln!("{name}: fitted {} (truth {truth}), {:+.3} %", w[j], 100.0 * rel);
+        assert!(rel.abs() < 0.02, "{name}: fitted {}, truth {truth}", w[j]);
+    }
+    ok(&[
+        "predict",
+        "--model",
+        "m/model.json",
+        "--data",
+        "off/trajectory.csv",
+        "--out",
+        "p",
+        "--steps-ahead",
+        "10",
+    ]);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("p/summary.json")).unwrap()).unwrap();
+    let fit = s["outputs"][0]["fit_percent"].as_f64().unwrap();
+    assert!(fit > 95.0, "10 steps ahead: {fit} %");
+}
+
+/// A `pump` model reads SI: a pressure column in MPa is refused with the column, the
+/// file and what to do, and nothing is written.
+#[test]
+fn pump_grey_box_refuses_a_pressure_in_mpa() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let d = tempfile::tempdir().unwrap();
+    let mut text = String::from("t,current,demand,p_mpa\n");
+    for k in 0..400 {
+        text.push_str(&format!(
+            "{},0.3,0.0005,{}\n",
+            k as f64 * 0.005,
+            10.0 + (k as f64 * 0.1).sin()
+        ));
+    }
+    std::fs::write(d.path().join("mpa.csv"), text).unwrap();
+    let spec = root.join("models/pump.toml");
+    let o = rhonn(
+        d.path(),
+        &[
+            "fit",
+            "--data",
+            "mpa.csv",
+            "--inputs",
+            "current,demand",
+            "--outputs",
+            "p_mpa",
+            "--model",
+            spec.to_str().unwrap(),
+            "--out",
+            "m",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("p_mpa") && e.contains("mpa.csv") && e.contains("multiply MPa by 1e6"),
+        "{e}"
+    );
+    assert!(!d.path().join("m").exists());
 }

@@ -267,8 +267,42 @@ fn bench_online(c: &mut Criterion) {
     });
 }
 
+/// The grey-box pump model of models/pump.toml on the 60 s pump-identify record
+/// (12,001 samples): its training (every stage of the continuation) and a 10-step-ahead
+/// prediction (the filter over the record and 12,000 ten-sample simulations).
+fn bench_pump_grey(c: &mut Criterion) {
+    use rhonn::sysid::{fit, parse_spec_file};
+    let mut tr = Trace::default();
+    rhonn::experiment::run_full(&preset::load("pump-identify").unwrap().check().unwrap(), &mut tr).unwrap();
+    let col = |n: &str| tr.column(n).unwrap().to_vec();
+    let rec = [rhonn::data::Record {
+        source: "pump-identify".into(),
+        t: col("t"),
+        inputs: vec![col("current"), col("demand")],
+        outputs: vec![col("p_meas")],
+    }];
+    let spec = parse_spec_file(include_str!("../../../models/pump.toml"))
+        .unwrap()
+        .remove(0);
+    let (i, o) = (
+        vec!["current".to_string(), "demand".to_string()],
+        vec!["p_meas".to_string()],
+    );
+    let mut g = c.benchmark_group("pump grey box");
+    g.sample_size(10);
+    g.bench_function("fit models/pump.toml on the 60 s pump-identify record", |b| {
+        b.iter(|| fit(black_box(&spec), &rec, &i, &o).unwrap())
+    });
+    let m = fit(&spec, &rec, &i, &o).unwrap();
+    g.bench_function("predict 10 steps ahead, 60 s record", |b| {
+        b.iter(|| m.predict(black_box(&rec[0]), Some(10)).unwrap())
+    });
+    g.finish();
+}
+
 criterion_group!(
     benches,
+    bench_pump_grey,
     bench_online,
     bench_runs,
     bench_discrete_step,

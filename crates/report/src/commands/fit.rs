@@ -126,8 +126,12 @@ pub fn fit(req: &FitRequest) -> Result<Outcome> {
     let recs = read_data(&req.data, inputs, outputs, max_lag + 2, req.resample_s)?;
     let sample_s = recs.first().map_or(0.0, |r| r.median_interval());
     let mut o = Outcome::default();
-    for w in rhonn::sysid::data_warnings(&recs, inputs, outputs, max_lag, sample_s, "--resample") {
-        o.notes.push(format!("warning: {w}"));
+    // A grey-box pump model has no lags: the lagged models' warnings do not apply.
+    let grey = specs[0].kind == rhonn::sysid::Kind::Pump;
+    if !grey {
+        for w in rhonn::sysid::data_warnings(&recs, inputs, outputs, max_lag, sample_s, "--resample") {
+            o.notes.push(format!("warning: {w}"));
+        }
     }
     let (mut fitted, summary) = rhonn::sysid::train(&specs, &recs, inputs, outputs)?;
     fitted.units = units;
@@ -139,7 +143,13 @@ pub fn fit(req: &FitRequest) -> Result<Outcome> {
         .collect::<rhonn::Result<_>>()?;
     o.files = crate::write_fit(&req.out, &fitted, &summary, &training)?;
     o.files.push(crate::write_report(&req.out)?);
-    o.lines.push(if fitted.members.is_empty() {
+    o.lines.push(if grey {
+        format!(
+            "fitted the pump's grey-box model on {} record(s); estimated: {}",
+            recs.len(),
+            rhonn::sysid::pump_grey::describe_estimates(&fitted.model)
+        )
+    } else if fitted.members.is_empty() {
         format!(
             "fitted a {:?} model with {} features per output on {} record(s)",
             specs[0].kind,
@@ -154,6 +164,26 @@ pub fn fit(req: &FitRequest) -> Result<Outcome> {
             recs.len()
         )
     });
+    if grey {
+        // An integrating line drifts in free run: the K-step figure is the one to read.
+        let k = specs[0].horizon;
+        let kstep: Vec<RecordFigures> = recs
+            .iter()
+            .map(|r| {
+                let p = rhonn::sysid::predict(&fitted, r, Some(k))?;
+                Ok(RecordFigures {
+                    data: r.source.clone(),
+                    outputs: p.figures,
+                })
+            })
+            .collect::<rhonn::Result<_>>()?;
+        training_lines(
+            &mut o,
+            &kstep,
+            &format!("{k} steps ahead (training data)"),
+            &fitted.units,
+        );
+    }
     training_lines(
         &mut o,
         &summary.training.free_run,

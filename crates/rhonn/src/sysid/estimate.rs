@@ -224,6 +224,10 @@ fn fit_terms(
         cascade::fit(spec, records, &mut model)?;
         return Ok(model);
     }
+    if spec.kind == Kind::Pump {
+        super::pump_grey::fit(spec, records, &mut model)?;
+        return Ok(model);
+    }
     let (ni, no) = (inputs.len(), outputs.len());
     check_regressor_count(spec, ni, no)?;
     model.terms = match (spec.kind, given_terms) {

@@ -28,6 +28,7 @@ mod checks;
 mod estimate;
 mod fitted;
 mod predict;
+pub mod pump_grey;
 mod train;
 use checks::ensure_finite_model;
 pub use checks::{data_warnings, decorrelation_lag, ensure_finite_figures};
@@ -56,6 +57,9 @@ pub enum Kind {
     /// Continuous-time RHONN with hidden states in a chain of limited integrators,
     /// trained on the free-run error (see the `cascade` module).
     Cascade,
+    /// The pump's own equations with unknown parameters and a state estimator (see the
+    /// `pump_grey` module).
+    Pump,
 }
 
 /// Training law.
@@ -134,6 +138,9 @@ pub struct ModelSpec {
     pub settle: usize,
     /// Seed of a `cascade` model's random starts (default 1).
     pub seed: u64,
+    /// The `[pump]` table of a `pump` model.
+    #[serde(skip_serializing_if = "pump_grey::PumpGreySpec::is_default")]
+    pub pump: pump_grey::PumpGreySpec,
 }
 
 impl Default for ModelSpec {
@@ -160,6 +167,7 @@ impl Default for ModelSpec {
             starts: 16,
             settle: 5,
             seed: 1,
+            pump: Default::default(),
         }
     }
 }
@@ -259,6 +267,10 @@ impl ModelSpec {
                 ));
             }
         }
+        if self.kind == Kind::Pump {
+            int_in("settle", self.settle, 1, 1000)?;
+            self.pump.check(self.law)?;
+        }
         if !(self.ridge.is_finite() && self.ridge >= 0.0) {
             return Err(invalid("model.ridge", self.ridge, "a number >= 0"));
         }
@@ -293,7 +305,7 @@ impl ModelSpec {
 
     /// Largest lag: samples needed before the first prediction.
     pub fn max_lag(&self) -> usize {
-        if self.kind == Kind::Cascade {
+        if matches!(self.kind, Kind::Cascade | Kind::Pump) {
             return self.settle;
         }
         (self.output_lag_start + self.na - 1)
@@ -310,7 +322,7 @@ pub const MAX_REGRESSORS: usize = 128;
 /// read from a hand-edited `model.json`.
 fn check_regressor_count(spec: &ModelSpec, ni: usize, no: usize) -> Result<()> {
     let nphi = n_phi(spec, ni, no);
-    if spec.kind != Kind::Cascade && nphi > MAX_REGRESSORS {
+    if !matches!(spec.kind, Kind::Cascade | Kind::Pump) && nphi > MAX_REGRESSORS {
         return Err(invalid(
             "model.na",
             spec.na,
@@ -424,6 +436,9 @@ impl Model {
                 ));
             }
         }
+        if self.spec.kind == Kind::Pump {
+            return pump_grey::validate(self);
+        }
         if self.spec.kind == Kind::Cascade {
             if self.no() != 1 || self.weights.len() != 1 || self.weights[0].len() != self.n_features() {
                 return Err(invalid(
@@ -463,6 +478,9 @@ impl Model {
 
     /// Number of features (regressors, terms, bias).
     pub fn n_features(&self) -> usize {
+        if self.spec.kind == Kind::Pump {
+            return pump_grey::n_params();
+        }
         if self.spec.kind == Kind::Cascade {
             return cascade::n_params(self.spec.neurons, self.ni());
         }
@@ -522,6 +540,9 @@ impl Model {
     pub fn predict(&self, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
         if self.spec.kind == Kind::Cascade {
             return cascade::predict(self, r, steps_ahead);
+        }
+        if self.spec.kind == Kind::Pump {
+            return pump_grey::predict(self, r, steps_ahead);
         }
         let (un, yn) = self.normalise(r);
         let n = r.len();
