@@ -550,3 +550,145 @@ fn pump_grey_box_refuses_a_pressure_in_mpa() {
     );
     assert!(!d.path().join("m").exists());
 }
+
+/// A system the project never modelled, as CSV: `n` samples of a Wiener-Hammerstein
+/// chain (saturating actuator, second-order lag, cubic sensor) under a random multilevel
+/// input (`inputs = 1`), or of a bilinear two-input system (`inputs = 2`), with 1 %
+/// output noise.
+fn write_unseen(path: &Path, seed: u64, n: usize, inputs: usize) {
+    let mut s = seed;
+    let mut rnd = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((s >> 33) as f64 / (1u64 << 31) as f64) * 2.0 - 1.0
+    };
+    let mut text = String::from(if inputs == 1 { "t,u,y\n" } else { "t,u1,u2,y\n" });
+    let (mut x1, mut x2) = (0.0f64, 0.0f64);
+    let (mut u1, mut u2) = (0.0, 0.0);
+    for k in 0..n {
+        if k % 15 == 0 {
+            u1 = rnd();
+        }
+        if k % 23 == 0 {
+            u2 = rnd();
+        }
+        let y = if inputs == 1 { x1 + 0.3 * x1.powi(3) } else { x1 } + 0.01 * rnd();
+        if inputs == 1 {
+            text.push_str(&format!("{},{u1},{y}\n", k as f64 * 0.1));
+            let v = (2.0 * u1).tanh();
+            let x1n = 1.5 * x1 - 0.7 * x2 + 0.2 * v;
+            x2 = x1;
+            x1 = x1n;
+        } else {
+            text.push_str(&format!("{},{u1},{u2},{y}\n", k as f64 * 0.1));
+            x1 = 0.85 * x1 + 0.2 * u1 + 0.25 * u1 * u2 - 0.1 * x1 * u2;
+        }
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+/// `rhonn fit` with its defaults (structure selection) on two systems the project never
+/// saw, 5,000 samples to train and 5,000 to test: no failure, a free run on the test
+/// record at least as good as the ARX baseline it prints beside it, and the selection in
+/// summary.json and on stderr.
+#[test]
+fn default_fit_on_unseen_systems_is_never_worse_than_arx() {
+    let d = tempfile::tempdir().unwrap();
+    for (inputs, cols) in [(1, "u"), (2, "u1,u2")] {
+        write_unseen(&d.path().join("train.csv"), 10 + inputs as u64, 5000, inputs);
+        write_unseen(&d.path().join("test.csv"), 20 + inputs as u64, 5000, inputs);
+        let o = rhonn(
+            d.path(),
+            &[
+                "fit",
+                "--data",
+                "train.csv",
+                "--inputs",
+                cols,
+                "--outputs",
+                "y",
+                "--out",
+                "m",
+            ],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains("selection: chose "), "{e}");
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.path().join("m/summary.json")).unwrap()).unwrap();
+        let sel = &s["selection"];
+        let chosen = sel["chosen"].as_u64().unwrap() as usize;
+        let best_arx = sel["best_arx"].as_u64().unwrap() as usize;
+        let score = |i: usize| sel["candidates"][i]["score"].as_f64().unwrap();
+        assert!(score(chosen) <= score(best_arx), "{sel}");
+        let o = rhonn(
+            d.path(),
+            &[
+                "predict",
+                "--model",
+                "m/model.json",
+                "--data",
+                "test.csv",
+                "--out",
+                "p",
+            ],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let p: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.path().join("p/summary.json")).unwrap()).unwrap();
+        let fit = p["outputs"][0]["fit_percent"].as_f64().unwrap();
+        let arx = p["baseline_arx"][0]["fit_percent"].as_f64().unwrap_or(fit);
+        eprintln!(
+            "{inputs} input(s): chose {}, free run on the test record {fit:.1} %, ARX baseline {arx:.1} %",
+            sel["candidates"][chosen]["name"]
+        );
+        assert!(fit >= arx, "{inputs} input(s): model {fit} %, ARX {arx} %");
+        std::fs::remove_dir_all(d.path().join("m")).unwrap();
+        std::fs::remove_dir_all(d.path().join("p")).unwrap();
+    }
+}
+
+/// `--select auto` and `--model` together are refused; `--select none` keeps the old
+/// default structure (a RHONN with na = nb = 2) and writes no selection.
+#[test]
+fn select_options_are_checked() {
+    let d = tempfile::tempdir().unwrap();
+    write_record(&d.path().join("r.csv"), 1, 300);
+    std::fs::write(d.path().join("arx.toml"), "kind = \"arx\"\n").unwrap();
+    let base = [
+        "fit",
+        "--data",
+        "r.csv",
+        "--inputs",
+        "u",
+        "--outputs",
+        "y",
+        "--out",
+        "m",
+    ];
+    let with = |extra: &[&str]| {
+        let mut a: Vec<&str> = base.to_vec();
+        a.extend_from_slice(extra);
+        rhonn(d.path(), &a)
+    };
+    let o = with(&["--select", "auto", "--model", "arx.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--select auto and --model"), "{}", stderr(&o));
+    let o = with(&["--select", "none", "--time-budget", "5"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("apply to --select auto only"),
+        "{}",
+        stderr(&o)
+    );
+    let o = with(&["--select-steps-ahead", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    let o = with(&["--select", "none"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("m/summary.json")).unwrap()).unwrap();
+    assert!(s.get("selection").is_none());
+    assert_eq!(s["model"]["na"], 2);
+    assert_eq!(s["model"]["kind"], "rhonn");
+}

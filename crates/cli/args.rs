@@ -91,11 +91,26 @@ pub enum Command {
         #[arg(long, value_delimiter = ',', value_name = "COLUMN=UNIT")]
         units: Vec<String>,
         /// Model structure (TOML: kind, na, nb, nk, degree, max_factors, law, ridge,
-        /// epochs, gain, output_margin, ...); defaults: a RHONN with na = nb = 2, nk = 1,
-        /// degree 2, batch least squares. An ensemble: [[members]] tables, each a
-        /// structure; it predicts the mean of its members' predictions.
+        /// epochs, gain, output_margin, ...). An ensemble: [[members]] tables, each a
+        /// structure; it predicts the mean of its members' predictions. Without it the
+        /// structure is selected (--select auto).
         #[arg(long, value_name = "SPEC.toml")]
         model: Option<PathBuf>,
+        /// How to choose the structure when no --model is given: `auto` (default):
+        /// 3-fold cross-validation over contiguous thirds of the training records, over
+        /// ARX, lagged RHONN (least squares and free-run trained) and, for one output,
+        /// continuous-time cascade structures; the choice is never worse than the best
+        /// ARX on the folds, and summary.json's `selection` says by how much. `none`:
+        /// a RHONN with na = nb = 2, nk = 1, degree 2, batch least squares.
+        #[arg(long, value_name = "auto|none")]
+        select: Option<SelectMode>,
+        /// Judge the selection K samples ahead instead of in free run.
+        #[arg(long, value_name = "K")]
+        select_steps_ahead: Option<usize>,
+        /// Start no new candidate structure after this many seconds of selection (ARX
+        /// structures always run) [default: 40].
+        #[arg(long, value_name = "SECONDS")]
+        time_budget: Option<f64>,
         /// Output folder.
         #[arg(long, value_name = "DIR", required = true)]
         out: PathBuf,
@@ -252,4 +267,13 @@ pub enum Command {
         /// A folder written by run, reproduce, fit, predict, identify or campaign.
         dir: PathBuf,
     },
+}
+
+/// `rhonn fit --select`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SelectMode {
+    /// Cross-validate the candidate structures.
+    Auto,
+    /// The default structure.
+    None,
 }

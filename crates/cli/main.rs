@@ -42,8 +42,12 @@ fn dispatch(cli: Cli) -> Result<()> {
             resample,
             units,
             model,
+            select,
+            select_steps_ahead,
+            time_budget,
             out,
         } => {
+            let select = fit_selection(model.is_some(), select, select_steps_ahead, time_budget)?;
             let req = commands::FitRequest {
                 data,
                 inputs,
@@ -51,10 +55,12 @@ fn dispatch(cli: Cli) -> Result<()> {
                 model,
                 resample_s: resample,
                 units,
+                select,
                 out,
             };
-            let busy = progress::Busy::start(format!("fitting on {} record(s)", req.data.len()));
-            let o = commands::fit(&req);
+            let what = format!("fitting on {} record(s)", req.data.len());
+            let busy = progress::Busy::start(what.clone());
+            let o = commands::fit_with_progress(&req, &|line| busy.set_message(format!("{what}: {line}")));
             drop(busy);
             o?.print();
         }
@@ -190,4 +196,36 @@ fn cmd_campaign(scenario: &str, opts: &campaign::CampaignOptions, out: Option<Pa
     reporter.finish();
     commands::campaign_report(&outcome?)?.print();
     Ok(())
+}
+
+/// `rhonn fit`'s selection options: `auto` unless a --model is given or `--select none`.
+fn fit_selection(
+    has_model: bool,
+    select: Option<args::SelectMode>,
+    steps_ahead: Option<usize>,
+    time_budget: Option<f64>,
+) -> Result<Option<rhonn::sysid::select::SelectOptions>> {
+    let auto = match select {
+        Some(args::SelectMode::Auto) => true,
+        Some(args::SelectMode::None) => false,
+        None => !has_model,
+    };
+    if !auto && (steps_ahead.is_some() || time_budget.is_some()) {
+        anyhow::bail!("--select-steps-ahead and --time-budget apply to --select auto only (the default without --model)");
+    }
+    if steps_ahead == Some(0) {
+        anyhow::bail!(
+            "--select-steps-ahead 0 is not allowed: give K >= 1, or leave it out to judge the free run"
+        );
+    }
+    Ok(auto.then(|| {
+        let mut o = rhonn::sysid::select::SelectOptions {
+            steps_ahead,
+            ..Default::default()
+        };
+        if let Some(t) = time_budget {
+            o.time_budget_s = t;
+        }
+        o
+    }))
 }

@@ -67,6 +67,7 @@ impl Reporter {
 /// within a second; after that a spinner with the elapsed time on a terminal, else a line
 /// every 5 s. Stops when dropped.
 pub struct Busy {
+    message: std::sync::Arc<std::sync::Mutex<String>>,
     done: std::sync::Arc<std::sync::atomic::AtomicBool>,
     thread: Option<std::thread::JoinHandle<()>>,
 }
@@ -76,6 +77,9 @@ impl Busy {
         use std::sync::atomic::Ordering;
         let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let flag = done.clone();
+        let message = std::sync::Arc::new(std::sync::Mutex::new(what));
+        let shown = message.clone();
+        let current = move || shown.lock().map(|m| m.clone()).unwrap_or_default();
         let thread = std::thread::spawn(move || {
             let start = Instant::now();
             let tick = std::time::Duration::from_millis(50);
@@ -97,23 +101,34 @@ impl Busy {
                     indicatif::ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
                         .expect("a valid template"),
                 );
-                bar.set_message(what);
+                bar.set_message(current());
                 bar.enable_steady_tick(std::time::Duration::from_millis(100));
                 while !flag.load(Ordering::Relaxed) {
+                    bar.set_message(current());
                     std::thread::sleep(tick);
                 }
                 bar.finish_and_clear();
             } else {
                 let mut next = 1.0;
                 while wait_until(next) {
-                    eprintln!("{what}: {:.0} s so far", start.elapsed().as_secs_f64());
+                    eprintln!("{}: {:.0} s so far", current(), start.elapsed().as_secs_f64());
                     next += 5.0;
                 }
             }
         });
         Busy {
+            message,
             done,
             thread: Some(thread),
+        }
+    }
+}
+
+impl Busy {
+    /// Replace the message shown.
+    pub fn set_message(&self, m: String) {
+        if let Ok(mut g) = self.message.lock() {
+            *g = m;
         }
     }
 }

@@ -174,6 +174,7 @@ def fit(
     model: Union[None, PathLike, Mapping[str, Any]] = None,
     inputs: Optional[Sequence[str]] = None,
     outputs: Optional[Sequence[str]] = None,
+    select: Optional[str] = None,
 ) -> Model:
     """Fit a model to recordings, as ``rhonn fit`` does (beside an ARX baseline).
 
@@ -190,6 +191,11 @@ def fit(
         of its keys); None: the default.
     inputs, outputs : sequence of str, optional
         Signal names (default ``u``/``u0, u1, ...`` and ``y``/``y0, ...``).
+    select : "auto", optional
+        Choose the structure by cross-validation on the recordings, as ``rhonn fit``
+        does without ``--model`` (``summary["selection"]`` says what was chosen and how
+        it compares with the best ARX). None (default here): ``model``, or the fixed
+        default structure.
 
     Returns
     -------
@@ -208,8 +214,12 @@ def fit(
         raise TypeError(f"dt must be a number of seconds, not {type(dt).__name__}")
     ins = _names(inputs, us[0].shape[1], "u", "inputs")
     outs = _names(outputs, ys[0].shape[1], "y", "outputs")
+    if select not in (None, "auto"):
+        raise ValueError(f"select = {select!r} is not allowed: give \"auto\" or None")
+    if select == "auto" and model is not None:
+        raise ValueError("select=\"auto\" and model both name the structure: give one")
     text, source = _spec_text(model)
-    return Model(_rhonn.fit(us, ys, float(dt), ins, outs, text, source))
+    return Model(_rhonn.fit(us, ys, float(dt), ins, outs, text, source, select == "auto"))
 
 
 def _steps(steps_ahead) -> Optional[int]:

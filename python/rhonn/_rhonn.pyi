@@ -18,6 +18,7 @@ def fit(
     outputs: List[str],
     spec_toml: Optional[str] = None,
     spec_source: str = "the model spec",
+    select: bool = False,
 ) -> Model: ...
 def campaign(
     name: str,

@@ -78,7 +78,7 @@ fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>
 /// Fit a model to recordings given as arrays (`us[k]`: (n, m), `ys[k]`: (n, p), one pair
 /// per recording, sampled every `dt` s).
 #[pyfunction]
-#[pyo3(signature = (us, ys, dt, inputs, outputs, spec_toml=None, spec_source="the model spec"))]
+#[pyo3(signature = (us, ys, dt, inputs, outputs, spec_toml=None, spec_source="the model spec", select=false))]
 #[allow(clippy::too_many_arguments)]
 fn fit(
     py: Python<'_>,
@@ -89,9 +89,21 @@ fn fit(
     outputs: Vec<String>,
     spec_toml: Option<&str>,
     spec_source: &str,
+    select: bool,
 ) -> PyResult<model::Model> {
-    let specs = rhonn_report::commands::model_specs(spec_toml, spec_source).map_err(report_err)?;
-    let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
+    let mut specs = rhonn_report::commands::model_specs(spec_toml, spec_source).map_err(report_err)?;
+    let opts = rhonn::sysid::select::SelectOptions::default();
+    let max_lag = if select {
+        let lag = rhonn::sysid::select::candidates(outputs.len(), opts.cascade)
+            .iter()
+            .map(|(_, s)| s.max_lag())
+            .max()
+            .unwrap_or(0);
+        // Each fold of a recording must hold the largest candidate's lags.
+        opts.folds * (lag + 20) - 2
+    } else {
+        specs.iter().map(|s| s.max_lag()).max().unwrap_or(0)
+    };
     let mut recs = Vec::new();
     for (k, (u, y)) in us.iter().zip(&ys).enumerate() {
         let r = record(&format!("recording {k}"), dt, u, y, &inputs, &outputs)?;
@@ -104,10 +116,24 @@ fn fit(
         }
         recs.push(r);
     }
-    let notes = rhonn::sysid::data_warnings(&recs, &inputs, &outputs, max_lag, dt, "dt");
-    let (fitted, summary) = py
+    let selection = if select {
+        let sel = py
+            .detach(|| rhonn::sysid::select::select(&recs, &inputs, &outputs, &opts, &|_| {}))
+            .map_err(rhonn_err)?;
+        specs = vec![sel.chosen_spec().clone()];
+        Some(sel)
+    } else {
+        None
+    };
+    let lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
+    let mut notes = rhonn::sysid::data_warnings(&recs, &inputs, &outputs, lag, dt, "dt");
+    if let Some(sel) = &selection {
+        notes.extend(sel.findings.iter().map(|f| format!("selection: {f}")));
+    }
+    let (fitted, mut summary) = py
         .detach(|| rhonn::sysid::train(&specs, &recs, &inputs, &outputs))
         .map_err(rhonn_err)?;
+    summary.selection = selection;
     Ok(model::Model::fitted(fitted, Some(errors::json(&summary)?), notes))
 }
 

@@ -94,3 +94,20 @@ def test_non_contiguous_and_integer_arrays_are_accepted(tanks):
     b = rhonn.fit(np.ascontiguousarray(u2), y, dt=4)
     np.testing.assert_array_equal(a.predict(u2, y), b.predict(est["u"], y))
     rhonn.fit(np.round(est["u"] * 100).astype(np.int64), y, dt=4.0)
+
+
+def test_select_auto_chooses_the_structure_as_the_command_does(tanks):
+    est, val = tanks
+    m = rhonn.fit(est["u"], est["y"], dt=4.0, select="auto")
+    sel = m.summary["selection"]
+    chosen = sel["candidates"][sel["chosen"]]
+    assert chosen["score"] <= sel["candidates"][sel["best_arx"]]["score"]
+    # On the tanks the selection picks the continuous-time cascade, as `rhonn fit` does.
+    assert chosen["model"]["kind"] == "cascade"
+    pred = m.predict(val["u"], val["y"])
+    rms = float(np.sqrt(np.mean((pred[5:, 0] - val["y"][5:]) ** 2)))
+    assert rms < 0.3, rms
+    with pytest.raises(ValueError, match="select"):
+        rhonn.fit(est["u"], est["y"], dt=4.0, select="best")
+    with pytest.raises(ValueError, match="both name the structure"):
+        rhonn.fit(est["u"], est["y"], dt=4.0, select="auto", model={"kind": "arx"})

@@ -22,6 +22,9 @@ pub struct FitRequest {
     pub resample_s: Option<f64>,
     /// `--units`: `COLUMN=UNIT` pairs.
     pub units: Vec<String>,
+    /// `--select auto`: choose the structure by cross-validation on the training records
+    /// (None: the spec of `model`, or the default structure).
+    pub select: Option<rhonn::sysid::select::SelectOptions>,
     /// The output folder.
     pub out: PathBuf,
 }
@@ -119,13 +122,46 @@ pub fn model_specs(text: Option<&str>, source: &str) -> Result<Vec<ModelSpec>> {
 /// `rhonn fit`: fit the structure of `req.model` (or the default) to the recordings and
 /// write `model.json` and `summary.json` into `req.out`.
 pub fn fit(req: &FitRequest) -> Result<Outcome> {
+    fit_with_progress(req, &|_| {})
+}
+
+/// [`fit`], telling `progress` a line per candidate structure of a selection.
+pub fn fit_with_progress(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcome> {
     let (inputs, outputs) = (&req.inputs, &req.outputs);
     let units = parse_units(&req.units, inputs, outputs)?;
-    let specs = read_specs(req.model.as_deref())?;
+    if req.select.is_some() && req.model.is_some() {
+        return Err(Error::Input(
+            "--select auto and --model both name the structure: give one (--select none keeps --model's)"
+                .into(),
+        ));
+    }
+    let mut o = Outcome::default();
+    let (specs, selection) = match &req.select {
+        None => (read_specs(req.model.as_deref())?, None),
+        Some(opts) => {
+            let lag = rhonn::sysid::select::candidates(outputs.len(), opts.cascade)
+                .iter()
+                .map(|(_, s)| s.max_lag())
+                .max()
+                .unwrap_or(0);
+            // Each of the folds of a record must hold the largest candidate's lags.
+            let recs = read_data(
+                &req.data,
+                inputs,
+                outputs,
+                opts.folds * (lag + 20),
+                req.resample_s,
+            )?;
+            let sel = rhonn::sysid::select::select(&recs, inputs, outputs, opts, progress)?;
+            for f in &sel.findings {
+                o.notes.push(format!("selection: {f}"));
+            }
+            (vec![sel.chosen_spec().clone()], Some(sel))
+        }
+    };
     let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
     let recs = read_data(&req.data, inputs, outputs, max_lag + 2, req.resample_s)?;
     let sample_s = recs.first().map_or(0.0, |r| r.median_interval());
-    let mut o = Outcome::default();
     // A grey-box pump model has no lags: the lagged models' warnings do not apply.
     let grey = specs[0].kind == rhonn::sysid::Kind::Pump;
     if !grey {
@@ -133,7 +169,8 @@ pub fn fit(req: &FitRequest) -> Result<Outcome> {
             o.notes.push(format!("warning: {w}"));
         }
     }
-    let (mut fitted, summary) = rhonn::sysid::train(&specs, &recs, inputs, outputs)?;
+    let (mut fitted, mut summary) = rhonn::sysid::train(&specs, &recs, inputs, outputs)?;
+    summary.selection = selection;
     fitted.units = units;
     // The free run on each training record, for the plots (at most 8 records drawn).
     let training: Vec<_> = recs

@@ -7,7 +7,7 @@ mod fit;
 mod identify;
 mod run;
 
-pub use fit::{fit, model_specs, parse_units, predict, read_data, FitRequest};
+pub use fit::{fit, fit_with_progress, model_specs, parse_units, predict, read_data, FitRequest};
 pub use identify::{identify, online_spec, IdentifyRequest};
 pub use run::{bench, run, show, REPRODUCED};
 

@@ -511,7 +511,7 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
         }
         true
     };
-    let best = (0..spec.starts)
+    let mut ends: Vec<(f64, usize, Vec<f64>)> = (0..spec.starts)
         .into_par_iter()
         .map(|s| {
             let mut rng = ChaCha8Rng::seed_from_u64(spec.seed.wrapping_add(s as u64));
@@ -519,17 +519,39 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
             let cost = lm(&mut th, spec.epochs, 1e-5, &residuals);
             (cost, s, th)
         })
-        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
-        .expect("at least one start");
-    if !best.0.is_finite() {
+        .collect();
+    ends.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    if !ends.first().is_some_and(|e| e.0.is_finite()) {
         return Err(invalid(
             "model.starts",
             spec.starts,
             "enough starts for one simulation to succeed (every start failed)",
         ));
     }
-    let p = co.params(&best.2[..nm]);
-    p.check()?;
+    // The best start whose parameters are a valid cascade: a start can drive a rate or a
+    // bound to zero (its logarithm to minus infinity) when the data do not need it.
+    let valid = ends
+        .iter()
+        .filter(|e| e.0.is_finite())
+        .map(|e| co.params(&e.2[..nm]))
+        .find(|p| p.check().is_ok());
+    let Some(p) = valid else {
+        let why = co
+            .params(&ends[0].2[..nm])
+            .check()
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        return Err(invalid(
+            "model (kind = \"cascade\")",
+            format!("{} starts, none valid", spec.starts),
+            format!(
+                "a structure the data fit: every start's training left an invalid cascade (the best: {why}), \
+                 which happens when the data do not behave like a chain of tanks; try `rhonn fit` without \
+                 --model (it selects a structure) or more neurons or starts"
+            ),
+        ));
+    };
     m.weights = vec![p.stored()];
     Ok(())
 }

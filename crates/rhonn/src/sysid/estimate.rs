@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::law::{Gradient, LearningLaw, LeastSquares, Rule};
+use rayon::prelude::*;
 
 /// Free-run residuals (normalised units) of `m` over `records`, appended to `out`.
 pub(super) fn free_run_residuals(m: &Model, records: &[Record], horizon: Option<usize>, out: &mut Vec<f64>) {
@@ -33,9 +34,9 @@ pub(super) fn simulation_error(m: &mut Model, records: &[Record], horizon: Optio
     };
     let mut theta: Vec<f64> = m.weights.iter().flatten().copied().collect();
     let iters = m.spec.epochs;
-    let cell = std::cell::RefCell::new(m.clone());
+    let base = m.clone();
     lm(&mut theta, iters, 1e-6, &|th, out| {
-        let mut w = cell.borrow_mut();
+        let mut w = base.clone();
         set(&mut w, th);
         free_run_residuals(&w, records, horizon, out);
         true
@@ -54,7 +55,7 @@ pub(super) fn lm(
     theta: &mut Vec<f64>,
     iters: usize,
     fd_rel: f64,
-    resid: &dyn Fn(&[f64], &mut Vec<f64>) -> bool,
+    resid: &(dyn Fn(&[f64], &mut Vec<f64>) -> bool + Sync),
 ) -> f64 {
     let np = theta.len();
     let mut r0 = Vec::new();
@@ -67,14 +68,23 @@ pub(super) fn lm(
     let mut r1 = Vec::new();
     for _ in 0..iters {
         let nr = r0.len();
+        // The columns in parallel: each is a full evaluation of the residuals.
+        let columns: Vec<Option<Vec<f64>>> = (0..np)
+            .into_par_iter()
+            .map(|p| {
+                let h = fd_rel * theta[p].abs().max(1e-3);
+                let mut th = theta.clone();
+                th[p] += h;
+                let mut r = Vec::new();
+                (resid(&th, &mut r) && r.len() == nr)
+                    .then(|| r.iter().zip(&r0).map(|(a, b)| (a - b) / h).collect())
+            })
+            .collect();
         let mut jac = DMatrix::<f64>::zeros(nr, np);
-        for p in 0..np {
-            let h = fd_rel * theta[p].abs().max(1e-3);
-            let mut th = theta.clone();
-            th[p] += h;
-            if resid(&th, &mut r1) && r1.len() == nr {
+        for (p, col) in columns.iter().enumerate() {
+            if let Some(c) = col {
                 for i in 0..nr {
-                    jac[(i, p)] = (r1[i] - r0[i]) / h;
+                    jac[(i, p)] = c[i];
                 }
             }
         }

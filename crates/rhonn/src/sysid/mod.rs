@@ -29,6 +29,7 @@ mod estimate;
 mod fitted;
 mod predict;
 pub mod pump_grey;
+pub mod select;
 mod train;
 use checks::ensure_finite_model;
 pub use checks::{data_warnings, decorrelation_lag, ensure_finite_figures};

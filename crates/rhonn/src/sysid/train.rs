@@ -67,6 +67,9 @@ pub struct FitSummary {
     /// The ARX baseline with the same lags (a RHONN or cascade).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub baseline_arx: Option<BaselineSummary>,
+    /// How the structure was chosen (`--select auto`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub selection: Option<super::select::Selection>,
 }
 
 /// The figures of `predict` on every record; an error when any is not finite.
@@ -127,6 +130,7 @@ pub fn train(
             }),
             None => None,
         },
+        selection: None,
     };
     Ok((fitted, summary))
 }

@@ -474,12 +474,14 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
         }
         v
     };
-    // Stages (continuation). First a forgiving filter (it follows the measured pressure
-    // closely) and a short horizon: far from the parameters, a filter that trusts the
-    // equations loses the state and the error stops saying which way to go, while this
-    // one's short-horizon error stays a smooth function of the parameters. Then the
-    // spec's horizon, with the filter's process noise lowered tenfold per stage down to
-    // the spec's, each stage starting where the last ended.
+    // Stages (continuation). First a forgiving filter (process noise 1 MPa/sqrt(s) on the
+    // pressure, 0.01 mm/sqrt(s) on the stroke: it follows the measured pressure closely)
+    // and a short horizon: far from the parameters, a filter that trusts the equations
+    // loses the state and the error stops saying which way to go, while this one's
+    // short-horizon error stays a smooth function of the parameters. Then the spec's
+    // horizon, with the process noise lowered tenfold per stage down to the spec's, each
+    // stage starting where the last ended. (Thirtyfold steps were tried: faster, the same
+    // 10-step fits, but 200-step fits 40 points lower on some records.)
     let mut stages = Vec::new();
     let mut level = 1.0f64;
     loop {

@@ -1,0 +1,498 @@
+//! Structure selection for `rhonn fit --select auto` (the default when no `--model` is
+//! given): cross-validation over contiguous folds of the training records only, over ARX,
+//! lagged RHONN (least squares and free-run trained) and, for one output, continuous-time
+//! cascade structures, judged by the free-run error or the error K samples ahead.
+//!
+//! Every record is cut into `folds` contiguous parts; fold f trains on every other part
+//! (each a record of its own) and is judged on part f of every record. A candidate's score
+//! is its RMS error on the held-out parts, divided by each output's standard deviation in
+//! the training data and averaged over outputs and folds (so outputs in different units
+//! weigh alike). A candidate that fails (its fit or its prediction) is dropped with the
+//! reason. Candidates run cheapest first, every fold of a candidate in parallel; when the
+//! time budget is spent, the candidates not yet run are listed as skipped. ARX structures
+//! are always among the candidates and run first, so the choice is never worse than the
+//! best ARX on the folds, and the selection says by how much it is better.
+
+use super::{fit, Estimator, Kind, ModelSpec};
+use crate::data::Record;
+use crate::error::{invalid, Result};
+use crate::metrics;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::time::Instant;
+
+/// How to select.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SelectOptions {
+    /// Judge K samples ahead (None: free run).
+    pub steps_ahead: Option<usize>,
+    /// Contiguous folds per record (default 3).
+    pub folds: usize,
+    /// Stop starting new candidates after this many seconds (default 40).
+    pub time_budget_s: f64,
+    /// Include the continuous-time cascade candidate (one output only; the slowest).
+    pub cascade: bool,
+}
+
+impl Default for SelectOptions {
+    fn default() -> Self {
+        SelectOptions {
+            steps_ahead: None,
+            folds: 3,
+            time_budget_s: 40.0,
+            cascade: true,
+        }
+    }
+}
+
+/// One candidate's result.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CandidateScore {
+    /// A short name, e.g. "rhonn na 2 nb 2".
+    pub name: String,
+    /// The structure.
+    pub model: ModelSpec,
+    /// Normalised RMS error per fold (empty when it failed or was skipped).
+    pub fold_scores: Vec<f64>,
+    /// Their mean (None when it failed or was skipped).
+    pub score: Option<f64>,
+    /// Why it has no score: the error, or "skipped: time budget".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failed: Option<String>,
+}
+
+/// What the selection found (written to `summary.json` as `selection`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Selection {
+    /// "free run" or "K samples ahead".
+    pub judged_by: String,
+    /// Folds per record.
+    pub folds: usize,
+    /// Every candidate, in the order they ran.
+    pub candidates: Vec<CandidateScore>,
+    /// Index of the chosen candidate.
+    pub chosen: usize,
+    /// Index of the best ARX candidate.
+    pub best_arx: usize,
+    /// Seconds the selection took.
+    pub seconds: f64,
+    /// What it found, in words.
+    pub findings: Vec<String>,
+}
+
+impl Selection {
+    /// The chosen structure.
+    pub fn chosen_spec(&self) -> &ModelSpec {
+        &self.candidates[self.chosen].model
+    }
+}
+
+/// The most samples (over every record) the selection trains a cascade candidate on:
+/// each of its 16 starts simulates every record at each of its iterations, seconds for
+/// 1,000 samples, minutes for 5,000.
+pub const MAX_CASCADE_SAMPLES: usize = 2_000;
+
+/// The candidate structures for `no` outputs, cheapest first (the cascade only when
+/// `cascade`).
+pub fn candidates(no: usize, cascade: bool) -> Vec<(String, ModelSpec)> {
+    let mut c = Vec::new();
+    let lags = [(1, 1), (2, 2), (4, 4), (8, 8)];
+    for &(na, nb) in &lags {
+        c.push((
+            format!("arx na {na} nb {nb}"),
+            ModelSpec {
+                kind: Kind::Arx,
+                na,
+                nb,
+                ridge: 1e-9,
+                ..Default::default()
+            },
+        ));
+    }
+    for &(na, nb) in &lags {
+        c.push((
+            format!("rhonn na {na} nb {nb}"),
+            ModelSpec {
+                na,
+                nb,
+                nonlinear_lags: (na > 2).then_some(2),
+                ..Default::default()
+            },
+        ));
+    }
+    for &(na, nb) in &lags[..3] {
+        c.push((
+            format!("rhonn na {na} nb {nb}, trained on its free run"),
+            ModelSpec {
+                na,
+                nb,
+                nonlinear_lags: (na > 2).then_some(2),
+                law: Estimator::SimulationError,
+                epochs: 15,
+                ..Default::default()
+            },
+        ));
+    }
+    if no == 1 && cascade {
+        c.push((
+            "cascade, 2 neurons (one hidden), 16 starts".into(),
+            ModelSpec {
+                kind: Kind::Cascade,
+                law: Estimator::SimulationError,
+                epochs: 30,
+                ..Default::default()
+            },
+        ));
+    }
+    c
+}
+
+fn part(r: &Record, a: usize, b: usize) -> Record {
+    Record {
+        source: format!("{} (samples {a}..{b})", r.source),
+        t: r.t[a..b].to_vec(),
+        inputs: r.inputs.iter().map(|c| c[a..b].to_vec()).collect(),
+        outputs: r.outputs.iter().map(|c| c[a..b].to_vec()).collect(),
+    }
+}
+
+/// The folds: (training parts, held-out parts) for each fold.
+fn folds(records: &[Record], k: usize) -> Vec<(Vec<Record>, Vec<Record>)> {
+    (0..k)
+        .map(|f| {
+            let mut train = Vec::new();
+            let mut test = Vec::new();
+            for r in records {
+                let n = r.len();
+                for g in 0..k {
+                    let p = part(r, g * n / k, (g + 1) * n / k);
+                    if g == f {
+                        test.push(p);
+                    } else {
+                        train.push(p);
+                    }
+                }
+            }
+            (train, test)
+        })
+        .collect()
+}
+
+/// One candidate on one fold: its normalised RMS error on the held-out parts.
+fn score_fold(
+    spec: &ModelSpec,
+    train: &[Record],
+    test: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+    steps: Option<usize>,
+) -> Result<f64> {
+    let m = fit(spec, train, inputs, outputs)?;
+    let mut total = 0.0;
+    let mut count = 0.0;
+    for r in test {
+        if r.len() < spec.max_lag() + steps.unwrap_or(1) + 2 {
+            continue;
+        }
+        let (pred, first) = m.predict(r, steps)?;
+        for (j, (y, yh)) in r.outputs.iter().zip(&pred).enumerate() {
+            let e = metrics::rms_error(&y[first..], &yh[first..]) / m.output_norm[j].1;
+            if !e.is_finite() {
+                return Err(invalid("prediction", e, "a finite error"));
+            }
+            total += e;
+            count += 1.0;
+        }
+    }
+    if count == 0.0 {
+        return Err(invalid(
+            "folds",
+            "too short",
+            "held-out parts longer than the model's lags",
+        ));
+    }
+    Ok(total / count)
+}
+
+/// Select a structure for `outputs` from `inputs` on `records` (see the module's docs);
+/// `progress` hears a line per candidate as it finishes.
+pub fn select(
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+    opts: &SelectOptions,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Selection> {
+    if !(2..=10).contains(&opts.folds) {
+        return Err(invalid("folds", opts.folds, "an integer in [2, 10]"));
+    }
+    if !(opts.time_budget_s.is_finite() && opts.time_budget_s > 0.0) {
+        return Err(invalid(
+            "--time-budget",
+            opts.time_budget_s,
+            "a number of seconds > 0",
+        ));
+    }
+    let start = Instant::now();
+    let parts = folds(records, opts.folds);
+    let list = candidates(outputs.len(), opts.cascade);
+    let total = list.len();
+    let mut scores = Vec::new();
+    let samples: usize = records.iter().map(Record::len).sum();
+    for (i, (name, spec)) in list.into_iter().enumerate() {
+        let elapsed = start.elapsed().as_secs_f64();
+        let is_arx = spec.kind == Kind::Arx;
+        if spec.kind == Kind::Cascade && samples > MAX_CASCADE_SAMPLES {
+            scores.push(CandidateScore {
+                name,
+                model: spec,
+                fold_scores: vec![],
+                score: None,
+                failed: Some(format!(
+                    "skipped: {samples} samples, more than the {MAX_CASCADE_SAMPLES} a cascade trains on in seconds \
+                     (fit one with --model and kind = \"cascade\", or resample)"
+                )),
+            });
+            continue;
+        }
+        if elapsed > opts.time_budget_s && !is_arx {
+            scores.push(CandidateScore {
+                name,
+                model: spec,
+                fold_scores: vec![],
+                score: None,
+                failed: Some(format!(
+                    "skipped: the time budget of {} s was spent",
+                    opts.time_budget_s
+                )),
+            });
+            continue;
+        }
+        let t0 = Instant::now();
+        let results: Vec<Result<f64>> = parts
+            .par_iter()
+            .map(|(train, test)| score_fold(&spec, train, test, inputs, outputs, opts.steps_ahead))
+            .collect();
+        let (fold_scores, score, failed) = match results.into_iter().collect::<Result<Vec<f64>>>() {
+            Ok(f) => {
+                let mean = f.iter().sum::<f64>() / f.len() as f64;
+                (f, Some(mean), None)
+            }
+            Err(e) => (vec![], None, Some(e.to_string())),
+        };
+        progress(&format!(
+            "candidate {}/{total}, {name} ({:.1} s): {}",
+            i + 1,
+            t0.elapsed().as_secs_f64(),
+            score.map_or_else(
+                || failed.clone().unwrap_or_default(),
+                |s| format!("{s:.4} (normalised RMS error on the folds)")
+            )
+        ));
+        scores.push(CandidateScore {
+            name,
+            model: spec,
+            fold_scores,
+            score,
+            failed,
+        });
+    }
+    finish(scores, opts, start.elapsed().as_secs_f64())
+}
+
+/// Pick the best candidate and say what was found.
+fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, seconds: f64) -> Result<Selection> {
+    let best_of = |arx_only: bool| {
+        candidates
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| !arx_only || c.model.kind == Kind::Arx)
+            .filter_map(|(i, c)| c.score.map(|s| (i, s)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    let Some((best_arx, arx_score)) = best_of(true) else {
+        let why = candidates
+            .iter()
+            .filter_map(|c| c.failed.as_ref().map(|f| format!("{}: {f}", c.name)))
+            .collect::<Vec<_>>()
+            .join("; ");
+        return Err(invalid(
+            "--select auto",
+            "no ARX structure could be fitted and judged on the folds",
+            format!("records long enough for 3 folds of at least 20 samples each ({why})"),
+        ));
+    };
+    let (chosen, score) = best_of(false).unwrap_or((best_arx, arx_score));
+    let judged_by = match opts.steps_ahead {
+        None => "free run".to_string(),
+        Some(k) => format!("{k} samples ahead"),
+    };
+    let mut findings = vec![format!(
+        "chose {} ({score:.4} normalised RMS error {judged_by} on {} contiguous folds of the training data); the best ARX, {}, scored {arx_score:.4}",
+        candidates[chosen].name, opts.folds, candidates[best_arx].name
+    )];
+    if chosen == best_arx {
+        findings.push("no nonlinear structure beat the best ARX on the folds: the model is that ARX".into());
+    } else {
+        findings.push(format!(
+            "{:.1} % lower error than the best ARX on the folds",
+            100.0 * (1.0 - score / arx_score)
+        ));
+    }
+    let skipped = candidates
+        .iter()
+        .filter(|c| {
+            c.failed
+                .as_deref()
+                .is_some_and(|f| f.starts_with("skipped: the time budget"))
+        })
+        .count();
+    if skipped > 0 {
+        findings.push(format!(
+            "{skipped} candidate(s) skipped: the time budget ({} s) was spent; raise --time-budget to try them",
+            opts.time_budget_s
+        ));
+    }
+    Ok(Selection {
+        judged_by,
+        folds: opts.folds,
+        candidates,
+        chosen,
+        best_arx,
+        seconds,
+        findings,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `n` samples of y(k) = 0.6 y(k-1) + 0.3 u(k-1) + `c` tanh(y(k-1)) u(k-1) under a
+    /// random staircase input.
+    fn record(seed: u64, n: usize, c: f64) -> Record {
+        let mut s = seed;
+        let (mut u, mut y) = (vec![0.0; n], vec![0.0; n]);
+        let mut level = 0.0;
+        for k in 0..n {
+            if k % 9 == 0 {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                level = ((s >> 33) as f64 / (1u64 << 31) as f64) * 2.0 - 1.0;
+            }
+            u[k] = level;
+            if k > 0 {
+                y[k] = 0.6 * y[k - 1] + 0.3 * u[k - 1] + c * y[k - 1].tanh() * u[k - 1];
+            }
+        }
+        Record {
+            source: format!("r{seed}"),
+            t: (0..n).map(|k| k as f64).collect(),
+            inputs: vec![u],
+            outputs: vec![y],
+        }
+    }
+
+    fn names() -> (Vec<String>, Vec<String>) {
+        (vec!["u".into()], vec!["y".into()])
+    }
+
+    #[test]
+    fn a_nonlinear_record_gets_a_nonlinear_model_better_than_every_arx() {
+        let (i, o) = names();
+        let lines = std::sync::Mutex::new(Vec::new());
+        let opts = SelectOptions {
+            cascade: false,
+            ..Default::default()
+        };
+        let sel = select(&[record(1, 900, 0.4)], &i, &o, &opts, &|l| {
+            lines.lock().unwrap().push(l.to_string())
+        })
+        .unwrap();
+        let chosen = &sel.candidates[sel.chosen];
+        assert_ne!(chosen.model.kind, Kind::Arx, "{:?}", sel.findings);
+        let arx = sel.candidates[sel.best_arx].score.unwrap();
+        assert!(
+            chosen.score.unwrap() < 0.5 * arx,
+            "{} vs ARX {arx}",
+            chosen.score.unwrap()
+        );
+        for c in sel.candidates.iter().filter(|c| c.model.kind == Kind::Arx) {
+            assert!(c.score.unwrap() >= arx);
+        }
+        assert_eq!(lines.lock().unwrap().len(), sel.candidates.len());
+        assert!(sel.findings[0].starts_with("chose "), "{:?}", sel.findings);
+    }
+
+    #[test]
+    fn a_linear_record_is_never_given_a_model_worse_than_the_best_arx() {
+        let (i, o) = names();
+        let opts = SelectOptions {
+            cascade: false,
+            ..Default::default()
+        };
+        let sel = select(
+            &[record(2, 600, 0.0), record(3, 400, 0.0)],
+            &i,
+            &o,
+            &opts,
+            &|_| {},
+        )
+        .unwrap();
+        let best = sel
+            .candidates
+            .iter()
+            .filter_map(|c| c.score)
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(sel.candidates[sel.chosen].score.unwrap(), best);
+        assert!(best <= sel.candidates[sel.best_arx].score.unwrap());
+    }
+
+    #[test]
+    fn a_spent_time_budget_skips_the_nonlinear_candidates_and_says_so() {
+        let (i, o) = names();
+        let opts = SelectOptions {
+            time_budget_s: 1e-9,
+            steps_ahead: Some(3),
+            ..Default::default()
+        };
+        let sel = select(&[record(4, 600, 0.4)], &i, &o, &opts, &|_| {}).unwrap();
+        assert_eq!(sel.chosen, sel.best_arx);
+        assert_eq!(sel.judged_by, "3 samples ahead");
+        assert!(sel
+            .candidates
+            .iter()
+            .any(|c| c.failed.as_deref().is_some_and(|f| f.starts_with("skipped"))));
+        assert!(
+            sel.findings.iter().any(|f| f.contains("time budget")),
+            "{:?}",
+            sel.findings
+        );
+        assert!(
+            sel.findings
+                .iter()
+                .any(|f| f.contains("no nonlinear structure beat")),
+            "{:?}",
+            sel.findings
+        );
+    }
+
+    #[test]
+    fn bad_options_are_errors() {
+        let (i, o) = names();
+        let r = [record(5, 300, 0.4)];
+        for opts in [
+            SelectOptions {
+                folds: 1,
+                ..Default::default()
+            },
+            SelectOptions {
+                time_budget_s: f64::NAN,
+                ..Default::default()
+            },
+        ] {
+            assert!(select(&r, &i, &o, &opts, &|_| {}).is_err());
+        }
+    }
+}
