@@ -202,6 +202,48 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
     assert!(stderr(&o).contains("holds another campaign"), "{}", stderr(&o));
 }
 
+/// A tank campaign run as 3 shards and merged with `rhonn merge` writes the same runs,
+/// summary and envelope as the unsharded campaign; an incomplete set of shards is refused.
+#[test]
+fn tank_campaign_shards_merge_to_the_unsharded_campaign() {
+    let d = tempfile::tempdir().unwrap();
+    let run = |extra: &[&str], out: &str| {
+        let mut a = vec![
+            "campaign",
+            "tanks-control",
+            "--runs",
+            "30",
+            "--seed",
+            "9",
+            "--out",
+            out,
+        ];
+        a.extend_from_slice(extra);
+        let o = rhonn(d.path(), &a);
+        assert!(o.status.success(), "{}", stderr(&o));
+    };
+    run(&[], "whole");
+    for k in 1..=3 {
+        run(&["--shard", &format!("{k}/3")], &format!("s{k}"));
+    }
+    let o = rhonn(d.path(), &["merge", "s1", "s2", "s3", "--out", "merged"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in ["runs.csv", "summary.json", "envelope.csv", "campaign.json"] {
+        assert_eq!(
+            std::fs::read_to_string(d.path().join("merged").join(f)).unwrap(),
+            std::fs::read_to_string(d.path().join("whole").join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    assert_eq!(
+        files_in(&d.path().join("merged")),
+        files_in(&d.path().join("whole"))
+    );
+    let o = rhonn(d.path(), &["merge", "s1", "s3", "--out", "part"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("some shard is missing"), "{}", stderr(&o));
+}
+
 #[test]
 fn bad_tanks_scenarios_name_the_field() {
     let d = tempfile::tempdir().unwrap();

@@ -48,7 +48,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             out,
         } => {
             let select = fit_selection(model.is_some(), select, select_steps_ahead, time_budget)?;
-            let req = commands::FitRequest {
+            cmd_fit(commands::FitRequest {
                 data,
                 inputs,
                 outputs,
@@ -57,12 +57,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 units,
                 select,
                 out,
-            };
-            let what = format!("fitting on {} record(s)", req.data.len());
-            let busy = progress::Busy::start(what.clone());
-            let o = commands::fit_with_progress(&req, &|line| busy.set_message(format!("{what}: {line}")));
-            drop(busy);
-            o?.print();
+            })?
         }
         Command::Identify {
             data,
@@ -228,4 +223,14 @@ fn fit_selection(
         }
         o
     }))
+}
+
+/// `rhonn fit`: the fit with the candidate structure being tried on the spinner.
+fn cmd_fit(req: commands::FitRequest) -> Result<()> {
+    let what = format!("fitting on {} record(s)", req.data.len());
+    let busy = progress::Busy::start(what.clone());
+    let o = commands::fit_with_progress(&req, &|line| busy.set_message(format!("{what}: {line}")));
+    drop(busy);
+    o?.print();
+    Ok(())
 }

@@ -600,6 +600,9 @@ pub fn merge_campaigns(dirs: &[PathBuf], out: &Path) -> Result<CampaignOutcome> 
     if dirs.is_empty() {
         bail!("give at least one campaign folder to merge");
     }
+    if crate::plant_campaign::is_plant_campaign(&dirs[0]) {
+        return crate::plant_campaign::merge_plant_campaigns(dirs, out);
+    }
     let mut files = Vec::new();
     for d in dirs {
         let meta = d.join("campaign.json");

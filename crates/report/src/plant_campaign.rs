@@ -38,6 +38,14 @@ struct PlantCampaignFile {
     sampling: String,
     shard: [u64; 2],
     indices: [u64; 2],
+    /// Runs (by index) whose traces make the envelope; absent in campaigns of older
+    /// versions (then the default).
+    #[serde(default = "default_envelope_runs")]
+    envelope_runs: u64,
+}
+
+fn default_envelope_runs() -> u64 {
+    1000
 }
 
 /// One row of `runs.csv`: index, status, parameters, figures (NaN when failed).
@@ -93,6 +101,7 @@ pub fn run_plant_campaign(
         sampling: if o.corners { "corners" } else { "random" }.into(),
         shard: o.shard,
         indices,
+        envelope_runs: o.envelope_runs,
     };
     let io = |what: &str, p: &Path, e: std::io::Error| {
         err(format!(
@@ -373,13 +382,15 @@ fn finish(
     set.commit()?;
     crate::worst_runs::remove_stale(dir, &worst_files)?;
     let partial = dir.join("runs.partial.csv");
-    std::fs::remove_file(&partial).map_err(|e| {
-        err(format!(
-            "cannot remove {}: {}",
-            partial.display(),
-            rhonn::error::path_problem(&partial, &e)
-        ))
-    })?;
+    if partial.exists() {
+        std::fs::remove_file(&partial).map_err(|e| {
+            err(format!(
+                "cannot remove {}: {}",
+                partial.display(),
+                rhonn::error::path_problem(&partial, &e)
+            ))
+        })?;
+    }
     Ok(CampaignOutcome {
         scenario: spec.name.clone(),
         dir: dir.to_path_buf(),
@@ -414,4 +425,159 @@ fn worst_runs(
         .collect();
     crate::worst_runs::describe_plant(spec, &names, key.map(|(_, larger)| larger), &runs)
         .map_err(|e| err(format!("cannot write a worst run's scenario: {e}")))
+}
+
+/// Whether the campaign folder `dir` holds a plant scenario's campaign (its
+/// `campaign.json` names a plant).
+pub fn is_plant_campaign(dir: &Path) -> bool {
+    std::fs::read_to_string(dir.join("campaign.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .is_some_and(|v| v.get("plant").is_some())
+}
+
+/// Each shard's `campaign.json`, the shared header of their `runs.csv` and every row.
+#[allow(clippy::type_complexity)]
+fn read_shards(
+    dirs: &[std::path::PathBuf],
+) -> Result<(
+    Vec<PlantCampaignFile>,
+    Option<Vec<String>>,
+    Vec<(u64, Vec<String>)>,
+)> {
+    let mut files = Vec::new();
+    let mut rows: Vec<(u64, Vec<String>)> = Vec::new();
+    let mut header: Option<Vec<String>> = None;
+    for d in dirs {
+        let meta = d.join("campaign.json");
+        let text = std::fs::read_to_string(&meta).map_err(|e| {
+            err(format!(
+                "cannot read {}: {}",
+                meta.display(),
+                rhonn::error::path_problem(&meta, &e)
+            ))
+        })?;
+        let f: PlantCampaignFile = serde_json::from_str(&text).map_err(|e| {
+            err(format!(
+                "{} is not a campaign file of a plant scenario: {e}",
+                meta.display()
+            ))
+        })?;
+        let runs_csv = d.join("runs.csv");
+        if !runs_csv.exists() {
+            return Err(err(format!(
+                "{} is not finished (no runs.csv): resume it first",
+                d.display()
+            )));
+        }
+        let mut rd = csv::Reader::from_path(&runs_csv)
+            .map_err(|e| err(format!("cannot read {}: {e}", runs_csv.display())))?;
+        let h: Vec<String> = rd
+            .headers()
+            .map_err(|e| err(format!("cannot read {}: {e}", runs_csv.display())))?
+            .iter()
+            .map(String::from)
+            .collect();
+        if header.as_ref().is_some_and(|first| *first != h) {
+            return Err(err(format!(
+                "{} has other columns than {}",
+                runs_csv.display(),
+                dirs[0].display()
+            )));
+        }
+        for (line, rec) in rd.records().enumerate() {
+            let rec = rec.map_err(|e| err(format!("{} line {}: {e}", runs_csv.display(), line + 2)))?;
+            let fields: Vec<String> = rec.iter().map(String::from).collect();
+            let i = fields[0].parse::<u64>().map_err(|_| {
+                err(format!(
+                    "{} line {}: run `{}` is not an index",
+                    runs_csv.display(),
+                    line + 2,
+                    fields[0]
+                ))
+            })?;
+            rows.push((i, fields));
+        }
+        header.get_or_insert(h);
+        files.push(f);
+    }
+    Ok((files, header, rows))
+}
+
+/// Combine the finished shard folders of one plant campaign into `out` (`rhonn merge`):
+/// the same `runs.csv`, `summary.json`, plots and worst runs as the unsharded campaign.
+pub fn merge_plant_campaigns(dirs: &[std::path::PathBuf], out: &Path) -> Result<CampaignOutcome> {
+    let (files, header, mut rows) = read_shards(dirs)?;
+    let Some(first) = files.first().cloned() else {
+        return Err(err("give at least one campaign folder to merge".into()));
+    };
+    for (d, f) in dirs.iter().zip(&files) {
+        let same = (&f.scenario_toml, f.seed, f.runs, &f.sampling, f.envelope_runs)
+            == (
+                &first.scenario_toml,
+                first.seed,
+                first.runs,
+                &first.sampling,
+                first.envelope_runs,
+            );
+        if !same {
+            return Err(err(format!(
+                "{} is a different campaign from {}",
+                d.display(),
+                dirs[0].display()
+            )));
+        }
+    }
+    rows.sort_by_key(|(i, _)| *i);
+    if let Some(w) = rows.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(err(format!("run {} appears twice among the shards", w[0].0)));
+    }
+    if rows.len() as u64 != first.runs {
+        return Err(err(format!(
+            "the shards hold {} of the campaign's {} runs: some shard is missing",
+            rows.len(),
+            first.runs
+        )));
+    }
+    let spec = PlantScenarioSpec::from_toml(&first.scenario_toml, "campaign.json")?;
+    let params = nominal_plant_parameters(&spec.plant.kind)?;
+    let base: Vec<f64> = params
+        .iter()
+        .map(|p| spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal))
+        .collect();
+    let tol: Vec<f64> = params.iter().map(|p| p.tolerance).collect();
+    let header = header.unwrap_or_default();
+    let fig_names: Vec<String> = header.iter().skip(2 + params.len()).cloned().collect();
+    let o = CampaignOptions {
+        runs: first.runs,
+        seed: first.seed,
+        shard: [1, 1],
+        corners: first.sampling == "corners",
+        envelope_runs: first.envelope_runs,
+    };
+    std::fs::create_dir_all(out).map_err(|e| {
+        err(format!(
+            "cannot create {}: {}",
+            out.display(),
+            rhonn::error::path_problem(out, &e)
+        ))
+    })?;
+    let file = PlantCampaignFile {
+        shard: [1, 1],
+        indices: [0, first.runs],
+        ..first
+    };
+    let text = serde_json::to_string_pretty(&file).map_err(|e| err(e.to_string()))?;
+    let mut set = OutputSet::new(out)?;
+    set.write("campaign.json", |w| w.write_all((text + "\n").as_bytes()))?;
+    set.commit()?;
+    let job = Job {
+        spec: &spec,
+        o: &o,
+        base: &base,
+        tol: &tol,
+        n_fig: fig_names.len(),
+        partial: &out.join("runs.partial.csv"),
+    };
+    finish(&job, out, &header, &rows, &fig_names, Vec::new())
 }
