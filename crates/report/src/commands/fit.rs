@@ -178,6 +178,20 @@ pub fn fit_with_progress(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> 
         .take(8)
         .map(|r| rhonn::sysid::predict(&fitted, r, None))
         .collect::<rhonn::Result<_>>()?;
+    // The frozen model's stability check: a free run on the bound of the output range.
+    for p in &training {
+        if let Some((name, t)) =
+            rhonn::sysid::free_run_at_bound(&fitted.model, &p.record, &p.outputs, p.first)
+        {
+            o.notes.push(format!(
+                "warning: the model's free run on {} reaches the bound its output `{name}` is held in \
+                 (the training range widened by output_margin) at t = {t} s: it drifts or is unstable \
+                 in free run; judge it K steps ahead (rhonn predict --steps-ahead K), or let rhonn fit \
+                 select a structure (no --model)",
+                p.record.source
+            ));
+        }
+    }
     o.files = crate::write_fit(&req.out, &fitted, &summary, &training)?;
     o.files.push(crate::write_report(&req.out)?);
     o.lines.push(if grey {

@@ -3,7 +3,7 @@
 //! sample time far below the system's time constants (the lags then see almost none of
 //! the dynamics). Each is a warning in words with what to do.
 
-use super::{Model, OutputFigures};
+use super::{Kind, Model, OutputFigures};
 use crate::data::Record;
 use crate::error::{Error, Result};
 
@@ -175,6 +175,25 @@ pub fn ensure_finite_figures(figures: &[OutputFigures], source: &str) -> Result<
                 .into(),
         }),
     }
+}
+
+/// The stability check of a frozen lagged model: where its free run on `r` (the
+/// prediction `pred`, from sample `first`) sits on the bound its outputs are held in (the
+/// training range widened by `output_margin`), which a stable model that fits the data
+/// never reaches: (output name, time \[s\]) of the first such sample.
+pub fn free_run_at_bound(m: &Model, r: &Record, pred: &[Vec<f64>], first: usize) -> Option<(String, f64)> {
+    if matches!(m.spec.kind, Kind::Cascade | Kind::Pump) {
+        return None;
+    }
+    for (j, ((lo, hi), col)) in m.output_range.iter().zip(pred).enumerate() {
+        let w = (hi - lo) * m.spec.output_margin;
+        let (a, b) = (lo - w, hi + w);
+        let tol = 1e-9 * (b - a).abs().max(1e-300);
+        if let Some(k) = (first..col.len().min(r.len())).find(|&k| col[k] <= a + tol || col[k] >= b - tol) {
+            return Some((m.outputs[j].clone(), r.t[k]));
+        }
+    }
+    None
 }
 
 #[cfg(test)]

@@ -32,7 +32,7 @@ pub mod pump_grey;
 pub mod select;
 mod train;
 use checks::ensure_finite_model;
-pub use checks::{data_warnings, decorrelation_lag, ensure_finite_figures};
+pub use checks::{data_warnings, decorrelation_lag, ensure_finite_figures, free_run_at_bound};
 pub use estimate::fit;
 use estimate::lm;
 pub use fitted::{fit_ensemble, fit_with_baseline, parse_spec_file, FittedModel};
