@@ -485,20 +485,24 @@ fn pump_grey_box_recovers_perturbed_parameters() {
         "--out",
         "m",
     ]);
+    // summary.json names every parameter (SI); model.json stores them in the same order.
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("m/summary.json")).unwrap()).unwrap();
     let m: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(d.path().join("m/model.json")).unwrap()).unwrap();
-    let w: Vec<f64> = m["model"]["weights"][0]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|v| v.as_f64().unwrap())
-        .collect();
-    // PARAM_NAMES order: v_l0, beta, alpha_v, k_l, omega, q_0, a_a, mu_1, ...
+    assert_eq!(s["parameters"].as_object().unwrap().len(), 18);
     for (name, j, truth) in [("beta", 1, 1.0e9), ("q_0", 5, 0.14e-3), ("mu_1", 7, 9.0e-5)] {
-        let rel = w[j] / truth - 1.0;
-        eprintln!("{name}: fitted {} (truth {truth}), {:+.3} %", w[j], 100.0 * rel);
-        assert!(rel.abs() < 0.02, "{name}: fitted {}, truth {truth}", w[j]);
+        let v = s["parameters"][name].as_f64().unwrap();
+        assert_eq!(v, m["model"]["weights"][0][j].as_f64().unwrap(), "{name}");
+        let rel = v / truth - 1.0;
+        eprintln!("{name}: fitted {v} (truth {truth}), {:+.3} %", 100.0 * rel);
+        assert!(rel.abs() < 0.02, "{name}: fitted {v}, truth {truth}");
     }
+    assert_eq!(
+        s["parameters"]["mu_2"].as_f64(),
+        Some(7.8e-5),
+        "mu_2 is not estimated"
+    );
     ok(&[
         "predict",
         "--model",

@@ -67,6 +67,9 @@ pub struct FitSummary {
     /// The ARX baseline with the same lags (a RHONN or cascade).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub baseline_arx: Option<BaselineSummary>,
+    /// A `pump` model's parameters by name, SI (the estimated ones and the fixed ones).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parameters: Option<std::collections::BTreeMap<String, f64>>,
     /// How the structure was chosen (`--select auto`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub selection: Option<super::select::Selection>,
@@ -130,6 +133,13 @@ pub fn train(
             }),
             None => None,
         },
+        parameters: (m.spec.kind == super::Kind::Pump).then(|| {
+            super::pump_grey::PARAM_NAMES
+                .iter()
+                .zip(&m.weights[0])
+                .map(|(n, v)| (n.to_string(), *v))
+                .collect()
+        }),
         selection: None,
     };
     Ok((fitted, summary))
