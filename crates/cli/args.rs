@@ -65,7 +65,10 @@ pub enum Command {
     ///                 `rhonn predict` needs) and, for a RHONN, the ARX baseline with the
     ///                 same lags trained on the same data
     ///   summary.json  per output and model: RMS error, fit [%] and NRMSE on the
-    ///                 training data, one step ahead and free run
+    ///                 training data, one step ahead and free run; `selection`: the
+    ///                 candidate structures' cross-validation errors (--select auto);
+    ///                 `parameters`: a `pump` model's parameters by name, SI
+    /// Without --model the structure is selected on the training records (--select).
     /// Errors are in the data's units (name them with --units). Warnings (on stderr) for a
     /// constant input, an input that is also an output, `t` used as a signal, and data
     /// sampled far faster than it changes (with the --resample value to try).
@@ -90,8 +93,8 @@ pub enum Command {
         /// with the errors and kept in model.json for `rhonn predict`.
         #[arg(long, value_delimiter = ',', value_name = "COLUMN=UNIT")]
         units: Vec<String>,
-        /// Model structure (TOML: kind, na, nb, nk, degree, max_factors, law, ridge,
-        /// epochs, gain, output_margin, ...). An ensemble: [[members]] tables, each a
+        /// Model structure (TOML: kind = rhonn, arx, cascade or pump; na, nb, nk, degree,
+        /// max_factors, law, ridge, epochs, gain, output_margin, ...; models/ has examples). An ensemble: [[members]] tables, each a
         /// structure; it predicts the mean of its members' predictions. Without it the
         /// structure is selected (--select auto).
         #[arg(long, value_name = "SPEC.toml")]
