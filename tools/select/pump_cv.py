@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""Choose the pump model's structure on the identification record alone: 3-fold
+"""Choose the direct RHONN predictor of the pump (models/pump-direct.toml; the grey box of
+models/pump.toml is chosen by `cargo run --release -p rhonn-report --example pump_models --
+select`) on the identification record alone: 3-fold
 cross-validation over contiguous thirds of pump-identify (train on two thirds, given as
 two records, judge the held-out third 10 steps ahead), over a grid of structures.
 Prints every structure's mean fit and writes the best as a model TOML. The validation
