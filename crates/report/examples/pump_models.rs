@@ -64,15 +64,6 @@ fn persistence(r: &Record, k: usize) -> f64 {
     fit_percent(&y[FROM..], &y[FROM - k..y.len() - k])
 }
 
-fn slice(r: &Record, a: usize, b: usize) -> Record {
-    Record {
-        source: format!("{} [{a}, {b})", r.source),
-        t: r.t[a..b].to_vec(),
-        inputs: r.inputs.iter().map(|c| c[a..b].to_vec()).collect(),
-        outputs: r.outputs.iter().map(|c| c[a..b].to_vec()).collect(),
-    }
-}
-
 fn select() -> Result<(), Error> {
     let id = record("pump-identify")?;
     let n = id.len();
@@ -100,9 +91,9 @@ fn select() -> Result<(), Error> {
                 for fold in 0..3 {
                     let train_recs: Vec<Record> = (0..3)
                         .filter(|&f| f != fold)
-                        .map(|f| slice(&id, cuts[f], cuts[f + 1]))
+                        .map(|f| id.slice(cuts[f], cuts[f + 1]))
                         .collect();
-                    let test = slice(&id, cuts[fold], cuts[fold + 1]);
+                    let test = id.slice(cuts[fold], cuts[fold + 1]);
                     let m = train(&s, &train_recs)?;
                     f10.push(fit_k(&m, &test, 10, false)?);
                     f200.push(fit_k(&m, &test, 200, false)?);

@@ -68,6 +68,21 @@ fn row(
     r
 }
 
+/// The plant's parameters a campaign draws, their values in the scenario (nominal unless it
+/// sets them) and their tolerances.
+#[allow(clippy::type_complexity)]
+fn drawn_parameters(
+    spec: &PlantScenarioSpec,
+) -> Result<(&'static [rhonn::plant::Parameter], Vec<f64>, Vec<f64>)> {
+    let params = nominal_plant_parameters(&spec.plant.kind)?;
+    let base = params
+        .iter()
+        .map(|p| spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal))
+        .collect();
+    let tol = params.iter().map(|p| p.tolerance).collect();
+    Ok((params, base, tol))
+}
+
 /// Run (or resume) a campaign of the plant scenario `spec` in `dir` (see the module).
 pub fn run_plant_campaign(
     spec: &PlantScenarioSpec,
@@ -75,12 +90,7 @@ pub fn run_plant_campaign(
     dir: &Path,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<CampaignOutcome> {
-    let params = nominal_plant_parameters(&spec.plant.kind)?;
-    let base: Vec<f64> = params
-        .iter()
-        .map(|p| spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal))
-        .collect();
-    let tol: Vec<f64> = params.iter().map(|p| p.tolerance).collect();
+    let (params, base, tol) = drawn_parameters(spec)?;
     let nominal = run_plant_scenario(spec, None)?;
     let fig_names: Vec<String> = nominal.summary.figures().into_iter().map(|(n, _)| n).collect();
     let varying = tol.iter().filter(|t| **t > 0.0).count() as u32;
@@ -540,12 +550,7 @@ pub fn merge_plant_campaigns(dirs: &[std::path::PathBuf], out: &Path) -> Result<
         )));
     }
     let spec = PlantScenarioSpec::from_toml(&first.scenario_toml, "campaign.json")?;
-    let params = nominal_plant_parameters(&spec.plant.kind)?;
-    let base: Vec<f64> = params
-        .iter()
-        .map(|p| spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal))
-        .collect();
-    let tol: Vec<f64> = params.iter().map(|p| p.tolerance).collect();
+    let (params, base, tol) = drawn_parameters(&spec)?;
     let header = header.unwrap_or_default();
     let fig_names: Vec<String> = header.iter().skip(2 + params.len()).cloned().collect();
     let o = CampaignOptions {

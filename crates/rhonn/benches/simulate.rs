@@ -247,15 +247,7 @@ fn bench_online(c: &mut Criterion) {
             black_box(id.update(t, &[u], &[0.5 * u, (t * 0.7).cos()]).unwrap()[0])
         })
     });
-    let mut tr = Trace::default();
-    rhonn::experiment::run_full(&preset::load("pump-identify").unwrap().check().unwrap(), &mut tr).unwrap();
-    let col = |n: &str| tr.column(n).unwrap().to_vec();
-    let rec = [rhonn::data::Record {
-        source: "pump-identify".into(),
-        t: col("t"),
-        inputs: vec![col("current"), col("demand")],
-        outputs: vec![col("p_meas")],
-    }];
+    let rec = [pump_identify_record()];
     let outputs = ["p_meas".to_string()];
     c.bench_function("online identification of the 60 s pump-identify record", |b| {
         b.iter(|| {
@@ -267,20 +259,25 @@ fn bench_online(c: &mut Criterion) {
     });
 }
 
+/// The pump-identify record (current and demand in, measured pressure out), simulated.
+fn pump_identify_record() -> rhonn::data::Record {
+    let mut tr = Trace::default();
+    rhonn::experiment::run_full(&preset::load("pump-identify").unwrap().check().unwrap(), &mut tr).unwrap();
+    let col = |n: &str| tr.column(n).unwrap().to_vec();
+    rhonn::data::Record {
+        source: "pump-identify".into(),
+        t: col("t"),
+        inputs: vec![col("current"), col("demand")],
+        outputs: vec![col("p_meas")],
+    }
+}
+
 /// The grey-box pump model of models/pump.toml on the 60 s pump-identify record
 /// (12,001 samples): its training (every stage of the continuation) and a 10-step-ahead
 /// prediction (the filter over the record and 12,000 ten-sample simulations).
 fn bench_pump_grey(c: &mut Criterion) {
     use rhonn::sysid::{fit, parse_spec_file};
-    let mut tr = Trace::default();
-    rhonn::experiment::run_full(&preset::load("pump-identify").unwrap().check().unwrap(), &mut tr).unwrap();
-    let col = |n: &str| tr.column(n).unwrap().to_vec();
-    let rec = [rhonn::data::Record {
-        source: "pump-identify".into(),
-        t: col("t"),
-        inputs: vec![col("current"), col("demand")],
-        outputs: vec![col("p_meas")],
-    }];
+    let rec = [pump_identify_record()];
     let spec = parse_spec_file(include_str!("../../../models/pump.toml"))
         .unwrap()
         .remove(0);

@@ -27,6 +27,16 @@ impl Record {
         self.t.is_empty()
     }
 
+    /// Samples `a..b` as a record of their own (source named with the range).
+    pub fn slice(&self, a: usize, b: usize) -> Record {
+        Record {
+            source: format!("{} (samples {a}..{b})", self.source),
+            t: self.t[a..b].to_vec(),
+            inputs: self.inputs.iter().map(|c| c[a..b].to_vec()).collect(),
+            outputs: self.outputs.iter().map(|c| c[a..b].to_vec()).collect(),
+        }
+    }
+
     /// The median sampling interval \[s\].
     pub fn median_interval(&self) -> f64 {
         let mut d: Vec<f64> = self.t.windows(2).map(|w| w[1] - w[0]).collect();

@@ -147,15 +147,6 @@ pub fn candidates(no: usize, cascade: bool) -> Vec<(String, ModelSpec)> {
     c
 }
 
-fn part(r: &Record, a: usize, b: usize) -> Record {
-    Record {
-        source: format!("{} (samples {a}..{b})", r.source),
-        t: r.t[a..b].to_vec(),
-        inputs: r.inputs.iter().map(|c| c[a..b].to_vec()).collect(),
-        outputs: r.outputs.iter().map(|c| c[a..b].to_vec()).collect(),
-    }
-}
-
 /// The folds: (training parts, held-out parts) for each fold.
 fn folds(records: &[Record], k: usize) -> Vec<(Vec<Record>, Vec<Record>)> {
     (0..k)
@@ -165,7 +156,7 @@ fn folds(records: &[Record], k: usize) -> Vec<(Vec<Record>, Vec<Record>)> {
             for r in records {
                 let n = r.len();
                 for g in 0..k {
-                    let p = part(r, g * n / k, (g + 1) * n / k);
+                    let p = r.slice(g * n / k, (g + 1) * n / k);
                     if g == f {
                         test.push(p);
                     } else {
