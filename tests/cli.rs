@@ -252,7 +252,7 @@ fn reproduce_runs_every_thesis_scenario() {
     }
     let b = &s["control"]["baseline"];
     assert_eq!(b["controller"], "cascade-pi");
-    assert_eq!(b["kp_mm_per_mpa"].as_f64(), Some(0.2));
+    assert_eq!(b["kp_mm_per_mpa"].as_f64(), Some(0.15));
     let weights = std::fs::read_to_string(dir.join("weights.svg")).unwrap();
     assert!(weights.contains("MPa/(s mm)"));
     // The weights against their bounds and the identifier's error energy are drawn, and
@@ -290,7 +290,7 @@ fn bad_adaptive_controller_settings_are_clear_errors() {
             "`controller.lambda_per_s` = -1 is not allowed: a finite number > 0",
         ),
         (
-            shipped.replace("baseline_ti_s = 0.05", "baseline_ti_s = 0.0"),
+            shipped.replace("baseline_ti_s = 0.07", "baseline_ti_s = 0.0"),
             "`controller.baseline_ti_s` = 0 is not allowed: a number > 0",
         ),
         (
@@ -298,11 +298,11 @@ fn bad_adaptive_controller_settings_are_clear_errors() {
             "`controller.baseline` = \"pid\" is not allowed: \"cascade-pi\" (the same sensors) or \"pi\"",
         ),
         (
-            shipped.replace("baseline_setpoint_weight = 0.6", "baseline_setpoint_weight = 1.5"),
+            shipped.replace("baseline_setpoint_weight = 0.8", "baseline_setpoint_weight = 1.5"),
             "`controller.baseline_setpoint_weight` = 1.5 is not allowed: a number in [0, 1]",
         ),
         (
-            shipped.replace("baseline_ti_s = 0.05", "baseline_ti_s = 0.05\nbaseline_kp_a_per_mpa = 0.15"),
+            shipped.replace("baseline_ti_s = 0.07", "baseline_ti_s = 0.07\nbaseline_kp_a_per_mpa = 0.15"),
             "`controller.baseline_kp_a_per_mpa` = a value is not allowed: absent with baseline = \"cascade-pi\"",
         ),
         (

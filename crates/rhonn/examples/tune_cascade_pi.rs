@@ -4,13 +4,17 @@
 //!
 //! * **nominal-optimal**: the lowest nominal IAE with every step's overshoot at most 10 %;
 //! * **robust**: the lowest nominal IAE with that overshoot limit that still regulates
-//!   with doubled gains (6 dB), a 5 ms solenoid lag and a one-period delay.
+//!   with doubled gains, a 5 ms solenoid lag and a one-period delay, and keeps a 6 dB gain
+//!   margin and a 45 degree phase margin, measured on the simulated pump, at 5, 10 and
+//!   15 MPa with no demand and with 1.8 dm^3/s (`tuning::worst_margins`).
 //!
 //! `--margins`: instead of the search, the gain and phase margins of both shipped tunings
-//! measured on the simulated pump by sine injection at the current
-//! (`tuning::margins`), at 5, 10 and 15 MPa with no demand and with 1.8 dm^3/s.
+//! at each operating point (`tuning::margins`: sine injection at the current).
+//! `--sensitivity`: their peak sensitivity M_s at each point with 2.5, 5 and 10 mA of
+//! injection (`tuning::sensitivity_peak`), and the margins the worst M_s guarantees.
+//! `--probe KP,TI,B,G`: both for any gain set (mm/MPa, s, -, -).
 
-use rhonn::experiment::tuning::{full_grid, margins, search, TuningScore};
+use rhonn::experiment::tuning::{full_grid, margins, margins_of_peak, search, sensitivity_peak, TuningScore};
 use rhonn::experiment::{preset, CascadePiGainsMpa, NOMINAL_OPTIMAL, ROBUST};
 
 /// The worst gain and phase margins over the operating points (5, 10, 15 MPa; no demand
@@ -45,6 +49,18 @@ fn show(what: &str, s: &TuningScore) {
         "  nominal: IAE {:.2} MPa s, largest overshoot {:.1} %, within 1 % for {:.1} % of the run",
         n.iae_mpa_s, n.overshoot_percent, n.within_1pct_percent
     );
+    if let Some(m) = s.margins {
+        println!(
+            "  margins (worst of 5, 10, 15 MPa x 0, 1.8 dm^3/s): gain {:.1} dB, phase {:.1} deg{}",
+            20.0 * m.gain.log10(),
+            m.phase_deg,
+            if m.measurable {
+                ""
+            } else {
+                " (not measurable at every point)"
+            }
+        );
+    }
     for (name, r) in [
         ("gains doubled", s.doubled),
         ("solenoid lag 5 ms", s.lag_5ms),
@@ -59,7 +75,53 @@ fn show(what: &str, s: &TuningScore) {
     }
 }
 
+/// The peak sensitivity M_s at each operating point for three injection amplitudes
+/// (`tuning::sensitivity_peak`), and the margins the worst one guarantees.
+fn show_sensitivity(what: &str, g: CascadePiGainsMpa) -> Result<(), rhonn::Error> {
+    let mut worst: f64 = 0.0;
+    for p in [5.0, 10.0, 15.0] {
+        for q in [0.0, 1.8] {
+            let mut line = format!("  {what} at {p} MPa, {q} dm^3/s: M_s");
+            for a in [0.0025, 0.005, 0.01] {
+                let (ms, w) = sensitivity_peak(g, p, q, 32, a)?;
+                line += &format!("  {ms:.3} at {w:.0} rad/s ({:.1} mA)", a * 1e3);
+                worst = worst.max(ms);
+            }
+            println!("{line}");
+        }
+    }
+    let (gm, pm) = margins_of_peak(worst);
+    println!(
+        "  {what}: worst M_s {worst:.3}: gain margin >= {:.1} dB, phase margin >= {pm:.1} deg",
+        20.0 * gm.log10()
+    );
+    Ok(())
+}
+
 fn main() -> Result<(), rhonn::Error> {
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(i) = args.iter().position(|a| a == "--probe") {
+        let v: Vec<f64> = args
+            .get(i + 1)
+            .map(|s| s.split(',').filter_map(|x| x.trim().parse().ok()).collect())
+            .unwrap_or_default();
+        let [kp_mm_per_mpa, ti_s, setpoint_weight, stroke_gain] = v[..] else {
+            eprintln!("--probe takes KP,TI,B,G: four numbers (mm/MPa, s, -, -)");
+            std::process::exit(2);
+        };
+        let g = CascadePiGainsMpa {
+            kp_mm_per_mpa,
+            ti_s,
+            setpoint_weight,
+            stroke_gain,
+        };
+        show_margins("probe", g)?;
+        return show_sensitivity("probe", g);
+    }
+    if std::env::args().any(|a| a == "--sensitivity") {
+        show_sensitivity("nominal-optimal", NOMINAL_OPTIMAL)?;
+        return show_sensitivity("robust", ROBUST);
+    }
     if std::env::args().any(|a| a == "--margins") {
         show_margins("nominal-optimal", NOMINAL_OPTIMAL)?;
         return show_margins("robust", ROBUST);
