@@ -191,11 +191,11 @@ def fit(
         of its keys); None: the default.
     inputs, outputs : sequence of str, optional
         Signal names (default ``u``/``u0, u1, ...`` and ``y``/``y0, ...``).
-    select : "auto", optional
-        Choose the structure by cross-validation on the recordings, as ``rhonn fit``
-        does without ``--model`` (``summary["selection"]`` says what was chosen and how
-        it compares with the best ARX). None (default here): ``model``, or the fixed
-        default structure.
+    select : "auto" or "none", optional
+        ``"auto"``: choose the structure by cross-validation on the recordings
+        (``summary["selection"]`` says what was chosen and how it compares with the best
+        ARX); ``"none"``: the fixed default structure. None (the default): ``"auto"``
+        when no ``model`` is given, as ``rhonn fit`` without ``--model`` does.
 
     Returns
     -------
@@ -214,10 +214,12 @@ def fit(
         raise TypeError(f"dt must be a number of seconds, not {type(dt).__name__}")
     ins = _names(inputs, us[0].shape[1], "u", "inputs")
     outs = _names(outputs, ys[0].shape[1], "y", "outputs")
-    if select not in (None, "auto"):
-        raise ValueError(f"select = {select!r} is not allowed: give \"auto\" or None")
-    if select == "auto" and model is not None:
-        raise ValueError("select=\"auto\" and model both name the structure: give one")
+    if select not in (None, "auto", "none"):
+        raise ValueError(f"select = {select!r} is not allowed: give \"auto\", \"none\" or None")
+    if select is not None and model is not None:
+        raise ValueError(f"select={select!r} and model both name the structure: give one")
+    if select is None:
+        select = "auto" if model is None else "none"
     text, source = _spec_text(model)
     return Model(_rhonn.fit(us, ys, float(dt), ins, outs, text, source, select == "auto"))
 

@@ -80,7 +80,7 @@ def test_summary_and_k_steps_ahead_equal_the_command(tanks, tanks_model, command
 def test_several_recordings_and_default_names(tanks):
     est, _ = tanks
     h = len(est["u"]) // 2
-    m = rhonn.fit([est["u"][:h], est["u"][h:]], [est["y"][:h], est["y"][h:]], dt=4.0)
+    m = rhonn.fit([est["u"][:h], est["u"][h:]], [est["y"][:h], est["y"][h:]], dt=4.0, select="none")
     assert m.inputs == ["u"] and m.outputs == ["y"]
     assert len(m.summary["training"]["free_run"]) == 2
 
@@ -90,15 +90,15 @@ def test_non_contiguous_and_integer_arrays_are_accepted(tanks):
     u2 = np.repeat(est["u"][:, None], 2, axis=1)[:, ::2]  # a strided view
     assert not u2.flags["C_CONTIGUOUS"]
     y = est["y"]
-    a = rhonn.fit(u2, y, dt=4.0)
-    b = rhonn.fit(np.ascontiguousarray(u2), y, dt=4)
+    a = rhonn.fit(u2, y, dt=4.0, select="none")
+    b = rhonn.fit(np.ascontiguousarray(u2), y, dt=4, select="none")
     np.testing.assert_array_equal(a.predict(u2, y), b.predict(est["u"], y))
-    rhonn.fit(np.round(est["u"] * 100).astype(np.int64), y, dt=4.0)
+    rhonn.fit(np.round(est["u"] * 100).astype(np.int64), y, dt=4.0, select="none")
 
 
-def test_select_auto_chooses_the_structure_as_the_command_does(tanks):
+def test_without_a_model_the_structure_is_selected_as_the_command_does(tanks):
     est, val = tanks
-    m = rhonn.fit(est["u"], est["y"], dt=4.0, select="auto")
+    m = rhonn.fit(est["u"], est["y"], dt=4.0)  # select="auto" is the default without a model
     sel = m.summary["selection"]
     chosen = sel["candidates"][sel["chosen"]]
     assert chosen["score"] <= sel["candidates"][sel["best_arx"]]["score"]
@@ -111,3 +111,5 @@ def test_select_auto_chooses_the_structure_as_the_command_does(tanks):
         rhonn.fit(est["u"], est["y"], dt=4.0, select="best")
     with pytest.raises(ValueError, match="both name the structure"):
         rhonn.fit(est["u"], est["y"], dt=4.0, select="auto", model={"kind": "arx"})
+    # "none": the fixed default structure, no selection.
+    assert "selection" not in rhonn.fit(est["u"], est["y"], dt=4.0, select="none").summary

@@ -45,6 +45,8 @@ pub(crate) const EXPONENT_RANGE: (f64, f64) = (0.2, 1.5);
 /// Solver steps allowed per sample: a simulation that needs more is too stiff to be
 /// the answer, and fails (a training start then avoids it).
 const MAX_STEPS_PER_SAMPLE: u64 = 200;
+/// Starts trained before the rest: when none of them ends valid, the fit stops.
+const EARLY_STARTS: usize = 8;
 /// Exponent when they are not learned (Torricelli).
 const FIXED_EXPONENT: f64 = 0.5;
 /// Relative and absolute tolerance of the simulations (normalised units): tight, so
@@ -480,6 +482,22 @@ fn random_start(co: Coords, ymin: f64, ymax: f64, n_rec: usize, rng: &mut ChaCha
     th
 }
 
+/// Run starts `0..starts` through `run`: the first [`EARLY_STARTS`], then, only when one
+/// of them is `valid`, the rest. In index order, so what runs does not depend on the
+/// number of threads.
+fn staged_starts<E>(
+    starts: usize,
+    run: impl Fn(std::ops::Range<usize>) -> Vec<E>,
+    valid: impl Fn(&E) -> bool,
+) -> Vec<E> {
+    let first = starts.min(EARLY_STARTS);
+    let mut ends = run(0..first);
+    if ends.iter().any(valid) {
+        ends.extend(run(first..starts));
+    }
+    ends
+}
+
 /// Train a cascade model: `m` arrives with its names and normalisation set.
 pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()> {
     let n = spec.neurons;
@@ -511,30 +529,37 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
         }
         true
     };
-    let mut ends: Vec<(f64, usize, Vec<f64>)> = (0..spec.starts)
-        .into_par_iter()
-        .map(|s| {
-            let mut rng = ChaCha8Rng::seed_from_u64(spec.seed.wrapping_add(s as u64));
-            let mut th = random_start(co, ymin, ymax, data.len(), &mut rng);
-            let cost = lm(&mut th, spec.epochs, 1e-5, &residuals);
-            (cost, s, th)
-        })
-        .collect();
+    let run_starts = |range: std::ops::Range<usize>| -> Vec<(f64, usize, Vec<f64>)> {
+        range
+            .into_par_iter()
+            .map(|s| {
+                let mut rng = ChaCha8Rng::seed_from_u64(spec.seed.wrapping_add(s as u64));
+                let mut th = random_start(co, ymin, ymax, data.len(), &mut rng);
+                let cost = lm(&mut th, spec.epochs, 1e-5, &residuals);
+                (cost, s, th)
+            })
+            .collect()
+    };
+    let is_valid = |e: &(f64, usize, Vec<f64>)| e.0.is_finite() && co.params(&e.2[..nm]).check().is_ok();
+    // The first starts decide whether the rest are worth their time: when none of them
+    // trains to a valid cascade the fit stops there (seconds, not minutes) and says why.
+    let mut ends = staged_starts(spec.starts, run_starts, is_valid);
+    let tried = ends.len();
     ends.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     if !ends.first().is_some_and(|e| e.0.is_finite()) {
         return Err(invalid(
             "model.starts",
             spec.starts,
-            "enough starts for one simulation to succeed (every start failed)",
+            format!(
+                "starts of which at least one simulates the records (the first {tried} failed: every \
+                 simulation left the solver's step budget, the data do not behave like a chain of \
+                 tanks); try `rhonn fit` without --model (it selects a structure)"
+            ),
         ));
     }
     // The best start whose parameters are a valid cascade: a start can drive a rate or a
     // bound to zero (its logarithm to minus infinity) when the data do not need it.
-    let valid = ends
-        .iter()
-        .filter(|e| e.0.is_finite())
-        .map(|e| co.params(&e.2[..nm]))
-        .find(|p| p.check().is_ok());
+    let valid = ends.iter().find(|e| is_valid(e)).map(|e| co.params(&e.2[..nm]));
     let Some(p) = valid else {
         let why = co
             .params(&ends[0].2[..nm])
@@ -544,7 +569,14 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
             .unwrap_or_default();
         return Err(invalid(
             "model (kind = \"cascade\")",
-            format!("{} starts, none valid", spec.starts),
+            if tried < spec.starts {
+                format!(
+                    "the first {tried} of {} starts, none valid (the rest not tried)",
+                    spec.starts
+                )
+            } else {
+                format!("{} starts, none valid", spec.starts)
+            },
             format!(
                 "a structure the data fit: every start's training left an invalid cascade (the best: {why}), \
                  which happens when the data do not behave like a chain of tanks; try `rhonn fit` without \

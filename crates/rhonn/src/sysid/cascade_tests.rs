@@ -260,3 +260,24 @@ fn settling_finds_the_hidden_initial_level() {
         assert!((got[0] - h).abs() < 1e-3, "{} vs {h}", got[0]);
     }
 }
+
+/// When none of the first starts trains to a valid cascade the fit stops there, long
+/// before its 64 starts; when one does, every start runs (the result is then the one all
+/// starts give, whatever the thread count).
+#[test]
+fn the_starts_stop_early_when_none_of_the_first_is_valid() {
+    let ran = std::sync::Mutex::new(Vec::new());
+    let run = |r: std::ops::Range<usize>| {
+        ran.lock().unwrap().push(r.clone());
+        r.collect::<Vec<usize>>()
+    };
+    let ends = staged_starts(64, run, |_| false);
+    assert_eq!(ends, (0..EARLY_STARTS).collect::<Vec<_>>());
+    assert_eq!(*ran.lock().unwrap(), vec![0..EARLY_STARTS]);
+    ran.lock().unwrap().clear();
+    let ends = staged_starts(64, run, |&s| s == 3);
+    assert_eq!(ends, (0..64).collect::<Vec<_>>());
+    assert_eq!(*ran.lock().unwrap(), vec![0..EARLY_STARTS, EARLY_STARTS..64]);
+    // Fewer starts than the first stage: just those.
+    assert_eq!(staged_starts(3, run, |_| true), vec![0, 1, 2]);
+}
