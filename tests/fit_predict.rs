@@ -562,40 +562,16 @@ fn pump_grey_box_refuses_a_pressure_in_mpa() {
 }
 
 /// A system the project never modelled, as CSV: `n` samples of a Wiener-Hammerstein
-/// chain (saturating actuator, second-order lag, cubic sensor) under a random multilevel
-/// input (`inputs = 1`), or of a bilinear two-input system (`inputs = 2`), with 1 %
-/// output noise.
+/// chain (`inputs = 1`) or of a bilinear two-input system (`inputs = 2`),
+/// `rhonn::sysid::benchmarks`.
 fn write_unseen(path: &Path, seed: u64, n: usize, inputs: usize) {
-    let mut s = seed;
-    let mut rnd = || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((s >> 33) as f64 / (1u64 << 31) as f64) * 2.0 - 1.0
+    use rhonn::sysid::benchmarks::{bilinear, to_csv, wiener_hammerstein};
+    let r = if inputs == 1 {
+        wiener_hammerstein(seed, n)
+    } else {
+        bilinear(seed, n)
     };
-    let mut text = String::from(if inputs == 1 { "t,u,y\n" } else { "t,u1,u2,y\n" });
-    let (mut x1, mut x2) = (0.0f64, 0.0f64);
-    let (mut u1, mut u2) = (0.0, 0.0);
-    for k in 0..n {
-        if k % 15 == 0 {
-            u1 = rnd();
-        }
-        if k % 23 == 0 {
-            u2 = rnd();
-        }
-        let y = if inputs == 1 { x1 + 0.3 * x1.powi(3) } else { x1 } + 0.01 * rnd();
-        if inputs == 1 {
-            text.push_str(&format!("{},{u1},{y}\n", k as f64 * 0.1));
-            let v = (2.0 * u1).tanh();
-            let x1n = 1.5 * x1 - 0.7 * x2 + 0.2 * v;
-            x2 = x1;
-            x1 = x1n;
-        } else {
-            text.push_str(&format!("{},{u1},{u2},{y}\n", k as f64 * 0.1));
-            x1 = 0.85 * x1 + 0.2 * u1 + 0.25 * u1 * u2 - 0.1 * x1 * u2;
-        }
-    }
-    std::fs::write(path, text).unwrap();
+    std::fs::write(path, to_csv(&r)).unwrap();
 }
 
 /// `rhonn fit` with its defaults (structure selection) on two systems the project never

@@ -23,6 +23,7 @@
 //! from the least-squares weights, Levenberg-Marquardt on the free-run error — a model
 //! judged by free runs is trained on free runs).
 
+pub mod benchmarks;
 pub mod cascade;
 mod checks;
 mod estimate;
