@@ -487,6 +487,7 @@ impl DiscreteIdentifier {
 }
 
 mod online;
+mod online_spec;
 mod recordings;
 mod spec;
 pub use online::{InputHold, OnlineIdentifier, OnlineModel, OnlineSpec, Scaling, Snapshot};

@@ -22,122 +22,13 @@
 //!
 //! Signals are normalised inside ([`Scaling`]): offset and scale per output and input.
 
+use super::online_spec::check_spec;
+pub use super::online_spec::{InputHold, OnlineSpec, Scaling};
 use super::{Identifier, Mode, Scratch};
 use crate::error::{invalid, Error, Result};
 use crate::law::{GainSpec, LawSpec};
 use crate::net::{Network, Sigmoid, Terms};
 use serde::{Deserialize, Serialize};
-
-/// How inputs move between two samples.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "kebab-case")]
-pub enum InputHold {
-    /// Held at the last sample (zero-order hold).
-    #[default]
-    Hold,
-    /// Linear between the last sample and this one.
-    Linear,
-}
-
-/// An online identifier's structure and law, as `rhonn identify --model SPEC.toml`
-/// writes it. Every field has a default.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct OnlineSpec {
-    /// Learning law (a `[law]` table as in scenarios); default `filtered-error` with
-    /// `gamma = gain / (T L)` per neuron (T the sample time, L the number of terms).
-    pub law: Option<LawSpec>,
-    /// Step size of the default law (default 0.5; ignored with a `law`).
-    pub gain: f64,
-    /// Degree of the high-order terms (default 2).
-    pub degree: usize,
-    /// Most distinct factors per term (default 2).
-    pub max_factors: usize,
-    /// Neuron pole a \[1/s\] (default 1 / (10 T)).
-    pub a_per_s: Option<f64>,
-    /// Time constants \[s\] of the input filters standing in for unmeasured states
-    /// (default none).
-    pub filters_s: Vec<f64>,
-    /// `hold` (default) or `linear`.
-    pub inputs: InputHold,
-    /// Passes over the recordings, weights carried (default 1).
-    pub epochs: usize,
-    /// Freeze the weights this many seconds into each pass (default never).
-    pub freeze_after_s: Option<f64>,
-    /// Errors below this, in each output's own units, do not adapt (default 0).
-    pub dead_zone: f64,
-    /// `rhonn identify` holds each estimate within the identification data's range
-    /// widened by this fraction of it on each side (default 0.1; negative: unbounded).
-    pub output_margin: f64,
-    /// Whether the measured outputs enter the regressor (default true). Without them
-    /// the regressor depends on the inputs and their filters only, so the model learned
-    /// online (series-parallel) is the very model that runs free.
-    pub output_terms: bool,
-}
-
-impl Default for OnlineSpec {
-    fn default() -> Self {
-        OnlineSpec {
-            law: None,
-            gain: 0.5,
-            degree: 2,
-            max_factors: 2,
-            a_per_s: None,
-            filters_s: Vec::new(),
-            inputs: InputHold::Hold,
-            epochs: 1,
-            freeze_after_s: None,
-            dead_zone: 0.0,
-            output_margin: 0.1,
-            output_terms: true,
-        }
-    }
-}
-
-/// Offsets and scales of the outputs and the inputs: the identifier sees
-/// `(signal - offset) / scale`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Scaling {
-    /// Per output.
-    pub y_offset: Vec<f64>,
-    /// Per output, > 0.
-    pub y_scale: Vec<f64>,
-    /// Per input.
-    pub u_offset: Vec<f64>,
-    /// Per input, > 0.
-    pub u_scale: Vec<f64>,
-    /// Per output, the range the model's estimate is held in (output units), like a
-    /// limited integrator; none: unbounded.
-    #[serde(default)]
-    pub y_bounds: Option<Vec<[f64; 2]>>,
-}
-
-impl Scaling {
-    /// No scaling for `ny` outputs and `nu` inputs.
-    pub fn identity(ny: usize, nu: usize) -> Self {
-        Scaling {
-            y_offset: vec![0.0; ny],
-            y_scale: vec![1.0; ny],
-            u_offset: vec![0.0; nu],
-            u_scale: vec![1.0; nu],
-            y_bounds: None,
-        }
-    }
-
-    /// Mean and standard deviation of each column (a constant column gets scale 1).
-    pub fn of(outputs: &[&[f64]], inputs: &[&[f64]]) -> Self {
-        let ms = |c: &&[f64]| crate::metrics::mean_std(&[*c]);
-        let (y_offset, y_scale) = outputs.iter().map(ms).unzip();
-        let (u_offset, u_scale) = inputs.iter().map(ms).unzip();
-        Scaling {
-            y_offset,
-            y_scale,
-            u_offset,
-            u_scale,
-            y_bounds: None,
-        }
-    }
-}
 
 /// A frozen online model as `model.json` holds it: `rhonn identify` writes it and
 /// `rhonn predict` runs it.
@@ -350,8 +241,9 @@ impl OnlineIdentifier {
             // The first sample: the model starts at the measurement, the filters at rest.
             let yn = std::mem::take(&mut self.yn);
             self.set_estimate_normalised(&yn);
-            self.yn = yn;
             self.start_filters();
+            self.start_regressor_filters(&yn);
+            self.yn = yn;
             self.remember(t);
             return Ok(self.denormalised());
         };
@@ -503,6 +395,30 @@ impl OnlineIdentifier {
             crate::law::Structure::FilteredRegressor => {
                 let l = self.ident.net.n_terms();
                 super::dot(&blk[..l], &blk[l..2 * l])
+            }
+        }
+    }
+
+    /// A frozen filtered-regressor model's filters zeta at rest for the first sample's
+    /// regressor z (from the measurement `yn` and the inputs): zeta = z / a, where
+    /// zeta' = -a zeta + z stands still. Not what an earlier record left in them: the
+    /// frozen model's run of a record (`rhonn identify --validate`, `rhonn predict` of
+    /// the saved model) then begins alike whatever ran before. While learning, the
+    /// filters carry over from the last record: set at rest, their size (1/a times z's)
+    /// with a fresh covariance would make the least-squares law stiff at once.
+    fn start_regressor_filters(&mut self, yn: &[f64]) {
+        if self.ident.law.structure != crate::law::Structure::FilteredRegressor
+            || !(self.frozen || self.free_run)
+        {
+            return;
+        }
+        let (n, l, b) = (self.ident.net.n, self.ident.net.n_terms(), self.ident.block());
+        let sc = &mut self.scratch;
+        self.ident.net.regressor(yn, &self.u_now, &mut sc.y, &mut sc.z);
+        for i in 0..n {
+            let a = self.ident.net.a[i];
+            for k in 0..l {
+                self.state[i * b + k] = sc.z[k] / a;
             }
         }
     }
@@ -663,10 +579,15 @@ impl OnlineIdentifier {
     /// The identifier's fastest rate \[1/s\] after an evaluation of its derivative by
     /// the general path (which left the regressor z in the scratch).
     fn fastest_rate(&self) -> f64 {
+        let a_max = self.ident.net.a.iter().copied().fold(0.0, f64::max);
+        if self.ident.mode != Mode::Train {
+            // Frozen weights: only the neurons move (and a frozen model runs alike
+            // whatever covariance its law last had, e.g. when rebuilt from model.json).
+            return a_max;
+        }
         let l = self.ident.net.n_terms();
         let z2: f64 = self.scratch.z[..l].iter().map(|v| v * v).sum();
         let b = self.ident.block();
-        let a_max = self.ident.net.a.iter().copied().fold(0.0, f64::max);
         let g_max = (0..self.ident.net.n)
             .map(|i| match &self.ident.law.rule {
                 crate::law::Rule::Gradient(g) => match &g.gamma[i] {
@@ -692,93 +613,4 @@ fn stage_inputs(u_mid: &mut [f64], u0: &[f64], u_now: &[f64], nu: usize, hold: I
             u_mid[c] = u0[c] + f * (u_now[c] - u0[c]);
         }
     }
-}
-
-fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64, s: &Scaling) -> Result<()> {
-    if ny == 0 || nu == 0 {
-        return Err(invalid(
-            "outputs and inputs",
-            format!("{ny} and {nu}"),
-            "at least one of each",
-        ));
-    }
-    if !(period_s.is_finite() && period_s > 0.0) {
-        return Err(invalid("sample time", period_s, "a finite number of seconds > 0"));
-    }
-    if !(1..=4).contains(&spec.degree) {
-        return Err(invalid("model.degree", spec.degree, "an integer in [1, 4]"));
-    }
-    if !(1..=spec.degree).contains(&spec.max_factors) {
-        return Err(invalid(
-            "model.max_factors",
-            spec.max_factors,
-            format!("an integer in [1, {}]", spec.degree),
-        ));
-    }
-    if !(spec.gain.is_finite() && spec.gain > 0.0) {
-        return Err(invalid("model.gain", spec.gain, "a finite number > 0"));
-    }
-    if let Some(a) = spec.a_per_s {
-        if !(a.is_finite() && a > 0.0) {
-            return Err(invalid(
-                "model.a_per_s",
-                a,
-                "a finite number > 0 (a stable neuron)",
-            ));
-        }
-    }
-    for (k, tau) in spec.filters_s.iter().enumerate() {
-        if !(tau.is_finite() && *tau > 0.0) {
-            return Err(invalid(
-                format!("model.filters_s[{k}]"),
-                tau,
-                "a time constant > 0 s",
-            ));
-        }
-    }
-    if !(1..=10_000).contains(&spec.epochs) {
-        return Err(invalid("model.epochs", spec.epochs, "an integer in [1, 10000]"));
-    }
-    if let Some(f) = spec.freeze_after_s {
-        if !(f.is_finite() && f >= 0.0) {
-            return Err(invalid("model.freeze_after_s", f, "a time >= 0 s"));
-        }
-    }
-    if !(spec.dead_zone.is_finite() && spec.dead_zone >= 0.0) {
-        return Err(invalid("model.dead_zone", spec.dead_zone, "a finite number >= 0"));
-    }
-    let ok = |v: &[f64], n: usize, positive: bool| {
-        v.len() == n && v.iter().all(|x| x.is_finite() && (!positive || *x > 0.0))
-    };
-    if !(ok(&s.y_offset, ny, false)
-        && ok(&s.y_scale, ny, true)
-        && ok(&s.u_offset, nu, false)
-        && ok(&s.u_scale, nu, true))
-    {
-        return Err(invalid(
-            "scaling",
-            format!("{s:?}"),
-            format!("{ny} output and {nu} input offsets and scales, scales > 0"),
-        ));
-    }
-    if let Some(b) = &s.y_bounds {
-        if b.len() != ny
-            || b.iter()
-                .any(|[lo, hi]| !(lo.is_finite() && hi.is_finite() && lo < hi))
-        {
-            return Err(invalid(
-                "scaling.y_bounds",
-                format!("{b:?}"),
-                format!("{ny} finite [low, high] pairs, low < high"),
-            ));
-        }
-    }
-    if !spec.output_margin.is_finite() {
-        return Err(invalid(
-            "model.output_margin",
-            spec.output_margin,
-            "a finite number (negative: unbounded)",
-        ));
-    }
-    Ok(())
 }

@@ -1,0 +1,77 @@
+#!/usr/bin/env python3
+"""Choose the online identifier's settings for the cascaded tanks on estimation.csv alone,
+by 3-fold cross-validation over contiguous thirds: `rhonn identify` on two thirds (two
+records, in time order, every pass over both), the frozen model run free on the held-out
+third; lowest mean free-run RMS error. A single split (the last third held out) chose
+`models/tanks-online.toml`'s earlier settings; folds judge every part of the record.
+Prints every setting's folds and mean, best last, and writes the best as a model TOML.
+validation.csv is not read. Standard library only.
+
+Usage: python3 tools/select/tanks_online_cv.py [path/to/rhonn] [out.toml]
+"""
+import itertools, json, os, subprocess, sys, tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from folds import write_thirds  # noqa: E402
+
+exe = sys.argv[1] if len(sys.argv) > 1 else "target/release/rhonn"
+out_toml = sys.argv[2] if len(sys.argv) > 2 else None
+here = os.path.dirname(os.path.abspath(__file__))
+data = os.path.join(here, "..", "..", "data", "cascaded-tanks", "estimation.csv")
+
+
+def toml(c):
+    lines = [f"filters_s = [{', '.join(f'{v:.1f}' for v in c['filters'])}]",
+             f"a_per_s = {c['a']}", f"epochs = {c['epochs']}",
+             f"output_terms = {str(c['output_terms']).lower()}"]
+    if c["law"] == "ls":
+        lines.append('law = { kind = "filtered-regressor-ls", p0 = [10.0] }')
+    else:
+        lines.append(f"gain = {c['gain']}")
+    return "\n".join(lines) + "\n"
+
+
+def run(c, thirds, d):
+    spec = os.path.join(d, "spec.toml")
+    open(spec, "w").write(toml(c))
+    errs = []
+    for f in range(3):
+        train = [t for k, t in enumerate(thirds) if k != f]
+        out = os.path.join(d, "o")
+        args = [exe, "identify"] + sum([["--data", t] for t in train], []) + [
+            "--inputs", "u", "--outputs", "y", "--model", spec,
+            "--validate", thirds[f], "--out", out]
+        subprocess.run(["rm", "-rf", out])
+        p = subprocess.run(args, capture_output=True, text=True)
+        if p.returncode != 0:
+            return None
+        v = json.load(open(os.path.join(out, "summary.json")))["validation"][0]
+        errs.append(v["free_run_rms_error"])
+    return errs
+
+
+def main():
+    grid = []
+    for filters, a, ot in itertools.product(
+            [[], [40.0], [20.0, 80.0, 320.0], [10.0, 40.0, 160.0, 640.0]],
+            [0.01, 0.05, 0.1], [True, False]):
+        for law, gain in [("fe", 0.03), ("fe", 0.1), ("fe", 0.5), ("ls", None)]:
+            grid.append(dict(filters=filters, a=a, output_terms=ot, law=law, gain=gain, epochs=10))
+    with tempfile.TemporaryDirectory() as d:
+        thirds = write_thirds(data, d)
+        results = []
+        for c in grid:
+            e = run(c, thirds, d)
+            mean = sum(e) / 3 if e else float("inf")
+            results.append((mean, c, e))
+            print(f"{mean:.3f} V  folds {e}  {toml(c).strip().replace(chr(10), '; ')}", flush=True)
+    results.sort(key=lambda r: r[0])
+    finite = sorted(r[0] for r in results if r[0] != float("inf"))
+    print(f"{len(grid)} settings, {len(finite)} ran on every fold; median mean {finite[len(finite) // 2]:.3f} V")
+    best = results[0]
+    print(f"best: {best[0]:.3f} V, folds {best[2]}: {toml(best[1]).strip()}")
+    if out_toml:
+        open(out_toml, "w").write(toml(best[1]))
+
+
+main()
