@@ -175,6 +175,8 @@ def fit(
     inputs: Optional[Sequence[str]] = None,
     outputs: Optional[Sequence[str]] = None,
     select: Optional[str] = None,
+    select_steps_ahead: Optional[int] = None,
+    time_budget_s: Optional[float] = None,
 ) -> Model:
     """Fit a model to recordings, as ``rhonn fit`` does (beside an ARX baseline).
 
@@ -196,6 +198,12 @@ def fit(
         (``summary["selection"]`` says what was chosen and how it compares with the best
         ARX); ``"none"``: the fixed default structure. None (the default): ``"auto"``
         when no ``model`` is given, as ``rhonn fit`` without ``--model`` does.
+    select_steps_ahead : int, optional
+        With the selection: judge the candidates K samples ahead instead of in free run
+        (``--select-steps-ahead K``).
+    time_budget_s : float, optional
+        With the selection: start no new candidate after this many seconds (default 40;
+        ``--time-budget``).
 
     Returns
     -------
@@ -220,8 +228,17 @@ def fit(
         raise ValueError(f"select={select!r} and model both name the structure: give one")
     if select is None:
         select = "auto" if model is None else "none"
+    if select != "auto" and (select_steps_ahead is not None or time_budget_s is not None):
+        raise ValueError("select_steps_ahead and time_budget_s apply to the selection only (select=\"auto\", the default without a model)")
+    k = _steps(select_steps_ahead)
+    if time_budget_s is not None:
+        if isinstance(time_budget_s, bool) or not isinstance(time_budget_s, (int, float, np.integer, np.floating)):
+            raise TypeError(f"time_budget_s must be a number of seconds, not {type(time_budget_s).__name__}")
+        if not (np.isfinite(time_budget_s) and time_budget_s > 0):
+            raise ValueError(f"time_budget_s = {time_budget_s} is not allowed: give a finite number of seconds > 0")
+        time_budget_s = float(time_budget_s)
     text, source = _spec_text(model)
-    return Model(_rhonn.fit(us, ys, float(dt), ins, outs, text, source, select == "auto"))
+    return Model(_rhonn.fit(us, ys, float(dt), ins, outs, text, source, select == "auto", k, time_budget_s))
 
 
 def _steps(steps_ahead) -> Optional[int]:

@@ -19,6 +19,8 @@ def fit(
     spec_toml: Optional[str] = None,
     spec_source: str = "the model spec",
     select: bool = False,
+    select_steps_ahead: Optional[int] = None,
+    time_budget_s: Optional[float] = None,
 ) -> Model: ...
 def campaign(
     name: str,

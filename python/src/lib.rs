@@ -78,7 +78,7 @@ fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>
 /// Fit a model to recordings given as arrays (`us[k]`: (n, m), `ys[k]`: (n, p), one pair
 /// per recording, sampled every `dt` s).
 #[pyfunction]
-#[pyo3(signature = (us, ys, dt, inputs, outputs, spec_toml=None, spec_source="the model spec", select=false))]
+#[pyo3(signature = (us, ys, dt, inputs, outputs, spec_toml=None, spec_source="the model spec", select=false, select_steps_ahead=None, time_budget_s=None))]
 #[allow(clippy::too_many_arguments)]
 fn fit(
     py: Python<'_>,
@@ -90,9 +90,17 @@ fn fit(
     spec_toml: Option<&str>,
     spec_source: &str,
     select: bool,
+    select_steps_ahead: Option<usize>,
+    time_budget_s: Option<f64>,
 ) -> PyResult<model::Model> {
     let mut specs = rhonn_report::commands::model_specs(spec_toml, spec_source).map_err(report_err)?;
-    let opts = rhonn::sysid::select::SelectOptions::default();
+    let mut opts = rhonn::sysid::select::SelectOptions {
+        steps_ahead: select_steps_ahead,
+        ..Default::default()
+    };
+    if let Some(t) = time_budget_s {
+        opts.time_budget_s = t;
+    }
     let max_lag = if select {
         let lag = rhonn::sysid::select::candidates(outputs.len(), opts.cascade)
             .iter()

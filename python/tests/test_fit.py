@@ -113,3 +113,20 @@ def test_without_a_model_the_structure_is_selected_as_the_command_does(tanks):
         rhonn.fit(est["u"], est["y"], dt=4.0, select="auto", model={"kind": "arx"})
     # "none": the fixed default structure, no selection.
     assert "selection" not in rhonn.fit(est["u"], est["y"], dt=4.0, select="none").summary
+
+
+def test_the_selection_options_are_those_of_the_command(tanks):
+    est, _ = tanks
+    # Judged 5 samples ahead, with a budget spent at once: the ARX candidates still run,
+    # the others are skipped and the findings say so.
+    m = rhonn.fit(est["u"], est["y"], dt=4.0, select_steps_ahead=5, time_budget_s=1e-9)
+    sel = m.summary["selection"]
+    assert "5 samples ahead" in sel["judged_by"], sel["judged_by"]
+    assert any("time budget" in f for f in sel["findings"]), sel["findings"]
+    assert sel["candidates"][sel["chosen"]]["model"]["kind"] == "arx"
+    with pytest.raises(ValueError, match="apply to the selection only"):
+        rhonn.fit(est["u"], est["y"], dt=4.0, select="none", time_budget_s=5.0)
+    with pytest.raises(ValueError, match="time_budget_s"):
+        rhonn.fit(est["u"], est["y"], dt=4.0, time_budget_s=float("nan"))
+    with pytest.raises(ValueError, match="steps_ahead"):
+        rhonn.fit(est["u"], est["y"], dt=4.0, select_steps_ahead=0)

@@ -1,0 +1,70 @@
+#!/usr/bin/env python3
+"""Choose the online identifier's settings for the pump (models/pump-online.toml) on the
+identification record alone, by 3-fold cross-validation over contiguous thirds of
+pump-identify: `rhonn identify` on two thirds (two records, in time order), the frozen
+model judged 10 samples (50 ms) ahead on the held-out third; highest mean fit. Prints
+every setting's folds and mean, best last, and writes the best as a model TOML. The
+validation record (pump-validate) is not read. Standard library only.
+
+Usage: python3 tools/select/pump_online_cv.py [path/to/rhonn] [out.toml]
+"""
+import itertools, json, os, subprocess, sys, tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from folds import write_thirds  # noqa: E402
+
+exe = sys.argv[1] if len(sys.argv) > 1 else "target/release/rhonn"
+out_toml = sys.argv[2] if len(sys.argv) > 2 else None
+K = 10
+
+
+def toml(c):
+    return "\n".join([
+        f'inputs = "{c["inputs"]}"',
+        f"filters_s = [{', '.join(str(v) for v in c['filters'])}]",
+        f"a_per_s = {c['a']}", f"gain = {c['gain']}", f"epochs = {c['epochs']}"]) + "\n"
+
+
+def score(c, thirds, d):
+    spec = os.path.join(d, "spec.toml")
+    open(spec, "w").write(toml(c))
+    fits = []
+    for f in range(3):
+        train = [t for k, t in enumerate(thirds) if k != f]
+        out = os.path.join(d, "o")
+        subprocess.run(["rm", "-rf", out])
+        args = [exe, "identify"] + sum([["--data", t] for t in train], []) + [
+            "--inputs", "current,demand", "--outputs", "p_meas", "--model", spec,
+            "--validate", thirds[f], "--steps-ahead", str(K), "--out", out]
+        if subprocess.run(args, capture_output=True, text=True).returncode != 0:
+            return None
+        v = json.load(open(os.path.join(out, "summary.json")))["validation"][0]
+        fits.append(v["ahead_fit_percent"])
+    return fits
+
+
+def main():
+    grid = [dict(inputs=i, filters=f, a=a, gain=g, epochs=e)
+            for i, f, a, g, e in itertools.product(
+                ["hold", "linear"], [[], [0.01, 0.04], [0.005, 0.02, 0.08]],
+                [3.0, 10.0, 30.0], [0.1, 0.5, 2.0], [1, 3])]
+    with tempfile.TemporaryDirectory() as d:
+        rec = os.path.join(d, "identify")
+        subprocess.run([exe, "run", "pump-identify", "--out", rec], check=True, capture_output=True)
+        thirds = write_thirds(os.path.join(rec, "trajectory.csv"), d)
+        results = []
+        for c in grid:
+            fits = score(c, thirds, d)
+            mean = sum(fits) / 3 if fits else float("-inf")
+            results.append((mean, c, fits))
+            print(f"{mean:.1f} %  folds {fits}  {toml(c).strip().replace(chr(10), '; ')}", flush=True)
+    results.sort(key=lambda r: -r[0])
+    ran = sorted(r[0] for r in results if r[0] != float("-inf"))
+    print(f"{len(grid)} settings, {len(ran)} ran on every fold; median {ran[len(ran) // 2]:.1f} %")
+    best = results[0]
+    print(f"best: {best[0]:.1f} %, folds {best[2]}: {toml(best[1]).strip()}")
+    if out_toml:
+        open(out_toml, "w").write(toml(best[1]))
+
+
+main()
