@@ -51,7 +51,11 @@ fn median(v: &mut [f64]) -> f64 {
 }
 
 fn main() -> Result<(), rhonn::Error> {
-    let seeds: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(5);
+    let seeds: u64 = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(5)
+        .max(1);
     type System = fn(u64, usize) -> Record;
     let systems: [(&str, usize, System); 2] = [
         ("Wiener-Hammerstein, 1 input", 1, wiener_hammerstein),

@@ -431,6 +431,11 @@ fn the_measured_margins_are_consistent_and_the_robust_tuning_keeps_them() {
         loop_gain, margins, margins_of_peak, sensitivity_peak, OPERATING_POINTS,
     };
     use rhonn::experiment::ROBUST;
+    // Nonsense arguments are errors, not hours of simulation.
+    assert!(loop_gain(ROBUST, 10.0, 0.0, 0.0).is_err());
+    assert!(sensitivity_peak(ROBUST, f64::NAN, 0.0, 8, 0.005).is_err());
+    assert!(sensitivity_peak(ROBUST, 10.0, 0.0, 8, -1.0).is_err());
+    assert!(sensitivity_peak(ROBUST, 10.0, 0.0, 0, 0.005).is_err());
     let (low, _) = loop_gain(ROBUST, 10.0, 0.0, 10.0).unwrap();
     let (high, _) = loop_gain(ROBUST, 10.0, 0.0, 400.0).unwrap();
     assert!(low > 1.0 && high < 1.0, "|L(10)| = {low}, |L(400)| = {high}");

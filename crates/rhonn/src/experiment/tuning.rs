@@ -342,6 +342,24 @@ fn harmonics(
     amplitude_a: f64,
 ) -> crate::Result<[Harmonic; 3]> {
     use crate::plant::{Input, PumpParams, PumpSystem};
+    // An angular frequency below 0.1 rad/s would ask for hours of simulated loop.
+    if !(w.is_finite() && (0.1..=1e4).contains(&w)) {
+        return Err(crate::error::invalid("w (rad/s)", w, "a number in [0.1, 10000]"));
+    }
+    if !(amplitude_a.is_finite() && (0.0..=0.8).contains(&amplitude_a)) {
+        return Err(crate::error::invalid(
+            "amplitude_a",
+            amplitude_a,
+            "a number of amperes in [0, 0.8]",
+        ));
+    }
+    if !(p_mpa.is_finite() && q_dm3_s.is_finite() && p_mpa > 0.0 && q_dm3_s >= 0.0) {
+        return Err(crate::error::invalid(
+            "operating point",
+            format!("{p_mpa} MPa, {q_dm3_s} dm^3/s"),
+            "a pressure > 0 and a demand >= 0",
+        ));
+    }
     let k = PumpParams::default();
     let q = q_dm3_s * 1e-3;
     let x_eq = (q + k.q_0) / (k.k_l * k.omega);
@@ -459,6 +477,9 @@ pub fn sensitivity_peak(
     n: usize,
     amplitude_a: f64,
 ) -> crate::Result<(f64, f64)> {
+    if n < 2 {
+        return Err(crate::error::invalid("n (frequencies)", n, "at least 2"));
+    }
     let ws = sensitivity_frequencies(n);
     let s: Vec<f64> = ws
         .par_iter()
