@@ -11,7 +11,7 @@ Usage: python3 tools/select/pump_online_cv.py [path/to/rhonn] [out.toml]
 import itertools, json, os, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from folds import write_thirds  # noqa: E402
+from folds import rank, write_thirds  # noqa: E402
 
 exe = sys.argv[1] if len(sys.argv) > 1 else "target/release/rhonn"
 out_toml = sys.argv[2] if len(sys.argv) > 2 else None
@@ -52,19 +52,7 @@ def main():
         rec = os.path.join(d, "identify")
         subprocess.run([exe, "run", "pump-identify", "--out", rec], check=True, capture_output=True)
         thirds = write_thirds(os.path.join(rec, "trajectory.csv"), d)
-        results = []
-        for c in grid:
-            fits = score(c, thirds, d)
-            mean = sum(fits) / 3 if fits else float("-inf")
-            results.append((mean, c, fits))
-            print(f"{mean:.1f} %  folds {fits}  {toml(c).strip().replace(chr(10), '; ')}", flush=True)
-    results.sort(key=lambda r: -r[0])
-    ran = sorted(r[0] for r in results if r[0] != float("-inf"))
-    print(f"{len(grid)} settings, {len(ran)} ran on every fold; median {ran[len(ran) // 2]:.1f} %")
-    best = results[0]
-    print(f"best: {best[0]:.1f} %, folds {best[2]}: {toml(best[1]).strip()}")
-    if out_toml:
-        open(out_toml, "w").write(toml(best[1]))
+        rank(grid, lambda c: score(c, thirds, d), toml, "{:.1f} %", True, out_toml)
 
 
 main()

@@ -12,7 +12,7 @@ Usage: python3 tools/select/tanks_online_cv.py [path/to/rhonn] [out.toml]
 import itertools, json, os, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from folds import write_thirds  # noqa: E402
+from folds import rank, write_thirds  # noqa: E402
 
 exe = sys.argv[1] if len(sys.argv) > 1 else "target/release/rhonn"
 out_toml = sys.argv[2] if len(sys.argv) > 2 else None
@@ -59,19 +59,7 @@ def main():
             grid.append(dict(filters=filters, a=a, output_terms=ot, law=law, gain=gain, epochs=10))
     with tempfile.TemporaryDirectory() as d:
         thirds = write_thirds(data, d)
-        results = []
-        for c in grid:
-            e = run(c, thirds, d)
-            mean = sum(e) / 3 if e else float("inf")
-            results.append((mean, c, e))
-            print(f"{mean:.3f} V  folds {e}  {toml(c).strip().replace(chr(10), '; ')}", flush=True)
-    results.sort(key=lambda r: r[0])
-    finite = sorted(r[0] for r in results if r[0] != float("inf"))
-    print(f"{len(grid)} settings, {len(finite)} ran on every fold; median mean {finite[len(finite) // 2]:.3f} V")
-    best = results[0]
-    print(f"best: {best[0]:.3f} V, folds {best[2]}: {toml(best[1]).strip()}")
-    if out_toml:
-        open(out_toml, "w").write(toml(best[1]))
+        rank(grid, lambda c: run(c, thirds, d), toml, "{:.3f} V", False, out_toml)
 
 
 main()
