@@ -6,6 +6,7 @@
 //! resumes it; at the end `DIR/runs.csv` holds every row sorted by run index (the same
 //! bytes whatever the thread count or sharding) and `DIR/summary.json` the statistics.
 
+pub use crate::campaign_options::{CampaignOptions, CampaignOutcome, Progress};
 use crate::campaign_plots::{envelope_files, histograms};
 use crate::Error;
 use rayon::prelude::*;
@@ -96,7 +97,7 @@ fn header(spec: &ScenarioSpec) -> Vec<String> {
 }
 
 /// `traces.csv`'s header: the run, the series, then the envelope grid's times [s].
-pub(crate) fn traces_header(spec: &ScenarioSpec) -> Vec<String> {
+fn traces_header(spec: &ScenarioSpec) -> Vec<String> {
     let mut h = vec!["run".to_string(), "series".to_string()];
     h.extend(envelope_grid(spec).1.iter().map(|t| t.to_string()));
     h
@@ -289,7 +290,14 @@ fn finish(
     }
     let (_, grid) = envelope_grid(spec);
     let env = envelopes(&rows, grid.len());
-    let env_files = envelope_files(spec, file, &rows, &grid, &env)?;
+    let env_files = envelope_files(
+        spec,
+        &file.scenario,
+        traces_header(spec),
+        rows.iter().flat_map(|r| r.2.iter()),
+        &grid,
+        &env,
+    )?;
     let envelope_runs = env.iter().map(|(n, _, k)| (n.clone(), *k)).collect();
     let rows: Vec<RunRow> = rows.into_iter().map(|r| r.0).collect();
     let names = figure_names(spec);
@@ -372,53 +380,6 @@ pub fn parse_shard(s: &str) -> Result<[u64; 2]> {
         return Err(bad());
     }
     Ok([k, m])
-}
-
-/// What `rhonn campaign` was asked for.
-#[derive(Debug, Clone)]
-pub struct CampaignOptions {
-    /// Runs (random draws).
-    pub runs: u64,
-    /// Seed.
-    pub seed: u64,
-    /// `[k, m]`.
-    pub shard: [u64; 2],
-    /// Full-factorial corners instead of random draws.
-    pub corners: bool,
-    /// Keep the traces of runs with index below this.
-    pub envelope_runs: u64,
-}
-
-/// How far a campaign has come, given to the progress callback after each run.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Progress<'a> {
-    /// The scenario's name.
-    pub scenario: &'a str,
-    /// Runs finished in this call.
-    pub done: usize,
-    /// Runs this call has to do.
-    pub total: usize,
-    /// Runs of this call that failed.
-    pub failed: usize,
-    /// Since the call started \[s\].
-    pub elapsed_s: f64,
-}
-
-/// What a campaign call did.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CampaignOutcome {
-    /// The scenario's name.
-    pub scenario: String,
-    /// The folder.
-    pub dir: PathBuf,
-    /// Runs in `runs.csv`.
-    pub runs: usize,
-    /// Of which failed.
-    pub failed: usize,
-    /// The folder held the finished campaign already: nothing was run.
-    pub already_complete: bool,
-    /// What the user should know (a resumed campaign, a row cut by an interruption).
-    pub notes: Vec<String>,
 }
 
 /// Write the partial files afresh with the rows already done.

@@ -1,19 +1,20 @@
 //! A campaign's plots: the envelope of the kept traces (traces.csv, envelope.csv,
 //! envelope.svg) and the histograms of its figures.
 
-use crate::campaign::{traces_header, CampaignFile, Row};
 use crate::Result;
 use rhonn::experiment::campaign::Envelope;
 use rhonn::experiment::campaign::RunRow;
 use rhonn::experiment::ScenarioSpec;
 
-/// The envelope files of a campaign that kept traces: traces.csv, envelope.csv and
-/// envelope.svg (None without traces).
+/// The envelope files of a campaign of `scenario` that kept traces: traces.csv (its
+/// `header`, then the `traces` rows), envelope.csv and envelope.svg (None without
+/// traces).
 #[allow(clippy::type_complexity)]
-pub(crate) fn envelope_files(
+pub(crate) fn envelope_files<'a>(
     spec: &ScenarioSpec,
-    file: &CampaignFile,
-    rows: &[Row],
+    scenario: &str,
+    header: Vec<String>,
+    traces: impl Iterator<Item = &'a Vec<String>>,
     grid: &[f64],
     env: &[(String, Envelope, usize)],
 ) -> Result<Option<(Vec<u8>, Vec<u8>, String)>> {
@@ -23,8 +24,8 @@ pub(crate) fn envelope_files(
     let mut traces_buf = Vec::new();
     let mut env_buf = Vec::new();
     let mut w = csv::Writer::from_writer(&mut traces_buf);
-    w.write_record(traces_header(spec))?;
-    for t in rows.iter().flat_map(|r| r.2.iter()) {
+    w.write_record(header)?;
+    for t in traces {
         w.write_record(t)?;
     }
     w.flush().map_err(csv::Error::from)?;
@@ -89,7 +90,7 @@ pub(crate) fn envelope_files(
     });
     let n_tr = env[0].2;
     let svg = crate::EnvelopePlot {
-        title: format!("{}: line pressure over {n_tr} runs", file.scenario),
+        title: format!("{}: line pressure over {n_tr} runs", scenario),
         y_label: "line pressure [MPa]".into(),
         t: grid.to_vec(),
         bands,

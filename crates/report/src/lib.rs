@@ -18,6 +18,7 @@ rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &output)
 mod atomic;
 pub mod bench_report;
 pub mod campaign;
+mod campaign_options;
 mod campaign_plots;
 pub mod commands;
 mod csv_out;

@@ -10,7 +10,7 @@
 //! one is the pump's pressure.
 
 use crate::atomic::OutputSet;
-use crate::campaign::{CampaignOptions, CampaignOutcome, Progress};
+use crate::campaign_options::{CampaignOptions, CampaignOutcome, Progress};
 use crate::{write_json, Error};
 use rayon::prelude::*;
 use rhonn::experiment::campaign::{draw_parameters, quantile_sorted, FigureStats};

@@ -1,56 +1,31 @@
 //! Experiments on any [`Plant`] from the library: online identification of its states,
 //! and a controller on one of its inputs tracking a set-point, sampled at the control
-//! period with zero-order hold. The pump's scenario runner (`run.rs`) does more (sensor
-//! noise, delay line, figures on the dense output, recorders) for the pump alone.
+//! period with zero-order hold. Both run through the one run loop ([`super::sim`]), as
+//! the pump's scenarios do (`run.rs` adds sensor noise, a delay line and figures on the
+//! dense output for the pump).
 
+use super::integrated::{Alone, Integrated};
+use super::sim::{describe, drive, Hooks, Instants};
 use crate::control::Controller;
 use crate::error::{Error, Result};
 use crate::ident::{FrozenPair, IdentSettings, Identified};
 use crate::metrics::{fit_percent, rms_error};
 use crate::plant::Plant;
 use crate::signal::Signal;
-use rhonn_ode::{Dopri5, Options, State, System};
-
-/// A plant's state named and in display units, for error messages.
-fn describe<P: Plant>(plant: &P, x: &[f64]) -> String {
-    plant
-        .states()
-        .iter()
-        .zip(x)
-        .map(|(q, v)| format!("{} = {:.6} {}", q.name, q.to_display(*v), q.display_unit))
-        .collect::<Vec<_>>()
-        .join(", ")
-}
+use rhonn_ode::{Dopri5, Options, State};
 
 /// `system` from `x0` (the plant's states, then `rest`) in the event-locating solver.
-fn solver<S: System, P: Plant>(
-    system: S,
-    plant: &P,
-    x0: &[f64],
-    rest: &[f64],
-    rtol: f64,
-) -> Result<Dopri5<S>> {
+fn solver<S: Integrated>(system: S, x0: &[f64], rest: &[f64], rtol: f64) -> Result<Dopri5<S>> {
     let mut s0 = S::State::zeros(system.dim());
     s0.as_mut_slice()[..x0.len()].copy_from_slice(x0);
     s0.as_mut_slice()[x0.len()..].copy_from_slice(rest);
     let dim = system.dim();
+    let state = describe(system.plant(), x0);
     Dopri5::new(system, 0.0, s0, Options::uniform(dim, rtol, 1e-9)).map_err(|e| Error::Solver {
         t_s: 0.0,
-        state: describe(plant, x0),
+        state,
         source: Box::new(e),
     })
-}
-
-/// Advance `solver` to `t`, naming the plant's state on failure.
-fn step_to<S: System, P: Plant>(solver: &mut Dopri5<S>, plant: impl Fn(&S) -> &P, t: f64) -> Result<()> {
-    while solver.t() < t {
-        solver.step(t).map_err(|e| Error::Solver {
-            t_s: solver.t(),
-            state: describe(plant(solver.system()), solver.state()),
-            source: Box::new(e),
-        })?;
-    }
-    Ok(())
 }
 
 /// What one identification of a plant gives: per identified state, the samples and the
@@ -102,50 +77,72 @@ pub fn identify<P: Plant>(
     frozen: Option<&[Vec<f64>]>,
 ) -> Result<IdentRun> {
     let n = is.states.len();
-    let mut run = IdentRun {
-        t: Vec::new(),
-        y: vec![Vec::new(); n],
-        y_hat: vec![Vec::new(); n],
-        weights: Vec::new(),
+    let mut sampler = Sampler {
+        run: IdentRun {
+            t: Vec::new(),
+            y: vec![Vec::new(); n],
+            y_hat: vec![Vec::new(); n],
+            weights: Vec::new(),
+        },
+        idx: is.states.iter().filter_map(|s| s.state_index()).collect(),
+        // The training identifier's estimates, or the frozen model's parallel copy's.
+        slot: usize::from(frozen.is_some()),
+        hats: Vec::new(),
     };
-    let idx: Vec<usize> = is.states.iter().filter_map(|s| s.state_index()).collect();
+    let steps = (duration_s / sample_s).round() as u64;
+    let instants = Instants::seconds(sample_s);
+    let t_end = instants.at(steps);
     let np = plant.dim();
-    let steps = (duration_s / sample_s).round() as usize;
-    let mut record = |t: f64, x: &[f64], est: &[f64]| {
-        run.t.push(t);
-        for k in 0..n {
-            run.y[k].push(x[idx[k]]);
-            run.y_hat[k].push(est[k]);
-        }
-    };
-    let mut est = vec![0.0; n];
     if let Some(w) = frozen {
         let init = FrozenPair::<P>::initial_state(&is.ident, &is.xhat0);
-        let sys = FrozenPair::<P>::new(plant.clone(), &is.ident, w, is.states.clone(), is.inputs.clone())?;
-        let mut s = solver(sys, &plant, x0, &init, 1e-6)?;
-        for k in 0..=steps {
-            step_to(&mut s, |sys| &sys.plant, k as f64 * sample_s)?;
-            est.copy_from_slice(&s.state()[np + n..np + 2 * n]);
-            record(s.t(), s.state(), &est);
-        }
-        run.weights = w.to_vec();
-        return Ok(run);
+        let sys = FrozenPair::<P>::new(plant, &is.ident, w, is.states.clone(), is.inputs.clone())?;
+        let mut s = solver(sys, x0, &init, 1e-6)?;
+        drive(&mut s, t_end, Some(instants), &mut sampler)?;
+        sampler.run.weights = w.to_vec();
+        return Ok(sampler.run);
     }
     let init = is.ident.initial_state(&is.xhat0, None);
-    let sys = Identified::<P>::new(
-        plant.clone(),
-        is.ident.clone(),
-        is.states.clone(),
-        is.inputs.clone(),
-    )?;
-    let mut s = solver(sys, &plant, x0, &init, 1e-6)?;
-    for k in 0..=steps {
-        step_to(&mut s, |sys| &sys.plant, k as f64 * sample_s)?;
-        s.system().ident.outputs(&s.state()[np..], &mut est);
-        record(s.t(), s.state(), &est);
+    let sys = Identified::<P>::new(plant, is.ident.clone(), is.states.clone(), is.inputs.clone())?;
+    let mut s = solver(sys, x0, &init, 1e-6)?;
+    drive(&mut s, t_end, Some(instants), &mut sampler)?;
+    sampler.run.weights = s.system().ident.weights(&s.state()[np..]);
+    Ok(sampler.run)
+}
+
+/// Takes an identification's samples: the identified states and model `slot`'s
+/// estimates, at every instant and at the end.
+struct Sampler {
+    run: IdentRun,
+    /// The identified plant states.
+    idx: Vec<usize>,
+    slot: usize,
+    hats: Vec<Option<f64>>,
+}
+
+impl Sampler {
+    fn record<S: Integrated>(&mut self, solver: &Dopri5<S>) {
+        let x = solver.state();
+        self.hats.resize(x.len(), None);
+        solver.system().hats(x, self.slot, &mut self.hats);
+        self.run.t.push(solver.t());
+        for (k, &i) in self.idx.iter().enumerate() {
+            self.run.y[k].push(x[i]);
+            self.run.y_hat[k].push(self.hats[i].unwrap_or(f64::NAN));
+        }
     }
-    run.weights = s.system().ident.weights(&s.state()[np..]);
-    Ok(run)
+}
+
+impl<S: Integrated> Hooks<S> for Sampler {
+    fn instant(&mut self, solver: &mut Dopri5<S>) -> Result<()> {
+        self.record(solver);
+        Ok(())
+    }
+    fn stepped(&mut self, solver: &Dopri5<S>, done: bool) -> Result<()> {
+        if done {
+            self.record(solver);
+        }
+        Ok(())
+    }
 }
 
 /// What one closed-loop run gives, sampled at the control instants.
@@ -201,41 +198,73 @@ pub fn closed_loop<P: Plant>(
         crate::error::invalid("controller.measurements", "[]", "at least the controlled state")
     })?;
     plant.hold_input(input, 0.0);
-    let mut s = solver(plant.clone(), &plant, x0, &[], 1e-7)?;
-    let mut run = LoopRun {
-        controller: ctl.name(),
-        t: Vec::new(),
-        y: Vec::new(),
-        setpoint: Vec::new(),
-        u: Vec::new(),
-        states: vec![Vec::new(); plant.states().len()],
-        inner_reference: Vec::new(),
-        weights: Vec::new(),
-        iae: 0.0,
-        ise: 0.0,
+    let n_states = plant.states().len();
+    let mut s = solver(Alone(plant), x0, &[], 1e-7)?;
+    let mut hooks = Regulate {
+        run: LoopRun {
+            controller: ctl.name(),
+            t: Vec::new(),
+            y: Vec::new(),
+            setpoint: Vec::new(),
+            u: Vec::new(),
+            states: vec![Vec::new(); n_states],
+            inner_reference: Vec::new(),
+            weights: Vec::new(),
+            iae: 0.0,
+            ise: 0.0,
+        },
+        meas: vec![0.0; meas_idx.len()],
+        meas_idx,
+        y_idx,
+        ctl,
+        input,
+        setpoint,
+        period_s,
     };
-    let mut meas = vec![0.0; meas_idx.len()];
-    let steps = (duration_s / period_s).round() as usize;
-    for k in 0..steps {
-        let t = k as f64 * period_s;
-        step_to(&mut s, |p| p, t)?;
-        for (m, &i) in meas.iter_mut().zip(&meas_idx) {
+    let steps = (duration_s / period_s).round() as u64;
+    let instants = Instants::seconds(period_s);
+    drive(&mut s, instants.at(steps), Some(instants), &mut hooks)?;
+    Ok(hooks.run)
+}
+
+/// A controller on a plant's input at each instant, and the run's samples.
+struct Regulate<'a> {
+    run: LoopRun,
+    meas_idx: Vec<usize>,
+    meas: Vec<f64>,
+    y_idx: usize,
+    ctl: &'a mut dyn Controller,
+    input: usize,
+    setpoint: &'a Signal,
+    period_s: f64,
+}
+
+impl<P: Plant> Hooks<Alone<P>> for Regulate<'_> {
+    fn instant(&mut self, s: &mut Dopri5<Alone<P>>) -> Result<()> {
+        let t = s.t();
+        for (m, &i) in self.meas.iter_mut().zip(&self.meas_idx) {
             *m = s.state()[i];
         }
-        let r = setpoint.eval(t);
-        let u = ctl.control(t, &meas, r);
+        let r = self.setpoint.eval(t);
+        let ctl = &mut *self.ctl;
+        let u = ctl.control(t, &self.meas, r);
         if !u.is_finite() {
             return Err(Error::Controller {
                 t_s: t,
-                state: format!("{}, {} output {u}", describe(s.system(), s.state()), ctl.name()),
+                state: format!(
+                    "{}, {} output {u}",
+                    describe(s.system().plant(), s.state()),
+                    ctl.name()
+                ),
             });
         }
-        s.system_mut().hold_input(input, u);
-        let e = s.state()[y_idx] - r;
-        run.iae += e.abs() * period_s;
-        run.ise += e * e * period_s;
+        s.system_mut().plant_mut().hold_input(self.input, u);
+        let (run, y) = (&mut self.run, s.state()[self.y_idx]);
+        let e = y - r;
+        run.iae += e.abs() * self.period_s;
+        run.ise += e * e * self.period_s;
         run.t.push(t);
-        run.y.push(s.state()[y_idx]);
+        run.y.push(y);
         run.setpoint.push(r);
         run.u.push(u);
         for (col, v) in run.states.iter_mut().zip(s.state()) {
@@ -248,8 +277,8 @@ pub fn closed_loop<P: Plant>(
             run.weights
                 .push([v.w_norm, v.w1_norm, v.w1_distance, v.ball_radius]);
         }
+        Ok(())
     }
-    Ok(run)
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 use super::ident_figures::{IdentReport, GAUSS};
 use super::integrated::Integrated;
 use super::scenario::{ScenarioSpec, SolverSettings};
-use crate::plant::{P_LINE, STROKE};
+use crate::plant::{PumpSystem, P_LINE, STROKE};
 use crate::signal::Signal;
 use crate::units::*;
 use rhonn_ode::Dopri5;
@@ -359,7 +359,7 @@ impl<'a> Accumulator<'a> {
     }
 
     /// Account for the last step `[t_prev, t]` of `solver`.
-    pub(super) fn add_step<S: Integrated>(&mut self, solver: &Dopri5<S>) {
+    pub(super) fn add_step<S: Integrated<Plant = PumpSystem>>(&mut self, solver: &Dopri5<S>) {
         let (t0, t1) = (solver.t_prev(), solver.t());
         if !(t1 > t0) {
             return;
@@ -378,12 +378,17 @@ impl<'a> Accumulator<'a> {
     }
 
     /// `[a, b]` lies in one step, one set-point segment and one settling window.
-    pub(super) fn add_interval<S: Integrated>(&mut self, solver: &Dopri5<S>, a: f64, b: f64) {
+    pub(super) fn add_interval<S: Integrated<Plant = PumpSystem>>(
+        &mut self,
+        solver: &Dopri5<S>,
+        a: f64,
+        b: f64,
+    ) {
         let h = b - a;
         if !(h > 0.0) {
             return;
         }
-        let prm = &solver.system().pump().params;
+        let prm = &solver.system().plant().params;
         let (dp, dx) = (solver.dense_component(P_LINE), solver.dense_component(STROKE));
         // The interpolant of a step that ends on a bound may pass it by a hair.
         let state = |t: f64| {
@@ -440,7 +445,7 @@ impl<'a> Accumulator<'a> {
             self.ise += h * inner()
                 .map(|(((_, w), &(_, p)), &rk)| w * mpa(p - rk).powi(2))
                 .sum::<f64>();
-            let i = solver.system().pump().current_at(mid);
+            let i = solver.system().plant().current_at(mid);
             if i <= 0.0 || i >= self.i_max {
                 self.saturated += h;
             }

@@ -66,10 +66,12 @@ pub struct StateFigures {
 /// mean y)^2)), convergence as the last time |e| exceeds the band, seen at the step
 /// ends and Gauss points), so that a summary-only run needs no sampling.
 pub(super) struct IdentAcc {
-    /// Which model's estimates (see [`Plant::hats`]).
+    /// Which model's estimates (see [`Integrated::hats`]).
     slot: usize,
     states: Vec<usize>,
     full: Vec<f64>,
+    /// The estimates by plant state at one point (scratch).
+    hats: Vec<Option<f64>>,
     per: Vec<StateAcc>,
 }
 
@@ -106,6 +108,7 @@ impl IdentAcc {
             slot,
             states,
             full: vec![0.0; dim],
+            hats: vec![None; dim],
             per,
         }
     }
@@ -124,14 +127,14 @@ impl IdentAcc {
             t1,
         ];
         let mut vals = [[(0.0, 0.0); 5]; 2];
-        let hi = solver.system().hat_indices(self.slot);
-        if self.states.iter().all(|&i| hi[i].is_some()) {
+        let sys = solver.system();
+        if self.states.iter().all(|&i| sys.hat_index(self.slot, i).is_some()) {
             // Only the identified states and their estimates.
             // A step cut at an event ends before its dense output's end.
             let r = solver.step_fraction();
             let thetas = [0.0, GAUSS[0].0 * r, GAUSS[1].0 * r, GAUSS[2].0 * r, r];
             for (k, &i) in self.states.iter().enumerate() {
-                let j = hi[i].expect("checked above");
+                let j = sys.hat_index(self.slot, i).unwrap_or(i); // Some: checked above
                 let (y, yh) = (solver.dense_component(i), solver.dense_component(j));
                 for (p, &th) in thetas.iter().enumerate() {
                     vals[k][p] = (y.at(th), yh.at(th));
@@ -140,9 +143,9 @@ impl IdentAcc {
         } else {
             for (p, &t) in pts.iter().enumerate() {
                 solver.interpolate(t, &mut self.full);
-                let hats = solver.system().hats(&self.full, self.slot);
+                sys.hats(&self.full, self.slot, &mut self.hats);
                 for (k, &i) in self.states.iter().enumerate() {
-                    vals[k][p] = (self.full[i], hats[i].unwrap_or(f64::NAN));
+                    vals[k][p] = (self.full[i], self.hats[i].unwrap_or(f64::NAN));
                 }
             }
         }

@@ -3,6 +3,7 @@
 pub mod any_plant;
 mod bench;
 pub mod campaign;
+mod campaign_plan;
 mod figures;
 mod ident_figures;
 mod integrated;
@@ -13,6 +14,7 @@ mod pump_controllers;
 mod pump_loop;
 mod run;
 mod scenario;
+pub mod sim;
 mod trace;
 pub mod tuning;
 
@@ -24,13 +26,15 @@ pub use plant_run::{
 pub use plant_scenario::{
     is_plant_scenario, ControlSpec, LoopSpec, PlantScenarioSpec, PlantSection, ValidationSpec,
 };
-pub use pump_controllers::{Baseline, CascadePiGainsMpa, CascadePiSettings, NOMINAL_OPTIMAL, ROBUST};
+pub use pump_controllers::{
+    Baseline, CascadePiGainsMpa, CascadePiSettings, PiSettings, NOMINAL_OPTIMAL, ROBUST,
+};
 pub use run::{
-    run, run_full, solver_options, AdaptiveReport, BaselineReport, ControlReport, Figures, IdentReport,
-    Integrated, ModelFile, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,
+    run, run_full, solver_options, AdaptiveReport, Alone, BaselineReport, ControlReport, Figures,
+    IdentReport, Integrated, ModelFile, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,
 };
 pub use scenario::{
-    AdaptiveSettings, ControllerSpec, Drive, InitialSpec, MeasurementSpec, PiSettings, ProfileSpec, Scenario,
+    AdaptiveSettings, ControllerSpec, Drive, InitialSpec, MeasurementSpec, ProfileSpec, Scenario,
     ScenarioSpec, SolverSettings, SolverSpec, Q_L_MAX_DM3_S,
 };
 pub use trace::{BaselineSample, Column, NoRecorder, Recorder, Sample, Trace};

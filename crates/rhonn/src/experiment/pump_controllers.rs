@@ -3,7 +3,6 @@
 //! an adaptive run is compared with (`baseline = "cascade-pi"`, the default, or `"pi"`,
 //! the pressure-only PI).
 
-use super::scenario::{check_pi, PiSettings};
 use crate::control::{CascadePi, CascadePiGains};
 use crate::error::{invalid, Result};
 use crate::plant::{PumpParams, P_LINE, STROKE};
@@ -223,4 +222,55 @@ pub(super) fn check_baseline(k: BaselineKeys, setpoint: &Signal, params: &PumpPa
             "\"cascade-pi\" (the same sensors) or \"pi\" (the pressure only)",
         )),
     }
+}
+
+/// A checked PI controller (SI).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PiSettings {
+    /// Set-point \[Pa\].
+    pub setpoint: Signal,
+    /// Gain \[A/Pa\].
+    pub kp: f64,
+    /// Integral time \[s\].
+    pub ti_s: f64,
+    /// Output offset \[A\].
+    pub bias: f64,
+    /// Excitation added to the output \[A\].
+    pub dither: Option<Signal>,
+}
+
+/// Check a PI's gains (fields named `<prefix>kp_a_per_mpa` ...) and convert to SI.
+pub(super) fn check_pi(
+    kp_a_per_mpa: f64,
+    ti_s: f64,
+    bias_a: Option<f64>,
+    setpoint: Signal,
+    params: &PumpParams,
+    prefix: &str,
+) -> Result<PiSettings> {
+    if !(kp_a_per_mpa.is_finite() && kp_a_per_mpa >= 0.0) {
+        return Err(invalid(
+            format!("{prefix}kp_a_per_mpa"),
+            kp_a_per_mpa,
+            "a finite number >= 0",
+        ));
+    }
+    if !(ti_s.is_finite() && ti_s > 0.0) {
+        return Err(invalid(format!("{prefix}ti_s"), ti_s, "a number > 0"));
+    }
+    let bias = bias_a.unwrap_or(params.k_a * params.q_0 / (params.k_l * params.omega * params.phi));
+    if !(bias.is_finite() && (0.0..=params.i_max).contains(&bias)) {
+        return Err(invalid(
+            format!("{prefix}bias_a"),
+            bias,
+            format!("a current in [0, {}] A", params.i_max),
+        ));
+    }
+    Ok(PiSettings {
+        setpoint,
+        kp: kp_a_per_mpa / PA_PER_MPA,
+        ti_s,
+        bias,
+        dither: None,
+    })
 }

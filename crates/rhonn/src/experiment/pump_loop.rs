@@ -1,17 +1,86 @@
-//! The parts of a pump run's loop: its sensors (seeded noise streams), the control
-//! instant (measure, control, the transport-delay line) and the output clock.
+//! The pump's run: its sensors (seeded noise streams), the control instant (measure,
+//! control, the transport-delay line), the output clock, and what the run does at its
+//! instants and after its steps ([`PumpHooks`]), driven by the one run loop
+//! ([`super::sim::drive`]).
 
-use super::figures::AdaptiveReport;
+use super::figures::{Accumulator, AdaptiveReport, Figures};
+use super::ident_figures::IdentAcc;
 use super::integrated::Integrated;
-use super::run::Ctl;
-use super::scenario::Scenario;
+use super::scenario::{Drive, ProfileSpec, Scenario, SolverSettings};
+use super::sim::{describe, drive, Hooks, Instants};
+use super::trace::{Recorder, Sample};
+use crate::control::{CascadeState, Controller, Pi, RhonnCascade};
 use crate::error::{Error, Result};
-use crate::plant::{P_LINE, STROKE};
+use crate::plant::{PumpSystem, PLANT_DIM, P_LINE, STROKE};
 use crate::signal::Signal;
-use crate::units::*;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
-use rhonn_ode::Dopri5;
+use rhonn_ode::{Dopri5, Options, Profile, State, Stats, System};
+use std::collections::VecDeque;
+
+/// Solver options of a scenario for a state of `dim` components (the pump's two
+/// first; identifier states get the relative tolerance and an absolute 1e-9).
+pub fn solver_options<S: rhonn_ode::State>(s: &SolverSettings, dim: usize) -> Options<S> {
+    let mut rtol = S::splat(dim, s.rtol);
+    let mut atol = S::splat(dim, 1e-9);
+    atol.as_mut_slice()[P_LINE] = s.atol_p_line_pa;
+    atol.as_mut_slice()[STROKE] = s.atol_stroke_m;
+    rtol.as_mut_slice()[0] = s.rtol;
+    let mut o = Options::uniform(dim, s.rtol, 1e-9);
+    o.rtol = rtol;
+    o.atol = atol;
+    o.h_max_s = s.max_step_s;
+    o.profile = match s.profile {
+        ProfileSpec::Hairer => Profile::Hairer,
+        ProfileSpec::Ode45 | ProfileSpec::SimulinkOde45 => Profile::Ode45,
+    };
+    o
+}
+
+/// The sampled controller of one simulation: none (open loop: the current is a
+/// profile), or a [`Controller`] on the measured states.
+pub(super) enum Ctl {
+    Open,
+    Closed(Box<dyn Controller>),
+}
+
+impl Ctl {
+    pub(super) fn of(sc: &Scenario) -> Ctl {
+        let p = &sc.params;
+        match &sc.drive {
+            Drive::OpenLoop(_) => Ctl::Open,
+            Drive::Pi(s) => {
+                let mut pi = Pi::new(s.kp, s.ti_s, p.t_control, s.bias, 0.0, p.i_max);
+                pi.measured = [P_LINE];
+                pi.dither = s.dither.clone();
+                Ctl::Closed(Box::new(pi))
+            }
+            Drive::Adaptive(a) => Ctl::Closed(Box::new(cascade_for(sc, &a.cascade))),
+            Drive::CascadePi(s) => Ctl::Closed(Box::new(s.controller(p.t_control))),
+        }
+    }
+}
+
+/// The adaptive cascade of a scenario, its gain weights starting from the nominal
+/// table's `beta k_l omega / V_l` at the initial set-point (MPa/(s mm)).
+fn cascade_for(sc: &Scenario, settings: &crate::control::CascadeSettings) -> RhonnCascade {
+    // The controller knows the nominal table only, never the plant's overrides.
+    let nominal = crate::plant::PumpParams::default();
+    let p_ref0 = sc.drive.setpoint().map_or(nominal.p_min, |s| s.eval(0.0));
+    let gain =
+        nominal.beta * nominal.k_l * nominal.omega / (nominal.v_l0 * (1.0 + nominal.alpha_v * p_ref0)) * 1e-9; // Pa/(s m) -> MPa/(s mm)
+    RhonnCascade::new(
+        settings.clone(),
+        nominal.k_a,
+        nominal.phi,
+        sc.params.i_max,
+        sc.params.x_max,
+        sc.params.p_max,
+        sc.params.t_control,
+        gain,
+        sc.initial[P_LINE],
+    )
+}
 
 /// The sensors of a pump run: pressure and stroke noise, each with its own seeded
 /// stream, and a third stream for recorded (not fed back) pressures, so that what is
@@ -70,7 +139,7 @@ pub(super) struct OutputClock {
 }
 
 impl OutputClock {
-    pub(super) fn new(sc: &Scenario, wants: bool, stride: u64) -> Self {
+    fn new(sc: &Scenario, wants: bool, stride: u64) -> Self {
         let t_end = sc.spec.duration_s;
         OutputClock {
             t_end,
@@ -105,14 +174,14 @@ impl OutputClock {
 
 /// One control instant: measure, compute, send through the delay line; returns the
 /// measured pressure and an adaptive controller's state.
-pub(super) fn act<S: Integrated>(
+fn act<S: Integrated<Plant = PumpSystem>>(
     solver: &mut Dopri5<S>,
     ctl: &mut Ctl,
     sensors: &mut Sensors,
     sp: &Signal,
     adaptive: &mut Option<AdaptiveReport>,
-    queue: &mut std::collections::VecDeque<f64>,
-) -> Result<(f64, Option<crate::control::CascadeState>)> {
+    queue: &mut VecDeque<f64>,
+) -> Result<(f64, Option<CascadeState>)> {
     let t = solver.t();
     let y = sensors.pressure(solver.state()[P_LINE]);
     let xm = sensors.stroke(solver.state()[STROKE]);
@@ -128,26 +197,34 @@ pub(super) fn act<S: Integrated>(
     let u = c.control(t, &meas[..c.measurements().len()], sp.eval(t));
     let mut cs = None;
     if let (Some(v), Some(rep)) = (c.adaptive(t), adaptive.as_mut()) {
-        cs = Some(adaptive_state(t, u, &v, solver.state(), rep)?);
+        cs = Some(adaptive_state(
+            solver.system().plant(),
+            t,
+            u,
+            &v,
+            solver.state(),
+            rep,
+        )?);
     }
     queue.push_back(u);
     let applied = queue
         .pop_front()
         .expect("the delay line holds at least this output");
-    solver.system_mut().pump_mut().set_current(applied);
+    solver.system_mut().plant_mut().set_current(applied);
     Ok((y, cs))
 }
 
 /// An adaptive controller's state at a control instant, checked finite, and its
 /// running report.
 fn adaptive_state(
+    plant: &PumpSystem,
     t: f64,
     u: f64,
     v: &crate::control::AdaptiveView,
     state: &[f64],
     rep: &mut AdaptiveReport,
-) -> Result<crate::control::CascadeState> {
-    let st = crate::control::CascadeState {
+) -> Result<CascadeState> {
+    let st = CascadeState {
         stroke_ref: v.inner_reference.unwrap_or(f64::NAN),
         p_hat: v.model_output,
         w_norm: v.w_norm,
@@ -163,9 +240,8 @@ fn adaptive_state(
         return Err(Error::Controller {
             t_s: t,
             state: format!(
-                "p_line = {:.6} MPa, stroke = {:.6} mm, current = {u} A, |W| = {}, |W_1| = {}",
-                mpa(state[P_LINE]),
-                mm(state[STROKE]),
+                "{}, current = {u} A, |W| = {}, |W_1| = {}",
+                describe(plant, state),
                 st.w_norm,
                 st.w1_norm
             ),
@@ -181,4 +257,158 @@ fn adaptive_state(
     rep.w1_final = v.w1.to_vec();
     rep.projections = v.projections;
     Ok(st)
+}
+
+/// What a pump run does at its control instants (measure, control, the delay line)
+/// and after its steps (figures on the dense output, output samples).
+struct PumpHooks<'a, R: Recorder> {
+    rec: &'a mut R,
+    ident_acc: &'a mut [IdentAcc],
+    acc: Accumulator<'a>,
+    plant_figures: bool,
+    ctl: Ctl,
+    sensors: Sensors,
+    /// Transport delay: what the controller outputs reaches the solenoid this many
+    /// periods later; until then the initial current holds.
+    queue: VecDeque<f64>,
+    adaptive: Option<AdaptiveReport>,
+    ctl_state: Option<CascadeState>,
+    last_meas: Option<f64>,
+    clock: OutputClock,
+    setpoint: Option<&'a Signal>,
+    regulated: bool,
+    bounds: [(f64, f64); 2],
+    full: Vec<f64>,
+}
+
+impl<S: Integrated<Plant = PumpSystem>, R: Recorder> Hooks<S> for PumpHooks<'_, R> {
+    #[inline]
+    fn instant(&mut self, solver: &mut Dopri5<S>) -> Result<()> {
+        if let Some(sp) = self.setpoint {
+            let (y, cs) = act(
+                solver,
+                &mut self.ctl,
+                &mut self.sensors,
+                sp,
+                &mut self.adaptive,
+                &mut self.queue,
+            )?;
+            self.last_meas = Some(y);
+            self.ctl_state = cs;
+        }
+        Ok(())
+    }
+
+    #[inline]
+    fn stepped(&mut self, solver: &Dopri5<S>, done: bool) -> Result<()> {
+        // (Runs whose plant figures nobody reads, the earlier training epochs and the
+        // frozen-weight validations, skip them: a fifth of thesis-ch5's time.)
+        if self.plant_figures {
+            self.acc.add_step(solver);
+        }
+        for ia in self.ident_acc.iter_mut() {
+            ia.add_step(solver);
+        }
+        // Output samples in [t_prev, t) from this step's dense output (and t_end at the end).
+        let (mut hat, mut hat_parallel) = ([None; PLANT_DIM], [None; PLANT_DIM]);
+        while let Some(t) = self.clock.next(solver.t(), done) {
+            solver.interpolate(t, &mut self.full);
+            let xs = &self.full[..];
+            let sys = solver.system();
+            let pump = sys.plant();
+            let p_line = xs[P_LINE].clamp(self.bounds[0].0, self.bounds[0].1);
+            sys.hats(xs, 0, &mut hat);
+            sys.hats(xs, 1, &mut hat_parallel);
+            self.rec.record(&Sample {
+                t,
+                p_line,
+                stroke: xs[STROKE].clamp(self.bounds[1].0, self.bounds[1].1),
+                current: pump.current_at(t),
+                demand: pump.demand_at(t),
+                p_ref: self.setpoint.map(|sp| sp.eval(t)),
+                p_meas: if self.regulated {
+                    self.last_meas
+                } else if self.sensors.noisy() {
+                    Some(self.sensors.recorded_pressure(p_line))
+                } else {
+                    None
+                },
+                hat: [hat[P_LINE], hat[STROKE]],
+                hat_parallel: [hat_parallel[P_LINE], hat_parallel[STROKE]],
+                control: self.ctl_state,
+                baseline: None,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// What one simulation returns: solver counters, figures, final state, the system, and
+/// (adaptive runs) the weights' report.
+pub(super) type Simulated<S> = (Stats, Figures, <S as System>::State, S, Option<AdaptiveReport>);
+
+/// One simulation of `sys` through the scenario's time, controller and measurement.
+pub(super) fn simulate<S: Integrated<Plant = PumpSystem>>(
+    sc: &Scenario,
+    sys: S,
+    x0: S::State,
+    rec: &mut impl Recorder,
+    ident_acc: &mut [IdentAcc],
+    ctl: Ctl,
+    plant_figures: bool,
+) -> Result<Simulated<S>> {
+    let p = &sc.params;
+    let dim = sys.dim();
+    let setpoint = sc.drive.setpoint();
+    let opts = solver_options::<S::State>(&sc.solver, dim);
+    let plant = sys.plant().clone();
+    let mut solver = Dopri5::new(sys, 0.0, x0.clone(), opts).map_err(|e| Error::Solver {
+        t_s: 0.0,
+        state: describe(&plant, x0.as_slice()),
+        source: Box::new(e),
+    })?;
+    let adaptive = match &ctl {
+        Ctl::Closed(c) => c.adaptive(0.0).map(|_| AdaptiveReport::default()),
+        Ctl::Open => None,
+    };
+    let t_end = sc.spec.duration_s;
+    let regulated = !matches!(ctl, Ctl::Open);
+    let mut acc = Accumulator::new(p.p_min, p.i_max, setpoint, t_end);
+    acc.p_max = p.p_max;
+    acc.x_max = p.x_max;
+    let mut hooks = PumpHooks {
+        clock: OutputClock::new(sc, rec.wants_samples(), rec.stride()),
+        rec,
+        ident_acc,
+        acc,
+        plant_figures,
+        sensors: Sensors::new(sc),
+        queue: VecDeque::from(vec![plant.current_at(0.0); p.delay_periods as usize]),
+        adaptive,
+        ctl_state: None,
+        last_meas: None,
+        setpoint,
+        regulated,
+        bounds: [(0.0, p.p_max), (0.0, p.x_max)],
+        full: vec![0.0; dim],
+        ctl,
+    };
+    // Control instants k * T, computed from T in ms like the output times, so that a
+    // control instant and an output sample at the same decimal time coincide exactly;
+    // the controller acts at t = 0 on the first measurement.
+    let instants =
+        (regulated && setpoint.is_some()).then(|| Instants::milliseconds(sc.spec.plant.t_control_ms));
+    drive(&mut solver, t_end, instants, &mut hooks)?;
+    let last = [solver.state()[P_LINE], solver.state()[STROKE]];
+    let mut figures = hooks
+        .acc
+        .figures(t_end, hooks.clock.n_out as usize + 1, last, regulated);
+    if let (Some(r), Some(a)) = (figures.regulation.as_mut(), hooks.adaptive.as_ref()) {
+        r.signals_bounded &=
+            a.w1_distance_max <= a.w1_ball_radius * (1.0 + 1e-9) && a.w_norm_max <= a.w_bound;
+    }
+    let mut xf = S::State::zeros(dim);
+    xf.as_mut_slice().copy_from_slice(solver.state());
+    let stats = solver.stats();
+    Ok((stats, figures, xf, solver.into_system(), hooks.adaptive))
 }

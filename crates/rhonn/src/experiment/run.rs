@@ -1,218 +1,19 @@
 //! Running a scenario: the plant in the event-locating solver, the sampled controller,
 //! the measurement, the output samples taken from the dense output, and the figures.
 
-use super::figures::Accumulator;
 pub use super::figures::*;
 use super::ident_figures::IdentAcc;
 pub use super::ident_figures::*;
-pub use super::integrated::Integrated;
+pub use super::integrated::{Alone, Integrated};
 use super::pump_controllers::Baseline;
-use super::pump_loop::{act, OutputClock, Sensors};
-use super::scenario::{AdaptiveSettings, Drive, ProfileSpec, Scenario, SolverSettings};
+pub use super::pump_loop::solver_options;
+use super::pump_loop::{simulate, Ctl};
+use super::scenario::{AdaptiveSettings, Drive, Scenario};
 use super::trace::{Column, NoRecorder, Recorder, Sample, Trace};
-use crate::control::{Controller, Pi, RhonnCascade};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::ident::{FrozenPair, IdentSettings, Identified, Mode};
 use crate::plant::{Input, PumpSystem, SignalRef, CURRENT_EFF, PLANT_DIM, P_LINE, STROKE};
-use crate::units::*;
-use rhonn_ode::{Dopri5, Options, Profile, State, Stats, System};
-
-fn solver_error(e: rhonn_ode::Error, t: f64, x: &[f64]) -> Error {
-    Error::Solver {
-        t_s: t,
-        state: format!(
-            "p_line = {:.6} MPa, stroke = {:.6} mm",
-            mpa(x[P_LINE]),
-            mm(x[STROKE])
-        ),
-        source: Box::new(e),
-    }
-}
-
-/// Solver options of a scenario for a state of `dim` components (the pump's two
-/// first; identifier states get the relative tolerance and an absolute 1e-9).
-pub fn solver_options<S: rhonn_ode::State>(s: &SolverSettings, dim: usize) -> Options<S> {
-    let mut rtol = S::splat(dim, s.rtol);
-    let mut atol = S::splat(dim, 1e-9);
-    atol.as_mut_slice()[P_LINE] = s.atol_p_line_pa;
-    atol.as_mut_slice()[STROKE] = s.atol_stroke_m;
-    rtol.as_mut_slice()[0] = s.rtol;
-    let mut o = Options::uniform(dim, s.rtol, 1e-9);
-    o.rtol = rtol;
-    o.atol = atol;
-    o.h_max_s = s.max_step_s;
-    o.profile = match s.profile {
-        ProfileSpec::Hairer => Profile::Hairer,
-        ProfileSpec::Ode45 | ProfileSpec::SimulinkOde45 => Profile::Ode45,
-    };
-    o
-}
-
-/// The sampled controller of one simulation: none (open loop: the current is a
-/// profile), or a [`Controller`] on the measured states.
-pub(super) enum Ctl {
-    Open,
-    Closed(Box<dyn Controller>),
-}
-
-impl Ctl {
-    fn of(sc: &Scenario) -> Ctl {
-        let p = &sc.params;
-        match &sc.drive {
-            Drive::OpenLoop(_) => Ctl::Open,
-            Drive::Pi(s) => {
-                let mut pi = Pi::new(s.kp, s.ti_s, p.t_control, s.bias, 0.0, p.i_max);
-                pi.measured = [P_LINE];
-                pi.dither = s.dither.clone();
-                Ctl::Closed(Box::new(pi))
-            }
-            Drive::Adaptive(a) => Ctl::Closed(Box::new(cascade_for(sc, &a.cascade))),
-            Drive::CascadePi(s) => Ctl::Closed(Box::new(s.controller(p.t_control))),
-        }
-    }
-}
-
-/// The adaptive cascade of a scenario, its gain weights starting from the nominal
-/// table's `beta k_l omega / V_l` at the initial set-point (MPa/(s mm)).
-fn cascade_for(sc: &Scenario, settings: &crate::control::CascadeSettings) -> RhonnCascade {
-    // The controller knows the nominal table only, never the plant's overrides.
-    let nominal = crate::plant::PumpParams::default();
-    let p_ref0 = sc.drive.setpoint().map_or(nominal.p_min, |s| s.eval(0.0));
-    let gain =
-        nominal.beta * nominal.k_l * nominal.omega / (nominal.v_l0 * (1.0 + nominal.alpha_v * p_ref0)) * 1e-9; // Pa/(s m) -> MPa/(s mm)
-    RhonnCascade::new(
-        settings.clone(),
-        nominal.k_a,
-        nominal.phi,
-        sc.params.i_max,
-        sc.params.x_max,
-        sc.params.p_max,
-        sc.params.t_control,
-        gain,
-        sc.initial[P_LINE],
-    )
-}
-
-/// What one simulation returns: solver counters, figures, final state, the system, and
-/// (adaptive runs) the weights' report.
-type Simulated<S> = (Stats, Figures, <S as System>::State, S, Option<AdaptiveReport>);
-
-/// One simulation of `sys` through the scenario's time, controller and measurement.
-fn simulate<S: Integrated>(
-    sc: &Scenario,
-    sys: S,
-    x0: S::State,
-    rec: &mut impl Recorder,
-    ident_acc: &mut [IdentAcc],
-    mut ctl: Ctl,
-    plant_figures: bool,
-) -> Result<Simulated<S>> {
-    let p = &sc.params;
-    let dim = sys.dim();
-    let setpoint = sc.drive.setpoint();
-    let opts = solver_options::<S::State>(&sc.solver, dim);
-    let mut solver =
-        Dopri5::new(sys, 0.0, x0.clone(), opts).map_err(|e| solver_error(e, 0.0, x0.as_slice()))?;
-    let mut sensors = Sensors::new(sc);
-    // Transport delay: what the controller outputs reaches the solenoid this many
-    // periods later; until then the initial current holds.
-    let mut queue = std::collections::VecDeque::from(vec![
-        solver.system().pump().current_at(0.0);
-        p.delay_periods as usize
-    ]);
-    let mut adaptive = match &ctl {
-        Ctl::Closed(c) => c.adaptive(0.0).map(|_| AdaptiveReport::default()),
-        Ctl::Open => None,
-    };
-    let mut ctl_state: Option<crate::control::CascadeState> = None;
-
-    let t_end = sc.spec.duration_s;
-    let mut clock = OutputClock::new(sc, rec.wants_samples(), rec.stride());
-    let regulated = !matches!(ctl, Ctl::Open);
-    let mut acc = Accumulator::new(p.p_min, p.i_max, setpoint, t_end);
-    acc.p_max = p.p_max;
-    acc.x_max = p.x_max;
-    // Control instants k * T, computed from T in ms like the output times, so that a
-    // control instant and an output sample at the same decimal time coincide exactly.
-    let t_ctl_ms = sc.spec.plant.t_control_ms;
-    let mut k_ctl: u64 = 0;
-    let mut last_meas: Option<f64> = None;
-
-    // The controller acts at t = 0 on the first measurement.
-    if let (true, Some(sp)) = (regulated, setpoint) {
-        let (y, cs) = act(&mut solver, &mut ctl, &mut sensors, sp, &mut adaptive, &mut queue)?;
-        last_meas = Some(y);
-        ctl_state = cs;
-        k_ctl = 1;
-    }
-    let bounds = [(0.0, p.p_max), (0.0, p.x_max)];
-    let mut full = S::State::zeros(dim);
-    loop {
-        let t_stop = if regulated {
-            (k_ctl as f64 * t_ctl_ms / 1000.0).min(t_end)
-        } else {
-            t_end
-        };
-        let r = solver
-            .step(t_stop)
-            .map_err(|e| solver_error(e, solver.t(), solver.state()))?;
-        // (Runs whose plant figures nobody reads, the earlier training epochs and the
-        // frozen-weight validations, skip them: a fifth of thesis-ch5's time.)
-        if plant_figures {
-            acc.add_step(&solver);
-        }
-        for ia in ident_acc.iter_mut() {
-            ia.add_step(&solver);
-        }
-        let done = solver.t() >= t_end;
-        // Output samples in [t_prev, t) from this step's dense output (and t_end at the end).
-        while let Some(t) = clock.next(solver.t(), done) {
-            solver.interpolate(t, full.as_mut_slice());
-            let xs = full.as_slice();
-            let sys = solver.system();
-            let pump = sys.pump();
-            let p_line = xs[P_LINE].clamp(bounds[0].0, bounds[0].1);
-            rec.record(&Sample {
-                t,
-                p_line,
-                stroke: xs[STROKE].clamp(bounds[1].0, bounds[1].1),
-                current: pump.current_at(t),
-                demand: pump.demand_at(t),
-                p_ref: setpoint.map(|sp| sp.eval(t)),
-                p_meas: if regulated {
-                    last_meas
-                } else if sensors.noisy() {
-                    Some(sensors.recorded_pressure(p_line))
-                } else {
-                    None
-                },
-                hat: sys.hats(xs, 0),
-                hat_parallel: sys.hats(xs, 1),
-                control: ctl_state,
-                baseline: None,
-            });
-        }
-        if done {
-            break;
-        }
-        if let (rhonn_ode::StepResult::Reached { .. }, true, Some(sp)) = (r, regulated, setpoint) {
-            let (y, cs) = act(&mut solver, &mut ctl, &mut sensors, sp, &mut adaptive, &mut queue)?;
-            last_meas = Some(y);
-            ctl_state = cs;
-            k_ctl += 1;
-        }
-    }
-    let last = [solver.state()[P_LINE], solver.state()[STROKE]];
-    let mut figures = acc.figures(t_end, clock.n_out as usize + 1, last, regulated);
-    if let (Some(r), Some(a)) = (figures.regulation.as_mut(), adaptive.as_ref()) {
-        r.signals_bounded &=
-            a.w1_distance_max <= a.w1_ball_radius * (1.0 + 1e-9) && a.w_norm_max <= a.w_bound;
-    }
-    let mut xf = S::State::zeros(dim);
-    xf.as_mut_slice().copy_from_slice(solver.state());
-    let stats = solver.stats();
-    Ok((stats, figures, xf, solver.into_system(), adaptive))
-}
+use rhonn_ode::{State, Stats, System};
 
 fn report(sc: &Scenario, st: Stats, figures: Figures, identification: Option<IdentReport>) -> Summary {
     Summary {
@@ -293,7 +94,7 @@ fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) ->
     };
     let (st_b, fig_b, _, _, _) = simulate(
         &base_sc,
-        pump_system(&base_sc),
+        pump_alone(&base_sc),
         plant_initial(&base_sc),
         &mut base,
         &mut [],
@@ -307,7 +108,7 @@ fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) ->
     };
     let (st, fig, _, _, adaptive) = simulate(
         sc,
-        pump_system(sc),
+        pump_alone(sc),
         plant_initial(sc),
         &mut inj,
         &mut [],
@@ -353,6 +154,11 @@ fn pump_system(sc: &Scenario) -> PumpSystem {
     PumpSystem::new(sc.params.clone(), current, Input::Signal(sc.demand.clone()))
 }
 
+/// The pump alone in the solver.
+fn pump_alone(sc: &Scenario) -> Alone<PumpSystem> {
+    Alone(pump_system(sc))
+}
+
 /// Run a scenario, giving every output sample to `rec`; returns the summary. With an
 /// `[identifier]` the samples are those of the last training epoch (see [`run_full`]
 /// for the validation runs and the weights).
@@ -389,7 +195,7 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
         if let Drive::Adaptive(a) = &sc.drive {
             return run_adaptive(sc, a, rec);
         }
-        let sys = pump_system(sc);
+        let sys = pump_alone(sc);
         let (st, fig, _, _, _) = simulate(sc, sys, plant_initial(sc), rec, &mut [], Ctl::of(sc), true)?;
         return Ok(RunOutput {
             summary: report(sc, st, fig, None),

@@ -3,7 +3,8 @@
 //! what is allowed; unknown keys are errors.
 
 use super::pump_controllers::{
-    check_baseline, check_cascade_pi, Baseline, BaselineKeys, CascadePiGainsMpa, CascadePiSettings, ROBUST,
+    check_baseline, check_cascade_pi, check_pi, Baseline, BaselineKeys, CascadePiGainsMpa, CascadePiSettings,
+    PiSettings, ROBUST,
 };
 use crate::control::CascadeSettings;
 use crate::error::{invalid, Error, Result};
@@ -225,26 +226,11 @@ pub struct ScenarioSpec {
     /// `rhonn campaign`'s distributions of the uncertain parameters (default: uniform
     /// within the thesis's tolerances); ignored by `rhonn run`, but checked.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub campaign: Option<super::campaign::CampaignSpec>,
+    pub campaign: Option<super::campaign_plan::CampaignSpec>,
 }
 
 fn default_output_ms() -> f64 {
     1.0
-}
-
-/// A checked PI controller (SI).
-#[derive(Debug, Clone, PartialEq)]
-pub struct PiSettings {
-    /// Set-point \[Pa\].
-    pub setpoint: Signal,
-    /// Gain \[A/Pa\].
-    pub kp: f64,
-    /// Integral time \[s\].
-    pub ti_s: f64,
-    /// Output offset \[A\].
-    pub bias: f64,
-    /// Excitation added to the output \[A\].
-    pub dither: Option<Signal>,
 }
 
 /// A checked adaptive controller and its PI baseline (SI).
@@ -358,43 +344,14 @@ pub fn check_folder_name(field: &str, value: &str) -> Result<()> {
     }
 }
 
-/// Check a PI's gains (fields named `<prefix>kp_a_per_mpa` ...) and convert to SI.
-pub(super) fn check_pi(
-    kp_a_per_mpa: f64,
-    ti_s: f64,
-    bias_a: Option<f64>,
-    setpoint: Signal,
-    params: &PumpParams,
-    prefix: &str,
-) -> Result<PiSettings> {
-    if !(kp_a_per_mpa.is_finite() && kp_a_per_mpa >= 0.0) {
-        return Err(invalid(
-            format!("{prefix}kp_a_per_mpa"),
-            kp_a_per_mpa,
-            "a finite number >= 0",
-        ));
-    }
-    if !(ti_s.is_finite() && ti_s > 0.0) {
-        return Err(invalid(format!("{prefix}ti_s"), ti_s, "a number > 0"));
-    }
-    let bias = bias_a.unwrap_or(params.k_a * params.q_0 / (params.k_l * params.omega * params.phi));
-    if !(bias.is_finite() && (0.0..=params.i_max).contains(&bias)) {
-        return Err(invalid(
-            format!("{prefix}bias_a"),
-            bias,
-            format!("a current in [0, {}] A", params.i_max),
-        ));
-    }
-    Ok(PiSettings {
-        setpoint,
-        kp: kp_a_per_mpa / PA_PER_MPA,
-        ti_s,
-        bias,
-        dither: None,
-    })
-}
-
 impl ScenarioSpec {
+    /// The values of the uncertain parameters a campaign draws (display units, in the
+    /// order of the pump's tolerance table).
+    pub fn uncertain_values(&self) -> [f64; 5] {
+        let p = &self.plant;
+        [p.beta_mpa, p.mu_1, p.mu_2, p.q_0_dm3_s, p.qdot_max_dm3_s2]
+    }
+
     fn check_setpoint(&self, setpoint_mpa: &SignalSpec, params: &PumpParams) -> Result<Signal> {
         let lim =
             crate::signal::spec_limits(params.p_min / PA_PER_MPA, params.p_max / PA_PER_MPA, None, None);
@@ -526,7 +483,7 @@ impl ScenarioSpec {
             ));
         }
         if self.campaign.is_some() {
-            super::campaign::Plan::of(self)?;
+            super::campaign_plan::Plan::new(self.campaign.as_ref(), self.uncertain_values())?;
         }
         Ok(Scenario {
             spec: self.clone(),

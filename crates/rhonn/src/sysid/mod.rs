@@ -28,6 +28,7 @@ pub mod cascade;
 mod checks;
 mod estimate;
 mod fitted;
+mod lm;
 mod predict;
 pub mod pump_grey;
 pub mod select;
@@ -35,8 +36,8 @@ mod train;
 use checks::ensure_finite_model;
 pub use checks::{data_warnings, decorrelation_lag, ensure_finite_figures, free_run_at_bound};
 pub use estimate::fit;
-use estimate::lm;
 pub use fitted::{fit_ensemble, fit_with_baseline, parse_spec_file, FittedModel};
+use lm::lm;
 pub use predict::{predict, samples_needed, PredictSummary, Prediction};
 pub use train::{train, BaselineSummary, FitSummary, MemberSummary, RecordFigures, TrainingFigures};
 

@@ -511,7 +511,7 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
         let noises: Vec<Noise> = records.iter().map(|r| noise_for(stage, &here, r)).collect();
         let resid =
             |th: &[f64], out: &mut Vec<f64>| window_residuals(stage, dt, &values(th), records, &noises, out);
-        let cost = super::estimate::lm(&mut theta, spec.epochs, 1e-3, &resid);
+        let cost = super::lm::lm(&mut theta, spec.epochs, 1e-3, &resid);
         if !cost.is_finite() {
             return Err(Error::NotFinite {
                 what: "the pump model's K-step error at its starting parameters".into(),

@@ -1,0 +1,51 @@
+//! What a campaign call is asked for, how far it has come, and what it did: shared by
+//! the pump's campaigns (`campaign.rs`) and the other plants' (`plant_campaign.rs`).
+
+use std::path::PathBuf;
+
+/// What `rhonn campaign` was asked for.
+#[derive(Debug, Clone)]
+pub struct CampaignOptions {
+    /// Runs (random draws).
+    pub runs: u64,
+    /// Seed.
+    pub seed: u64,
+    /// `[k, m]`.
+    pub shard: [u64; 2],
+    /// Full-factorial corners instead of random draws.
+    pub corners: bool,
+    /// Keep the traces of runs with index below this.
+    pub envelope_runs: u64,
+}
+
+/// How far a campaign has come, given to the progress callback after each run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Progress<'a> {
+    /// The scenario's name.
+    pub scenario: &'a str,
+    /// Runs finished in this call.
+    pub done: usize,
+    /// Runs this call has to do.
+    pub total: usize,
+    /// Runs of this call that failed.
+    pub failed: usize,
+    /// Since the call started \[s\].
+    pub elapsed_s: f64,
+}
+
+/// What a campaign call did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CampaignOutcome {
+    /// The scenario's name.
+    pub scenario: String,
+    /// The folder.
+    pub dir: PathBuf,
+    /// Runs in `runs.csv`.
+    pub runs: usize,
+    /// Of which failed.
+    pub failed: usize,
+    /// The folder held the finished campaign already: nothing was run.
+    pub already_complete: bool,
+    /// What the user should know (a resumed campaign, a row cut by an interruption).
+    pub notes: Vec<String>,
+}

@@ -1,0 +1,131 @@
+//! The code's shape, checked: no source file over 800 lines, and no circle of imports
+//! between the modules of a crate (`use super::x` / `crate::x::y` between siblings).
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+const SOURCE_ROOTS: [&str; 6] = [
+    "crates/rhonn/src",
+    "crates/report/src",
+    "crates/core/src",
+    "crates/ode/src",
+    "crates/cli",
+    "python/src",
+];
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// The module path of `file` under `root` (`a/b.rs` and `a/b/mod.rs` are `a::b`).
+fn module_of(root: &Path, file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(root).unwrap().with_extension("");
+    let mut parts: Vec<String> = rel.iter().map(|s| s.to_string_lossy().into_owned()).collect();
+    if matches!(parts.last().map(String::as_str), Some("mod" | "lib" | "main")) {
+        parts.pop();
+    }
+    parts
+}
+
+/// The modules of the same crate that `file` (module `me`) names outside its tests.
+fn imports(text: &str, me: &[String]) -> BTreeSet<Vec<String>> {
+    let code = text.split("#[cfg(test)]").next().unwrap_or("");
+    let mut out = BTreeSet::new();
+    for (prefix, base) in [
+        ("super::", me[..me.len().saturating_sub(1)].to_vec()),
+        ("crate::", vec![]),
+    ] {
+        for (i, _) in code.match_indices(prefix) {
+            let before = code[..i].chars().last().unwrap_or(' ');
+            if before.is_alphanumeric() || before == '_' || before == ':' {
+                continue;
+            }
+            let rest = &code[i + prefix.len()..];
+            // `use crate::{a::X, b}`: each path of the group.
+            let paths: Vec<&str> = match rest.strip_prefix('{') {
+                Some(group) => group.split('}').next().unwrap_or("").split(',').collect(),
+                None => vec![rest],
+            };
+            for path in paths {
+                let segs: Vec<&str> = path
+                    .trim()
+                    .split("::")
+                    .map(|s| {
+                        s.split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                            .next()
+                            .unwrap_or("")
+                    })
+                    .take_while(|s| !s.is_empty() && s.chars().next().is_some_and(|c| c.is_lowercase()))
+                    .take(2)
+                    .collect();
+                for n in 1..=segs.len() {
+                    let mut m = base.clone();
+                    m.extend(segs[..n].iter().map(|s| s.to_string()));
+                    out.insert(m);
+                }
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn no_source_file_is_over_800_lines_and_no_modules_import_each_other_in_a_circle() {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut too_long = Vec::new();
+    for root in SOURCE_ROOTS {
+        let root = repo.join(root);
+        let mut files = Vec::new();
+        rust_files(&root, &mut files);
+        assert!(!files.is_empty(), "{}", root.display());
+        let mut graph: BTreeMap<Vec<String>, BTreeSet<Vec<String>>> = BTreeMap::new();
+        let mut texts = Vec::new();
+        for f in &files {
+            let text = std::fs::read_to_string(f).unwrap();
+            if text.lines().count() > 800 && !f.to_string_lossy().contains("tests") {
+                too_long.push(f.display().to_string());
+            }
+            texts.push((module_of(&root, f), text));
+        }
+        let modules: BTreeSet<Vec<String>> = texts.iter().map(|(m, _)| m.clone()).collect();
+        for (m, text) in &texts {
+            let deps = imports(text, m)
+                .into_iter()
+                .filter(|d| modules.contains(d) && d != m && !m.starts_with(d) && !d.starts_with(m))
+                .collect();
+            graph.insert(m.clone(), deps);
+        }
+        // A circle: a module that reaches itself.
+        for start in graph.keys() {
+            let mut seen = BTreeSet::new();
+            let mut stack: Vec<(Vec<String>, Vec<Vec<String>>)> = vec![(start.clone(), vec![start.clone()])];
+            while let Some((m, path)) = stack.pop() {
+                for d in &graph[&m] {
+                    assert!(
+                        d != start,
+                        "{}: modules import each other in a circle: {}",
+                        root.display(),
+                        path.iter()
+                            .chain([d])
+                            .map(|p| p.join("::"))
+                            .collect::<Vec<_>>()
+                            .join(" -> ")
+                    );
+                    if seen.insert(d.clone()) {
+                        let mut p = path.clone();
+                        p.push(d.clone());
+                        stack.push((d.clone(), p));
+                    }
+                }
+            }
+        }
+    }
+    assert!(too_long.is_empty(), "files over 800 lines: {too_long:?}");
+}
