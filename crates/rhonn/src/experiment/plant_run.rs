@@ -6,7 +6,7 @@
 use super::any_plant::{closed_loop, identify, IdentRun, LoopRun};
 use super::plant_scenario::{build_loop, configure, drive, signal, state_index, PlantScenarioSpec};
 use crate::error::{invalid, Result};
-use crate::plant::{Input, Plant, Quantity, Tanks, TanksParams};
+use crate::plant::{with_kind, Plant, Quantity, WithPlant};
 use serde::Serialize;
 
 /// One column of a run's table: SI values and how people read them.
@@ -134,26 +134,26 @@ pub const WEIGHT_QUANTITIES: [Quantity; 3] = [
 /// plant's order) when given: a campaign's draw.
 pub fn run_plant_scenario(spec: &PlantScenarioSpec, parameters: Option<&[f64]>) -> Result<PlantRunOutput> {
     spec.check_common()?;
-    match spec.plant.kind.as_str() {
-        "tanks" => run_on(
-            &Tanks::new(TanksParams::default(), Input::Held(0.0)),
-            spec,
-            parameters,
-        ),
-        other => Err(invalid(
-            "plant.kind",
-            format!("\"{other}\""),
-            "tanks (the pump's scenarios have no kind)",
-        )),
+    struct Run<'a>(&'a PlantScenarioSpec, Option<&'a [f64]>);
+    impl WithPlant for Run<'_> {
+        type Output = PlantRunOutput;
+        fn with<P: Plant>(self, nominal: P) -> Result<PlantRunOutput> {
+            run_on(&nominal, self.0, self.1)
+        }
     }
+    with_kind(&spec.plant.kind, Run(spec, parameters))
 }
 
 /// The plant named by a scenario, nominal (for its parameter table).
 pub fn nominal_plant_parameters(kind: &str) -> Result<&'static [crate::plant::Parameter]> {
-    match kind {
-        "tanks" => Ok(Tanks::new(TanksParams::default(), Input::Held(0.0)).parameters()),
-        other => Err(invalid("plant.kind", format!("\"{other}\""), "tanks")),
+    struct Parameters;
+    impl WithPlant for Parameters {
+        type Output = &'static [crate::plant::Parameter];
+        fn with<P: Plant>(self, nominal: P) -> Result<Self::Output> {
+            Ok(nominal.parameters())
+        }
     }
+    with_kind(kind, Parameters)
 }
 
 fn run_on<P: Plant>(

@@ -6,7 +6,8 @@
 //! variable-displacement pump) and [`tanks`] (two tanks in series, the upper one
 //! overflowing into the lower). Adding a plant is a folder with a type that implements
 //! [`rhonn_ode::System`] (the equations, events and bounds) and [`Plant`] (what its
-//! states, inputs and parameters are called, in which units).
+//! states, inputs and parameters are called, in which units); for scenario files, one
+//! arm in [`with_kind`].
 
 mod input;
 pub mod pump;
@@ -19,6 +20,31 @@ pub use pump::{
 pub use tanks::{Tanks, TanksParams};
 
 use rhonn_ode::System;
+
+/// Something done with the plant a scenario names (`[plant] kind`), whatever its type.
+pub trait WithPlant {
+    /// What it gives.
+    type Output;
+    /// Do it with `nominal`, the plant with its nominal parameters.
+    fn with<P: Plant>(self, nominal: P) -> crate::Result<Self::Output>;
+}
+
+/// The plants scenario files can name.
+pub const KINDS: [&str; 1] = ["tanks"];
+
+/// `w` done with the plant named `kind`, nominal: **the one place a plant is registered**
+/// for scenario files (`rhonn run`, `campaign`, `bench`; an arm here and its name in
+/// [`KINDS`]).
+pub fn with_kind<W: WithPlant>(kind: &str, w: W) -> crate::Result<W::Output> {
+    match kind {
+        "tanks" => w.with(Tanks::new(TanksParams::default(), Input::Held(0.0))),
+        other => Err(crate::error::invalid(
+            "plant.kind",
+            format!("\"{other}\""),
+            format!("one of {KINDS:?} (the pump's scenarios have no kind)"),
+        )),
+    }
+}
 
 /// A named quantity of a plant (a state or an input): its column name, its SI unit, and
 /// the unit people read with the factor that converts to it.
