@@ -9,7 +9,7 @@ use rand_distr::{Distribution as _, StandardNormal};
 use serde::{Deserialize, Serialize};
 
 /// The uncertain parameters a pump campaign draws: the pump's tolerance table.
-pub use crate::plant::pump::PARAMETERS as TOLERANCES;
+pub use crate::plant::pump::CAMPAIGN_PARAMETERS as TOLERANCES;
 
 /// How a parameter is drawn, as written in the scenario's `[campaign]` section.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]

@@ -1,5 +1,5 @@
-//! Scenario files for the plants other than the pump (`[plant] kind = "tanks"`): what
-//! drives the plant, and either an online identification (then a frozen-weight
+//! Scenario files of any plant of the library (`[plant] kind = "tanks"`, `"pump"`, see
+//! `plant::with_kind`): what drives the plant, and either an online identification (then a frozen-weight
 //! validation on other inputs) or a controller and a baseline on the same plant. Values
 //! are in the display units of the quantity they belong to (mm for a tank's level, V for
 //! the pump voltage); times in seconds.
@@ -12,7 +12,7 @@ use crate::signal::{Limits, Signal, SignalSpec};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-/// A scenario for a plant of the library other than the pump.
+/// A scenario of any plant of the library (the pump too, beside its own richer format).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlantScenarioSpec {
@@ -49,7 +49,7 @@ fn one() -> f64 {
 /// `[plant]`: which plant, its initial state, and any of its parameters.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlantSection {
-    /// The plant: `tanks`.
+    /// The plant: one of `plant::KINDS` (`tanks`, `pump`).
     pub kind: String,
     /// Initial state, one value per state (display units); default all 0.
     #[serde(default)]
@@ -421,8 +421,8 @@ impl PlantScenarioSpec {
     }
 }
 
-/// Whether a scenario text is for a plant of this module (its `[plant]` has a `kind`
-/// other than `pump`).
+/// Whether a scenario text is a plant scenario (its `[plant]` has a `kind`; the pump's
+/// own scenario format has none).
 pub fn is_plant_scenario(text: &str) -> bool {
     let Ok(v) = toml::from_str::<toml::Value>(text) else {
         return false;
@@ -430,5 +430,5 @@ pub fn is_plant_scenario(text: &str) -> bool {
     v.get("plant")
         .and_then(|p| p.get("kind"))
         .and_then(|k| k.as_str())
-        .is_some_and(|k| k != "pump")
+        .is_some()
 }

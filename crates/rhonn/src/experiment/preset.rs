@@ -42,12 +42,12 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ),
 ];
 
-/// A scenario of the pump, or of another plant of the library.
+/// A scenario in the pump's own format, or a plant scenario of any plant of the library.
 #[derive(Debug, Clone, PartialEq)]
 pub enum AnyScenario {
     /// The pump's (no `kind` in `[plant]`).
     Pump(Box<ScenarioSpec>),
-    /// Another plant's (`[plant] kind = "tanks"`).
+    /// A plant scenario (`[plant] kind = "tanks"` or `"pump"`).
     Plant(Box<PlantScenarioSpec>),
 }
 

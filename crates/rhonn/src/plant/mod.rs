@@ -30,7 +30,7 @@ pub trait WithPlant {
 }
 
 /// The plants scenario files can name.
-pub const KINDS: [&str; 1] = ["tanks"];
+pub const KINDS: [&str; 2] = ["tanks", "pump"];
 
 /// `w` done with the plant named `kind`, nominal: **the one place a plant is registered**
 /// for scenario files (`rhonn run`, `campaign`, `bench`; an arm here and its name in
@@ -38,10 +38,15 @@ pub const KINDS: [&str; 1] = ["tanks"];
 pub fn with_kind<W: WithPlant>(kind: &str, w: W) -> crate::Result<W::Output> {
     match kind {
         "tanks" => w.with(Tanks::new(TanksParams::default(), Input::Held(0.0))),
+        "pump" => w.with(PumpSystem::new(
+            PumpParams::default(),
+            Input::Held(0.0),
+            Input::Held(0.0),
+        )),
         other => Err(crate::error::invalid(
             "plant.kind",
             format!("\"{other}\""),
-            format!("one of {KINDS:?} (the pump's scenarios have no kind)"),
+            format!("one of {KINDS:?} (the pump's own scenarios have no kind)"),
         )),
     }
 }

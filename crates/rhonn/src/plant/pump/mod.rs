@@ -54,9 +54,9 @@ pub const INPUTS: [Quantity; 2] = [
     },
 ];
 
-/// The thesis's stated tolerances (pump-model.md table): beta +-20 %, mu_1 and mu_2 +-20 %,
-/// Q_0 +-10 %, load flow slew rate +-10 %; nominal values of table 3.3.
-pub const PARAMETERS: [Parameter; 5] = [
+/// The pump's uncertain parameters with the thesis's stated tolerances (pump-model.md
+/// table): beta +-20 %, mu_1 and mu_2 +-20 %, Q_0 +-10 %; nominal values of table 3.3.
+pub const PARAMETERS: [Parameter; 4] = [
     Parameter {
         name: "beta_mpa",
         nominal: 1200.0,
@@ -81,12 +81,25 @@ pub const PARAMETERS: [Parameter; 5] = [
         tolerance: 0.1,
         description: "leakage flow Q_0 [dm^3/s]",
     },
-    Parameter {
-        name: "qdot_max_dm3_s2",
-        nominal: 2.0,
-        tolerance: 0.1,
-        description: "largest slew rate of the demanded flow [dm^3/s^2]",
-    },
+];
+
+/// The largest slew rate of the demanded flow, +-10 % in the thesis's table: a property of
+/// the pump scenarios' demand trapezoids (their campaigns draw it after [`PARAMETERS`]),
+/// not of the pump, whose demand is an input.
+pub const DEMAND_SLEW: Parameter = Parameter {
+    name: "qdot_max_dm3_s2",
+    nominal: 2.0,
+    tolerance: 0.1,
+    description: "largest slew rate of the demanded flow [dm^3/s^2]",
+};
+
+/// What a pump campaign draws: [`PARAMETERS`], then [`DEMAND_SLEW`].
+pub const CAMPAIGN_PARAMETERS: [Parameter; 5] = [
+    PARAMETERS[0],
+    PARAMETERS[1],
+    PARAMETERS[2],
+    PARAMETERS[3],
+    DEMAND_SLEW,
 ];
 
 impl Plant for PumpSystem {
@@ -120,6 +133,40 @@ impl Plant for PumpSystem {
     fn parameters(&self) -> &'static [Parameter] {
         &PARAMETERS
     }
+    fn set_input(&mut self, k: usize, input: Input) -> crate::Result<()> {
+        let (current, demand) = match k {
+            0 => (input, self.demand.clone()),
+            1 => (self.current.clone(), input),
+            _ => return Err(crate::error::invalid("input", k, "0 (current) or 1 (demand)")),
+        };
+        *self = PumpSystem::new(self.params.clone(), current, demand);
+        Ok(())
+    }
+    /// `[beta_mpa, mu_1, mu_2, q_0_dm3_s]` ([`PARAMETERS`]' units), each finite and > 0.
+    fn with_parameters(&self, values: &[f64]) -> crate::Result<Self> {
+        let [beta_mpa, mu_1, mu_2, q_0_dm3_s] = <[f64; 4]>::try_from(values).map_err(|_| {
+            crate::error::invalid(
+                "plant",
+                format!("{} values", values.len()),
+                "the 4 parameters of the pump (beta_mpa, mu_1, mu_2, q_0_dm3_s)",
+            )
+        })?;
+        for (p, v) in PARAMETERS.iter().zip(values) {
+            if !(v.is_finite() && *v > 0.0) {
+                return Err(crate::error::invalid(
+                    format!("plant.{}", p.name),
+                    v,
+                    "finite and > 0",
+                ));
+            }
+        }
+        let mut params = self.params.clone();
+        params.beta = beta_mpa * 1e6;
+        params.mu_1 = mu_1;
+        params.mu_2 = mu_2;
+        params.q_0 = q_0_dm3_s * 1e-3;
+        Ok(PumpSystem::new(params, self.current.clone(), self.demand.clone()))
+    }
 }
 
 #[cfg(test)]
@@ -137,7 +184,7 @@ mod tests {
             "qdot_max_dm3_s2" => d.qdot_max_dm3_s2,
             other => panic!("{other} is not a pump parameter"),
         };
-        for p in PARAMETERS {
+        for p in CAMPAIGN_PARAMETERS {
             assert_eq!(p.nominal, by_name(p.name), "{}", p.name);
         }
     }
