@@ -89,7 +89,7 @@ pub fn identify<P: Plant>(
         slot: usize::from(frozen.is_some()),
         hats: Vec::new(),
     };
-    let steps = (duration_s / sample_s).round() as u64;
+    let steps = sampling_steps(duration_s, sample_s)?;
     let instants = Instants::seconds(sample_s);
     let t_end = instants.at(steps);
     let np = plant.dim();
@@ -107,6 +107,19 @@ pub fn identify<P: Plant>(
     drive(&mut s, t_end, Some(instants), &mut sampler)?;
     sampler.run.weights = s.system().ident.weights(&s.state()[np..]);
     Ok(sampler.run)
+}
+
+/// The whole sampling periods in `duration_s` (rounded), at least one.
+fn sampling_steps(duration_s: f64, period_s: f64) -> Result<u64> {
+    let steps = (duration_s / period_s).round();
+    if !(period_s > 0.0 && steps >= 1.0 && steps.is_finite()) {
+        return Err(crate::error::invalid(
+            "duration_s",
+            duration_s,
+            format!("at least one sampling period ({period_s} s)"),
+        ));
+    }
+    Ok(steps as u64)
 }
 
 /// Takes an identification's samples: the identified states and model `slot`'s
@@ -221,7 +234,7 @@ pub fn closed_loop<P: Plant>(
         setpoint,
         period_s,
     };
-    let steps = (duration_s / period_s).round() as u64;
+    let steps = sampling_steps(duration_s, period_s)?;
     let instants = Instants::seconds(period_s);
     drive(&mut s, instants.at(steps), Some(instants), &mut hooks)?;
     Ok(hooks.run)
@@ -365,5 +378,20 @@ mod tests {
         let frozen = identify(tanks, &[0.0, 0.0], &is, 50.0, 1.0, Some(&run.weights)).unwrap();
         assert_eq!(frozen.weights, run.weights);
         assert_eq!(frozen.y_hat[0][0], 0.0);
+        // Less than one sample: an error, not an empty or doubled record.
+        let e = identify(
+            Tanks::new(TanksParams::default(), Input::Held(5.0)),
+            &[0.0, 0.0],
+            &is,
+            0.2,
+            1.0,
+            None,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("duration_s") && e.contains("at least one sampling period"),
+            "{e}"
+        );
     }
 }

@@ -174,6 +174,7 @@ impl OutputClock {
 
 /// One control instant: measure, compute, send through the delay line; returns the
 /// measured pressure and an adaptive controller's state.
+#[inline]
 fn act<S: Integrated<Plant = PumpSystem>>(
     solver: &mut Dopri5<S>,
     ctl: &mut Ctl,
@@ -310,8 +311,8 @@ impl<S: Integrated<Plant = PumpSystem>, R: Recorder> Hooks<S> for PumpHooks<'_, 
             ia.add_step(solver);
         }
         // Output samples in [t_prev, t) from this step's dense output (and t_end at the end).
-        let (mut hat, mut hat_parallel) = ([None; PLANT_DIM], [None; PLANT_DIM]);
         while let Some(t) = self.clock.next(solver.t(), done) {
+            let (mut hat, mut hat_parallel) = ([None; PLANT_DIM], [None; PLANT_DIM]);
             solver.interpolate(t, &mut self.full);
             let xs = &self.full[..];
             let sys = solver.system();
