@@ -1,4 +1,4 @@
-//! Monte Carlo campaigns of a scenario of a plant other than the pump: each run draws
+//! Monte Carlo campaigns of a plant scenario (`[plant] kind`, the pump too): each run draws
 //! every parameter of the plant's table uniformly within its tolerance (or takes a
 //! corner of the box) from a generator seeded by (seed, run index) alone, runs the
 //! scenario, and records its figures ([`rhonn::experiment::PlantSummary::figures`]).

@@ -1,4 +1,4 @@
-//! What `rhonn run` writes for a scenario of a plant other than the pump:
+//! What `rhonn run` writes for a plant scenario (`[plant] kind`, the pump included):
 //! `trajectory.csv` (SI, one column per state, input, estimate or reference),
 //! `validation.csv` (a frozen model's free run), `summary.json`, and plots in display
 //! units: `states.svg` (each state; measured and estimated, or both controllers with the

@@ -75,7 +75,7 @@ fn written(name: &str) -> impl FnOnce(Error) -> Error {
     ))
 }
 
-/// `rhonn run` for a scenario of a plant other than the pump.
+/// `rhonn run` for a plant scenario (`[plant] kind`).
 fn run_plant(spec: &PlantScenarioSpec, out: Option<PathBuf>) -> Result<Outcome> {
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&spec.name));
     let output = rhonn::experiment::run_plant_scenario(spec, None)?;

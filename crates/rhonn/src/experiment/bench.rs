@@ -19,8 +19,8 @@ pub struct BenchFigures {
     pub scenario: String,
     /// Median wall time of one run without I/O \[s\].
     pub median_s: f64,
-    /// Right-hand-side evaluations of one run (None: not counted, the runs of plants
-    /// other than the pump).
+    /// Right-hand-side evaluations of one run (None: not counted, the runs of plant
+    /// scenarios).
     pub rhs_evaluations: Option<u64>,
     /// Runs per second with one run per core at a time, on every core.
     pub runs_per_s_all_cores: f64,
@@ -38,7 +38,7 @@ pub fn bench(sc: &Scenario, budget: Duration) -> Result<BenchFigures> {
     })
 }
 
-/// [`bench()`] for a scenario of a plant other than the pump.
+/// [`bench()`] for a plant scenario (`[plant] kind`).
 pub fn bench_plant(spec: &PlantScenarioSpec, budget: Duration) -> Result<BenchFigures> {
     run_plant_scenario(spec, None)?;
     timed(&spec.name, None, budget, || {
