@@ -129,3 +129,82 @@ fn no_source_file_is_over_800_lines_and_no_modules_import_each_other_in_a_circle
     }
     assert!(too_long.is_empty(), "files over 800 lines: {too_long:?}");
 }
+
+/// Where functions are counted: the sources and the examples (tests aside).
+const FUNCTION_ROOTS: [&str; 5] = ["crates", "python/src", "examples", "embedded/src", "src"];
+
+/// The functions of `text` (up to its test module) longer than `limit` lines: the line
+/// of each `fn` to its matching closing brace (braces in strings are not told apart;
+/// none of ours unbalance a function).
+fn long_functions(text: &str, limit: usize) -> Vec<(usize, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        let l = lines[i].trim_start();
+        if l.starts_with("#[cfg(test)]") {
+            break;
+        }
+        let head = l
+            .trim_start_matches("pub(crate) ")
+            .trim_start_matches("pub(super) ")
+            .trim_start_matches("pub ")
+            .trim_start_matches("const ");
+        if !head.starts_with("fn ") {
+            i += 1;
+            continue;
+        }
+        let (mut depth, mut started, mut j) = (0i64, false, i);
+        while j < lines.len() {
+            for c in lines[j].chars() {
+                match c {
+                    '{' => {
+                        depth += 1;
+                        started = true;
+                    }
+                    '}' => depth -= 1,
+                    _ => {}
+                }
+            }
+            if (started && depth == 0) || (!started && lines[j].trim_end().ends_with(';')) {
+                break;
+            }
+            j += 1;
+        }
+        if j + 1 - i > limit {
+            out.push((i + 1, j + 1 - i));
+        }
+        i = j + 1;
+    }
+    out
+}
+
+#[test]
+fn no_function_is_over_120_lines() {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut long = Vec::new();
+    for root in FUNCTION_ROOTS {
+        let mut files = Vec::new();
+        if repo.join(root).is_dir() {
+            rust_files(&repo.join(root), &mut files);
+        }
+        for f in files {
+            let rel = f.strip_prefix(repo).unwrap().to_string_lossy().into_owned();
+            if rel.contains("/tests/") || rel.contains("/target/") || rel.ends_with("_tests.rs") {
+                continue;
+            }
+            for (line, n) in long_functions(&std::fs::read_to_string(&f).unwrap(), 120) {
+                long.push(format!("{rel}:{line} ({n} lines)"));
+            }
+        }
+    }
+    assert!(long.is_empty(), "functions over 120 lines: {long:?}");
+    // The counter itself: a 3-line function, and one of 122.
+    let short = "fn a() {\n    1;\n}\n";
+    assert!(long_functions(short, 120).is_empty());
+    let body = "    x;\n".repeat(120);
+    assert_eq!(
+        long_functions(&format!("pub fn b() {{\n{body}}}\n"), 120),
+        vec![(1, 122)]
+    );
+}
