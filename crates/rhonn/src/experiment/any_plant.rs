@@ -5,7 +5,7 @@
 //! dense output for the pump).
 
 use super::integrated::{Alone, Integrated};
-use super::sim::{describe, drive, Hooks, Instants};
+use super::sim::{describe, drive, start, Hooks, Instants};
 use crate::control::Controller;
 use crate::error::{Error, Result};
 use crate::ident::{FrozenPair, IdentSettings, Identified};
@@ -20,12 +20,7 @@ fn solver<S: Integrated>(system: S, x0: &[f64], rest: &[f64], rtol: f64) -> Resu
     s0.as_mut_slice()[..x0.len()].copy_from_slice(x0);
     s0.as_mut_slice()[x0.len()..].copy_from_slice(rest);
     let dim = system.dim();
-    let state = describe(system.plant(), x0);
-    Dopri5::new(system, 0.0, s0, Options::uniform(dim, rtol, 1e-9)).map_err(|e| Error::Solver {
-        t_s: 0.0,
-        state,
-        source: Box::new(e),
-    })
+    start(system, s0, Options::uniform(dim, rtol, 1e-9))
 }
 
 /// What one identification of a plant gives: per identified state, the samples and the

@@ -7,7 +7,7 @@ use super::figures::{Accumulator, AdaptiveReport, Figures};
 use super::ident_figures::IdentAcc;
 use super::integrated::Integrated;
 use super::scenario::{Drive, ProfileSpec, Scenario, SolverSettings};
-use super::sim::{describe, drive, Hooks, Instants};
+use super::sim::{describe, drive, start, Hooks, Instants};
 use super::trace::{Recorder, Sample};
 use crate::control::{CascadeState, Controller, Pi, RhonnCascade};
 use crate::error::{Error, Result};
@@ -362,12 +362,8 @@ pub(super) fn simulate<S: Integrated<Plant = PumpSystem>>(
     let dim = sys.dim();
     let setpoint = sc.drive.setpoint();
     let opts = solver_options::<S::State>(&sc.solver, dim);
-    let plant = sys.plant().clone();
-    let mut solver = Dopri5::new(sys, 0.0, x0.clone(), opts).map_err(|e| Error::Solver {
-        t_s: 0.0,
-        state: describe(&plant, x0.as_slice()),
-        source: Box::new(e),
-    })?;
+    let i0 = sys.plant().current_at(0.0);
+    let mut solver = start(sys, x0, opts)?;
     let adaptive = match &ctl {
         Ctl::Closed(c) => c.adaptive(0.0).map(|_| AdaptiveReport::default()),
         Ctl::Open => None,
@@ -384,7 +380,7 @@ pub(super) fn simulate<S: Integrated<Plant = PumpSystem>>(
         acc,
         plant_figures,
         sensors: Sensors::new(sc),
-        queue: VecDeque::from(vec![plant.current_at(0.0); p.delay_periods as usize]),
+        queue: VecDeque::from(vec![i0; p.delay_periods as usize]),
         adaptive,
         ctl_state: None,
         last_meas: None,

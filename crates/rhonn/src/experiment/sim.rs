@@ -7,7 +7,7 @@
 use super::integrated::Integrated;
 use crate::error::{Error, Result};
 use crate::plant::Plant;
-use rhonn_ode::{Dopri5, StepResult};
+use rhonn_ode::{Dopri5, Options, State, StepResult};
 
 /// Sampling instants `k * every / per_second` seconds, k = 0, 1, ...: with `every` in
 /// ms and `per_second` 1000, an instant and an output sample at the same decimal time
@@ -83,6 +83,18 @@ pub fn drive<S: Integrated>(
             k += 1;
         }
     }
+}
+
+/// `system` from `x0` at t = 0 in the event-locating solver; a failure to start names
+/// the plant's initial state.
+pub fn start<S: Integrated>(system: S, x0: S::State, opts: Options<S::State>) -> Result<Dopri5<S>> {
+    // Described before the solver takes the system (a few numbers, once per run).
+    let state = describe(system.plant(), x0.as_slice());
+    Dopri5::new(system, 0.0, x0, opts).map_err(|e| Error::Solver {
+        t_s: 0.0,
+        state,
+        source: Box::new(e),
+    })
 }
 
 /// A solver failure at the solver's time, with the plant's state.
