@@ -29,7 +29,9 @@
 extern crate std;
 
 pub mod adaptive;
+pub mod ident;
 pub mod law;
+pub mod online;
 pub mod pi;
 pub mod pump;
 pub mod real;

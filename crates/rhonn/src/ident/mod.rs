@@ -10,8 +10,8 @@
 //! - *parallel validation* (free run): weights frozen, z from the model's own states
 //!   (the model runs on its own).
 
-use crate::law::sigma::{self, Zone};
-use crate::law::{Gain, Law, LearningLaw, Robust, Structure};
+use crate::law::sigma::Zone;
+use crate::law::{Law, LearningLaw, Robust, Rule, Structure};
 use crate::net::Network;
 use rhonn_ode::Direction;
 
@@ -20,27 +20,8 @@ mod identified;
 pub use frozen::FrozenPair;
 pub use identified::{Identified, MAX_SIGNALS};
 
-/// How the identifier runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
-    /// Weights adapt; z from the measured states.
-    Train,
-    /// Weights frozen; z from the measured states (one-step tracking).
-    SeriesParallel,
-    /// Weights frozen; z from the model's own states (free run).
-    Parallel,
-}
-
-impl Mode {
-    /// Name used in summaries.
-    pub fn name(self) -> &'static str {
-        match self {
-            Mode::Train => "training",
-            Mode::SeriesParallel => "series-parallel",
-            Mode::Parallel => "parallel",
-        }
-    }
-}
+/// How the identifier runs (the core's, [`rhonn_core::ident::Mode`]).
+pub use rhonn_core::ident::Mode;
 
 /// A network, its law and its mode; knows the layout of its states.
 #[derive(Debug, Clone, PartialEq)]
@@ -70,6 +51,23 @@ pub struct Scratch {
 }
 
 impl Scratch {
+    /// The work space borrowed as `rhonn_core`'s identifier uses it.
+    #[inline]
+    pub fn work(&mut self) -> rhonn_core::ident::Work<'_, f64> {
+        rhonn_core::ident::Work {
+            xhat: &mut self.xhat,
+            y: &mut self.y,
+            z: &mut self.z,
+            q: &mut self.q,
+            r: &mut self.r,
+        }
+    }
+
+    /// The regressor z left by the last general evaluation.
+    pub fn regressor(&self) -> &[f64] {
+        &self.z
+    }
+
     /// Work space for `ident`.
     pub fn for_identifier(ident: &Identifier) -> Self {
         let (ny, l) = (ident.net.n + ident.net.m, ident.net.n_terms());
@@ -85,6 +83,20 @@ impl Scratch {
 
 pub(crate) use crate::law::dot;
 
+/// An identifier's parts borrowed as `rhonn_core` evaluates them.
+#[inline(always)]
+fn view_of<'a>(net: &'a Network, law: &'a Law, mode: Mode) -> rhonn_core::ident::Ident<'a, f64, Rule> {
+    rhonn_core::ident::Ident {
+        net: net.view(),
+        law: &law.rule,
+        structure: law.structure,
+        robust: law.robust,
+        radius: &law.m,
+        sigma: &law.sigma,
+        mode,
+    }
+}
+
 impl Identifier {
     /// An identifier in `mode`.
     pub fn new(net: Network, law: Law, mode: Mode) -> Self {
@@ -99,23 +111,36 @@ impl Identifier {
         }
     }
 
+    /// The identifier borrowed as `rhonn_core` evaluates it (every evaluation below is
+    /// the core's).
+    #[inline(always)]
+    pub fn view(&self) -> rhonn_core::ident::Ident<'_, f64, Rule> {
+        view_of(&self.net, &self.law, self.mode)
+    }
+
+    /// Each neuron's zone (robust laws).
+    pub fn zones(&self) -> &[Zone] {
+        &self.zones
+    }
+
+    /// The view and the zones, the latter to update.
+    pub fn view_and_zones(&mut self) -> (rhonn_core::ident::Ident<'_, f64, Rule>, &mut [Zone]) {
+        (view_of(&self.net, &self.law, self.mode), &mut self.zones)
+    }
+
     /// States per neuron.
     pub fn block(&self) -> usize {
-        let l = self.net.n_terms();
-        self.w_off() + l + self.law.rule.law_states(l)
+        self.view().block()
     }
 
     /// Number of identifier states.
     pub fn dim(&self) -> usize {
-        self.net.n * self.block()
+        self.view().dim()
     }
 
     /// Offset of neuron i's weights in its block (after x_i or zeta_i).
     fn w_off(&self) -> usize {
-        match self.law.structure {
-            Structure::FilteredError => 1,
-            Structure::FilteredRegressor => self.net.n_terms(),
-        }
+        self.view().w_off()
     }
 
     /// Initial identifier state: model states `xhat0` (filtered-error laws; the
@@ -140,14 +165,7 @@ impl Identifier {
     /// The model's estimates x_hat (one per neuron) from the identifier state.
     #[inline]
     pub fn outputs(&self, s: &[f64], xhat: &mut [f64]) {
-        let (l, b) = (self.net.n_terms(), self.block());
-        for (i, xh) in xhat.iter_mut().enumerate().take(self.net.n) {
-            let blk = &s[i * b..(i + 1) * b];
-            *xh = match self.law.structure {
-                Structure::FilteredError => blk[0],
-                Structure::FilteredRegressor => dot(&blk[..l], &blk[l..2 * l]),
-            };
-        }
+        self.view().outputs(s, xhat)
     }
 
     /// The weights, one vector per neuron.
@@ -201,52 +219,8 @@ impl Identifier {
         sc: &mut Scratch,
         same_regressor: bool,
     ) {
-        let (n, l, b) = (self.net.n, self.net.n_terms(), self.block());
-        self.outputs(s, &mut sc.xhat[..n]);
-        if !same_regressor || self.mode == Mode::Parallel {
-            let src: &[f64] = if self.mode == Mode::Parallel {
-                &sc.xhat[..n]
-            } else {
-                chi
-            };
-            self.net.regressor(src, u, &mut sc.y, &mut sc.z);
-        }
-        let z = &sc.z[..l];
-        let train = self.mode == Mode::Train;
-        for i in 0..n {
-            let blk = &s[i * b..(i + 1) * b];
-            let dblk = &mut ds[i * b..(i + 1) * b];
-            let a = self.net.a[i];
-            let e = sc.xhat[i] - chi[i];
-            let wo = self.w_off();
-            let (lead, rest) = dblk.split_at_mut(wo);
-            let (dw, dlaw) = rest.split_at_mut(l);
-            let phi = match self.law.structure {
-                Structure::FilteredError => {
-                    lead[0] = -a * blk[0] + dot(&blk[1..1 + l], z);
-                    z
-                }
-                Structure::FilteredRegressor => {
-                    for k in 0..l {
-                        lead[k] = -a * blk[k] + z[k];
-                    }
-                    &blk[..l]
-                }
-            };
-            if !train {
-                dw.iter_mut().for_each(|v| *v = 0.0);
-                dlaw.iter_mut().for_each(|v| *v = 0.0);
-                continue;
-            }
-            let w = &blk[wo..wo + l];
-            self.law
-                .rule
-                .derivative(i, phi, e, &blk[wo + l..], dw, dlaw, &mut sc.q[..l]);
-            if let (Robust::Switching | Robust::Smooth, Some(gain)) = (self.law.robust, self.law.rule.gain(i))
-            {
-                sigma::modify(self.zones[i], gain, self.law.sigma[i], w, dw, &mut sc.r[..l]);
-            }
-        }
+        self.view()
+            .rhs_general(chi, u, s, ds, &self.zones, &mut sc.work(), same_regressor)
     }
 
     /// [`Identifier::rhs`] for the common case, the thesis's: a filtered-error law with
@@ -350,21 +324,11 @@ impl Identifier {
 
     /// `w^T Gamma z e` and `w^T Gamma w` for neuron i.
     fn robust_terms(&self, i: usize, chi: &[f64], u: &[f64], s: &[f64], sc: &mut Scratch) -> (f64, f64) {
-        let (n, l, b) = (self.net.n, self.net.n_terms(), self.block());
-        self.outputs(s, &mut sc.xhat[..n]);
-        self.net.regressor(chi, u, &mut sc.y, &mut sc.z);
-        let w = &s[i * b + 1..i * b + 1 + l];
-        let e = sc.xhat[i] - chi[i];
-        let gain = self.law.rule.gain(i).unwrap_or(&Gain::Scalar(1.0));
-        gain.apply(&sc.z[..l], &mut sc.q[..l]);
-        gain.apply(w, &mut sc.r[..l]);
-        (dot(w, &sc.q[..l]) * e, dot(w, &sc.r[..l]))
+        self.view().robust_terms(i, chi, u, s, &mut sc.work())
     }
 
     fn norm2(&self, i: usize, s: &[f64]) -> f64 {
-        let (l, b, wo) = (self.net.n_terms(), self.block(), self.w_off());
-        let w = &s[i * b + wo..i * b + wo + l];
-        dot(w, w)
+        self.view().norm2(i, s)
     }
 
     /// Evaluate the event functions.
@@ -410,14 +374,8 @@ impl Identifier {
 
     /// Choose each neuron's zone at the start of an interval.
     pub fn update_modes(&mut self, chi: &[f64], u: &[f64], s: &[f64], sc: &mut Scratch) {
-        if self.law.robust == Robust::None || self.mode != Mode::Train {
-            return;
-        }
-        for i in 0..self.net.n {
-            let r2 = self.norm2(i, s);
-            let (m, sig) = (self.law.m[i], self.law.sigma[i]);
-            self.zones[i] = sigma::zone(r2, m, sig, || self.robust_terms(i, chi, u, s, sc));
-        }
+        let (view, zones) = self.view_and_zones();
+        view.update_zones(chi, u, s, zones, &mut sc.work());
     }
 }
 

@@ -1,8 +1,10 @@
 //! Online RHONN identification of sampled signals: [`OnlineIdentifier`] takes one sample
 //! at a time (`update(t, u, y) -> y_hat`), as a user's own loop or `rhonn identify` over
 //! recordings gives them, and runs the thesis's continuous-time identifier between
-//! samples (classical RK4 on the identifier's ODE, [`super::Identifier::rhs`]; any law
-//! of [`crate::law`]).
+//! samples (classical RK4 on the identifier's ODE; any law of [`crate::law`]). The update
+//! itself is `rhonn_core::online`'s, the very code a microcontroller runs
+//! (`rhonn_core::online_fixed::FixedOnline`); this type owns its buffers, builds the
+//! structure from an [`OnlineSpec`] and turns the core's refusals into errors.
 //!
 //! - *Series-parallel*: each neuron is driven by the measured outputs, held between
 //!   samples; the estimate at a sample is computed before that sample is seen, so it is
@@ -26,8 +28,9 @@ use super::online_spec::check_spec;
 pub use super::online_spec::{InputHold, OnlineSpec, Scaling};
 use super::{Identifier, Mode, Scratch};
 use crate::error::{invalid, Error, Result};
-use crate::law::{GainSpec, LawSpec};
+use crate::law::{GainSpec, LawSpec, Rule};
 use crate::net::{Network, Sigmoid, Terms};
+use rhonn_core::online::{Buffers, Online, Settings, Status, UpdateError};
 use serde::{Deserialize, Serialize};
 
 /// A frozen online model as `model.json` holds it: `rhonn identify` writes it and
@@ -116,17 +119,15 @@ pub struct OnlineIdentifier {
     k: [Vec<f64>; 4],
     tmp: Vec<f64>,
     scratch: Scratch,
-    /// Last sample's time; its normalised outputs and regressor inputs (inputs,
-    /// filters, 1).
-    t_last: Option<f64>,
+    /// Last sample's time, frozen, free run.
+    status: Status<f64>,
+    /// Last sample's normalised outputs and regressor inputs (inputs, filters, 1).
     y_last: Vec<f64>,
     u_last: Vec<f64>,
     yn: Vec<f64>,
     u_now: Vec<f64>,
     u_mid: Vec<f64>,
     y_hat: Vec<f64>,
-    frozen: bool,
-    free_run: bool,
 }
 
 impl OnlineIdentifier {
@@ -198,7 +199,7 @@ impl OnlineIdentifier {
             tmp: vec![0.0; d],
             state,
             scratch,
-            t_last: None,
+            status: Status::default(),
             y_last: vec![0.0; ny],
             u_last: vec![0.0; m],
             yn: vec![0.0; ny],
@@ -206,8 +207,6 @@ impl OnlineIdentifier {
             u_mid: vec![0.0; m],
             y_hat: vec![0.0; ny],
             ident,
-            frozen: false,
-            free_run: false,
         })
     }
 
@@ -215,102 +214,96 @@ impl OnlineIdentifier {
     /// estimate of `y(t)` made before seeing `y` (the first sample returns `y`), then
     /// learn from `y`. In a free run `y` is ignored (give anything of the right length).
     pub fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<&[f64]> {
-        let (ny, nu) = (self.scaling.y_scale.len(), self.scaling.u_scale.len());
-        if u.len() != nu || y.len() != ny {
-            return Err(invalid(
+        match self.core().update(t, u, y) {
+            Ok(()) => Ok(&self.y_hat),
+            Err(UpdateError::Sizes) => Err(invalid(
                 "update",
                 format!("{} inputs and {} outputs", u.len(), y.len()),
-                format!("{nu} inputs and {ny} outputs"),
-            ));
-        }
-        if !t.is_finite()
-            || u.iter().any(|v| !v.is_finite())
-            || (!self.free_run && y.iter().any(|v| !v.is_finite()))
-        {
-            return Err(invalid(
+                format!(
+                    "{} inputs and {} outputs",
+                    self.scaling.u_scale.len(),
+                    self.scaling.y_scale.len()
+                ),
+            )),
+            Err(UpdateError::NotFinite) => Err(invalid(
                 format!("sample at t = {t} s"),
                 format!("u = {u:?}, y = {y:?}"),
                 "finite numbers",
-            ));
-        }
-        for i in 0..ny {
-            self.yn[i] = (y[i] - self.scaling.y_offset[i]) / self.scaling.y_scale[i];
-        }
-        self.regressor_inputs(u);
-        let Some(t0) = self.t_last else {
-            // The first sample: the model starts at the measurement, the filters at rest.
-            let yn = std::mem::take(&mut self.yn);
-            self.set_estimate_normalised(&yn);
-            self.start_filters();
-            self.start_regressor_filters(&yn);
-            self.yn = yn;
-            self.remember(t);
-            return Ok(self.denormalised());
-        };
-        let h = t - t0;
-        if !(h > 0.0) {
-            return Err(invalid(
+            )),
+            Err(UpdateError::NotAfter { t_last }) => Err(invalid(
                 "t",
                 t,
-                format!("a time after the previous sample's, {t0} s"),
-            ));
+                format!("a time after the previous sample's, {t_last} s"),
+            )),
+            Err(UpdateError::Diverged) => {
+                // The last estimate is that of the sample before (the core left y_hat).
+                Err(Error::NotFinite {
+                    what: format!("the online identifier's state at t = {t} s"),
+                    cause: format!(
+                        "the weights diverged (last estimate {:?}, measured {:?}): lower the gain, add a dead zone, or use a sigma law",
+                        self.y_hat, y
+                    ),
+                })
+            }
         }
-        let adapt = !self.frozen
-            && !self.free_run
-            && (0..ny).any(|i| (self.estimate_normalised(i) - self.y_last[i]).abs() >= self.dead_zone[i]);
-        self.ident.mode = match (self.free_run, adapt) {
-            (true, _) => Mode::Parallel,
-            (false, true) => Mode::Train,
-            (false, false) => Mode::SeriesParallel,
-        };
-        let (y0, u0) = (std::mem::take(&mut self.y_last), std::mem::take(&mut self.u_last));
-        self.integrate(h, &y0, &u0);
-        self.advance_filters(h, &u0);
-        self.hold_in_bounds();
-        (self.y_last, self.u_last) = (y0, u0);
-        if self.state.iter().any(|v| !v.is_finite()) {
-            return Err(Error::NotFinite {
-                what: format!("the online identifier's state at t = {t} s"),
-                cause: format!(
-                    "the weights diverged (last estimate {:?}, measured {:?}): lower the gain, add a dead zone, or use a sigma law",
-                    self.y_hat, y
-                ),
-            });
-        }
-        self.remember(t);
-        Ok(self.denormalised())
     }
 
-    /// Keep this sample as the last one.
-    fn remember(&mut self, t: f64) {
-        self.t_last = Some(t);
-        self.y_last.copy_from_slice(&self.yn);
-        self.u_last.copy_from_slice(&self.u_now);
+    /// The buffers borrowed as `rhonn_core`'s update runs on them.
+    fn core(&mut self) -> Online<'_, f64, Rule> {
+        let (ident, zones) = self.ident.view_and_zones();
+        let [k1, k2, k3, k4] = &mut self.k;
+        Online {
+            ident,
+            zones,
+            settings: Settings {
+                scaling: rhonn_core::online::Scaling {
+                    y_offset: &self.scaling.y_offset,
+                    y_scale: &self.scaling.y_scale,
+                    u_offset: &self.scaling.u_offset,
+                    u_scale: &self.scaling.u_scale,
+                    y_bounds: self.scaling.y_bounds.as_deref(),
+                },
+                hold: self.hold,
+                filters_s: &self.filters_s,
+                dead_zone: &self.dead_zone,
+                period_s: self.period_s,
+            },
+            buf: Buffers {
+                state: &mut self.state,
+                k: [k1, k2, k3, k4],
+                tmp: &mut self.tmp,
+                y_last: &mut self.y_last,
+                u_last: &mut self.u_last,
+                yn: &mut self.yn,
+                u_now: &mut self.u_now,
+                u_mid: &mut self.u_mid,
+                y_hat: &mut self.y_hat,
+                work: self.scratch.work(),
+            },
+            status: &mut self.status,
+        }
     }
 
     /// Stop (`true`) or resume adapting the weights.
     pub fn freeze(&mut self, frozen: bool) {
-        self.frozen = frozen;
+        self.status.frozen = frozen;
     }
 
     /// Run free (`true`): the model on its own outputs, weights frozen; or back to
     /// series-parallel.
     pub fn set_free_run(&mut self, free: bool) {
-        self.free_run = free;
+        self.status.free_run = free;
     }
 
     /// Forget the last sample (a new record starts): the next update restarts the model
     /// at its measurement; the weights stay.
     pub fn reset(&mut self) {
-        self.t_last = None;
+        self.status.t_last = None;
     }
 
     /// Put the model's estimate at `y` (output units), as at a record's first sample.
     pub fn set_estimate(&mut self, y: &[f64]) {
-        let yn: Vec<f64> = (0..y.len())
-            .map(|i| (y[i] - self.scaling.y_offset[i]) / self.scaling.y_scale[i])
-            .collect();
-        self.set_estimate_normalised(&yn);
+        self.core().set_estimate(y);
     }
 
     /// Weights, one vector per output's neuron (normalised units).
@@ -373,7 +366,7 @@ impl OnlineIdentifier {
     pub fn snapshot(&self) -> Snapshot {
         Snapshot {
             state: self.state.clone(),
-            t_last: self.t_last,
+            t_last: self.status.t_last,
             y_last: self.y_last.clone(),
             u_last: self.u_last.clone(),
         }
@@ -382,235 +375,8 @@ impl OnlineIdentifier {
     /// Restore a [`OnlineIdentifier::snapshot`].
     pub fn restore(&mut self, snap: &Snapshot) {
         self.state.copy_from_slice(&snap.state);
-        self.t_last = snap.t_last;
+        self.status.t_last = snap.t_last;
         self.y_last.copy_from_slice(&snap.y_last);
         self.u_last.copy_from_slice(&snap.u_last);
-    }
-
-    fn estimate_normalised(&self, i: usize) -> f64 {
-        let b = self.ident.block();
-        let blk = &self.state[i * b..(i + 1) * b];
-        match self.ident.law.structure {
-            crate::law::Structure::FilteredError => blk[0],
-            crate::law::Structure::FilteredRegressor => {
-                let l = self.ident.net.n_terms();
-                super::dot(&blk[..l], &blk[l..2 * l])
-            }
-        }
-    }
-
-    /// A frozen filtered-regressor model's filters zeta at rest for the first sample's
-    /// regressor z (from the measurement `yn` and the inputs): zeta = z / a, where
-    /// zeta' = -a zeta + z stands still. Not what an earlier record left in them: the
-    /// frozen model's run of a record (`rhonn identify --validate`, `rhonn predict` of
-    /// the saved model) then begins alike whatever ran before. While learning, the
-    /// filters carry over from the last record: set at rest, their size (1/a times z's)
-    /// with a fresh covariance would make the least-squares law stiff at once.
-    fn start_regressor_filters(&mut self, yn: &[f64]) {
-        if self.ident.law.structure != crate::law::Structure::FilteredRegressor
-            || !(self.frozen || self.free_run)
-        {
-            return;
-        }
-        let (n, l, b) = (self.ident.net.n, self.ident.net.n_terms(), self.ident.block());
-        let sc = &mut self.scratch;
-        self.ident.net.regressor(yn, &self.u_now, &mut sc.y, &mut sc.z);
-        for i in 0..n {
-            let a = self.ident.net.a[i];
-            for k in 0..l {
-                self.state[i * b + k] = sc.z[k] / a;
-            }
-        }
-    }
-
-    /// A filtered-error model's state held within the bounds (a limited integrator).
-    fn hold_in_bounds(&mut self) {
-        let Some(bounds) = &self.scaling.y_bounds else {
-            return;
-        };
-        if self.ident.law.structure != crate::law::Structure::FilteredError {
-            return;
-        }
-        let b = self.ident.block();
-        for (i, [lo, hi]) in bounds.iter().enumerate() {
-            let (lo, hi) = (
-                (lo - self.scaling.y_offset[i]) / self.scaling.y_scale[i],
-                (hi - self.scaling.y_offset[i]) / self.scaling.y_scale[i],
-            );
-            self.state[i * b] = self.state[i * b].clamp(lo, hi);
-        }
-    }
-
-    fn set_estimate_normalised(&mut self, yn: &[f64]) {
-        if self.ident.law.structure == crate::law::Structure::FilteredError {
-            let b = self.ident.block();
-            for (i, y) in yn.iter().enumerate() {
-                self.state[i * b] = *y;
-            }
-        }
-    }
-
-    fn denormalised(&mut self) -> &[f64] {
-        for i in 0..self.y_hat.len() {
-            self.y_hat[i] = self.estimate_normalised(i) * self.scaling.y_scale[i] + self.scaling.y_offset[i];
-        }
-        &self.y_hat
-    }
-
-    /// The network's inputs for the sample `u`: normalised inputs, their filters (kept
-    /// from the last sample), and the constant 1.
-    fn regressor_inputs(&mut self, u: &[f64]) {
-        let nu = u.len();
-        for j in 0..nu {
-            self.u_now[j] = (u[j] - self.scaling.u_offset[j]) / self.scaling.u_scale[j];
-        }
-        if self.t_last.is_some() {
-            self.u_now[nu..].copy_from_slice(&self.u_last[nu..]);
-        }
-        let m = self.u_now.len();
-        self.u_now[m - 1] = 1.0;
-    }
-
-    fn start_filters(&mut self) {
-        let nu = self.scaling.u_scale.len();
-        for q in 0..self.filters_s.len() {
-            for j in 0..nu {
-                self.u_now[nu * (1 + q) + j] = self.u_now[j];
-            }
-        }
-    }
-
-    /// The filters over `h` with the input `u0` held (exact for a held input).
-    fn advance_filters(&mut self, h: f64, u0: &[f64]) {
-        let nu = self.scaling.u_scale.len();
-        for (q, tau) in self.filters_s.iter().enumerate() {
-            let k = 1.0 - (-h / tau).exp();
-            for j in 0..nu {
-                let f = &mut self.u_now[nu * (1 + q) + j];
-                *f = u0[nu * (1 + q) + j] + k * (u0[j] - u0[nu * (1 + q) + j]);
-            }
-        }
-    }
-
-    /// A substep's first stage: the robust laws' zones, the inputs at fraction `f`, and
-    /// the derivative into `k[0]` (with the previous regressor when `same_regressor`).
-    fn start_substep(&mut self, y0: &[f64], u0: &[f64], f: f64, same_regressor: bool) {
-        self.ident.update_modes(y0, u0, &self.state, &mut self.scratch);
-        let nu = self.scaling.u_scale.len();
-        stage_inputs(&mut self.u_mid, u0, &self.u_now, nu, self.hold, f);
-        let k1 = &mut self.k[0];
-        self.ident.rhs_general(
-            y0,
-            &self.u_mid,
-            &self.state,
-            k1,
-            &mut self.scratch,
-            same_regressor,
-        );
-    }
-
-    /// Classical RK4 over `h` (in substeps of at most one sample time), the measured
-    /// outputs `y0` held and the inputs held at `u0` or linear to `self.u_now`.
-    fn integrate(&mut self, h: f64, y0: &[f64], u0: &[f64]) {
-        // Substeps short enough for RK4 to follow the identifier's fastest motion (the
-        // neuron's pole a, and the weight-error oscillation sqrt(gamma |z|^2)), so the
-        // law's continuous-time stability carries over to the sampled run. The first
-        // stage's regressor gives |z|^2 (it does not depend on the substep).
-        // With inputs and measurements held over the sample, the regressor is the same at
-        // every stage: computed once by the general path, used again by every later stage.
-        let reuse = self.hold == InputHold::Hold;
-        self.start_substep(y0, u0, 0.0, false);
-        let rate = self.fastest_rate();
-        let n_sub = (h / self.period_s)
-            .max(h * rate / 0.5)
-            .ceil()
-            .clamp(1.0, 10_000.0) as usize;
-        let hs = h / n_sub as f64;
-        let d = self.state.len();
-        for j in 0..n_sub {
-            let f = |x: f64| (j as f64 + x) / n_sub as f64;
-            if j > 0 {
-                self.start_substep(y0, u0, f(0.0), reuse);
-            }
-            let [k1, k2, k3, k4] = &mut self.k;
-            for i in 0..d {
-                self.tmp[i] = self.state[i] + 0.5 * hs * k1[i];
-            }
-            if self.hold == InputHold::Linear {
-                stage_inputs(
-                    &mut self.u_mid,
-                    u0,
-                    &self.u_now,
-                    self.scaling.u_scale.len(),
-                    self.hold,
-                    f(0.5),
-                );
-            }
-            self.ident
-                .rhs_general(y0, &self.u_mid, &self.tmp, k2, &mut self.scratch, reuse);
-            for i in 0..d {
-                self.tmp[i] = self.state[i] + 0.5 * hs * k2[i];
-            }
-            self.ident
-                .rhs_general(y0, &self.u_mid, &self.tmp, k3, &mut self.scratch, reuse);
-            for i in 0..d {
-                self.tmp[i] = self.state[i] + hs * k3[i];
-            }
-            if self.hold == InputHold::Linear {
-                stage_inputs(
-                    &mut self.u_mid,
-                    u0,
-                    &self.u_now,
-                    self.scaling.u_scale.len(),
-                    self.hold,
-                    f(1.0),
-                );
-            }
-            self.ident
-                .rhs_general(y0, &self.u_mid, &self.tmp, k4, &mut self.scratch, reuse);
-            for i in 0..d {
-                self.state[i] += hs / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-            }
-        }
-    }
-}
-
-impl OnlineIdentifier {
-    /// The identifier's fastest rate \[1/s\] after an evaluation of its derivative by
-    /// the general path (which left the regressor z in the scratch).
-    fn fastest_rate(&self) -> f64 {
-        let a_max = self.ident.net.a.iter().copied().fold(0.0, f64::max);
-        if self.ident.mode != Mode::Train {
-            // Frozen weights: only the neurons move (and a frozen model runs alike
-            // whatever covariance its law last had, e.g. when rebuilt from model.json).
-            return a_max;
-        }
-        let l = self.ident.net.n_terms();
-        let z2: f64 = self.scratch.z[..l].iter().map(|v| v * v).sum();
-        let b = self.ident.block();
-        let g_max = (0..self.ident.net.n)
-            .map(|i| match &self.ident.law.rule {
-                crate::law::Rule::Gradient(g) => match &g.gamma[i] {
-                    crate::law::Gain::Scalar(v) => *v,
-                    crate::law::Gain::Matrix(m) => m.iter().map(|v| v.abs()).sum::<f64>(),
-                },
-                crate::law::Rule::LeastSquares(_) => {
-                    let p = &self.state[i * b + 2 * l..i * b + 2 * l + l * l];
-                    (0..l).map(|k| p[k * l + k]).sum::<f64>()
-                }
-            })
-            .fold(0.0, f64::max);
-        a_max.max((g_max * z2).sqrt())
-    }
-}
-
-/// The network inputs at fraction `f` of the interval: `u0` held, or its first `nu`
-/// (the inputs, not their filters) linear to this sample's `u_now`.
-fn stage_inputs(u_mid: &mut [f64], u0: &[f64], u_now: &[f64], nu: usize, hold: InputHold, f: f64) {
-    u_mid.copy_from_slice(u0);
-    if hold == InputHold::Linear {
-        for c in 0..nu {
-            u_mid[c] = u0[c] + f * (u_now[c] - u0[c]);
-        }
     }
 }

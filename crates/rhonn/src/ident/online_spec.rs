@@ -5,16 +5,8 @@ use crate::error::{invalid, Result};
 use crate::law::LawSpec;
 use serde::{Deserialize, Serialize};
 
-/// How inputs move between two samples.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "kebab-case")]
-pub enum InputHold {
-    /// Held at the last sample (zero-order hold).
-    #[default]
-    Hold,
-    /// Linear between the last sample and this one.
-    Linear,
-}
+/// How inputs move between two samples (`hold` or `linear`): the core's.
+pub use rhonn_core::online::InputHold;
 
 /// An online identifier's structure and law, as `rhonn identify --model SPEC.toml`
 /// writes it. Every field has a default.

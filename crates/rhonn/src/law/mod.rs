@@ -139,6 +139,41 @@ impl LearningLaw for Rule {
     }
 }
 
+/// The identifier's view of a law ([`rhonn_core::ident::NeuronLaw`]): the same
+/// derivative, the gain the sigma laws use, and a bound on the gain for the online
+/// identifier's substeps.
+impl rhonn_core::ident::NeuronLaw<f64> for Rule {
+    fn law_states(&self, l: usize) -> usize {
+        LearningLaw::law_states(self, l)
+    }
+    #[inline]
+    fn derivative(
+        &self,
+        i: usize,
+        phi: &[f64],
+        e: f64,
+        s: &[f64],
+        dw: &mut [f64],
+        ds: &mut [f64],
+        work: &mut [f64],
+    ) {
+        LearningLaw::derivative(self, i, phi, e, s, dw, ds, work)
+    }
+    #[inline]
+    fn gain(&self, i: usize) -> Option<rhonn_core::law::Gain<'_, f64>> {
+        Rule::gain(self, i).map(Gain::as_core)
+    }
+    fn rate(&self, i: usize, states: &[f64], l: usize) -> f64 {
+        match self {
+            Rule::Gradient(g) => match &g.gamma[i] {
+                Gain::Scalar(v) => *v,
+                Gain::Matrix(m) => m.iter().map(|v| v.abs()).sum::<f64>(),
+            },
+            Rule::LeastSquares(_) => (0..l).map(|k| states[k * l + k]).sum::<f64>(),
+        }
+    }
+}
+
 /// A learning law as a scenario writes it (`kind` names it). Per-neuron lists have one
 /// entry per identified state.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -182,26 +217,9 @@ pub enum LawSpec {
     },
 }
 
-/// How a neuron's regressor and model state are formed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Structure {
-    /// States \[x_i, w_i, law states\]: `dx_i = -a_i x_i + w_i^T z`, phi = z.
-    FilteredError,
-    /// States \[zeta_i, w_i, law states\]: `dzeta_i = -a_i zeta_i + z`,
-    /// `x_i = w_i^T zeta_i`, phi = zeta.
-    FilteredRegressor,
-}
-
-/// Robust modification of a gradient law ([`sigma`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Robust {
-    /// None.
-    None,
-    /// Switching sigma-modification.
-    Switching,
-    /// Smooth three-case variant.
-    Smooth,
-}
+/// How a neuron's regressor and model state are formed, and the robust modification of a
+/// gradient law ([`sigma`]): the core's ([`rhonn_core::ident`]).
+pub use rhonn_core::ident::{Robust, Structure};
 
 /// A checked law for `n` neurons and `L` terms.
 #[derive(Debug, Clone, PartialEq)]

@@ -150,6 +150,16 @@ impl Terms {
         rhonn_core::terms::eval(&self.offsets, &self.idx, &self.exp, y, z)
     }
 
+    /// The terms borrowed as `rhonn_core`'s identifier evaluates them.
+    #[inline(always)]
+    pub fn view(&self) -> rhonn_core::ident::Terms<'_> {
+        rhonn_core::ident::Terms {
+            offsets: &self.offsets,
+            idx: &self.idx,
+            exp: &self.exp,
+        }
+    }
+
     /// Term `k` as `(index, exponent)` factors.
     pub fn factors(&self, k: usize) -> Vec<[usize; 2]> {
         (self.offsets[k]..self.offsets[k + 1])
@@ -185,13 +195,21 @@ impl Network {
     /// `y` and `z` for states `chi` and inputs `u`. `y` and `z` are caller scratch.
     #[inline]
     pub fn regressor(&self, chi: &[f64], u: &[f64], y: &mut [f64], z: &mut [f64]) {
-        for i in 0..self.n {
-            y[i] = self.sigmoid.eval(self.scaled_state(i, chi[i]));
+        self.view().regressor(chi, u, y, z)
+    }
+
+    /// The network borrowed as `rhonn_core`'s identifier evaluates it.
+    #[inline(always)]
+    pub fn view(&self) -> rhonn_core::ident::Net<'_, f64> {
+        rhonn_core::ident::Net {
+            n: self.n,
+            m: self.m,
+            sigmoid: self.sigmoid,
+            state_scale: &self.state_scale,
+            input_scale: &self.input_scale,
+            terms: self.terms.view(),
+            a: &self.a,
         }
-        for j in 0..self.m {
-            y[self.n + j] = u[j] / self.input_scale[j];
-        }
-        self.terms.eval(&y[..self.n + self.m], z);
     }
 
     /// State `i`'s value `v` divided by its scale. A scale of 1 (raw SI states, the
@@ -199,12 +217,7 @@ impl Network {
     /// every evaluation's chain.
     #[inline(always)]
     pub fn scaled_state(&self, i: usize, v: f64) -> f64 {
-        let s = self.state_scale[i];
-        if s == 1.0 {
-            v
-        } else {
-            v / s
-        }
+        self.view().scaled_state(i, v)
     }
 
     /// Number of terms L.
