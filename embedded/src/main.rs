@@ -13,7 +13,7 @@ use rhonn_firmware::{run, write_line, Digest, Regulation, PERIODS, PRINT_EVERY};
 
 /// A line buffer on the stack (semihosting writes it in one call).
 struct Line {
-    buf: [u8; 256],
+    buf: [u8; 384],
     len: usize,
 }
 
@@ -33,7 +33,7 @@ impl Write for Line {
 impl Line {
     fn new() -> Self {
         Line {
-            buf: [0; 256],
+            buf: [0; 384],
             len: 0,
         }
     }
@@ -146,7 +146,7 @@ fn main() -> ! {
     let mut regulation = Regulation::default();
     let mut line = Line::new();
     let (mut total, mut worst, mut n) = (0u64, 0u32, 0u32);
-    run(
+    let done = run(
         |s| {
             digest.add(s);
             regulation.add(s);
@@ -162,6 +162,11 @@ fn main() -> ! {
             n += 1;
         },
     );
+    if let Err(e) = done {
+        let _ = write!(line, "firmware: {e}");
+        line.emit(&mut out);
+        fail()
+    }
     let _ = write!(line, "digest={:016x}", digest.0);
     line.emit(&mut out);
     let _ = write!(
@@ -169,6 +174,13 @@ fn main() -> ! {
         "regulation rms_error_mpa={:.6} max_abs_error_mpa={:.6} (from 1 s after each set-point change)",
         regulation.rms_mpa(),
         regulation.max_abs_mpa
+    );
+    line.emit(&mut out);
+    let _ = write!(
+        line,
+        "online_identifier rms_error_mpa={:.6} persistence_rms_error_mpa={:.6} (estimate minus the plant's pressure, 5 to 10 s)",
+        regulation.online_rms_mpa(),
+        regulation.persistence_rms_mpa()
     );
     line.emit(&mut out);
     let mean = total as f64 / n as f64 * per_tick;

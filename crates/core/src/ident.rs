@@ -161,11 +161,12 @@ pub trait NeuronLaw<T: Real> {
     fn rate(&self, neuron: usize, states: &[T], l: usize) -> T;
 }
 
-/// The gradient law `dw_i = -g_i phi e_i` with one scalar gain per neuron, borrowed.
+/// The gradient law `dw_i = -g_i phi e_i` with one scalar gain per neuron (at most `C`
+/// neurons).
 #[derive(Debug, Clone, Copy)]
-pub struct ScalarGradient<'a, T>(pub &'a [T]);
+pub struct ScalarGradient<T, const C: usize>(pub [T; C]);
 
-impl<T: Real> NeuronLaw<T> for ScalarGradient<'_, T> {
+impl<T: Real, const C: usize> NeuronLaw<T> for ScalarGradient<T, C> {
     #[inline]
     fn derivative(&self, i: usize, phi: &[T], e: T, _s: &[T], dw: &mut [T], _ds: &mut [T], _work: &mut [T]) {
         law::descend(self.0[i], phi, e, dw)
@@ -375,7 +376,7 @@ mod tests {
         };
         let mut id = Ident {
             net,
-            law: &ScalarGradient(&[0.5]),
+            law: &ScalarGradient([0.5]),
             structure: Structure::FilteredError,
             robust: Robust::None,
             radius: &[],

@@ -32,6 +32,7 @@ pub mod adaptive;
 pub mod ident;
 pub mod law;
 pub mod online;
+pub mod online_fixed;
 pub mod pi;
 pub mod pump;
 pub mod real;

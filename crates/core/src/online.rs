@@ -2,7 +2,7 @@
 //! written: [`Online::update`] takes one sample `(t, u, y)`, returns the estimate of
 //! `y(t)` made before seeing `y`, then learns from `y`. The host library's
 //! `OnlineIdentifier` (`rhonn identify`, a user's own loop, Python) borrows its buffers
-//! into an [`Online`] for every update; a target's [`crate::online_fixed::FixedOnline`]
+//! into an [`Online`] for every update; a target's `FixedOnline` (module `online_fixed`)
 //! does the same from fixed-size arrays.
 //!
 //! Between samples the identifier's ODE ([`crate::ident::Ident::rhs_general`], any
@@ -59,15 +59,19 @@ pub struct Settings<'a, T> {
     pub period_s: T,
 }
 
-/// Buffers of an online identifier, borrowed (lengths: `state`, `k`, `tmp` the
+/// Buffers of an online identifier, borrowed (lengths: `state`, `k`, `acc`, `tmp` the
 /// identifier's dimension; `y_last`, `yn`, `y_hat` the outputs; `u_last`, `u_now`,
 /// `u_mid` the network's inputs, `nu (1 + filters) + 1`).
 #[derive(Debug)]
 pub struct Buffers<'a, T> {
     /// The identifier state.
     pub state: &'a mut [T],
-    /// RK4's stages.
-    pub k: [&'a mut [T]; 4],
+    /// An RK4 stage's derivative.
+    pub k: &'a mut [T],
+    /// RK4's weighted sum of the stages, `k1 + 2 k2 + 2 k3 + k4`, added up stage by
+    /// stage (the same sums in the same order as the formula: the same bits, two
+    /// buffers fewer than keeping the four stages).
+    pub acc: &'a mut [T],
     /// RK4's intermediate state.
     pub tmp: &'a mut [T],
     /// The last sample's normalised outputs.
@@ -100,7 +104,8 @@ pub struct Status<T> {
 /// Why an update was refused or failed (the state is unchanged by a refusal).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum UpdateError<T> {
-    /// `u` or `y` has the wrong length.
+    /// `u` or `y` has the wrong length (or the identifier has no output or no input:
+    /// an empty `FixedOnline` not configured).
     Sizes,
     /// A time, input or (outside a free run) output is not finite.
     NotFinite,
@@ -128,11 +133,6 @@ pub struct Online<'a, T, L> {
     pub status: &'a mut Status<T>,
 }
 
-#[inline]
-fn finite<T: Real>(v: T) -> bool {
-    v.to_f64().is_finite()
-}
-
 impl<T: Real, L: NeuronLaw<T>> Online<'_, T, L> {
     /// Take the sample `(t, u, y)`: integrate from the last sample to `t`, leave in
     /// `buf.y_hat` the estimate of `y(t)` made before seeing `y` (the first sample of a
@@ -141,12 +141,13 @@ impl<T: Real, L: NeuronLaw<T>> Online<'_, T, L> {
     pub fn update(&mut self, t: T, u: &[T], y: &[T]) -> Result<(), UpdateError<T>> {
         let sc = self.settings.scaling;
         let (ny, nu) = (sc.y_scale.len(), sc.u_scale.len());
-        if u.len() != nu || y.len() != ny {
+        let m = nu * (1 + self.settings.filters_s.len()) + 1;
+        if u.len() != nu || y.len() != ny || ny == 0 || nu == 0 || self.buf.u_now.len() != m {
             return Err(UpdateError::Sizes);
         }
-        if !finite(t)
-            || !u.iter().all(|v| finite(*v))
-            || (!self.status.free_run && !y.iter().all(|v| finite(*v)))
+        if !t.is_finite()
+            || !u.iter().all(|v| v.is_finite())
+            || (!self.status.free_run && !y.iter().all(|v| v.is_finite()))
         {
             return Err(UpdateError::NotFinite);
         }
@@ -183,7 +184,7 @@ impl<T: Real, L: NeuronLaw<T>> Online<'_, T, L> {
         self.integrate(h);
         self.advance_filters(h);
         self.hold_in_bounds();
-        if !self.buf.state.iter().all(|v| finite(*v)) {
+        if !self.buf.state.iter().all(|v| v.is_finite()) {
             return Err(UpdateError::Diverged);
         }
         self.remember(t);
@@ -320,7 +321,8 @@ impl<T: Real, L: NeuronLaw<T>> Online<'_, T, L> {
     }
 
     /// A substep's first stage: the robust laws' zones, the inputs at fraction `f`, and
-    /// the derivative into `k[0]` (with the previous regressor when `same_regressor`).
+    /// the derivative into `k` and `acc` (with the previous regressor when
+    /// `same_regressor`).
     fn start_substep(&mut self, f: T, same_regressor: bool) {
         let b = &mut self.buf;
         self.ident
@@ -331,11 +333,12 @@ impl<T: Real, L: NeuronLaw<T>> Online<'_, T, L> {
             b.y_last,
             b.u_mid,
             b.state,
-            b.k[0],
+            b.k,
             self.zones,
             &mut b.work,
             same_regressor,
         );
+        b.acc.copy_from_slice(b.k);
     }
 
     /// The inputs at fraction `f` of the interval, for a linear hold.
@@ -347,14 +350,19 @@ impl<T: Real, L: NeuronLaw<T>> Online<'_, T, L> {
         }
     }
 
-    /// One RK4 stage: `k[to] = f(state + c hs k[from])`.
-    fn stage(&mut self, from: usize, c: T, to: usize, reuse: bool) {
+    /// One RK4 stage: `k = f(state + c k)` (`c`: the step times the stage's fraction),
+    /// then `acc += weight k`.
+    fn stage(&mut self, c: T, weight: Option<T>, reuse: bool) {
         let b = &mut self.buf;
-        for i in 0..b.state.len() {
-            b.tmp[i] = b.state[i] + c * b.k[from][i];
+        for ((t, s), k) in b.tmp.iter_mut().zip(b.state.iter()).zip(b.k.iter()) {
+            *t = *s + c * *k;
         }
         self.ident
-            .rhs_general(b.y_last, b.u_mid, b.tmp, b.k[to], self.zones, &mut b.work, reuse);
+            .rhs_general(b.y_last, b.u_mid, b.tmp, b.k, self.zones, &mut b.work, reuse);
+        match weight {
+            Some(w) => b.acc.iter_mut().zip(b.k.iter()).for_each(|(a, k)| *a += w * *k),
+            None => b.acc.iter_mut().zip(b.k.iter()).for_each(|(a, k)| *a += *k),
+        }
     }
 
     /// Classical RK4 over `h` (in substeps of at most one sample time), the measured
@@ -369,25 +377,31 @@ impl<T: Real, L: NeuronLaw<T>> Online<'_, T, L> {
         let reuse = self.settings.hold == InputHold::Hold;
         self.start_substep(T::default(), false);
         let rate = self.fastest_rate();
-        let n_sub = libm::ceil((h / self.settings.period_s).max(h * rate / T::of(0.5)).to_f64())
-            .clamp(1.0, 10_000.0) as usize;
-        let hs = h / T::of(n_sub as f64);
-        let (half, six) = (T::of(0.5), T::of(6.0));
+        let n_sub = (h / self.settings.period_s)
+            .max(h * rate / T::of(0.5))
+            .ceil()
+            .clamp(T::of(1.0), T::of(10_000.0))
+            .to_usize();
+        let n_t = T::of_usize(n_sub);
+        let hs = h / n_t;
+        let (half, two, six) = (T::of(0.5), T::of(2.0), T::of(6.0));
         for j in 0..n_sub {
-            let f = |x: f64| T::of(j as f64 + x) / T::of(n_sub as f64);
+            let j_t = T::of_usize(j);
+            let f = |x: f64| (j_t + T::of(x)) / n_t;
             if j > 0 {
                 self.start_substep(f(0.0), reuse);
             }
             self.stage_linear(f(0.5));
-            self.stage(0, half * hs, 1, reuse);
-            self.stage(1, half * hs, 2, reuse);
+            self.stage(half * hs, Some(two), reuse);
+            self.stage(half * hs, Some(two), reuse);
             self.stage_linear(f(1.0));
-            self.stage(2, hs, 3, reuse);
+            self.stage(hs, None, reuse);
             let b = &mut self.buf;
-            let [k1, k2, k3, k4] = &b.k;
-            for i in 0..b.state.len() {
-                b.state[i] += hs / six * (k1[i] + T::of(2.0) * k2[i] + T::of(2.0) * k3[i] + k4[i]);
-            }
+            let step = hs / six;
+            b.state
+                .iter_mut()
+                .zip(b.acc.iter())
+                .for_each(|(s, a)| *s += step * *a);
         }
     }
 

@@ -48,6 +48,14 @@ pub trait Real:
     /// `self^n`: the platform's `powi` for `f64` with the `std` feature (the host
     /// library), [`powi_by_squaring`] otherwise.
     fn powi(self, n: i32) -> Self;
+    /// Neither infinite nor NaN.
+    fn is_finite(self) -> bool;
+    /// The smallest integer not below (libm's `ceil`).
+    fn ceil(self) -> Self;
+    /// The nearest value to `n` (the type's `as` conversion).
+    fn of_usize(n: usize) -> Self;
+    /// Truncated to an integer, saturating, NaN to 0 (the type's `as` conversion).
+    fn to_usize(self) -> usize;
 }
 
 /// `x^n` by squaring and multiplying, as compiler-builtins' `__powidf2` (the platform's
@@ -120,6 +128,22 @@ impl Real for f64 {
             powi_by_squaring(self, n)
         }
     }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
+    }
+    #[inline(always)]
+    fn ceil(self) -> Self {
+        libm::ceil(self)
+    }
+    #[inline(always)]
+    fn of_usize(n: usize) -> Self {
+        n as f64
+    }
+    #[inline(always)]
+    fn to_usize(self) -> usize {
+        self as usize
+    }
 }
 
 impl Real for f32 {
@@ -162,5 +186,21 @@ impl Real for f32 {
     #[inline(always)]
     fn powi(self, n: i32) -> Self {
         powi_by_squaring(self, n)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
+    }
+    #[inline(always)]
+    fn ceil(self) -> Self {
+        libm::ceilf(self)
+    }
+    #[inline(always)]
+    fn of_usize(n: usize) -> Self {
+        n as f32
+    }
+    #[inline(always)]
+    fn to_usize(self) -> usize {
+        self as usize
     }
 }

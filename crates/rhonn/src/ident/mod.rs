@@ -63,11 +63,6 @@ impl Scratch {
         }
     }
 
-    /// The regressor z left by the last general evaluation.
-    pub fn regressor(&self) -> &[f64] {
-        &self.z
-    }
-
     /// Work space for `ident`.
     pub fn for_identifier(ident: &Identifier) -> Self {
         let (ny, l) = (ident.net.n + ident.net.m, ident.net.n_terms());
@@ -116,11 +111,6 @@ impl Identifier {
     #[inline(always)]
     pub fn view(&self) -> rhonn_core::ident::Ident<'_, f64, Rule> {
         view_of(&self.net, &self.law, self.mode)
-    }
-
-    /// Each neuron's zone (robust laws).
-    pub fn zones(&self) -> &[Zone] {
-        &self.zones
     }
 
     /// The view and the zones, the latter to update.

@@ -31,6 +31,7 @@ use crate::error::{invalid, Error, Result};
 use crate::law::{GainSpec, LawSpec, Rule};
 use crate::net::{Network, Sigmoid, Terms};
 use rhonn_core::online::{Buffers, Online, Settings, Status, UpdateError};
+use rhonn_core::online_fixed::online_terms;
 use serde::{Deserialize, Serialize};
 
 /// A frozen online model as `model.json` holds it: `rhonn identify` writes it and
@@ -116,7 +117,8 @@ pub struct OnlineIdentifier {
     dead_zone: Vec<f64>,
     period_s: f64,
     state: Vec<f64>,
-    k: [Vec<f64>; 4],
+    k: Vec<f64>,
+    acc: Vec<f64>,
     tmp: Vec<f64>,
     scratch: Scratch,
     /// Last sample's time, frozen, free run.
@@ -137,8 +139,7 @@ impl OnlineIdentifier {
         let nf = spec.filters_s.len();
         let m = nu * (1 + nf) + 1;
         // Monomials of the outputs' sigmoids, the inputs and their filters, and one
-        // constant term (the last network input is 1; it takes no part in products,
-        // which it would only duplicate).
+        // constant term (the last network input is 1).
         let first = if spec.output_terms { 0 } else { ny };
         // An upper bound on the monomials before building them (a spec with many filters
         // and a high degree would otherwise take the memory before the check below).
@@ -157,11 +158,26 @@ impl OnlineIdentifier {
                 format!("a structure with at most 400 terms (degree {} over {signals} signals gives up to {bound:.0}: lower degree or max_factors, or use fewer filters)", spec.degree),
             ));
         }
-        let mono = Terms::monomials(ny + m - 1 - first, spec.degree, spec.max_factors);
-        let mut lists: Vec<Vec<[usize; 2]>> = (0..mono.len())
-            .map(|k| mono.factors(k).into_iter().map(|[i, e]| [i + first, e]).collect())
-            .collect();
-        lists.push(vec![[ny + m - 1, 1]]);
+        // The terms as a target's fixed-size identifier builds them (rhonn_core).
+        let mut lists: Vec<Vec<[usize; 2]>> = vec![vec![]];
+        let mut cur = vec![0; ny + m - 1];
+        let dims = (ny, nu, nf);
+        online_terms(
+            dims,
+            spec.output_terms,
+            spec.degree,
+            spec.max_factors,
+            &mut cur,
+            |f| match f {
+                Some((j, d)) => {
+                    if let Some(term) = lists.last_mut() {
+                        term.push([j, d as usize]);
+                    }
+                }
+                None => lists.push(vec![]),
+            },
+        );
+        lists.pop();
         let terms = Terms::from_lists(&lists, ny + m, "model.terms")?;
         let l = terms.len();
         if l > 400 {
@@ -195,7 +211,8 @@ impl OnlineIdentifier {
             hold: spec.inputs,
             filters_s: spec.filters_s.clone(),
             period_s,
-            k: std::array::from_fn(|_| vec![0.0; d]),
+            k: vec![0.0; d],
+            acc: vec![0.0; d],
             tmp: vec![0.0; d],
             state,
             scratch,
@@ -251,7 +268,6 @@ impl OnlineIdentifier {
     /// The buffers borrowed as `rhonn_core`'s update runs on them.
     fn core(&mut self) -> Online<'_, f64, Rule> {
         let (ident, zones) = self.ident.view_and_zones();
-        let [k1, k2, k3, k4] = &mut self.k;
         Online {
             ident,
             zones,
@@ -270,7 +286,8 @@ impl OnlineIdentifier {
             },
             buf: Buffers {
                 state: &mut self.state,
-                k: [k1, k2, k3, k4],
+                k: &mut self.k,
+                acc: &mut self.acc,
                 tmp: &mut self.tmp,
                 y_last: &mut self.y_last,
                 u_last: &mut self.u_last,

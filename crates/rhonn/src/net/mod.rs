@@ -87,33 +87,7 @@ impl Terms {
             offsets: vec![0],
             ..Default::default()
         };
-        // Enumerate exponent vectors in graded lexicographic order.
-        fn rec(
-            j: usize,
-            left: usize,
-            cur: &mut Vec<usize>,
-            n_y: usize,
-            maxf: usize,
-            out: &mut Vec<Vec<usize>>,
-        ) {
-            if j == n_y {
-                let deg: usize = cur.iter().sum();
-                let nf = cur.iter().filter(|&&d| d > 0).count();
-                if deg > 0 && nf <= maxf {
-                    out.push(cur.clone());
-                }
-                return;
-            }
-            for d in 0..=left {
-                cur.push(d);
-                rec(j + 1, left - d, cur, n_y, maxf, out);
-                cur.pop();
-            }
-        }
-        let mut all = Vec::new();
-        rec(0, degree, &mut Vec::new(), n_y, max_factors, &mut all);
-        all.sort_by_key(|e| e.iter().sum::<usize>());
-        for e in all {
+        rhonn_core::terms::for_each_monomial(degree, max_factors, &mut vec![0; n_y], |e| {
             for (j, &d) in e.iter().enumerate() {
                 if d > 0 {
                     t.idx.push(j);
@@ -121,7 +95,7 @@ impl Terms {
                 }
             }
             t.offsets.push(t.idx.len());
-        }
+        });
         t.set_plain();
         t
     }
