@@ -17,7 +17,7 @@ fn main() {
                 println!("{line}");
             }
         },
-        |step| step(),
+        |_, step| step(),
     );
     if let Err(e) = done {
         eprintln!("host: {e}");

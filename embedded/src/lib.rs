@@ -139,12 +139,21 @@ fn online_step(id: &mut Online, t: Ctl, u: &[Ctl; 2], p: Ctl) -> Result<Ctl, Upd
     id.update(t, u, &[p]).map(|y| y[0])
 }
 
-/// Run the loop; `sample` sees every period, `timed` wraps each control step (the
-/// controller and the general identifier's update: the target counts its instructions
-/// there; the host just calls it). An error names what failed.
+/// The two parts of a control step, timed apart.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Part {
+    /// The adaptive controller's update (with its own neuron's identification).
+    Controller,
+    /// The general online identifier's update.
+    Identifier,
+}
+
+/// Run the loop; `sample` sees every period, `timed` wraps each part of a control step
+/// (the controller, then the general identifier's update: the target counts their
+/// instructions there; the host just calls them). An error names what failed.
 pub fn run(
     mut sample: impl FnMut(&Sample),
-    mut timed: impl FnMut(&mut dyn FnMut()),
+    mut timed: impl FnMut(Part, &mut dyn FnMut()),
 ) -> Result<(), &'static str> {
     let eq = PumpEquations::THESIS;
     let (p0, x0) = (2e6, 0.0);
@@ -174,8 +183,10 @@ pub fn run(
         let mut current = Ctl::default();
         let mut p_hat = Ok(Ctl::default());
         let c = Ctl::of;
-        timed(&mut || {
-            current = ctl.update(c(t), c(p_meas), c(x_meas), c(r));
+        timed(Part::Controller, &mut || {
+            current = ctl.update(c(t), c(p_meas), c(x_meas), c(r))
+        });
+        timed(Part::Identifier, &mut || {
             p_hat = online_step(&mut online, c(t), &[current, c(demand(t))], c(p_meas));
         });
         let p_hat = p_hat

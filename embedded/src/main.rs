@@ -9,7 +9,7 @@ use core::fmt::Write;
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
-use rhonn_firmware::{run, write_line, Digest, Regulation, PERIODS, PRINT_EVERY};
+use rhonn_firmware::{run, write_line, Digest, Part, Regulation, PERIODS, PRINT_EVERY};
 
 /// A line buffer on the stack (semihosting writes it in one call).
 struct Line {
@@ -145,7 +145,10 @@ fn main() -> ! {
     let mut digest = Digest::default();
     let mut regulation = Regulation::default();
     let mut line = Line::new();
-    let (mut total, mut worst, mut n) = (0u64, 0u32, 0u32);
+    // Per part (controller, identifier) and for the whole step: total and worst ticks.
+    let mut parts = [(0u64, 0u32); 3];
+    let mut step_ticks = 0u32;
+    let mut n = 0u32;
     let done = run(
         |s| {
             digest.add(s);
@@ -155,11 +158,19 @@ fn main() -> ! {
                 line.emit(&mut out);
             }
         },
-        |step| {
+        |part, step| {
             let t = ticks(syst, step);
-            total += t as u64;
-            worst = worst.max(t);
-            n += 1;
+            let i = match part {
+                Part::Controller => 0,
+                Part::Identifier => 1,
+            };
+            parts[i] = (parts[i].0 + t as u64, parts[i].1.max(t));
+            step_ticks = if i == 0 { t } else { step_ticks + t };
+            if part == Part::Identifier {
+                // The step ends with the identifier: count the whole.
+                parts[2] = (parts[2].0 + step_ticks as u64, parts[2].1.max(step_ticks));
+                n += 1;
+            }
         },
     );
     if let Err(e) = done {
@@ -183,15 +194,24 @@ fn main() -> ! {
         regulation.persistence_rms_mpa()
     );
     line.emit(&mut out);
-    let mean = total as f64 / n as f64 * per_tick;
-    let _ = write!(
-        line,
-        "instructions_per_step mean={:.0} max={:.0} per_tick={:.3}",
-        mean,
-        worst as f64 * per_tick,
-        per_tick
-    );
-    line.emit(&mut out);
+    for (i, name) in [
+        "instructions_per_step",
+        "controller_instructions",
+        "identifier_instructions",
+    ]
+    .iter()
+    .enumerate()
+    {
+        let (total, worst) = parts[[2, 0, 1][i]];
+        let _ = write!(
+            line,
+            "{name} mean={:.0} max={:.0} per_tick={:.3}",
+            total as f64 / n as f64 * per_tick,
+            worst as f64 * per_tick,
+            per_tick
+        );
+        line.emit(&mut out);
+    }
     let _ = write!(line, "stack_bytes={}", stack_used());
     line.emit(&mut out);
     debug::exit(debug::EXIT_SUCCESS);

@@ -2,9 +2,10 @@
 //! fixed-size (const generic) states, `libm` for the maths.
 //!
 //! The host library (`rhonn`) uses these very functions and types for the same work (the
-//! sigmoid, the learning laws' steps, the PI, the RHONN adaptive controller, the pump's
-//! equations), so a controller designed and tested on the desktop is, bit for bit, the
-//! one that runs on the target (`embedded/` runs it on an emulated Cortex-M4F and
+//! sigmoid, the learning laws' steps, the identifier's right-hand side and the online
+//! identifier's update, the PI, the RHONN adaptive controller, the pump's equations), so
+//! a controller or identifier designed and tested on the desktop is, bit for bit, the
+//! one that runs on the target (`embedded/` runs them on an emulated Cortex-M4F and
 //! compares every printed value with the host).
 //!
 //! One exception, by choice: with the `std` feature (the host library turns it on) the
@@ -13,7 +14,7 @@
 //! Built without `std` (as `embedded/` does for its host reference) every result is the
 //! target's bit for bit.
 //!
-//! The controller and the laws are generic over [`Real`] (`f64`, or `f32` for a
+//! The controller, the laws and the identifier are generic over [`Real`] (`f64`, or `f32` for a
 //! single-precision FPU such as a Cortex-M4F's); the host library uses `f64`.
 //!
 //! Modules: [`sigmoid`] (`s(v) = a / (1 + exp(-b v)) - c`), [`terms`] (the high-order
@@ -21,7 +22,10 @@
 //! `-g phi e`, its normalised sampled form, projection onto a ball), [`pi`] (PI with
 //! anti-windup), [`adaptive`] (the affine RHONN neuron and the pump's RHONN adaptive
 //! cascade), [`pump`] (the pump's pilot valve and line equations, and a fixed-step
-//! discretisation for a plant on the target).
+//! discretisation for a plant on the target), [`ident`] (the identifier's right-hand
+//! side for any structure and law), [`online`] (the online identifier's sample-by-sample
+//! update on borrowed buffers), [`online_fixed`] (a general online identifier in
+//! fixed-size arrays).
 #![no_std]
 #![deny(missing_docs)]
 
