@@ -307,10 +307,14 @@ impl<T: Real, const S: usize, const C: usize> FixedOnline<T, S, C> {
         self.status.t_last = None;
     }
 
-    /// Neuron i's weights.
+    /// Neuron i's weights (none for a neuron it does not have).
     pub fn weights(&self, i: usize) -> &[T] {
         let b = 1 + self.l;
-        &self.state[i * b + 1..(i + 1) * b]
+        if i < self.ny {
+            &self.state[i * b + 1..(i + 1) * b]
+        } else {
+            &[]
+        }
     }
 
     /// Terms per neuron L.

@@ -210,4 +210,19 @@ fn the_fixed_identifier_refuses_what_does_not_fit_and_bad_samples() {
         UpdateError::NotAfter { t_last: 0.0 }
     );
     assert!(id.update(0.005, &[0.1, 0.2], &[0.3]).is_ok());
+    assert_eq!(id.weights(0).len(), 36);
+    assert!(id.weights(1).is_empty(), "one output, one neuron");
+    // Not configured, or left empty by a refused configuration: every update refused.
+    let mut empty = FixedOnline::<f32, 8, 64>::empty();
+    assert_eq!(empty.update(0.0, &[], &[]).unwrap_err(), UpdateError::Sizes);
+    assert_eq!(
+        empty.configure(&FixedSpec { degree: 0, ..spec }),
+        Err(SpecError::Invalid)
+    );
+    assert_eq!(
+        empty.update(0.0, &[0.1, 0.2], &[0.3]).unwrap_err(),
+        UpdateError::Sizes
+    );
+    empty.configure(&spec).unwrap();
+    assert!(empty.update(0.0, &[0.1, 0.2], &[0.3]).is_ok());
 }
