@@ -9,6 +9,42 @@
 //! and their first-order filters, plus a constant ([`online_terms`]); the filtered-error
 //! law with the scalar gain `gain / (T L)` ([`crate::ident::ScalarGradient`]), or its
 //! sigma-modified variants with a radius per neuron.
+//!
+//! ```
+//! use rhonn_core::online::{InputHold, Scaling};
+//! use rhonn_core::online_fixed::{FixedOnline, FixedSpec};
+//! // y' = -y + u + 0.5 u tanh(y), sampled every 50 ms, the input switching every second.
+//! let mut id = FixedOnline::<f32, 8, 16>::empty();
+//! id.configure(&FixedSpec {
+//!     filters_s: &[],
+//!     degree: 2,
+//!     max_factors: 2,
+//!     output_terms: true,
+//!     a_per_s: Some(1.0),
+//!     gain: 0.5,
+//!     dead_zone: &[0.0],
+//!     hold: InputHold::Hold,
+//!     period_s: 0.05,
+//!     scaling: Scaling { y_offset: &[0.0], y_scale: &[1.0], u_offset: &[0.0], u_scale: &[1.0], y_bounds: None },
+//!     robust: None,
+//! })
+//! .unwrap();
+//! let (mut y, mut u, mut seed) = (0.0f32, 0.0f32, 7u32);
+//! let (mut early, mut late) = (0.0, 0.0);
+//! for k in 0..20_000 {
+//!     if k % 20 == 0 {
+//!         seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+//!         u = (seed >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0;
+//!     }
+//!     let y_hat = id.update(k as f32 * 0.05, &[u], &[y]).unwrap()[0]; // before seeing y
+//!     let e2 = (y_hat - y) * (y_hat - y);
+//!     if k < 400 { early += e2 } else if k >= 19_600 { late += e2 }
+//!     for _ in 0..50 {
+//!         y += 0.001 * (-y + u + 0.5 * u * libm::tanhf(y));
+//!     }
+//! }
+//! assert!(late < 0.2 * early, "the estimate error shrinks: {early} -> {late}");
+//! ```
 
 use crate::ident::{Ident, Mode, Net, Robust, ScalarGradient, Structure, Terms, Work};
 use crate::law::Zone;
