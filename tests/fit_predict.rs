@@ -608,6 +608,29 @@ fn default_fit_on_unseen_systems_is_never_worse_than_arx() {
         let best_arx = sel["best_arx"].as_u64().unwrap() as usize;
         let score = |i: usize| sel["candidates"][i]["score"].as_f64().unwrap();
         assert!(score(chosen) <= score(best_arx), "{sel}");
+        // The baseline beside the model is the selection's best ARX, fitted on all the
+        // training data, not the ARX with the chosen model's lags.
+        let arx_spec = &sel["candidates"][best_arx]["model"];
+        let m: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.path().join("m/model.json")).unwrap()).unwrap();
+        if chosen != best_arx {
+            for key in ["kind", "na", "nb", "nk"] {
+                assert_eq!(
+                    m["baseline"]["spec"][key], arx_spec[key],
+                    "{key}: {}",
+                    m["baseline"]["spec"]
+                );
+            }
+            assert_eq!(s["baseline_arx"]["chosen_as"], "best ARX on the folds");
+            let lags = format!("na {} nb {} nk 1", arx_spec["na"], arx_spec["nb"]);
+            let out = String::from_utf8_lossy(&o.stdout);
+            assert!(
+                out.contains(&format!("ARX baseline ({lags}, best ARX on the folds), free run")),
+                "{out}"
+            );
+        } else {
+            assert!(m["baseline"].is_null(), "{}", m["baseline"]);
+        }
         let o = rhonn(
             d.path(),
             &[

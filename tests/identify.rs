@@ -327,3 +327,102 @@ fn a_least_squares_model_validates_as_its_saved_model_predicts() {
         "identify {validated}, predict {predicted}"
     );
 }
+
+/// The lagged structure on the cascaded tanks (`models/tanks-online-lagged.toml`): the
+/// README's figures, below the ARX(2,2) free run fitted in the same test, with its
+/// terms named by lag, and `rhonn predict` of its model.json giving the validation's
+/// figures.
+#[test]
+fn tanks_lagged_online_model_runs_free_below_arx_and_predicts_as_validated() {
+    let d = tempfile::tempdir().unwrap();
+    let data = repo().join("data/cascaded-tanks");
+    let (est, val) = (data.join("estimation.csv"), data.join("validation.csv"));
+    let (est, val) = (est.to_str().unwrap(), val.to_str().unwrap());
+    let spec = repo().join("models/tanks-online-lagged.toml");
+    let o = rhonn(
+        d.path(),
+        &[
+            "identify",
+            "--data",
+            est,
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--model",
+            spec.to_str().unwrap(),
+            "--validate",
+            val,
+            "--steps-ahead",
+            "10",
+            "--out",
+            "id",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let read = |f: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.path().join(f)).unwrap()).unwrap()
+    };
+    let s = read("id/summary.json");
+    // README figures: free run 0.641 V, 10 samples ahead 0.277 V.
+    let free = s["validation"][0]["free_run_rms_error"].as_f64().unwrap();
+    assert!((free - 0.641).abs() < 0.01, "{free}");
+    let ahead = s["validation"][0]["ahead_rms_error"].as_f64().unwrap();
+    assert!((ahead - 0.277).abs() < 0.01, "{ahead}");
+    let terms: Vec<&str> = s["terms"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t.as_str().unwrap())
+        .collect();
+    assert!(
+        terms.contains(&"y[k-3]") && terms.contains(&"tanh(y[k-1])*u[k-2]") && terms.contains(&"1"),
+        "{terms:?}"
+    );
+    assert_eq!(s["model"]["structure"], "lagged");
+    // ARX(2,2), fitted on the same file by `rhonn fit`, run free on validation.csv.
+    std::fs::write(d.path().join("arx.toml"), "kind = \"arx\"\nna = 2\nnb = 2\n").unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "fit",
+            "--model",
+            "arx.toml",
+            "--data",
+            est,
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--out",
+            "arx",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    for (model, out, steps) in [
+        ("arx/model.json", "pa", None),
+        ("id/model.json", "p", None),
+        ("id/model.json", "p10", Some("10")),
+    ] {
+        let mut args = vec!["predict", "--model", model, "--data", val, "--out", out];
+        if let Some(k) = steps {
+            args.extend(["--steps-ahead", k]);
+        }
+        let o = rhonn(d.path(), &args);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let arx = read("pa/summary.json")["outputs"][0]["rms_error"]
+        .as_f64()
+        .unwrap();
+    assert!(free < arx, "online lagged {free} V, ARX(2,2) {arx} V");
+    let p = read("p/summary.json")["figures"][0]["rms_error"]
+        .as_f64()
+        .unwrap();
+    let p10 = read("p10/summary.json")["figures"][0]["rms_error"]
+        .as_f64()
+        .unwrap();
+    assert!(
+        (p - free).abs() < 1e-12 && (p10 - ahead).abs() < 1e-12,
+        "{p} {p10}"
+    );
+}

@@ -6,19 +6,31 @@ model judged 10 samples (50 ms) ahead on the held-out third; highest mean fit. P
 every setting's folds and mean, best last, and writes the best as a model TOML. The
 validation record (pump-validate) is not read. Standard library only.
 
-Usage: python3 tools/select/pump_online_cv.py [path/to/rhonn] [out.toml]
+With --lagged the grid is the lagged structure's (`structure = "lagged"`, learned by
+least squares sample by sample): output lags from 10 (a direct 10-step predictor, so
+nothing is predicted from predictions) over na 4 / 8, input lags nb 10 / 20 / 30,
+nonlinear lags 1 / 2, one pass; it chose models/pump-online-lagged.toml.
+
+Usage: python3 tools/select/pump_online_cv.py [--lagged] [path/to/rhonn] [out.toml]
 """
 import itertools, json, os, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from folds import rank, write_thirds  # noqa: E402
 
-exe = sys.argv[1] if len(sys.argv) > 1 else "target/release/rhonn"
-out_toml = sys.argv[2] if len(sys.argv) > 2 else None
+lagged = "--lagged" in sys.argv
+args = [a for a in sys.argv[1:] if a != "--lagged"]
+exe = args[0] if len(args) > 0 else "target/release/rhonn"
+out_toml = args[1] if len(args) > 1 else None
 K = 10
 
 
 def toml(c):
+    if c.get("lagged"):
+        return "\n".join([
+            'structure = "lagged"',
+            f"lags = {{ na = {c['na']}, nb = {c['nb']}, nk = 1, output_lag_start = {K}, "
+            f"nonlinear_lags = {c['nl']} }}"]) + "\n"
     return "\n".join([
         f'inputs = "{c["inputs"]}"',
         f"filters_s = [{', '.join(str(v) for v in c['filters'])}]",
@@ -48,6 +60,9 @@ def main():
             for i, f, a, g, e in itertools.product(
                 ["hold", "linear"], [[], [0.01, 0.04], [0.005, 0.02, 0.08]],
                 [3.0, 10.0, 30.0], [0.1, 0.5, 2.0], [1, 3])]
+    if lagged:
+        grid = [dict(lagged=True, na=na, nb=nb, nl=nl)
+                for na, nb, nl in itertools.product([4, 8], [10, 20, 30], [1, 2])]
     with tempfile.TemporaryDirectory() as d:
         rec = os.path.join(d, "identify")
         subprocess.run([exe, "run", "pump-identify", "--out", rec], check=True, capture_output=True)

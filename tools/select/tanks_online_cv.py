@@ -7,20 +7,31 @@ third; lowest mean free-run RMS error. A single split (the last third held out) 
 Prints every setting's folds and mean, best last, and writes the best as a model TOML.
 validation.csv is not read. Standard library only.
 
-Usage: python3 tools/select/tanks_online_cv.py [path/to/rhonn] [out.toml]
+With --lagged the grid is the lagged structure's (`structure = "lagged"`, learned by
+least squares sample by sample, one pass): na and nb 1..4, degree 2 or 3, nonlinear lags
+all or 1 (64 settings); it chose models/tanks-online-lagged.toml.
+
+Usage: python3 tools/select/tanks_online_cv.py [--lagged] [path/to/rhonn] [out.toml]
 """
 import itertools, json, os, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from folds import rank, write_thirds  # noqa: E402
 
-exe = sys.argv[1] if len(sys.argv) > 1 else "target/release/rhonn"
-out_toml = sys.argv[2] if len(sys.argv) > 2 else None
+lagged = "--lagged" in sys.argv
+args = [a for a in sys.argv[1:] if a != "--lagged"]
+exe = args[0] if len(args) > 0 else "target/release/rhonn"
+out_toml = args[1] if len(args) > 1 else None
 here = os.path.dirname(os.path.abspath(__file__))
 data = os.path.join(here, "..", "..", "data", "cascaded-tanks", "estimation.csv")
 
 
 def toml(c):
+    if c.get("lagged"):
+        nl = f", nonlinear_lags = {c['nl']}" if c["nl"] else ""
+        return "\n".join([
+            'structure = "lagged"', f"degree = {c['degree']}",
+            f"lags = {{ na = {c['na']}, nb = {c['nb']}, nk = 1{nl} }}"]) + "\n"
     lines = [f"filters_s = [{', '.join(f'{v:.1f}' for v in c['filters'])}]",
              f"a_per_s = {c['a']}", f"epochs = {c['epochs']}",
              f"output_terms = {str(c['output_terms']).lower()}"]
@@ -57,6 +68,9 @@ def main():
             [0.01, 0.05, 0.1], [True, False]):
         for law, gain in [("fe", 0.03), ("fe", 0.1), ("fe", 0.5), ("ls", None)]:
             grid.append(dict(filters=filters, a=a, output_terms=ot, law=law, gain=gain, epochs=10))
+    if lagged:
+        grid = [dict(lagged=True, na=na, nb=nb, degree=dg, nl=nl)
+                for na, nb, dg, nl in itertools.product([1, 2, 3, 4], [1, 2, 3, 4], [2, 3], [None, 1])]
     with tempfile.TemporaryDirectory() as d:
         thirds = write_thirds(data, d)
         rank(grid, lambda c: run(c, thirds, d), toml, "{:.3f} V", False, out_toml)

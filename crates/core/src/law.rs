@@ -134,14 +134,24 @@ pub fn least_squares_derivative<T: Real>(
 pub fn least_squares_step<T: Real>(phi: &[T], e: T, w: &mut [T], p: &mut [T], work: &mut [T]) {
     let l = phi.len();
     let q = &mut work[..l];
-    times(p, phi, q);
+    // q = P phi, as phi^T P (P is symmetric): rows of P scaled and summed, which runs in
+    // independent lanes where a row-by-row dot product waits on each addition.
+    q.fill(T::of(0.0));
+    for (row, &f) in p.chunks_exact(l).zip(phi) {
+        for (qc, &pc) in q.iter_mut().zip(row) {
+            *qc += f * pc;
+        }
+    }
     let den = T::of(1.0) + dot(phi, q);
     for k in 0..l {
         w[k] -= q[k] * (e / den);
     }
-    for r in 0..l {
-        for c in 0..l {
-            p[r * l + c] -= q[r] * q[c] / den;
+    // Row by row with the division hoisted out of the inner loop (the rank-one update
+    // is the whole cost of a step: l^2 multiply-adds).
+    for (row, &qr) in p.chunks_exact_mut(l).zip(q.iter()) {
+        let a = qr / den;
+        for (pc, &qc) in row.iter_mut().zip(q.iter()) {
+            *pc -= a * qc;
         }
     }
 }

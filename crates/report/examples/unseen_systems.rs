@@ -6,13 +6,13 @@
 //! (seed 10 + inputs + 100 j) and a test record (seed 20 + inputs + 100 j) of 5,000
 //! samples; the structure chosen as `rhonn fit` chooses it without `--model` (the same
 //! selection, with its default options), trained, then run free on the test record beside
-//! its ARX baseline. Seed j = 0 is the pair `tests/fit_predict.rs` checks. Prints one line
+//! its ARX baseline (the selection's best ARX on the folds, as `rhonn fit` keeps it). Seed j = 0 is the pair `tests/fit_predict.rs` checks. Prints one line
 //! per run and the median, best and worst per system.
 
 use rhonn::data::Record;
 use rhonn::sysid::benchmarks::{bilinear, wiener_hammerstein};
 use rhonn::sysid::select::{select, SelectOptions};
-use rhonn::sysid::{predict, train};
+use rhonn::sysid::{predict, train_beside};
 use std::time::Instant;
 
 fn names(r: &Record) -> (Vec<String>, Vec<String>) {
@@ -32,7 +32,8 @@ fn one(train_rec: &Record, test_rec: &Record) -> Result<(String, f64, f64, f64),
     let recs = std::slice::from_ref(train_rec);
     let sel = select(recs, &inputs, &outputs, &SelectOptions::default(), &|_| {})?;
     let name = sel.candidates[sel.chosen].name.clone();
-    let (fitted, _) = train(&[sel.chosen_spec().clone()], recs, &inputs, &outputs)?;
+    let arx = &sel.candidates[sel.best_arx].model;
+    let (fitted, _) = train_beside(&[sel.chosen_spec().clone()], Some(arx), recs, &inputs, &outputs)?;
     let seconds = start.elapsed().as_secs_f64();
     let p = predict(&fitted, test_rec, None)?;
     let fit = p.figures[0].fit_percent;

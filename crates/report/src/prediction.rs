@@ -73,9 +73,13 @@ pub fn plot_prediction(fitted: &FittedModel, p: &Prediction) -> String {
                     dashed: true,
                 },
             ];
-            if let Some((pb, fb)) = &p.baseline {
+            if let (Some((pb, fb)), Some(b)) = (&p.baseline, &fitted.baseline) {
                 series.push(Series {
-                    label: format!("ARX baseline (fit {:.1} %)", fb[j].fit_percent),
+                    label: format!(
+                        "ARX baseline {} (fit {:.1} %)",
+                        b.spec.lags_name(),
+                        fb[j].fit_percent
+                    ),
                     y: scaled(&pb[j]),
                     dashed: true,
                 });

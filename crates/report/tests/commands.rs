@@ -30,7 +30,7 @@ fn fit_then_predict_as_library_calls() {
     assert!(o
         .lines
         .iter()
-        .any(|l| l.contains("ARX baseline, free run") && l.contains(" V, fit")));
+        .any(|l| l.contains("ARX baseline (na 2 nb 2 nk 1, same lags), free run") && l.contains(" V, fit")));
     let model = dir.path().join("fit/model.json");
     assert!(o.files.contains(&model) && model.exists());
     let p = commands::predict(

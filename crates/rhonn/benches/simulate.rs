@@ -257,6 +257,34 @@ fn bench_online(c: &mut Criterion) {
                 .rms_error_last_half
         })
     });
+    // The lagged structure of models/pump-online-lagged.toml: one update (recursive least
+    // squares over its weights), and the same record.
+    let lagged: OnlineSpec = toml::from_str(include_str!("../../../models/pump-online-lagged.toml")).unwrap();
+    let mut id = OnlineIdentifier::new(&lagged, 1, 2, 0.005, Scaling::identity(1, 2)).unwrap();
+    let n = id.n_terms();
+    let mut k = 0u64;
+    c.bench_function(
+        &format!("online identifier, lagged: one update, {n} weights"),
+        |b| {
+            b.iter(|| {
+                k += 1;
+                let t = k as f64 * 0.005;
+                let u = (t * 3.0).sin();
+                black_box(id.update(t, &[u, (t * 0.3).cos()], &[0.5 * u]).unwrap()[0])
+            })
+        },
+    );
+    c.bench_function(
+        "online identification, lagged, of the 60 s pump-identify record",
+        |b| {
+            b.iter(|| {
+                identify_records(black_box(&lagged), &rec, &outputs)
+                    .unwrap()
+                    .figures[0]
+                    .rms_error_last_half
+            })
+        },
+    );
 }
 
 /// The pump-identify record (current and demand in, measured pressure out), simulated.

@@ -169,7 +169,10 @@ pub fn fit_with_progress(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> 
             o.notes.push(format!("warning: {w}"));
         }
     }
-    let (mut fitted, mut summary) = rhonn::sysid::train(&specs, &recs, inputs, outputs)?;
+    // A selection's baseline is its best ARX on the folds (an honest linear tuning), not
+    // the ARX with the chosen structure's lags.
+    let baseline = selection.as_ref().map(|s| &s.candidates[s.best_arx].model);
+    let (mut fitted, mut summary) = rhonn::sysid::train_beside(&specs, baseline, &recs, inputs, outputs)?;
     summary.selection = selection;
     fitted.units = units;
     // The free run on each training record, for the plots (at most 8 records drawn).
@@ -178,20 +181,7 @@ pub fn fit_with_progress(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> 
         .take(8)
         .map(|r| rhonn::sysid::predict(&fitted, r, None))
         .collect::<rhonn::Result<_>>()?;
-    // The frozen model's stability check: a free run on the bound of the output range.
-    for p in &training {
-        if let Some((name, t)) =
-            rhonn::sysid::free_run_at_bound(&fitted.model, &p.record, &p.outputs, p.first)
-        {
-            o.notes.push(format!(
-                "warning: the model's free run on {} reaches the bound its output `{name}` is held in \
-                 (the training range widened by output_margin) at t = {t} s: it drifts or is unstable \
-                 in free run; judge it K steps ahead (rhonn predict --steps-ahead K), or let rhonn fit \
-                 select a structure (no --model)",
-                p.record.source
-            ));
-        }
-    }
+    bound_warnings(&fitted, &training, &mut o);
     o.files = crate::write_fit(&req.out, &fitted, &summary, &training)?;
     o.files.push(crate::write_report(&req.out)?);
     o.lines.push(if grey {
@@ -242,9 +232,32 @@ pub fn fit_with_progress(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> 
         &fitted.units,
     );
     if let Some(b) = &summary.baseline_arx {
-        training_lines(&mut o, &b.free_run, "ARX baseline, free run", &fitted.units);
+        let label = format!("ARX baseline ({}, {}), free run", b.structure, b.chosen_as);
+        training_lines(&mut o, &b.free_run, &label, &fitted.units);
     }
     Ok(o)
+}
+
+/// The frozen model's stability check: a warning for each free run that reaches the bound
+/// of the output range.
+fn bound_warnings(
+    fitted: &rhonn::sysid::FittedModel,
+    training: &[rhonn::sysid::Prediction],
+    o: &mut Outcome,
+) {
+    for p in training {
+        if let Some((name, t)) =
+            rhonn::sysid::free_run_at_bound(&fitted.model, &p.record, &p.outputs, p.first)
+        {
+            o.notes.push(format!(
+                "warning: the model's free run on {} reaches the bound its output `{name}` is held in \
+                 (the training range widened by output_margin) at t = {t} s: it drifts or is unstable \
+                 in free run; judge it K steps ahead (rhonn predict --steps-ahead K), or let rhonn fit \
+                 select a structure (no --model)",
+                p.record.source
+            ));
+        }
+    }
 }
 
 fn training_lines(o: &mut Outcome, figures: &[RecordFigures], label: &str, units: &BTreeMap<String, String>) {
@@ -311,10 +324,12 @@ pub fn predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
             "{} ({mode}): rms error {:.4}{unit}, fit {:.1} %, nrmse {:.4}",
             f.output, f.rms_error, f.fit_percent, f.nrmse
         );
-        if let Some((_, fb)) = &p.baseline {
+        if let (Some((_, fb)), Some(b)) = (&p.baseline, &fitted.baseline) {
             line += &format!(
-                "; ARX baseline: rms error {:.4}{unit}, fit {:.1} %",
-                fb[j].rms_error, fb[j].fit_percent
+                "; ARX baseline ({}): rms error {:.4}{unit}, fit {:.1} %",
+                b.spec.lags_name(),
+                fb[j].rms_error,
+                fb[j].fit_percent
             );
         }
         o.lines.push(line);

@@ -24,7 +24,8 @@
 //!
 //! Signals are normalised inside ([`Scaling`]): offset and scale per output and input.
 
-use super::online_spec::check_spec;
+use super::lagged::{LaggedOnline, LaggedSnapshot};
+use super::online_spec::{check_spec, OnlineStructure};
 pub use super::online_spec::{InputHold, OnlineSpec, Scaling};
 use super::{Identifier, Mode, Scratch};
 use crate::error::{invalid, Error, Result};
@@ -99,17 +100,36 @@ impl OnlineModel {
 
 /// What [`OnlineIdentifier::snapshot`] saves.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Snapshot {
-    state: Vec<f64>,
-    t_last: Option<f64>,
-    y_last: Vec<f64>,
-    u_last: Vec<f64>,
+pub struct Snapshot(Saved);
+
+#[derive(Debug, Clone, PartialEq)]
+enum Saved {
+    Continuous {
+        state: Vec<f64>,
+        t_last: Option<f64>,
+        y_last: Vec<f64>,
+        u_last: Vec<f64>,
+    },
+    Lagged(LaggedSnapshot),
 }
 
-/// The online identifier (see the module docs). Buffers are allocated once: an update
-/// does not allocate.
+/// The online identifier (see the module docs): continuous-time neurons (the default)
+/// or the lagged structure (`structure = "lagged"`, the `lagged` module). Buffers are
+/// allocated once: a continuous update does not allocate.
 #[derive(Debug, Clone)]
 pub struct OnlineIdentifier {
+    engine: Engine,
+}
+
+#[derive(Debug, Clone)]
+enum Engine {
+    Continuous(Box<Continuous>),
+    Lagged(Box<LaggedOnline>),
+}
+
+/// The continuous-time engine.
+#[derive(Debug, Clone)]
+struct Continuous {
     ident: Identifier,
     scaling: Scaling,
     hold: InputHold,
@@ -136,6 +156,135 @@ impl OnlineIdentifier {
     /// An identifier of `ny` outputs from `nu` inputs sampled every `period_s`.
     pub fn new(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64, scaling: Scaling) -> Result<Self> {
         check_spec(spec, ny, nu, period_s, &scaling)?;
+        let engine = match spec.structure {
+            OnlineStructure::Continuous => {
+                Engine::Continuous(Box::new(Continuous::new(spec, ny, nu, period_s, scaling)?))
+            }
+            OnlineStructure::Lagged => {
+                Engine::Lagged(Box::new(LaggedOnline::new(spec, ny, nu, period_s, scaling)?))
+            }
+        };
+        Ok(OnlineIdentifier { engine })
+    }
+
+    /// Take the sample `(t, u, y)` and return the estimate of `y(t)` made before seeing
+    /// `y` (the first sample returns `y`), then learn from `y`. Continuous: integrate the
+    /// identifier from the last sample to `t`. Lagged: the lagged model's prediction
+    /// (the measurement itself until it has seen its largest lag). In a free run `y` is
+    /// ignored (give anything of the right length).
+    pub fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<&[f64]> {
+        match &mut self.engine {
+            Engine::Continuous(c) => c.update(t, u, y),
+            Engine::Lagged(l) => l.update(t, u, y),
+        }
+    }
+
+    /// Stop (`true`) or resume adapting the weights.
+    pub fn freeze(&mut self, frozen: bool) {
+        match &mut self.engine {
+            Engine::Continuous(c) => c.freeze(frozen),
+            Engine::Lagged(l) => l.core.frozen = frozen,
+        }
+    }
+
+    /// Run free (`true`): the model on its own outputs, weights frozen; or back to
+    /// series-parallel.
+    pub fn set_free_run(&mut self, free: bool) {
+        match &mut self.engine {
+            Engine::Continuous(c) => c.set_free_run(free),
+            Engine::Lagged(l) => l.core.free_run = free,
+        }
+    }
+
+    /// Forget the last sample (a new record starts): the next update restarts the model
+    /// at its measurement; the weights stay.
+    pub fn reset(&mut self) {
+        match &mut self.engine {
+            Engine::Continuous(c) => c.reset(),
+            Engine::Lagged(l) => l.reset(),
+        }
+    }
+
+    /// A new pass over recordings starts: the lagged structure's least-squares covariance
+    /// restarts at `p0 I` (as each epoch of `rhonn fit`'s `rls`); nothing for the
+    /// continuous-time neurons, whose law states carry over.
+    pub fn new_pass(&mut self) {
+        if let Engine::Lagged(l) = &mut self.engine {
+            l.core.restart_law();
+        }
+    }
+
+    /// Put the model's estimate at `y` (output units), as at a record's first sample.
+    pub fn set_estimate(&mut self, y: &[f64]) {
+        match &mut self.engine {
+            Engine::Continuous(c) => c.set_estimate(y),
+            Engine::Lagged(l) => l.set_estimate(y),
+        }
+    }
+
+    /// Weights, one vector per output's neuron (normalised units).
+    pub fn weights(&self) -> Vec<Vec<f64>> {
+        match &self.engine {
+            Engine::Continuous(c) => c.weights(),
+            Engine::Lagged(l) => l.core.weights().to_vec(),
+        }
+    }
+
+    /// Set the weights (e.g. saved ones).
+    pub fn set_weights(&mut self, w: &[Vec<f64>]) {
+        match &mut self.engine {
+            Engine::Continuous(c) => c.set_weights(w),
+            Engine::Lagged(l) => l.core.set_weights(w),
+        }
+    }
+
+    /// Each term's name, in weight order, e.g. `tanh(y)*u`, `u^2`, `u[filter 20 s]`, `1`
+    /// (outputs are scaled before the tanh, inputs before entering); lagged: `y[k-1]`,
+    /// `tanh(y[k-1])*u[k-1]`, `1`.
+    pub fn term_names(&self, outputs: &[String], inputs: &[String]) -> Vec<String> {
+        match &self.engine {
+            Engine::Continuous(c) => c.term_names(outputs, inputs),
+            Engine::Lagged(l) => l.core.feature_names(outputs, inputs),
+        }
+    }
+
+    /// Number of terms (weights) per neuron.
+    pub fn n_terms(&self) -> usize {
+        match &self.engine {
+            Engine::Continuous(c) => c.n_terms(),
+            Engine::Lagged(l) => l.core.n_features(),
+        }
+    }
+
+    /// The scaling.
+    pub fn scaling(&self) -> &Scaling {
+        match &self.engine {
+            Engine::Continuous(c) => c.scaling(),
+            Engine::Lagged(l) => &l.scaling,
+        }
+    }
+
+    /// Everything that changes with a sample (model, weights, law states, filters, the
+    /// last samples), to save and restore around a K-step-ahead prediction.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot(match &self.engine {
+            Engine::Continuous(c) => c.snapshot(),
+            Engine::Lagged(l) => Saved::Lagged(l.core.snapshot()),
+        })
+    }
+
+    /// Restore a [`OnlineIdentifier::snapshot`] (of this identifier).
+    pub fn restore(&mut self, snap: &Snapshot) {
+        match (&mut self.engine, &snap.0) {
+            (Engine::Continuous(c), s) => c.restore(s),
+            (Engine::Lagged(l), Saved::Lagged(s)) => l.core.restore(s),
+            (Engine::Lagged(_), _) => {}
+        }
+    }
+}
+
+impl Continuous {
+    fn new(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64, scaling: Scaling) -> Result<Self> {
         let nf = spec.filters_s.len();
         let m = nu * (1 + nf) + 1;
         // Monomials of the outputs' sigmoids, the inputs and their filters, and one
@@ -205,7 +354,7 @@ impl OnlineIdentifier {
         let state = ident.initial_state(&vec![0.0; ny], None);
         let d = ident.dim();
         let scratch = Scratch::for_identifier(&ident);
-        Ok(OnlineIdentifier {
+        Ok(Continuous {
             dead_zone: scaling.y_scale.iter().map(|s| spec.dead_zone / s).collect(),
             scaling,
             hold: spec.inputs,
@@ -230,7 +379,7 @@ impl OnlineIdentifier {
     /// Take the sample `(t, u, y)`: integrate from the last sample to `t`, return the
     /// estimate of `y(t)` made before seeing `y` (the first sample returns `y`), then
     /// learn from `y`. In a free run `y` is ignored (give anything of the right length).
-    pub fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<&[f64]> {
+    fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<&[f64]> {
         match self.core().update(t, u, y) {
             Ok(()) => Ok(&self.y_hat),
             Err(UpdateError::Sizes) => Err(invalid(
@@ -302,40 +451,40 @@ impl OnlineIdentifier {
     }
 
     /// Stop (`true`) or resume adapting the weights.
-    pub fn freeze(&mut self, frozen: bool) {
+    fn freeze(&mut self, frozen: bool) {
         self.status.frozen = frozen;
     }
 
     /// Run free (`true`): the model on its own outputs, weights frozen; or back to
     /// series-parallel.
-    pub fn set_free_run(&mut self, free: bool) {
+    fn set_free_run(&mut self, free: bool) {
         self.status.free_run = free;
     }
 
     /// Forget the last sample (a new record starts): the next update restarts the model
     /// at its measurement; the weights stay.
-    pub fn reset(&mut self) {
+    fn reset(&mut self) {
         self.status.t_last = None;
     }
 
     /// Put the model's estimate at `y` (output units), as at a record's first sample.
-    pub fn set_estimate(&mut self, y: &[f64]) {
+    fn set_estimate(&mut self, y: &[f64]) {
         self.core().set_estimate(y);
     }
 
     /// Weights, one vector per output's neuron (normalised units).
-    pub fn weights(&self) -> Vec<Vec<f64>> {
+    fn weights(&self) -> Vec<Vec<f64>> {
         self.ident.weights(&self.state)
     }
 
     /// Set the weights (e.g. saved ones).
-    pub fn set_weights(&mut self, w: &[Vec<f64>]) {
+    fn set_weights(&mut self, w: &[Vec<f64>]) {
         self.ident.set_weights(&mut self.state, w);
     }
 
     /// Each term's name, in weight order, e.g. `tanh(y)*u`, `u^2`, `u[filter 20 s]`, `1`
     /// (outputs are scaled before the tanh, inputs before entering).
-    pub fn term_names(&self, outputs: &[String], inputs: &[String]) -> Vec<String> {
+    fn term_names(&self, outputs: &[String], inputs: &[String]) -> Vec<String> {
         let (ny, nu) = (outputs.len(), inputs.len());
         let signal = |i: usize| -> String {
             if i < ny {
@@ -369,19 +518,19 @@ impl OnlineIdentifier {
     }
 
     /// Number of terms per neuron.
-    pub fn n_terms(&self) -> usize {
+    fn n_terms(&self) -> usize {
         self.ident.net.n_terms()
     }
 
     /// The scaling.
-    pub fn scaling(&self) -> &Scaling {
+    fn scaling(&self) -> &Scaling {
         &self.scaling
     }
 
     /// Everything that changes with a sample (model, weights, law states, filters, the
     /// last sample), to save and restore around a K-step-ahead prediction.
-    pub fn snapshot(&self) -> Snapshot {
-        Snapshot {
+    fn snapshot(&self) -> Saved {
+        Saved::Continuous {
             state: self.state.clone(),
             t_last: self.status.t_last,
             y_last: self.y_last.clone(),
@@ -390,10 +539,18 @@ impl OnlineIdentifier {
     }
 
     /// Restore a [`OnlineIdentifier::snapshot`].
-    pub fn restore(&mut self, snap: &Snapshot) {
-        self.state.copy_from_slice(&snap.state);
-        self.status.t_last = snap.t_last;
-        self.y_last.copy_from_slice(&snap.y_last);
-        self.u_last.copy_from_slice(&snap.u_last);
+    fn restore(&mut self, snap: &Saved) {
+        if let Saved::Continuous {
+            state,
+            t_last,
+            y_last,
+            u_last,
+        } = snap
+        {
+            self.state.copy_from_slice(state);
+            self.status.t_last = *t_last;
+            self.y_last.copy_from_slice(y_last);
+            self.u_last.copy_from_slice(u_last);
+        }
     }
 }

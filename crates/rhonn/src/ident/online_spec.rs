@@ -13,6 +13,14 @@ pub use rhonn_core::online::InputHold;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct OnlineSpec {
+    /// `continuous` (default: the thesis's continuous-time neurons, series-parallel, input
+    /// filters for hidden states) or `lagged` (a discrete-time RHONN of lagged
+    /// measurements, `rhonn fit`'s `rhonn` structure, learned per sample; see `lags`).
+    #[serde(skip_serializing_if = "OnlineStructure::is_continuous")]
+    pub structure: OnlineStructure,
+    /// The lags of the `lagged` structure.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lags: Option<LagSpec>,
     /// Learning law (a `[law]` table as in scenarios); default `filtered-error` with
     /// `gamma = gain / (T L)` per neuron (T the sample time, L the number of terms).
     pub law: Option<LawSpec>,
@@ -47,6 +55,8 @@ pub struct OnlineSpec {
 impl Default for OnlineSpec {
     fn default() -> Self {
         OnlineSpec {
+            structure: OnlineStructure::Continuous,
+            lags: None,
             law: None,
             gain: 0.5,
             degree: 2,
@@ -59,6 +69,52 @@ impl Default for OnlineSpec {
             dead_zone: 0.0,
             output_margin: 0.1,
             output_terms: true,
+        }
+    }
+}
+
+/// The online identifier's structure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OnlineStructure {
+    /// Continuous-time neurons between samples (the thesis's identifier).
+    #[default]
+    Continuous,
+    /// A discrete-time RHONN of lagged measurements.
+    Lagged,
+}
+
+impl OnlineStructure {
+    fn is_continuous(&self) -> bool {
+        *self == OnlineStructure::Continuous
+    }
+}
+
+/// The lags of the `lagged` structure, as `rhonn fit`'s spec names them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LagSpec {
+    /// Output lags `output_lag_start .. output_lag_start + na - 1` (default 2).
+    pub na: usize,
+    /// Input lags `nk .. nk + nb - 1` (default 2).
+    pub nb: usize,
+    /// Input delay in samples (default 1).
+    pub nk: usize,
+    /// First output lag (default 1; K: a direct K-step-ahead predictor).
+    pub output_lag_start: usize,
+    /// The high-order terms take only the first this-many lags of each signal (default
+    /// every lag).
+    pub nonlinear_lags: Option<usize>,
+}
+
+impl Default for LagSpec {
+    fn default() -> Self {
+        LagSpec {
+            na: 2,
+            nb: 2,
+            nk: 1,
+            output_lag_start: 1,
+            nonlinear_lags: None,
         }
     }
 }
@@ -185,6 +241,27 @@ pub(super) fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64,
                 "scaling.y_bounds",
                 format!("{b:?}"),
                 format!("{ny} finite [low, high] pairs, low < high"),
+            ));
+        }
+    }
+    if spec.structure == OnlineStructure::Continuous && spec.lags.is_some() {
+        return Err(invalid(
+            "model.lags",
+            "a table",
+            "only with `structure = \"lagged\"`",
+        ));
+    }
+    if spec.structure == OnlineStructure::Lagged {
+        let continuous_only = [
+            ("a_per_s", spec.a_per_s.is_some()),
+            ("inputs", spec.inputs != InputHold::Hold),
+            ("output_terms", !spec.output_terms),
+        ];
+        if let Some((key, _)) = continuous_only.iter().find(|(_, set)| *set) {
+            return Err(invalid(
+                format!("model.{key}"),
+                "set",
+                "not with `structure = \"lagged\"` (a setting of the continuous-time neurons)",
             ));
         }
     }

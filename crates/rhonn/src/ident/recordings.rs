@@ -106,6 +106,7 @@ pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String
     for pass in 0..spec.epochs {
         let last = pass + 1 == spec.epochs;
         let mut max_norm = vec![0.0f64; ny];
+        id.new_pass();
         for r in records {
             id.reset();
             id.freeze(false);

@@ -160,18 +160,24 @@ fn fit_terms(
     }
     let (ni, no) = (inputs.len(), outputs.len());
     check_regressor_count(spec, ni, no)?;
-    model.terms = match (spec.kind, given_terms) {
-        (Kind::Rhonn, Some(t)) => t,
-        (Kind::Rhonn, None) => {
-            let sub = nonlinear_regressors(spec, ni, no);
-            let t = Terms::monomials(sub.len(), spec.degree, spec.max_factors);
-            (0..t.len())
-                .map(|k| t.factors(k).into_iter().map(|[i, e]| [sub[i], e]).collect())
-                .collect()
-        }
-        _ => vec![],
+    model.terms = match given_terms {
+        Some(t) if spec.kind == Kind::Rhonn => t,
+        _ => lagged_terms(spec, ni, no),
     };
     fit_weights(model, records)
+}
+
+/// The high-order terms of a lagged structure (`rhonn`: every monomial of its
+/// nonlinear regressors; `arx`: none), as factor lists over the regressors.
+pub(crate) fn lagged_terms(spec: &ModelSpec, ni: usize, no: usize) -> Vec<Vec<[usize; 2]>> {
+    if spec.kind != Kind::Rhonn {
+        return vec![];
+    }
+    let sub = nonlinear_regressors(spec, ni, no);
+    let t = Terms::monomials(sub.len(), spec.degree, spec.max_factors);
+    (0..t.len())
+        .map(|k| t.factors(k).into_iter().map(|[i, e]| [sub[i], e]).collect())
+        .collect()
 }
 
 /// Check the spec and the records and make an untrained model: names, sample time,

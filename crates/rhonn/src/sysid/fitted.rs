@@ -4,8 +4,8 @@
 use super::*;
 
 /// What `rhonn fit` writes to `model.json`: the model (with an ensemble's further
-/// members) and, for a RHONN, the ARX baseline with the same lags, trained on the same
-/// data.
+/// members) and, for a RHONN, an ARX baseline trained on the same data: the one with the
+/// same lags, or the best ARX of a structure selection.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FittedModel {
@@ -17,8 +17,8 @@ pub struct FittedModel {
     /// prediction (free run or K steps ahead). Empty for a single model.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub members: Vec<Model>,
-    /// The linear baseline with the first member's lags (None when that is itself an
-    /// ARX).
+    /// The linear baseline: the ARX with the first member's lags, or the best ARX on the
+    /// folds when the structure was selected (None when the model is itself an ARX).
     pub baseline: Option<Model>,
     /// The data's units by column (`rhonn fit --units`), for what people read; absent
     /// when none were given.
@@ -119,16 +119,18 @@ pub fn fit_with_baseline(
     inputs: &[String],
     outputs: &[String],
 ) -> Result<FittedModel> {
-    fit_ensemble(std::slice::from_ref(spec), records, inputs, outputs)
+    fit_ensemble(std::slice::from_ref(spec), records, inputs, outputs, None)
 }
 
 /// Train every structure of an ensemble (one structure: a single model) and, when the
-/// first is a RHONN, the ARX baseline with the first one's lags.
+/// first is not an ARX, an ARX baseline: `baseline` when given (a structure selection's
+/// best ARX; it must be an ARX), else the ARX with the first structure's lags.
 pub fn fit_ensemble(
     specs: &[ModelSpec],
     records: &[Record],
     inputs: &[String],
     outputs: &[String],
+    baseline: Option<&ModelSpec>,
 ) -> Result<FittedModel> {
     let spec = specs
         .first()
@@ -138,13 +140,16 @@ pub fn fit_ensemble(
         .iter()
         .map(|s| fit(s, records, inputs, outputs))
         .collect::<Result<Vec<_>>>()?;
+    if let Some(b) = baseline.filter(|b| b.kind != Kind::Arx) {
+        return Err(invalid("baseline.kind", format!("{:?}", b.kind), "arx"));
+    }
     let baseline = if spec.kind != Kind::Arx {
-        let arx = ModelSpec {
+        let arx = baseline.cloned().unwrap_or_else(|| ModelSpec {
             kind: Kind::Arx,
             law: Estimator::BatchLs,
             ridge: 1e-9,
             ..spec.clone()
-        };
+        });
         Some(fit(&arx, records, inputs, outputs)?)
     } else {
         None

@@ -36,10 +36,13 @@ mod train;
 use checks::ensure_finite_model;
 pub use checks::{data_warnings, decorrelation_lag, ensure_finite_figures, free_run_at_bound};
 pub use estimate::fit;
+pub(crate) use estimate::lagged_terms;
 pub use fitted::{fit_ensemble, fit_with_baseline, parse_spec_file, FittedModel};
 use lm::lm;
 pub use predict::{predict, samples_needed, PredictSummary, Prediction};
-pub use train::{train, BaselineSummary, FitSummary, MemberSummary, RecordFigures, TrainingFigures};
+pub use train::{
+    train, train_beside, BaselineSummary, FitSummary, MemberSummary, RecordFigures, TrainingFigures,
+};
 
 use crate::data::Record;
 use crate::error::{invalid, Result};
@@ -315,6 +318,11 @@ impl ModelSpec {
             .max(if self.nb > 0 { self.nk + self.nb - 1 } else { 0 })
             .max(self.nk)
     }
+
+    /// The lags in words, e.g. `na 4 nb 4 nk 1`.
+    pub fn lags_name(&self) -> String {
+        format!("na {} nb {} nk {}", self.na, self.nb, self.nk)
+    }
 }
 
 /// The most lagged regressors (output lags, input lags and filtered inputs) a lagged
@@ -323,7 +331,7 @@ pub const MAX_REGRESSORS: usize = 128;
 
 /// A lagged model's regressor count against [`MAX_REGRESSORS`], for a spec trained here or
 /// read from a hand-edited `model.json`.
-fn check_regressor_count(spec: &ModelSpec, ni: usize, no: usize) -> Result<()> {
+pub(crate) fn check_regressor_count(spec: &ModelSpec, ni: usize, no: usize) -> Result<()> {
     let nphi = n_phi(spec, ni, no);
     if !matches!(spec.kind, Kind::Cascade | Kind::Pump) && nphi > MAX_REGRESSORS {
         return Err(invalid(
@@ -371,7 +379,7 @@ impl Model {
 
     /// The features at sample k, given normalised output history `yn(j, k - i)` and
     /// inputs; written into `feat` (length [`Model::n_features`]).
-    fn features(
+    pub(crate) fn features(
         &self,
         yhist: &dyn Fn(usize, usize) -> f64,
         un: &[Vec<f64>],
@@ -490,7 +498,7 @@ impl Model {
         n_phi(&self.spec, self.ni(), self.no()) + self.terms.len() + 1
     }
 
-    fn terms(&self) -> Terms {
+    pub(crate) fn terms(&self) -> Terms {
         if self.terms.is_empty() {
             Terms::empty()
         } else {

@@ -94,7 +94,7 @@ fn an_ensemble_predicts_the_mean_of_its_members() {
         },
     ];
     let rec = record(1, 400, true);
-    let ens = fit_ensemble(&specs, std::slice::from_ref(&rec), &i, &o).unwrap();
+    let ens = fit_ensemble(&specs, std::slice::from_ref(&rec), &i, &o, None).unwrap();
     assert_eq!(ens.members.len(), 1);
     ens.validate().unwrap();
     assert_eq!(ens.max_lag(), 3);

@@ -38,6 +38,10 @@ pub struct MemberSummary {
 /// The ARX baseline's size and training figures.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BaselineSummary {
+    /// Its lags, e.g. `na 4 nb 4 nk 1`.
+    pub structure: String,
+    /// Why this ARX: `same lags` as the model, or `best ARX on the folds` of a selection.
+    pub chosen_as: &'static str,
     /// Features per output.
     pub features: usize,
     /// One step ahead on every record.
@@ -103,7 +107,19 @@ pub fn train(
     inputs: &[String],
     outputs: &[String],
 ) -> Result<(FittedModel, FitSummary)> {
-    let fitted = fit_ensemble(specs, records, inputs, outputs)?;
+    train_beside(specs, None, records, inputs, outputs)
+}
+
+/// [`train`] beside the ARX structure `baseline` (a structure selection's best ARX on the
+/// folds) instead of the ARX with the same lags; None: the same lags.
+pub fn train_beside(
+    specs: &[ModelSpec],
+    baseline: Option<&ModelSpec>,
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<(FittedModel, FitSummary)> {
+    let fitted = fit_ensemble(specs, records, inputs, outputs, baseline)?;
     let m = &fitted.model;
     let summary = FitSummary {
         rhonn_version: env!("CARGO_PKG_VERSION"),
@@ -127,6 +143,12 @@ pub fn train(
         }),
         baseline_arx: match &fitted.baseline {
             Some(b) => Some(BaselineSummary {
+                structure: b.spec.lags_name(),
+                chosen_as: if baseline.is_some() {
+                    "best ARX on the folds"
+                } else {
+                    "same lags"
+                },
                 features: b.n_features(),
                 one_step: figures_on(b, |r| b.predict(r, Some(1)), records)?,
                 free_run: figures_on(b, |r| b.predict(r, None), records)?,
