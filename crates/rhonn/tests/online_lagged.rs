@@ -225,3 +225,51 @@ fn the_pump_lagged_model_predicts_10_samples_ahead_at_least_as_its_arx() {
     assert!(online >= arx_fit, "online {online} % < ARX {arx_fit} %");
     assert!((online - 84.2).abs() < 0.5, "{online}");
 }
+
+/// Ten passes over the noisy pump-identify record with the lagged structure's laws. Least
+/// squares: the weight norm does not grow pass over pass (each of the last five passes'
+/// peak within 2 % of the one before). The normalised gradient law, slower, climbs toward
+/// the least-squares weights from zero: its growth shrinks pass after pass and its norm
+/// stays below the least-squares weights' final norm (plus 5 %); a drifting law would
+/// pass both.
+#[test]
+fn lagged_weights_stay_bounded_over_ten_passes_of_noisy_pump_data() {
+    let rec = [pump("pump-identify")];
+    let run = |law: Option<rhonn::law::LawSpec>| {
+        let spec = OnlineSpec {
+            law,
+            epochs: 10,
+            ..lagged(LagSpec {
+                na: 4,
+                nb: 10,
+                nk: 1,
+                output_lag_start: 1,
+                nonlinear_lags: Some(1),
+            })
+        };
+        let run = identify_records(&spec, &rec, &["p_meas".into()]).unwrap();
+        let w = run.identifier.weights();
+        let final_norm = w[0].iter().map(|v| v * v).sum::<f64>().sqrt();
+        let norms: Vec<f64> = run.max_norm_per_pass.iter().map(|p| p[0]).collect();
+        assert!(norms.iter().all(|n| n.is_finite() && *n > 0.0), "{norms:?}");
+        (norms, final_norm)
+    };
+    let (ls, ls_final) = run(None);
+    for w in ls[4..].windows(2) {
+        assert!(w[1] <= w[0] * 1.02, "least squares: {ls:?}");
+    }
+    let (gr, _) = run(Some(rhonn::law::LawSpec::FilteredRegressorGradient {
+        gamma: vec![],
+    }));
+    eprintln!("least squares {ls:?} (final {ls_final}), gradient {gr:?}");
+    for w in gr[4..].windows(3) {
+        assert!(
+            w[2] - w[1] <= w[1] - w[0],
+            "gradient: growth does not shrink: {gr:?}"
+        );
+    }
+    assert!(
+        gr.iter().all(|n| *n <= 1.05 * ls_final),
+        "gradient {gr:?}, least squares {ls_final}"
+    );
+}
