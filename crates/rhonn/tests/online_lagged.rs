@@ -165,6 +165,21 @@ fn lagged_settings_are_checked() {
         ..lagged(LagSpec::default())
     });
     assert!(e.contains("model.law"), "{e}");
+    let e = err(OnlineSpec {
+        law: Some(rhonn::law::LawSpec::FilteredRegressorGradient {
+            gamma: vec![rhonn::law::GainSpec::Scalar(2.5)],
+        }),
+        ..lagged(LagSpec::default())
+    });
+    assert!(e.contains("model.law.gamma") && e.contains("2.5"), "{e}");
+    let e = err(OnlineSpec {
+        law: Some(rhonn::law::LawSpec::FilteredRegressorLs {
+            p0: vec![10.0],
+            floor: Some(vec![1.0]),
+        }),
+        ..lagged(LagSpec::default())
+    });
+    assert!(e.contains("model.law") && e.contains("no floor"), "{e}");
     let e = err(lagged(LagSpec {
         na: 0,
         ..LagSpec::default()

@@ -14,7 +14,7 @@
 
 use super::online_spec::{LagSpec, OnlineSpec, Scaling};
 use crate::error::{invalid, Result};
-use crate::law::{Gradient, LawSpec, LearningLaw, LeastSquares, Rule};
+use crate::law::{GainSpec, Gradient, LawSpec, LearningLaw, LeastSquares, Rule};
 use crate::net::Terms;
 use crate::sysid::{Kind, Model, ModelSpec};
 
@@ -73,25 +73,36 @@ pub(super) fn model_spec(spec: &OnlineSpec, lags: &LagSpec) -> ModelSpec {
 }
 
 /// The sampled law of a lagged spec: least squares (default, `p0 = 1e3` as `rhonn fit`'s
-/// `rls`) or the normalised gradient law.
+/// `rls`; or `filtered-regressor-ls` with one `p0`) or the normalised gradient law
+/// (`filtered-regressor-gradient` with one scalar `gamma`, or none: the spec's `gain`),
+/// whose sampled step is stable for a step in (0, 2). Nothing given is ignored.
 fn rule(spec: &OnlineSpec) -> Result<Rule> {
+    let allowed = "for `structure = \"lagged\"`: none (least squares, p0 = 1e3), `filtered-regressor-ls` with one p0 > 0 and no floor, or `filtered-regressor-gradient` with one scalar gamma in (0, 2) (or none: `gain`)";
     match &spec.law {
         None => Ok(Rule::LeastSquares(LeastSquares {
             p0: vec![1e3],
             floor: vec![0.0],
         })),
-        Some(LawSpec::FilteredRegressorLs { p0, .. }) if p0.len() == 1 && p0[0].is_finite() && p0[0] > 0.0 => {
+        Some(LawSpec::FilteredRegressorLs { p0, floor: None })
+            if p0.len() == 1 && p0[0].is_finite() && p0[0] > 0.0 =>
+        {
             Ok(Rule::LeastSquares(LeastSquares {
                 p0: p0.clone(),
                 floor: vec![0.0],
             }))
         }
-        Some(LawSpec::FilteredRegressorGradient { .. }) => Ok(Rule::Gradient(Gradient::scalar(spec.gain.min(1.99), 1))),
-        Some(other) => Err(invalid(
-            "model.law",
-            format!("{other:?}"),
-            "for `structure = \"lagged\"`: none (least squares, p0 = 1e3), `filtered-regressor-ls` with one p0 > 0, or `filtered-regressor-gradient` (step `gain`)",
-        )),
+        Some(LawSpec::FilteredRegressorGradient { gamma }) => {
+            let g = match gamma.as_slice() {
+                [] => spec.gain,
+                [GainSpec::Scalar(g)] => *g,
+                _ => return Err(invalid("model.law.gamma", format!("{gamma:?}"), allowed)),
+            };
+            if !(g.is_finite() && g > 0.0 && g < 2.0) {
+                return Err(invalid("model.law.gamma", g, allowed));
+            }
+            Ok(Rule::Gradient(Gradient::scalar(g, 1)))
+        }
+        Some(other) => Err(invalid("model.law", format!("{other:?}"), allowed)),
     }
 }
 
