@@ -115,10 +115,10 @@ pub enum SpecError {
     /// A buffer would need this many entries, more than its capacity (`S` for the
     /// signals, outputs and network inputs; `C` for the state, terms and factors).
     Capacity(usize),
-    /// No output or no input, a degree outside 1 to 4, `max_factors` outside 1 to the
-    /// degree, lists of the wrong length, or a scale, sample time, gain, pole, filter or
-    /// radius that is not a finite number > 0.
-    Invalid,
+    /// The named field is refused: no output or no input (`scaling`), a degree outside 1
+    /// to 4, `max_factors` outside 1 to the degree, lists of the wrong length, or a scale,
+    /// sample time, gain, pole, filter or radius that is not a finite number > 0.
+    Invalid(&'static str),
 }
 
 /// A general online identifier in arrays of capacities `S` (at least the outputs plus the
@@ -221,26 +221,34 @@ impl<T: Real, const S: usize, const C: usize> FixedOnline<T, S, C> {
     fn configure_checked(&mut self, spec: &FixedSpec<'_, T>) -> Result<(), SpecError> {
         let sc = &spec.scaling;
         let (ny, nu, nf) = (sc.y_scale.len(), sc.u_scale.len(), spec.filters_s.len());
-        let lists_ok = sc.y_offset.len() == ny
-            && sc.u_offset.len() == nu
-            && spec.dead_zone.len() == ny
-            && sc
-                .y_bounds
-                .map_or(true, |b| b.len() == ny && b.iter().all(|[lo, hi]| lo < hi))
-            && spec.robust.map_or(true, |(_, m, s)| {
-                m.len() == ny && s.len() == ny && positive(m) && positive(s)
-            });
-        if ny == 0
-            || nu == 0
-            || !(1..=4).contains(&spec.degree)
-            || !(1..=spec.degree).contains(&spec.max_factors)
-            || !lists_ok
-            || !positive(sc.y_scale)
-            || !positive(sc.u_scale)
-            || !positive(&[spec.period_s, spec.gain, spec.a_per_s.unwrap_or(T::of(1.0))])
-            || !positive(spec.filters_s)
-        {
-            return Err(SpecError::Invalid);
+        let checks = [
+            (ny > 0 && nu > 0, "scaling (no output or no input)"),
+            (
+                sc.y_offset.len() == ny && sc.u_offset.len() == nu,
+                "scaling offsets",
+            ),
+            (positive(sc.y_scale) && positive(sc.u_scale), "scaling scales"),
+            (
+                sc.y_bounds
+                    .map_or(true, |b| b.len() == ny && b.iter().all(|[lo, hi]| lo < hi)),
+                "scaling.y_bounds",
+            ),
+            (spec.dead_zone.len() == ny, "dead_zone"),
+            (
+                spec.robust.map_or(true, |(_, m, s)| {
+                    m.len() == ny && s.len() == ny && positive(m) && positive(s)
+                }),
+                "robust (radius, leakage)",
+            ),
+            ((1..=4).contains(&spec.degree), "degree"),
+            ((1..=spec.degree).contains(&spec.max_factors), "max_factors"),
+            (positive(&[spec.period_s]), "period_s"),
+            (positive(&[spec.gain]), "gain"),
+            (positive(&[spec.a_per_s.unwrap_or(T::of(1.0))]), "a_per_s"),
+            (positive(spec.filters_s), "filters_s"),
+        ];
+        if let Some((_, field)) = checks.iter().find(|(ok, _)| !ok) {
+            return Err(SpecError::Invalid(field));
         }
         let m = nu * (1 + nf) + 1;
         let id = self;

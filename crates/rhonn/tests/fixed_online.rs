@@ -189,7 +189,7 @@ fn the_fixed_identifier_refuses_what_does_not_fit_and_bad_samples() {
     assert_eq!(id.n_terms(), 36);
     assert_eq!(
         FixedOnline::<f32, 8, 64>::new(&FixedSpec { degree: 5, ..spec }).unwrap_err(),
-        SpecError::Invalid
+        SpecError::Invalid("degree")
     );
     assert_eq!(
         FixedOnline::<f32, 8, 64>::new(&FixedSpec {
@@ -197,7 +197,7 @@ fn the_fixed_identifier_refuses_what_does_not_fit_and_bad_samples() {
             ..spec
         })
         .unwrap_err(),
-        SpecError::Invalid
+        SpecError::Invalid("period_s")
     );
     assert_eq!(id.update(0.0, &[0.1], &[0.0]).unwrap_err(), UpdateError::Sizes);
     assert_eq!(
@@ -217,7 +217,7 @@ fn the_fixed_identifier_refuses_what_does_not_fit_and_bad_samples() {
     assert_eq!(empty.update(0.0, &[], &[]).unwrap_err(), UpdateError::Sizes);
     assert_eq!(
         empty.configure(&FixedSpec { degree: 0, ..spec }),
-        Err(SpecError::Invalid)
+        Err(SpecError::Invalid("degree"))
     );
     assert_eq!(
         empty.update(0.0, &[0.1, 0.2], &[0.3]).unwrap_err(),
