@@ -126,7 +126,11 @@ pub enum Command {
     /// the measured outputs; unmeasured states are stood in for by filtered inputs
     /// (`filters_s`). Model spec (TOML, every key optional): law (a [law] table),
     /// gain, degree, max_factors, a_per_s, filters_s, inputs, epochs,
-    /// freeze_after_s, dead_zone. Writes into DIR:
+    /// freeze_after_s, dead_zone, output_margin, output_terms. Or
+    /// `structure = "lagged"` with `lags = { na, nb, nk, output_lag_start,
+    /// nonlinear_lags }`: a discrete-time RHONN of lagged measurements (rhonn fit's
+    /// lagged model) learned sample by sample by recursive least squares
+    /// (models/tanks-online-lagged.toml). Writes into DIR:
     ///   estimate.csv    record, t, per output <name> and <name>_hat (final pass)
     ///   weights.csv     record, t, the weight norm of each neuron, error_energy,
     ///                   every weight w_<output>_<k> when there are at most 50

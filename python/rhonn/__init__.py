@@ -349,7 +349,9 @@ class OnlineIdentifier(_OnlineIdentifier):
     dt : float
         Sample time [s].
     model : str, path or dict, optional
-        Settings (``models/tanks-online.toml``'s keys: law, gain, degree, filters_s, ...).
+        Settings (``models/tanks-online.toml``'s keys: law, gain, degree, filters_s, ...;
+        or ``{"structure": "lagged", "lags": {"na": 3, "nb": 2}}``: a lagged RHONN learned
+        by recursive least squares, ``models/tanks-online-lagged.toml``).
     y_offset, y_scale, u_offset, u_scale : sequence of float, optional
         The identifier sees ``(signal - offset) / scale``.
     y_bounds : sequence of (low, high), optional
