@@ -407,7 +407,7 @@ impl LaggedOnline {
             return Err(crate::error::Error::NotFinite {
                 what: format!("the online identifier's weights at t = {t} s"),
                 cause: format!(
-                    "the lagged least-squares update diverged (measured {y:?}): raise p0's conditioning by scaling, add a dead zone, or use fewer lags"
+                    "the lagged least-squares update diverged (measured {y:?}): lower p0 (law.p0), add a dead zone, or use fewer lags"
                 ),
             });
         }
