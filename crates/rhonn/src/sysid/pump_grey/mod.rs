@@ -339,6 +339,26 @@ fn simulate(pump: &GreyPump, r: &Record, k: usize, mut z: [f64; 3], steps: usize
     }
 }
 
+/// The state the fitted `pump` model's filter estimates after each sample of `r`:
+/// `[P_l Pa, x m, b m^3/s]` (the same estimates its K-step predictions start from).
+pub fn estimate_states(m: &Model, r: &Record) -> Result<Vec<[f64; 3]>> {
+    if m.spec.kind != super::Kind::Pump {
+        return Err(invalid(
+            "estimate_states",
+            format!("{:?} model", m.spec.kind),
+            "a `pump` model",
+        ));
+    }
+    check_record_units(m, r)?;
+    let pump = pump_of(&m.weights[0], &m.spec, m.sample_time_s);
+    let noise = noise_for(&m.spec, &pump, r);
+    let f = filter(&pump, noise, &r.inputs[0], &r.inputs[1], &r.outputs[0], r.len());
+    for (k, z) in f.states.iter().enumerate() {
+        ensure_finite_state(m, r, k, *z)?;
+    }
+    Ok(f.states)
+}
+
 /// The pressures \[Pa\] a fitted `pump` model predicts for samples k + 1 ..= k + steps of
 /// `r` from a given state `[P_l Pa, x m, b m^3/s]` at sample k (for instance the true
 /// state of a simulated record, to measure what the state estimate costs).
