@@ -101,12 +101,7 @@ fn tanks_identified_online_then_frozen_writes_every_file_and_the_figures_of_the_
     assert!((ahead - 0.874).abs() < 0.01, "{ahead}");
     assert!(!s["findings"].as_array().unwrap().is_empty());
     // Every weight is listed (28 terms <= 50), and named in the summary.
-    let terms: Vec<&str> = s["terms"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|t| t.as_str().unwrap())
-        .collect();
+    let terms = term_names(&s);
     assert_eq!(terms.len(), s["terms_per_neuron"].as_u64().unwrap() as usize);
     assert_eq!(w.lines().next().unwrap().split(',').count(), 4 + terms.len());
     assert!(
@@ -328,17 +323,27 @@ fn a_least_squares_model_validates_as_its_saved_model_predicts() {
     );
 }
 
-/// The lagged structure on the cascaded tanks (`models/tanks-online-lagged.toml`): the
-/// README's figures, below the ARX(2,2) free run fitted in the same test, with its
-/// terms named by lag, and `rhonn predict` of its model.json giving the validation's
-/// figures.
-#[test]
-fn tanks_lagged_online_model_runs_free_below_arx_and_predicts_as_validated() {
+/// The `terms` of an identify summary.json.
+fn term_names(s: &serde_json::Value) -> Vec<&str> {
+    s["terms"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t.as_str().unwrap())
+        .collect()
+}
+
+/// An online structure on the cascaded tanks through the commands: `rhonn identify` of
+/// `spec` on estimation.csv validated on validation.csv (free run and 10 samples ahead),
+/// ARX(2,2) fitted by `rhonn fit` on the same file and run free, and `rhonn predict` of
+/// the identified model.json, which must give the validation's figures. Returns the
+/// summary, the free-run and 10-ahead RMS errors and the ARX's.
+fn tanks_online(spec: &str) -> (serde_json::Value, f64, f64, f64) {
     let d = tempfile::tempdir().unwrap();
     let data = repo().join("data/cascaded-tanks");
     let (est, val) = (data.join("estimation.csv"), data.join("validation.csv"));
     let (est, val) = (est.to_str().unwrap(), val.to_str().unwrap());
-    let spec = repo().join("models/tanks-online-lagged.toml");
+    let spec = repo().join(spec);
     let o = rhonn(
         d.path(),
         &[
@@ -364,23 +369,8 @@ fn tanks_lagged_online_model_runs_free_below_arx_and_predicts_as_validated() {
         serde_json::from_str(&std::fs::read_to_string(d.path().join(f)).unwrap()).unwrap()
     };
     let s = read("id/summary.json");
-    // README figures: free run 0.641 V, 10 samples ahead 0.277 V.
     let free = s["validation"][0]["free_run_rms_error"].as_f64().unwrap();
-    assert!((free - 0.641).abs() < 0.01, "{free}");
     let ahead = s["validation"][0]["ahead_rms_error"].as_f64().unwrap();
-    assert!((ahead - 0.277).abs() < 0.01, "{ahead}");
-    let terms: Vec<&str> = s["terms"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|t| t.as_str().unwrap())
-        .collect();
-    assert!(
-        terms.contains(&"y[k-3]") && terms.contains(&"tanh(y[k-1])*u[k-2]") && terms.contains(&"1"),
-        "{terms:?}"
-    );
-    assert_eq!(s["model"]["structure"], "lagged");
-    // ARX(2,2), fitted on the same file by `rhonn fit`, run free on validation.csv.
     std::fs::write(d.path().join("arx.toml"), "kind = \"arx\"\nna = 2\nnb = 2\n").unwrap();
     let o = rhonn(
         d.path(),
@@ -414,7 +404,6 @@ fn tanks_lagged_online_model_runs_free_below_arx_and_predicts_as_validated() {
     let arx = read("pa/summary.json")["outputs"][0]["rms_error"]
         .as_f64()
         .unwrap();
-    assert!(free < arx, "online lagged {free} V, ARX(2,2) {arx} V");
     let p = read("p/summary.json")["figures"][0]["rms_error"]
         .as_f64()
         .unwrap();
@@ -424,5 +413,46 @@ fn tanks_lagged_online_model_runs_free_below_arx_and_predicts_as_validated() {
     assert!(
         (p - free).abs() < 1e-12 && (p10 - ahead).abs() < 1e-12,
         "{p} {p10}"
+    );
+    (s, free, ahead, arx)
+}
+
+/// The lagged structure on the cascaded tanks (`models/tanks-online-lagged.toml`): the
+/// README's figures, below the ARX(2,2) free run fitted in the same test, with its
+/// terms named by lag, and `rhonn predict` of its model.json giving the validation's
+/// figures.
+#[test]
+fn tanks_lagged_online_model_runs_free_below_arx_and_predicts_as_validated() {
+    let (s, free, ahead, arx) = tanks_online("models/tanks-online-lagged.toml");
+    // README figures: free run 0.641 V, 10 samples ahead 0.277 V.
+    assert!((free - 0.641).abs() < 0.01, "{free}");
+    assert!((ahead - 0.277).abs() < 0.01, "{ahead}");
+    let terms = term_names(&s);
+    assert!(
+        terms.contains(&"y[k-3]") && terms.contains(&"tanh(y[k-1])*u[k-2]") && terms.contains(&"1"),
+        "{terms:?}"
+    );
+    assert_eq!(s["model"]["structure"], "lagged");
+    assert!(free < arx, "online lagged {free} V, ARX(2,2) {arx} V");
+}
+
+/// The cascade structure on the cascaded tanks (`models/tanks-online-cascade.toml`):
+/// identified online on estimation.csv, frozen, it runs free on validation.csv within the
+/// issue's goal (0.35 V) and far below ARX(2,2); the README's figures; its parameters
+/// named; `rhonn predict` of its model.json giving the validation's figures.
+#[test]
+fn tanks_cascade_online_model_runs_free_within_the_goal() {
+    let (s, free, ahead, arx) = tanks_online("models/tanks-online-cascade.toml");
+    eprintln!("online cascade: free run {free} V, 10 ahead {ahead} V, ARX(2,2) {arx} V");
+    assert!(free < 0.35, "free run {free} V");
+    assert!(free < 0.6 * arx, "online cascade {free} V, ARX(2,2) {arx} V");
+    // README figures: free run 0.243 V, 10 samples ahead 0.180 V.
+    assert!((free - 0.243).abs() < 0.01, "{free}");
+    assert!((ahead - 0.180).abs() < 0.01, "{ahead}");
+    assert_eq!(s["model"]["structure"], "cascade");
+    let terms = term_names(&s);
+    assert_eq!(
+        terms,
+        ["b[u]", "k1", "k2", "alpha1", "alpha2", "g1", "o1", "xmax1", "xmax2", "c"]
     );
 }

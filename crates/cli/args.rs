@@ -130,7 +130,11 @@ pub enum Command {
     /// `structure = "lagged"` with `lags = { na, nb, nk, output_lag_start,
     /// nonlinear_lags }`: a discrete-time RHONN of lagged measurements (rhonn fit's
     /// lagged model) learned sample by sample by recursive least squares
-    /// (models/tanks-online-lagged.toml). Writes into DIR:
+    /// (models/tanks-online-lagged.toml). Or `structure = "cascade"` with `cascade = {
+    /// neurons, starts, measurement_var, pass_var, ... }`: rhonn fit's continuous-time
+    /// cascade with hidden neurons (one output), its parameters and hidden levels
+    /// learned by extended Kalman filters from several starts; use epochs = 4 or more
+    /// (models/tanks-online-cascade.toml). Writes into DIR:
     ///   estimate.csv    record, t, per output <name> and <name>_hat (final pass)
     ///   weights.csv     record, t, the weight norm of each neuron, error_energy,
     ///                   every weight w_<output>_<k> when there are at most 50

@@ -351,7 +351,10 @@ class OnlineIdentifier(_OnlineIdentifier):
     model : str, path or dict, optional
         Settings (``models/tanks-online.toml``'s keys: law, gain, degree, filters_s, ...;
         or ``{"structure": "lagged", "lags": {"na": 3, "nb": 2}}``: a lagged RHONN learned
-        by recursive least squares, ``models/tanks-online-lagged.toml``).
+        by recursive least squares, ``models/tanks-online-lagged.toml``; or
+        ``{"structure": "cascade", "epochs": 4}``: the continuous-time cascade with a
+        hidden neuron learned by extended Kalman filters, one output,
+        ``models/tanks-online-cascade.toml``).
     y_offset, y_scale, u_offset, u_scale : sequence of float, optional
         The identifier sees ``(signal - offset) / scale``.
     y_bounds : sequence of (low, high), optional

@@ -78,3 +78,28 @@ def test_lagged_structure_matches_rhonn_identify_and_predicts(tmp_path, root, rh
     free = frozen.predict(val["u"], val["y"])
     rms = float(np.sqrt(np.mean((free[:, 0] - val["y"]) ** 2)))
     assert 0.55 < rms < 0.70, rms  # the README's 0.641 V (its first 3 samples are measured)
+
+
+def test_cascade_structure_matches_rhonn_identify(tmp_path, root, rhonn_bin, tanks):
+    """The cascade structure from Python (as a dict), one pass: the command's estimates,
+    parameters and their names."""
+    est, _ = tanks
+    spec = tmp_path / "cascade.toml"
+    spec.write_text('structure = "cascade"\ncascade = { starts = 8 }\n')
+    subprocess.run(
+        [rhonn_bin, "identify", "--data", str(root / "data/cascaded-tanks/estimation.csv"), "--inputs", "u",
+         "--outputs", "y", "--model", str(spec), "--out", str(tmp_path / "id")],
+        check=True, capture_output=True, cwd=root,
+    )
+    cli_model = json.loads((tmp_path / "id/model.json").read_text())
+    sc = cli_model["scaling"]
+    ident = rhonn.OnlineIdentifier(
+        ["u"], ["y"], dt=4.0, model={"structure": "cascade", "cascade": {"starts": 8}},
+        y_offset=sc["y_offset"], y_scale=sc["y_scale"], u_offset=sc["u_offset"], u_scale=sc["u_scale"],
+        y_bounds=sc["y_bounds"],
+    )
+    y_hat = np.array([ident.update(t, [u], [y])[0] for t, u, y in zip(est["t"], est["u"], est["y"])])
+    assert ident.term_names == ["b[u]", "k1", "k2", "alpha1", "alpha2", "g1", "o1", "xmax1", "xmax2", "c"]
+    np.testing.assert_allclose(ident.weights, np.array(cli_model["weights"]), rtol=1e-12, atol=0)
+    estimate = read_csv(tmp_path / "id/estimate.csv")
+    np.testing.assert_allclose(y_hat, estimate["y_hat"], rtol=0, atol=1e-12)

@@ -11,7 +11,12 @@ With --lagged the grid is the lagged structure's (`structure = "lagged"`, learne
 least squares sample by sample, one pass): na and nb 1..4, degree 2 or 3, nonlinear lags
 all or 1 (64 settings); it chose models/tanks-online-lagged.toml.
 
-Usage: python3 tools/select/tanks_online_cv.py [--lagged] [path/to/rhonn] [out.toml]
+With --cascade the grid is the cascade structure's (`structure = "cascade"`, extended
+Kalman filters from seeded starts): starts 16 or 32, passes 2, 4 or 8, pass_var 1e-3,
+1e-2 or 1e-1, measurement_var 1e-3 or 1e-2 (36 settings); it chose
+models/tanks-online-cascade.toml.
+
+Usage: python3 tools/select/tanks_online_cv.py [--lagged|--cascade] [path/to/rhonn] [out.toml]
 """
 import itertools, json, os, subprocess, sys, tempfile
 
@@ -19,7 +24,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from folds import rank, write_thirds  # noqa: E402
 
 lagged = "--lagged" in sys.argv
-args = [a for a in sys.argv[1:] if a != "--lagged"]
+cascade = "--cascade" in sys.argv
+args = [a for a in sys.argv[1:] if a not in ("--lagged", "--cascade")]
 exe = args[0] if len(args) > 0 else "target/release/rhonn"
 out_toml = args[1] if len(args) > 1 else None
 here = os.path.dirname(os.path.abspath(__file__))
@@ -27,6 +33,11 @@ data = os.path.join(here, "..", "..", "data", "cascaded-tanks", "estimation.csv"
 
 
 def toml(c):
+    if c.get("cascade"):
+        return "\n".join([
+            'structure = "cascade"', f"epochs = {c['epochs']}",
+            f"cascade = {{ starts = {c['starts']}, pass_var = {c['pass_var']}, "
+            f"measurement_var = {c['r']} }}"]) + "\n"
     if c.get("lagged"):
         nl = f", nonlinear_lags = {c['nl']}" if c["nl"] else ""
         return "\n".join([
@@ -71,6 +82,9 @@ def main():
     if lagged:
         grid = [dict(lagged=True, na=na, nb=nb, degree=dg, nl=nl)
                 for na, nb, dg, nl in itertools.product([1, 2, 3, 4], [1, 2, 3, 4], [2, 3], [None, 1])]
+    if cascade:
+        grid = [dict(cascade=True, starts=st, epochs=ep, pass_var=pv, r=r)
+                for st, ep, pv, r in itertools.product([16, 32], [2, 4, 8], [1e-3, 1e-2, 1e-1], [1e-3, 1e-2])]
     with tempfile.TemporaryDirectory() as d:
         thirds = write_thirds(data, d)
         rank(grid, lambda c: run(c, thirds, d), toml, "{:.3f} V", False, out_toml)

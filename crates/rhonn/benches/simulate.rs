@@ -287,6 +287,52 @@ fn bench_online(c: &mut Criterion) {
     );
 }
 
+/// The cascade structure of models/tanks-online-cascade.toml: one update (32 extended
+/// Kalman filters, 10 parameters and 2 levels each), and its 8 passes over the
+/// cascaded tanks' estimation record (1,024 samples).
+fn bench_online_cascade(c: &mut Criterion) {
+    use rhonn::ident::{identify_records, OnlineIdentifier, OnlineSpec, Scaling};
+    let spec: OnlineSpec = toml::from_str(include_str!("../../../models/tanks-online-cascade.toml")).unwrap();
+    let text = include_str!("../../../data/cascaded-tanks/estimation.csv");
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.trim().parse().unwrap()).collect())
+        .collect();
+    let col = |j: usize| rows.iter().map(|r| r[j]).collect::<Vec<f64>>();
+    let rec = [rhonn::data::Record {
+        source: "estimation.csv".into(),
+        t: col(0),
+        inputs: vec![col(1)],
+        outputs: vec![col(2)],
+    }];
+    let scaling = Scaling::of(&[&rec[0].outputs[0]], &[&rec[0].inputs[0]]);
+    let mut id = OnlineIdentifier::new(&spec, 1, 1, 4.0, scaling).unwrap();
+    let mut k = 0usize;
+    c.bench_function("online identifier, cascade: one update, 32 filters", |b| {
+        b.iter(|| {
+            let j = k % rows.len();
+            if j == 0 {
+                id.reset();
+            }
+            k += 1;
+            black_box(id.update(rows[j][0], &[rows[j][1]], &[rows[j][2]]).unwrap()[0])
+        })
+    });
+    let outputs = ["y".to_string()];
+    c.bench_function(
+        "online identification, cascade, 8 passes over the tanks' estimation record",
+        |b| {
+            b.iter(|| {
+                identify_records(black_box(&spec), &rec, &outputs)
+                    .unwrap()
+                    .figures[0]
+                    .rms_error_last_half
+            })
+        },
+    );
+}
+
 /// The pump-identify record (current and demand in, measured pressure out), simulated.
 fn pump_identify_record() -> rhonn::data::Record {
     let mut tr = Trace::default();
@@ -329,6 +375,7 @@ criterion_group!(
     benches,
     bench_pump_grey,
     bench_online,
+    bench_online_cascade,
     bench_runs,
     bench_discrete_step,
     bench_sysid,

@@ -434,13 +434,14 @@ impl DiscreteIdentifier {
     }
 }
 
+mod cascade_online;
 mod lagged;
 mod online;
 mod online_spec;
 mod recordings;
 mod spec;
 pub use online::{InputHold, OnlineIdentifier, OnlineModel, OnlineSpec, Scaling, Snapshot};
-pub use online_spec::{LagSpec, OnlineStructure};
+pub use online_spec::{CascadeOnlineSpec, LagSpec, OnlineStructure};
 pub use recordings::{
     identify_records, predict_records, sample_time, OnlineFigures, OnlineRun, MAX_LISTED_WEIGHTS,
 };

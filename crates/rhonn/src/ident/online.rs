@@ -24,6 +24,7 @@
 //!
 //! Signals are normalised inside ([`Scaling`]): offset and scale per output and input.
 
+use super::cascade_online::{CascadeOnline, CascadeSnapshot};
 use super::lagged::{LaggedOnline, LaggedSnapshot};
 use super::online_spec::{check_spec, OnlineStructure};
 pub use super::online_spec::{InputHold, OnlineSpec, Scaling};
@@ -92,6 +93,9 @@ impl OnlineModel {
                 "a finite number",
             ));
         }
+        if let Engine::Cascade(c) = &id.engine {
+            c.check_weights(&self.weights)?;
+        }
         id.set_weights(&self.weights);
         id.freeze(true);
         Ok(id)
@@ -111,6 +115,7 @@ enum Saved {
         u_last: Vec<f64>,
     },
     Lagged(LaggedSnapshot),
+    Cascade(CascadeSnapshot),
 }
 
 /// The online identifier (see the module docs): continuous-time neurons (the default)
@@ -125,6 +130,7 @@ pub struct OnlineIdentifier {
 enum Engine {
     Continuous(Box<Continuous>),
     Lagged(Box<LaggedOnline>),
+    Cascade(Box<CascadeOnline>),
 }
 
 /// The continuous-time engine.
@@ -163,6 +169,9 @@ impl OnlineIdentifier {
             OnlineStructure::Lagged => {
                 Engine::Lagged(Box::new(LaggedOnline::new(spec, ny, nu, period_s, scaling)?))
             }
+            OnlineStructure::Cascade => {
+                Engine::Cascade(Box::new(CascadeOnline::new(spec, ny, nu, period_s, scaling)?))
+            }
         };
         Ok(OnlineIdentifier { engine })
     }
@@ -176,6 +185,7 @@ impl OnlineIdentifier {
         match &mut self.engine {
             Engine::Continuous(c) => c.update(t, u, y),
             Engine::Lagged(l) => l.update(t, u, y),
+            Engine::Cascade(c) => c.update(t, u, y),
         }
     }
 
@@ -184,6 +194,7 @@ impl OnlineIdentifier {
         match &mut self.engine {
             Engine::Continuous(c) => c.freeze(frozen),
             Engine::Lagged(l) => l.core.frozen = frozen,
+            Engine::Cascade(c) => c.frozen = frozen,
         }
     }
 
@@ -193,6 +204,7 @@ impl OnlineIdentifier {
         match &mut self.engine {
             Engine::Continuous(c) => c.set_free_run(free),
             Engine::Lagged(l) => l.core.free_run = free,
+            Engine::Cascade(c) => c.free_run = free,
         }
     }
 
@@ -202,15 +214,19 @@ impl OnlineIdentifier {
         match &mut self.engine {
             Engine::Continuous(c) => c.reset(),
             Engine::Lagged(l) => l.reset(),
+            Engine::Cascade(c) => c.reset(),
         }
     }
 
     /// A new pass over recordings starts: the lagged structure's least-squares covariance
-    /// restarts at `p0 I` (as each epoch of `rhonn fit`'s `rls`); nothing for the
-    /// continuous-time neurons, whose law states carry over.
+    /// restarts at `p0 I` (as each epoch of `rhonn fit`'s `rls`); the cascade's filters
+    /// widen their parameter variances by `pass_var` and their free runs' errors start
+    /// over; nothing for the continuous-time neurons, whose law states carry over.
     pub fn new_pass(&mut self) {
-        if let Engine::Lagged(l) = &mut self.engine {
-            l.core.restart_law();
+        match &mut self.engine {
+            Engine::Lagged(l) => l.core.restart_law(),
+            Engine::Cascade(c) => c.new_pass(),
+            Engine::Continuous(_) => {}
         }
     }
 
@@ -219,6 +235,7 @@ impl OnlineIdentifier {
         match &mut self.engine {
             Engine::Continuous(c) => c.set_estimate(y),
             Engine::Lagged(l) => l.set_estimate(y),
+            Engine::Cascade(c) => c.set_estimate(y),
         }
     }
 
@@ -227,6 +244,7 @@ impl OnlineIdentifier {
         match &self.engine {
             Engine::Continuous(c) => c.weights(),
             Engine::Lagged(l) => l.core.weights().to_vec(),
+            Engine::Cascade(c) => c.weights(),
         }
     }
 
@@ -235,6 +253,7 @@ impl OnlineIdentifier {
         match &mut self.engine {
             Engine::Continuous(c) => c.set_weights(w),
             Engine::Lagged(l) => l.core.set_weights(w),
+            Engine::Cascade(c) => c.set_weights(w),
         }
     }
 
@@ -245,6 +264,7 @@ impl OnlineIdentifier {
         match &self.engine {
             Engine::Continuous(c) => c.term_names(outputs, inputs),
             Engine::Lagged(l) => l.core.feature_names(outputs, inputs),
+            Engine::Cascade(c) => c.term_names(inputs),
         }
     }
 
@@ -253,6 +273,7 @@ impl OnlineIdentifier {
         match &self.engine {
             Engine::Continuous(c) => c.n_terms(),
             Engine::Lagged(l) => l.core.n_features(),
+            Engine::Cascade(c) => c.n_terms(),
         }
     }
 
@@ -261,6 +282,7 @@ impl OnlineIdentifier {
         match &self.engine {
             Engine::Continuous(c) => c.scaling(),
             Engine::Lagged(l) => &l.scaling,
+            Engine::Cascade(c) => &c.scaling,
         }
     }
 
@@ -270,6 +292,7 @@ impl OnlineIdentifier {
         Snapshot(match &self.engine {
             Engine::Continuous(c) => c.snapshot(),
             Engine::Lagged(l) => Saved::Lagged(l.core.snapshot()),
+            Engine::Cascade(c) => Saved::Cascade(c.snapshot()),
         })
     }
 
@@ -278,7 +301,8 @@ impl OnlineIdentifier {
         match (&mut self.engine, &snap.0) {
             (Engine::Continuous(c), s) => c.restore(s),
             (Engine::Lagged(l), Saved::Lagged(s)) => l.core.restore(s),
-            (Engine::Lagged(_), _) => {}
+            (Engine::Cascade(c), Saved::Cascade(s)) => c.restore(s),
+            (Engine::Lagged(_) | Engine::Cascade(_), _) => {}
         }
     }
 }

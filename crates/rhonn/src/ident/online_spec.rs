@@ -21,6 +21,9 @@ pub struct OnlineSpec {
     /// The lags of the `lagged` structure.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lags: Option<LagSpec>,
+    /// The settings of the `cascade` structure.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cascade: Option<CascadeOnlineSpec>,
     /// Learning law (a `[law]` table as in scenarios); default `filtered-error` with
     /// `gamma = gain / (T L)` per neuron (T the sample time, L the number of terms).
     pub law: Option<LawSpec>,
@@ -57,6 +60,7 @@ impl Default for OnlineSpec {
         OnlineSpec {
             structure: OnlineStructure::Continuous,
             lags: None,
+            cascade: None,
             law: None,
             gain: 0.5,
             degree: 2,
@@ -82,6 +86,9 @@ pub enum OnlineStructure {
     Continuous,
     /// A discrete-time RHONN of lagged measurements.
     Lagged,
+    /// `rhonn fit`'s continuous-time cascade with hidden neurons, its parameters and
+    /// hidden levels estimated together by extended Kalman filters from several starts.
+    Cascade,
 }
 
 impl OnlineStructure {
@@ -105,6 +112,107 @@ pub struct LagSpec {
     /// The high-order terms take only the first this-many lags of each signal (default
     /// every lag).
     pub nonlinear_lags: Option<usize>,
+}
+
+/// The `cascade` structure's settings (`cascade = { ... }`): normalised units (levels
+/// in output standard deviations, time in samples), as `rhonn fit`'s `cascade`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CascadeOnlineSpec {
+    /// Neurons in the chain, the last one measured (default 2).
+    pub neurons: usize,
+    /// Whether the exponents are learned (default true; else 1/2, Torricelli).
+    pub free_exponents: bool,
+    /// Filters run side by side from seeded random starts (default 32); the estimate is
+    /// the one whose own free run has followed the measurements best this pass.
+    pub starts: usize,
+    /// Seed of the starts (default 1).
+    pub seed: u64,
+    /// Samples after each record's start whose measurements settle the hidden levels of a
+    /// free run (default 5), as `rhonn fit`'s `settle`.
+    pub settle: usize,
+    /// Measurement noise variance the filters assume (default 1e-2, output variances).
+    pub measurement_var: f64,
+    /// Process noise variance per sample on each level (default 1e-6).
+    pub level_var: f64,
+    /// Initial variance of each parameter coordinate (logarithms of rates, shares and
+    /// bounds; default 1).
+    pub parameter_var: f64,
+    /// Added to each parameter coordinate's variance at every new pass (default 1e-3):
+    /// without it the filters' gains fall to zero within the first pass.
+    pub pass_var: f64,
+    /// RK4 substeps per sample (default 4).
+    pub substeps: usize,
+}
+
+impl Default for CascadeOnlineSpec {
+    fn default() -> Self {
+        CascadeOnlineSpec {
+            neurons: 2,
+            free_exponents: true,
+            starts: 32,
+            seed: 1,
+            settle: 5,
+            measurement_var: 1e-2,
+            level_var: 1e-6,
+            parameter_var: 1.0,
+            pass_var: 1e-3,
+            substeps: 4,
+        }
+    }
+}
+
+impl CascadeOnlineSpec {
+    /// Check every setting (errors name the key).
+    pub(super) fn check(&self) -> Result<()> {
+        if !(2..=4).contains(&self.neurons) {
+            return Err(invalid(
+                "model.cascade.neurons",
+                self.neurons,
+                "an integer in [2, 4]",
+            ));
+        }
+        if !(1..=256).contains(&self.starts) {
+            return Err(invalid(
+                "model.cascade.starts",
+                self.starts,
+                "an integer in [1, 256]",
+            ));
+        }
+        if !(1..=1000).contains(&self.settle) {
+            return Err(invalid(
+                "model.cascade.settle",
+                self.settle,
+                "an integer in [1, 1000]",
+            ));
+        }
+        if !(1..=100).contains(&self.substeps) {
+            return Err(invalid(
+                "model.cascade.substeps",
+                self.substeps,
+                "an integer in [1, 100]",
+            ));
+        }
+        for (key, v, zero_ok) in [
+            ("measurement_var", self.measurement_var, false),
+            ("level_var", self.level_var, true),
+            ("parameter_var", self.parameter_var, false),
+            ("pass_var", self.pass_var, true),
+        ] {
+            if !(v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0))) {
+                return Err(invalid(
+                    format!("model.cascade.{key}"),
+                    v,
+                    if zero_ok {
+                        "a finite number >= 0"
+                    } else {
+                        "a finite number > 0"
+                    },
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for LagSpec {
@@ -244,12 +352,22 @@ pub(super) fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64,
             ));
         }
     }
-    if spec.structure == OnlineStructure::Continuous && spec.lags.is_some() {
+    if spec.structure != OnlineStructure::Lagged && spec.lags.is_some() {
         return Err(invalid(
             "model.lags",
             "a table",
             "only with `structure = \"lagged\"`",
         ));
+    }
+    if spec.structure != OnlineStructure::Cascade && spec.cascade.is_some() {
+        return Err(invalid(
+            "model.cascade",
+            "a table",
+            "only with `structure = \"cascade\"`",
+        ));
+    }
+    if spec.structure == OnlineStructure::Cascade {
+        check_cascade(spec)?;
     }
     if spec.structure == OnlineStructure::Lagged {
         let continuous_only = [
@@ -270,6 +388,32 @@ pub(super) fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64,
             "model.output_margin",
             spec.output_margin,
             "a finite number (negative: unbounded)",
+        ));
+    }
+    Ok(())
+}
+
+/// The `cascade` structure's own checks: its settings, and no key of the other
+/// structures (it learns by its filters, not by a `law`).
+fn check_cascade(spec: &OnlineSpec) -> Result<()> {
+    spec.cascade.clone().unwrap_or_default().check()?;
+    let d = OnlineSpec::default();
+    let others = [
+        ("law", spec.law.is_some()),
+        ("a_per_s", spec.a_per_s.is_some()),
+        ("filters_s", !spec.filters_s.is_empty()),
+        ("inputs", spec.inputs != InputHold::Hold),
+        ("output_terms", !spec.output_terms),
+        ("degree", spec.degree != d.degree),
+        ("max_factors", spec.max_factors != d.max_factors),
+        ("gain", spec.gain != d.gain),
+        ("dead_zone", spec.dead_zone != d.dead_zone),
+    ];
+    if let Some((key, _)) = others.iter().find(|(_, set)| *set) {
+        return Err(invalid(
+            format!("model.{key}"),
+            "set",
+            "not with `structure = \"cascade\"` (its extended Kalman filters learn; its settings are the `cascade` table's)",
         ));
     }
     Ok(())

@@ -108,7 +108,8 @@ impl Params {
         }
     }
 
-    fn stored(&self) -> Vec<f64> {
+    /// The stored vector (`model.json`'s order).
+    pub(crate) fn stored(&self) -> Vec<f64> {
         let mut w = Vec::new();
         for v in [&self.b, &self.k, &self.alpha, &self.g, &self.o, &self.xmax] {
             w.extend_from_slice(v);
@@ -150,18 +151,20 @@ impl Params {
 /// fixed), the offset as it is; then, per training record, the logits of the hidden
 /// initial states as fractions of their bounds.
 #[derive(Debug, Clone, Copy)]
-struct Coords {
-    n: usize,
-    ni: usize,
-    free_exp: bool,
+pub(crate) struct Coords {
+    pub(crate) n: usize,
+    pub(crate) ni: usize,
+    pub(crate) free_exp: bool,
 }
 
 impl Coords {
-    fn n_model(&self) -> usize {
+    /// Number of model coordinates (without the hidden initial states).
+    pub(crate) fn n_model(&self) -> usize {
         n_params(self.n, self.ni) - if self.free_exp { 0 } else { self.n }
     }
 
-    fn params(&self, th: &[f64]) -> Params {
+    /// The parameters at coordinates `th` (its first [`Coords::n_model`] values).
+    pub(crate) fn params(&self, th: &[f64]) -> Params {
         let (n, ni) = (self.n, self.ni);
         let mut it = th.iter().copied();
         let mut take = |m: usize| (0..m).map(|_| it.next().expect("length")).collect::<Vec<_>>();
@@ -192,7 +195,8 @@ impl Coords {
         }
     }
 
-    fn coords(&self, p: &Params) -> Vec<f64> {
+    /// The coordinates of `p`.
+    pub(crate) fn coords(&self, p: &Params) -> Vec<f64> {
         let ln = |v: &[f64]| v.iter().map(|x| x.ln()).collect::<Vec<_>>();
         let mut th = ln(&p.b);
         th.extend(ln(&p.k));
@@ -227,6 +231,91 @@ fn activation(x: f64, alpha: f64) -> f64 {
     }
 }
 
+/// The chain's derivative (per sample) at levels `x` with the first neuron's inflow
+/// `inflow`; a neuron at its upper bound passes what it cannot store (its unclamped
+/// derivative) on as overflow.
+pub(crate) fn derivative(p: &Params, inflow: f64, x: &[f64], dx: &mut [f64]) {
+    let (mut s_prev, mut over_prev) = (0.0, 0.0);
+    for i in 0..x.len() {
+        let s = activation(x[i], p.alpha[i]);
+        let d = if i == 0 {
+            inflow - p.k[0] * s
+        } else {
+            p.g[i - 1] * s_prev + p.o[i - 1] * over_prev - p.k[i] * s
+        };
+        dx[i] = d;
+        over_prev = if x[i] >= p.xmax[i] { d.max(0.0) } else { 0.0 };
+        s_prev = s;
+    }
+}
+
+impl Params {
+    /// The inflow of the first neuron for normalised inputs `u`.
+    pub(crate) fn inflow(&self, u: &[f64]) -> f64 {
+        self.b.iter().zip(u).map(|(b, u)| b * u).sum()
+    }
+
+    /// Neuron `i`'s upper bound.
+    pub(crate) fn level_bound(&self, i: usize) -> f64 {
+        self.xmax[i]
+    }
+
+    /// The normalised output of levels `x`.
+    pub(crate) fn output(&self, x: &[f64]) -> f64 {
+        x[x.len() - 1] + self.c
+    }
+
+    /// The last neuron's level for the normalised output `y`, within its range.
+    pub(crate) fn measured_level(&self, y: f64) -> f64 {
+        let n = self.k.len();
+        (y - self.c).clamp(0.0, self.xmax[n - 1])
+    }
+
+    /// Levels of a chain in balance (each neuron's inflow equals its outflow) whose last
+    /// level is `x_last`: how a hidden state starts when nothing else is known.
+    pub(crate) fn balanced_levels(&self, x_last: f64, x: &mut [f64]) {
+        let n = self.k.len();
+        x[n - 1] = x_last.clamp(0.0, self.xmax[n - 1]);
+        for i in (0..n - 1).rev() {
+            // g_i s_i = k_(i+1) s_(i+1), s = x^alpha above the linear piece.
+            let s = self.k[i + 1] * activation(x[i + 1], self.alpha[i + 1]) / self.g[i];
+            x[i] = s.max(0.0).powf(1.0 / self.alpha[i]).clamp(0.0, self.xmax[i]);
+        }
+    }
+
+    /// Advance levels `x` by `h` samples with the inflow held: classical RK4 over
+    /// `substeps`, every stage's levels held in their ranges and no motion beyond a bound
+    /// (limited integrators, as the solver's, but stepped, not located). `k` holds 4
+    /// stages and a stage state (`5 n` values).
+    pub(crate) fn step(&self, inflow: f64, x: &mut [f64], h: f64, substeps: usize, k: &mut [f64]) {
+        let n = x.len();
+        let dt = h / substeps.max(1) as f64;
+        let (stages, probe) = k.split_at_mut(4 * n);
+        for _ in 0..substeps.max(1) {
+            for st in 0..4 {
+                let a = [0.0, 0.5, 0.5, 1.0][st] * dt;
+                for i in 0..n {
+                    let prev = if st == 0 { 0.0 } else { stages[(st - 1) * n + i] };
+                    probe[i] = (x[i] + a * prev).clamp(0.0, self.xmax[i]);
+                }
+                let (_, rest) = stages.split_at_mut(st * n);
+                let d = &mut rest[..n];
+                derivative(self, inflow, probe, d);
+                for i in 0..n {
+                    let (v, hi) = (probe[i], self.xmax[i]);
+                    if (v <= 0.0 && d[i] < 0.0) || (v >= hi && d[i] > 0.0) {
+                        d[i] = 0.0;
+                    }
+                }
+            }
+            for i in 0..n {
+                let s = stages[i] + 2.0 * stages[n + i] + 2.0 * stages[2 * n + i] + stages[3 * n + i];
+                x[i] = (x[i] + dt / 6.0 * s).clamp(0.0, self.xmax[i]);
+            }
+        }
+    }
+}
+
 /// The chain as an ODE system on the solver, inputs held over each sample (time in
 /// samples: the breakpoints are the integers).
 struct Chain<'a> {
@@ -243,19 +332,7 @@ impl System for Chain<'_> {
     }
 
     fn rhs(&self, _t: f64, x: &[f64], dx: &mut [f64]) {
-        let p = self.p;
-        let (mut s_prev, mut over_prev) = (0.0, 0.0);
-        for i in 0..x.len() {
-            let s = activation(x[i], p.alpha[i]);
-            let d = if i == 0 {
-                self.inflow - p.k[0] * s
-            } else {
-                p.g[i - 1] * s_prev + p.o[i - 1] * over_prev - p.k[i] * s
-            };
-            dx[i] = d;
-            over_prev = if x[i] >= p.xmax[i] { d.max(0.0) } else { 0.0 };
-            s_prev = s;
-        }
+        derivative(self.p, self.inflow, x, dx);
     }
 
     fn update_modes(&mut self, t: f64, _x: &[f64]) {
@@ -452,7 +529,7 @@ pub(crate) fn predict(m: &Model, r: &Record, steps_ahead: Option<usize>) -> Resu
 /// in [0, 1], exponents in [0.2, 1], hidden bounds in [1, 10] output standard
 /// deviations, the offset up to one standard deviation below the lowest output and the
 /// output's bound up to 0.1 above its highest; hidden initial states anywhere.
-fn random_start(co: Coords, ymin: f64, ymax: f64, n_rec: usize, rng: &mut ChaCha8Rng) -> Vec<f64> {
+pub(crate) fn random_start(co: Coords, ymin: f64, ymax: f64, n_rec: usize, rng: &mut ChaCha8Rng) -> Vec<f64> {
     let (n, ni) = (co.n, co.ni);
     let mut u = |a: f64, b: f64| rng.gen_range(a..b);
     let c = ymin - u(0.0, 1.0);
