@@ -399,20 +399,30 @@ impl Member {
     ) {
         let n = co.n;
         let d = if levels_only { n } else { self.p.nrows() };
-        let step = |th: &[f64], x: &[f64], work: &mut [f64]| {
-            let p = co.params(th);
+        let step = |p: &Params, x: &[f64], work: &mut [f64]| {
             let mut x = x.to_vec();
             p.step(p.inflow(u), &mut x, h, set.substeps, work);
             x
         };
-        let f0 = step(&self.th, &self.x, work);
+        // The parameters once for the step and the levels' columns; a parameter's column
+        // needs its own.
+        let base = co.params(&self.th);
+        let f0 = step(&base, &self.x, work);
         let mut jac = DMatrix::<f64>::identity(d, d);
         for c in 0..d {
-            let (mut th, mut x) = (self.th.clone(), self.x.clone());
-            let z = if c < n { &mut x[c] } else { &mut th[c - n] };
-            let dz = 1e-6 * z.abs().max(1.0);
-            *z += dz;
-            let fc = step(&th, &x, work);
+            let fc;
+            let dz;
+            if c < n {
+                let mut x = self.x.clone();
+                dz = 1e-6 * x[c].abs().max(1.0);
+                x[c] += dz;
+                fc = step(&base, &x, work);
+            } else {
+                let mut th = self.th.clone();
+                dz = 1e-6 * th[c - n].abs().max(1.0);
+                th[c - n] += dz;
+                fc = step(&co.params(&th), &self.x, work);
+            }
             for r in 0..n {
                 jac[(r, c)] = (fc[r] - f0[r]) / dz;
             }
