@@ -294,7 +294,6 @@ fn cascaded_tanks_free_run_beats_narx_and_arx_on_validation() {
     let est = data.join("estimation.csv");
     let val = data.join("validation.csv");
     let spec = root.join("models/cascaded-tanks.toml");
-    let started = std::time::Instant::now();
     let o = rhonn(
         d.path(),
         &[
@@ -312,14 +311,8 @@ fn cascaded_tanks_free_run_beats_narx_and_arx_on_validation() {
         ],
     );
     assert!(o.status.success(), "{}", stderr(&o));
-    // A fit over a second shows signs of life (here, not a terminal: a line every 5 s).
-    if started.elapsed().as_secs_f64() > 2.0 {
-        assert!(
-            stderr(&o).contains("fitting on 1 record(s): 1 s so far"),
-            "{}",
-            stderr(&o)
-        );
-    }
+    // (How often a long fit prints signs of life depends on how long it takes: nothing
+    // here is asserted on the machine's speed.)
     let o = rhonn(
         d.path(),
         &[

@@ -128,6 +128,11 @@ def _matrix(name: str, a: ArrayLike) -> np.ndarray:
     if len(bad):
         i, j = bad[0]
         raise ValueError(f"{name}[{i}, {j}] = {arr[i, j]} is not allowed: every value must be finite")
+    # As for a CSV cell (the command's limit): larger values overflow when squared.
+    big = np.argwhere(np.abs(arr) > 1e150)
+    if len(big):
+        i, j = big[0]
+        raise ValueError(f"{name}[{i}, {j}] = {arr[i, j]} is not allowed: a magnitude at most 1e150 (larger values overflow when squared: rescale)")
     return arr
 
 

@@ -28,6 +28,7 @@ impl OutputSet {
             });
         }
         fs::create_dir_all(dir).map_err(folder_err)?;
+        crate::folder::clean_temporary(dir);
         Ok(OutputSet {
             dir: dir.to_path_buf(),
             staged: Vec::new(),

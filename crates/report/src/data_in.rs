@@ -17,7 +17,10 @@ pub enum DataError {
         message: String,
     },
     /// A requested column is not in the header.
-    #[error("{file}: no column `{column}` in the header (columns: {available})")]
+    #[error(
+        "{file}: no column `{column}` in the header (columns: {available}){}",
+        delimiter_hint(available)
+    )]
     MissingColumn {
         /// File.
         file: String,
@@ -26,8 +29,8 @@ pub enum DataError {
         /// Columns present.
         available: String,
     },
-    /// A cell is not a number, or not finite.
-    #[error("{file}, line {line}, column `{column}`: `{value}` is not a finite number")]
+    /// A cell is not a number, not finite, or so large that its square overflows.
+    #[error("{file}, line {line}, column `{column}`: `{value}` is not a finite number of magnitude at most 1e150 (larger values overflow when squared: rescale the column)")]
     BadCell {
         /// File.
         file: String,
@@ -60,6 +63,18 @@ pub enum DataError {
         /// Needed.
         min: usize,
     },
+}
+
+/// The largest magnitude a cell may have: its square, in every variance and least-squares
+/// sum, stays finite.
+pub const MAX_MAGNITUDE: f64 = 1e150;
+
+/// A hint when the header looks separated by something other than commas.
+fn delimiter_hint(available: &str) -> String {
+    match [';', '\t', '|'].into_iter().find(|c| available.contains(*c)) {
+        Some(c) => format!(": the header holds {c:?}, so the file looks separated by {c:?}; rhonn reads comma-separated files (convert it, e.g. with `tr '{c}' ','`)"),
+        None => String::new(),
+    }
 }
 
 /// Read `t`, the `inputs` and the `outputs` columns of a CSV file.
@@ -116,7 +131,7 @@ pub fn read_record(
         let cell = |idx: usize| -> Result<f64, DataError> {
             let s = r.get(idx).unwrap_or("");
             match s.parse::<f64>() {
-                Ok(v) if v.is_finite() => Ok(v),
+                Ok(v) if v.is_finite() && v.abs() <= MAX_MAGNITUDE => Ok(v),
                 _ => Err(DataError::BadCell {
                     file: file.clone(),
                     line,
@@ -184,7 +199,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            e.ends_with("d.csv, line 3, column `u`: `abc` is not a finite number"),
+            e.contains("d.csv, line 3, column `u`: `abc` is not a finite number"),
             "{e}"
         );
         let p = write(&d, "t,u,y\n0,1,2\n1,1,NaN\n");
@@ -205,5 +220,31 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.ends_with("1 data rows; at least 10 are needed"), "{e}");
+    }
+
+    #[test]
+    fn values_whose_squares_overflow_and_other_delimiters_are_named() {
+        // Issue 33: a 1.7e308 cell hung the plots of identify and predict.
+        let d = tempfile::tempdir().unwrap();
+        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        let p = write(&d, "t,u,y\n0,1,2\n1,1,1.7e308\n2,1,2\n");
+        let e = read_record(&p, &s(&["u"]), &s(&["y"]), 1)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("d.csv, line 3, column `y`: `1.7e308`"), "{e}");
+        assert!(e.contains("magnitude at most 1e150"), "{e}");
+        let p = write(&d, "t,u,y\n0,1,2\n1,1,-1e151\n");
+        assert!(read_record(&p, &s(&["u"]), &s(&["y"]), 1).is_err());
+        let p = write(&d, "t,u,y\n0,1,2\n1,1,1e150\n");
+        assert!(read_record(&p, &s(&["u"]), &s(&["y"]), 1).is_ok());
+        // Issue 38: a semicolon-separated file gets a hint.
+        let p = write(&d, "t;u;y\n0;1;2\n1;1;2\n");
+        let e = read_record(&p, &s(&["u"]), &s(&["y"]), 1)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("no column `t`") && e.contains("separated by ';'"),
+            "{e}"
+        );
     }
 }

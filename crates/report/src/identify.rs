@@ -28,7 +28,8 @@ pub struct ValidationFigures {
     pub output: String,
     /// Free run: RMS error (output units) and fit \[%\] over every validation record.
     pub free_run_rms_error: f64,
-    /// Free-run fit \[%\].
+    /// Free-run fit \[%\]; left out for a constant output (undefined).
+    #[serde(skip_serializing_if = "rhonn::metrics::undefined")]
     pub free_run_fit_percent: f64,
     /// K.
     pub horizon: Option<usize>,
@@ -372,9 +373,11 @@ pub struct OnlinePredictionFigures {
     pub output: String,
     /// RMS error (output units), from sample K on (K steps ahead) or over all samples.
     pub rms_error: f64,
-    /// Fit \[%\].
+    /// Fit \[%\]; left out for a constant output (undefined).
+    #[serde(skip_serializing_if = "rhonn::metrics::undefined")]
     pub fit_percent: f64,
-    /// Normalised RMS error (by the output's range).
+    /// Normalised RMS error (by the output's range); left out for a constant output.
+    #[serde(skip_serializing_if = "rhonn::metrics::undefined")]
     pub nrmse: f64,
 }
 

@@ -23,6 +23,7 @@ mod campaign_plots;
 pub mod commands;
 mod csv_out;
 mod data_in;
+pub mod folder;
 mod html;
 pub mod identify;
 pub mod plant_campaign;

@@ -88,6 +88,23 @@ type TimeChart<'a, DB> = ChartContext<
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
 >;
 
+/// An axis range plotters can lay out. Its tick search loops for ever on a range that is
+/// not finite or whose span overflows (a value of 1.7e308 in a recording did), so an axis
+/// stays within +-1e300 and spans at least 1e-9 of its magnitude; an ordinary range
+/// comes back unchanged.
+pub(crate) fn safe_axis((lo, hi): (f64, f64)) -> (f64, f64) {
+    const LIMIT: f64 = 1e300;
+    let clamp = |v: f64| if v.is_nan() { 0.0 } else { v.clamp(-LIMIT, LIMIT) };
+    let (a, b) = (clamp(lo), clamp(hi));
+    let (lo, hi) = (a.min(b), a.max(b));
+    let min_span = 1e-9 * lo.abs().max(hi.abs()).max(1e-290);
+    if hi - lo < min_span {
+        (lo - min_span, hi + min_span)
+    } else {
+        (lo, hi)
+    }
+}
+
 /// A captioned chart of time [s] against `y_label` on `[t0, t1] x [lo, hi]`, with its mesh.
 fn time_chart<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, plotters::coord::Shift>,
@@ -99,6 +116,8 @@ fn time_chart<'a, DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
+    let (t0, t1) = safe_axis((t0, t1));
+    let (lo, hi) = safe_axis((lo, hi));
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 20))
         .margin(12)
@@ -169,7 +188,8 @@ where
         (lo, hi) = (0.0, 1.0);
     }
     let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
-    let (lo, hi) = (lo - pad, hi + pad);
+    let (lo, hi) = safe_axis((lo - pad, hi + pad));
+    let (t0, t1) = safe_axis((t0, t1));
     let mut chart = time_chart(area, &p.title, &p.y_label, (t0, t1), (lo, hi))?;
     let labels: Vec<&str> = p.series.iter().map(|s| s.label.as_str()).collect();
     let mut all_points = Vec::new();
@@ -258,6 +278,7 @@ where
     DB::ErrorType: 'static,
 {
     let (lo, hi, counts) = bin_counts(&h.values, bins);
+    let (lo, hi) = safe_axis((lo, hi));
     let top = counts.iter().copied().max().unwrap_or(1).max(1) as f64 * 1.05;
     let mut chart = ChartBuilder::on(area)
         .caption(&h.title, ("sans-serif", 18))
@@ -351,6 +372,9 @@ where
     let hi = all.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
     let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
+    let (t0, t1) = safe_axis((t0, t1));
+    let (lo, hi) = safe_axis((lo - pad, hi + pad));
+    let (pad, lo, hi) = (0.0, lo, hi);
     let mut chart = time_chart(area, &p.title, &p.y_label, (t0, t1), (lo - pad, hi + pad))?;
     let area_of = |lower: &[f64], upper: &[f64]| {
         let mut pts: Vec<(f64, f64)> = p.t.iter().copied().zip(upper.iter().copied()).collect();
@@ -719,6 +743,36 @@ mod tests {
             10,
         );
         assert!(svg.contains("ISE [MPa^2 s]") && svg.contains("runs"));
+    }
+
+    #[test]
+    fn extreme_values_give_a_plot_not_a_hang() {
+        // Plotters' tick search looped for ever on these (issue 33): each must render.
+        for (t, y) in [
+            (vec![0.0, 1.0, 2.0], vec![0.0, 1.7e308, 1.0]),
+            (vec![0.0, 1.0, 2.0], vec![-1.7e308, 1.7e308, 0.0]),
+            (vec![0.0, 1.0, 2.0], vec![f64::MAX, f64::MAX, f64::MAX]),
+            (vec![0.0, 1.0, 2.0], vec![5e-324, 0.0, -5e-324]),
+            (vec![0.0, 1e300, 1.7e308], vec![1.0, 2.0, 3.0]),
+            (vec![1e15, 1e15, 1e15], vec![1.0, 2.0, 3.0]),
+        ] {
+            let p = TimePlot {
+                title: "extreme".into(),
+                y_label: "y [V]".into(),
+                t: t.clone(),
+                series: vec![Series::solid("y", y.clone())],
+            };
+            let svg = TimePlot::render(&[p], 400, 200);
+            assert!(svg.contains("<svg"), "{t:?} {y:?}");
+            let h = Histogram {
+                title: "h".into(),
+                x_label: "y [V]".into(),
+                values: y,
+            };
+            assert!(Histogram::render(&[h], 1, 10).contains("<svg"));
+        }
+        assert_eq!(safe_axis((-1.0, 2.5)), (-1.0, 2.5));
+        assert_eq!(safe_axis((f64::NEG_INFINITY, f64::NAN)), (-1e300, 0.0));
     }
 
     #[test]

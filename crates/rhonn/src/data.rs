@@ -3,6 +3,41 @@
 
 use crate::error::{invalid, Result};
 
+/// How far a time may sit from the uniform grid and still count as on it, as a share of
+/// the step: 1e-3 (times rounded to 1e-6 s at a 1 ms step, as benchmark files are, are
+/// uniform; a missing or doubled sample is not).
+pub const TIME_JITTER: f64 = 1e-3;
+
+/// What putting a record on a uniform grid changed (`Record::regrid`), for the messages
+/// and summary.json.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Regrid {
+    /// The record.
+    pub source: String,
+    /// The grid's interval \[s\].
+    pub interval_s: f64,
+    /// The record's shortest and longest interval \[s\].
+    pub intervals_s: (f64, f64),
+    /// Rows read.
+    pub rows_in: usize,
+    /// Rows on the grid.
+    pub rows_out: usize,
+    /// Input values taken from an earlier sample (zero-order hold).
+    pub inputs_held: usize,
+    /// Output values interpolated between two samples.
+    pub outputs_interpolated: usize,
+}
+
+impl std::fmt::Display for Regrid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}: the times are not uniform (intervals from {} to {} s): put on a grid of {} s, {} rows read, {} written, {} input values held from the sample before, {} output values interpolated",
+            self.source, self.intervals_s.0, self.intervals_s.1, self.interval_s, self.rows_in, self.rows_out, self.inputs_held, self.outputs_interpolated
+        )
+    }
+}
+
 /// One recording: time, then input and output columns, all the same length.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Record {
@@ -44,13 +79,52 @@ impl Record {
         d.get(d.len() / 2).copied().unwrap_or(f64::NAN)
     }
 
+    /// Whether the times lie on the uniform grid `t0 + k dt` to within [`TIME_JITTER`] of
+    /// `dt`: clock jitter, or times printed with few digits (a file of `k / 1024` s
+    /// rounded to 1e-6 s) are uniform; nothing is changed for them.
+    pub fn on_grid(&self, dt: f64) -> bool {
+        let t0 = self.t.first().copied().unwrap_or(0.0);
+        let tol = TIME_JITTER * dt;
+        self.t.windows(2).all(|w| ((w[1] - w[0]) - dt).abs() <= 1e-6 * dt)
+            || self
+                .t
+                .iter()
+                .enumerate()
+                .all(|(k, &t)| (t - (t0 + k as f64 * dt)).abs() <= tol)
+    }
+
+    /// The sampling interval \[s\]: the median interval, or, when the times sit on a
+    /// uniform grid only to within [`TIME_JITTER`] (rounded times), the grid's own
+    /// interval, from the first to the last time.
+    pub fn sample_interval(&self) -> f64 {
+        let med = self.median_interval();
+        if self.len() < 3
+            || self
+                .t
+                .windows(2)
+                .all(|w| ((w[1] - w[0]) - med).abs() <= 1e-6 * med)
+        {
+            return med;
+        }
+        let fit = (self.t[self.len() - 1] - self.t[0]) / (self.len() - 1) as f64;
+        if self.on_grid(fit) {
+            fit
+        } else {
+            med
+        }
+    }
+
     /// The record on a uniform grid of interval `dt` from its first time: inputs held
-    /// (zero-order hold), outputs interpolated linearly. A record that is already
-    /// uniform (to 1e-6 of `dt`) comes back unchanged.
+    /// (zero-order hold), outputs interpolated linearly. A record already on that grid
+    /// ([`Record::on_grid`]) comes back unchanged.
     pub fn uniform(&self, dt: f64) -> Record {
-        let uniform = self.t.windows(2).all(|w| ((w[1] - w[0]) - dt).abs() <= 1e-6 * dt);
-        if uniform {
-            return self.clone();
+        self.regrid(dt).0
+    }
+
+    /// [`Record::uniform`], and what it changed (None when nothing).
+    pub fn regrid(&self, dt: f64) -> (Record, Option<Regrid>) {
+        if self.on_grid(dt) {
+            return (self.clone(), None);
         }
         let t0 = self.t[0];
         let n = ((self.t[self.len() - 1] - t0) / dt).floor() as usize + 1;
@@ -62,12 +136,18 @@ impl Record {
         // (grid times k dt and the file's decimal times differ in their last bits; taking
         // the sample before would delay a held input by a whole sample).
         let tol = 1e-6 * dt;
+        let (mut held, mut interpolated) = (0, 0);
         for &t in &grid {
             while j + 1 < self.len() && self.t[j + 1] <= t + tol {
                 j += 1;
             }
+            let exact = (self.t[j] - t).abs() <= tol;
             for (c, col) in self.inputs.iter().enumerate() {
                 inputs[c].push(col[j]);
+            }
+            if !exact {
+                held += self.inputs.len();
+                interpolated += self.outputs.len();
             }
             for (c, col) in self.outputs.iter().enumerate() {
                 let v = if j + 1 < self.len() {
@@ -79,12 +159,29 @@ impl Record {
                 outputs[c].push(v);
             }
         }
-        Record {
+        let (lo, hi) = self
+            .t
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), d| {
+                (l.min(d), h.max(d))
+            });
+        let report = Regrid {
+            source: self.source.clone(),
+            interval_s: dt,
+            intervals_s: (lo, hi),
+            rows_in: self.len(),
+            rows_out: n,
+            inputs_held: held,
+            outputs_interpolated: interpolated,
+        };
+        let r = Record {
             source: self.source.clone(),
             t: grid,
             inputs,
             outputs,
-        }
+        };
+        (r, Some(report))
     }
 
     /// Check lengths, finiteness and increasing time (a reader does this with line

@@ -107,6 +107,21 @@ pub(crate) fn invalid(
     }
 }
 
+/// `e` with its field named from `root` (e.g. `baseline`) instead of `model`: a model
+/// checked on its own, which a file holds under another key.
+pub(crate) fn rerooted(e: Error, root: &str) -> Error {
+    match e {
+        Error::Invalid { mut value, scenario } => {
+            value.field = match value.field.strip_prefix("model.") {
+                Some(rest) => format!("{root}.{rest}"),
+                None => format!("{root}: {}", value.field),
+            };
+            Error::Invalid { value, scenario }
+        }
+        other => other,
+    }
+}
+
 /// What is wrong with `path`, in words a user can act on, for an input/output error `e`
 /// met while reading or writing it: whether the path is missing (and whether its folder
 /// is), a folder where a file is wanted (or the other way round), or not writable.

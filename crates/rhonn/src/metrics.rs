@@ -23,6 +23,12 @@ pub fn rms_error(y: &[f64], yhat: &[f64]) -> f64 {
     (y.iter().zip(yhat).map(|(a, b)| (a - b) * (a - b)).sum::<f64>() / n as f64).sqrt()
 }
 
+/// Whether a figure is undefined (NaN or infinite): the fit and NRMSE of a constant output,
+/// which `summary.json` leaves out rather than writing null.
+pub fn undefined(v: &f64) -> bool {
+    !v.is_finite()
+}
+
 /// MATLAB `compare`'s fit: `100 (1 - |y - yhat| / |y - mean(y)|)` \[%\]; 100 is perfect,
 /// 0 is no better than the mean, negative is worse.
 pub fn fit_percent(y: &[f64], yhat: &[f64]) -> f64 {

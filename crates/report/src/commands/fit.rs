@@ -58,8 +58,8 @@ pub fn parse_units(
     Ok(map)
 }
 
-/// Read recordings and put each on a uniform grid (`resample_s`, else its median
-/// interval); each must keep at least `min_rows` samples.
+/// Read recordings and put each on a uniform grid (`resample_s`, else its own interval,
+/// `Record::sample_interval`); each must keep at least `min_rows` samples.
 pub fn read_data(
     paths: &[PathBuf],
     inputs: &[String],
@@ -67,6 +67,18 @@ pub fn read_data(
     min_rows: usize,
     resample_s: Option<f64>,
 ) -> Result<Vec<Record>> {
+    Ok(read_data_regridded(paths, inputs, outputs, min_rows, resample_s)?.0)
+}
+
+/// [`read_data`], and what putting each record on its grid changed (nothing for a record
+/// already uniform to within `rhonn::data::TIME_JITTER` of its step).
+pub fn read_data_regridded(
+    paths: &[PathBuf],
+    inputs: &[String],
+    outputs: &[String],
+    min_rows: usize,
+    resample_s: Option<f64>,
+) -> Result<(Vec<Record>, Vec<rhonn::data::Regrid>)> {
     if let Some(dt) = resample_s {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(Error::Input(format!(
@@ -74,11 +86,12 @@ pub fn read_data(
             )));
         }
     }
-    let mut recs = Vec::new();
+    let (mut recs, mut changes) = (Vec::new(), Vec::new());
     for p in paths {
         let r = crate::read_record(p, inputs, outputs, min_rows)?;
-        let dt = resample_s.unwrap_or_else(|| r.median_interval());
-        let u = r.uniform(dt);
+        let dt = resample_s.unwrap_or_else(|| r.sample_interval());
+        let (u, change) = r.regrid(dt);
+        changes.extend(change);
         if u.len() < min_rows {
             return Err(Error::Input(format!(
                 "{}: {} samples on the grid of {dt} s, the model needs at least {min_rows}: give a shorter --resample",
@@ -88,12 +101,13 @@ pub fn read_data(
         }
         recs.push(u);
     }
-    Ok(recs)
+    Ok((recs, changes))
 }
 
 /// The model structures of a spec file (one, or an ensemble's members), checked; None:
 /// the default structure.
 fn read_specs(model: Option<&Path>) -> Result<Vec<ModelSpec>> {
+    // (`model_specs` names the file in every error.)
     match model {
         None => model_specs(None, ""),
         Some(p) => model_specs(Some(&read_text(p)?), &p.display().to_string()),
@@ -109,10 +123,11 @@ pub fn model_specs(text: Option<&str>, source: &str) -> Result<Vec<ModelSpec>> {
             .map_err(|e| Error::Input(format!("cannot read model spec {source}: {e}")))?,
     };
     for (k, spec) in specs.iter().enumerate() {
-        let at = if specs.len() > 1 {
-            format!("in members[{k}]")
-        } else {
-            "in the model spec".to_string()
+        let at = match (specs.len() > 1, source.is_empty()) {
+            (true, false) => format!("in the model spec {source}, members[{k}]"),
+            (true, true) => format!("in members[{k}]"),
+            (false, false) => format!("in the model spec {source}"),
+            (false, true) => "in the model spec".to_string(),
         };
         spec.check().map_err(|e| context(at)(e.into()))?;
     }
@@ -127,6 +142,20 @@ pub fn fit(req: &FitRequest) -> Result<Outcome> {
 
 /// [`fit`], telling `progress` a line per candidate structure of a selection.
 pub fn fit_with_progress(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcome> {
+    super::in_folder(&req.out, || fit_into(req, progress))
+}
+
+/// A structure the spec allows key by key but not as a whole is the spec file's error.
+fn spec_error(e: rhonn::Error, req: &FitRequest) -> Error {
+    match (&e, &req.model) {
+        (rhonn::Error::Invalid { value, .. }, Some(p)) if value.field.starts_with("model.") => {
+            context(format!("in the model spec {}", p.display()))(e.into())
+        }
+        _ => e.into(),
+    }
+}
+
+fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcome> {
     let (inputs, outputs) = (&req.inputs, &req.outputs);
     let units = parse_units(&req.units, inputs, outputs)?;
     if req.select.is_some() && req.model.is_some() {
@@ -160,8 +189,11 @@ pub fn fit_with_progress(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> 
         }
     };
     let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
-    let recs = read_data(&req.data, inputs, outputs, max_lag + 2, req.resample_s)?;
-    let sample_s = recs.first().map_or(0.0, |r| r.median_interval());
+    let (recs, regridded) = read_data_regridded(&req.data, inputs, outputs, max_lag + 2, req.resample_s)?;
+    for g in &regridded {
+        o.notes.push(format!("note: {g}"));
+    }
+    let sample_s = recs.first().map_or(0.0, |r| r.sample_interval());
     // A grey-box pump model has no lags: the lagged models' warnings do not apply.
     let grey = specs[0].kind == rhonn::sysid::Kind::Pump;
     if !grey {
@@ -172,8 +204,10 @@ pub fn fit_with_progress(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> 
     // A selection's baseline is its best ARX on the folds (an honest linear tuning), not
     // the ARX with the chosen structure's lags.
     let baseline = selection.as_ref().map(|s| &s.candidates[s.best_arx].model);
-    let (mut fitted, mut summary) = rhonn::sysid::train_beside(&specs, baseline, &recs, inputs, outputs)?;
+    let (mut fitted, mut summary) = rhonn::sysid::train_beside(&specs, baseline, &recs, inputs, outputs)
+        .map_err(|e| spec_error(e, req))?;
     summary.selection = selection;
+    summary.regridded = regridded;
     fitted.units = units;
     // The free run on each training record, for the plots (at most 8 records drawn).
     let training: Vec<_> = recs
@@ -278,32 +312,36 @@ fn training_lines(o: &mut Outcome, figures: &[RecordFigures], label: &str, units
 /// `rhonn predict`: predict a recording with a `model.json` of `rhonn fit` or of
 /// `rhonn identify`, free run or `steps` ahead, and write the prediction into `out`.
 pub fn predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> Result<Outcome> {
+    super::in_folder(out, || predict_into(model, data, out, steps))
+}
+
+fn predict_into(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> Result<Outcome> {
     let text = read_text(model)?;
     if steps == Some(0) {
         return Err(Error::Input(
             "--steps-ahead 0 is not allowed: give K >= 1, or leave it out for a free run".into(),
         ));
     }
-    let kind = serde_json::from_str::<serde_json::Value>(&text)
-        .ok()
-        .and_then(|v| v.get("kind").and_then(|k| k.as_str()).map(str::to_string));
+    // A file that is no JSON at all is named with the line and column where it breaks,
+    // before its kind is asked.
+    let value = serde_json::from_str::<serde_json::Value>(&text)
+        .map_err(|e| Error::Input(format!("{} is not JSON: {e}", model.display())))?;
+    let kind = value.get("kind").and_then(|k| k.as_str()).map(str::to_string);
     if kind.as_deref() == Some(rhonn::ident::OnlineModel::KIND) {
         return super::identify::predict_online(model, &text, data, out, steps);
     }
-    let fitted: FittedModel = serde_json::from_str(&text).map_err(|e| {
-        Error::Input(format!(
-            "{} is not a model written by `rhonn fit`: {e}",
-            model.display()
-        ))
-    })?;
+    let fitted: FittedModel = super::parse_json(&text, model, "a model written by `rhonn fit`")?;
     fitted
         .validate()
         .map_err(|e| context(format!("{} is not a valid model", model.display()))(e.into()))?;
     let m = &fitted.model;
     let needed = rhonn::sysid::samples_needed(&fitted, steps);
-    let recs = read_data(&[data.to_path_buf()], &m.inputs, &m.outputs, needed, None)?;
+    let (recs, regridded) = read_data_regridded(&[data.to_path_buf()], &m.inputs, &m.outputs, needed, None)?;
     let p = rhonn::sysid::predict(&fitted, &recs[0], steps)?;
     let mut o = Outcome::default();
+    for g in &regridded {
+        o.notes.push(format!("note: {g}"));
+    }
     if let Some(dt) = p.resampled_from_s {
         // Intervals read off decimal times carry float noise: shown to the nanosecond.
         let ns = |v: f64| (v * 1e9).round() / 1e9;
@@ -321,15 +359,18 @@ pub fn predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> R
     for (j, f) in p.figures.iter().enumerate() {
         let unit = unit_of(&fitted.units, &f.output);
         let mut line = format!(
-            "{} ({mode}): rms error {:.4}{unit}, fit {:.1} %, nrmse {:.4}",
-            f.output, f.rms_error, f.fit_percent, f.nrmse
+            "{} ({mode}): rms error {:.4}{unit}, fit {}, nrmse {}",
+            f.output,
+            f.rms_error,
+            super::percent(f.fit_percent),
+            super::ratio(f.nrmse)
         );
         if let (Some((_, fb)), Some(b)) = (&p.baseline, &fitted.baseline) {
             line += &format!(
-                "; ARX baseline ({}): rms error {:.4}{unit}, fit {:.1} %",
+                "; ARX baseline ({}): rms error {:.4}{unit}, fit {}",
                 b.spec.lags_name(),
                 fb[j].rms_error,
-                fb[j].fit_percent
+                super::percent(fb[j].fit_percent)
             );
         }
         o.lines.push(line);

@@ -28,6 +28,15 @@ pub struct IdentifyRequest {
     pub out: PathBuf,
 }
 
+/// Paths as a comma-separated list, for messages.
+fn list(paths: &[PathBuf]) -> String {
+    paths
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 fn read_spec(p: &Path) -> Result<OnlineSpec> {
     online_spec(&read_text(p)?, &p.display().to_string())
 }
@@ -41,6 +50,34 @@ pub fn online_spec(text: &str, source: &str) -> Result<OnlineSpec> {
 /// `rhonn identify`: learn the recordings online, validate the frozen model, write the
 /// folder.
 pub fn identify(a: &IdentifyRequest) -> Result<Outcome> {
+    super::in_folder(&a.out, || identify_into(a))
+}
+
+/// An identification's error, named by whose it is: a setting of the spec is the spec
+/// file's; anything else is the data's (with the spec named).
+fn identification_error(e: rhonn::Error, a: &IdentifyRequest) -> Error {
+    let whose = match (&e, &a.model) {
+        (rhonn::Error::Invalid { value, .. }, Some(p)) if value.field.starts_with("model.") => {
+            format!("in the model spec {}", p.display())
+        }
+        (rhonn::Error::Invalid { value, .. }, None) if value.field.starts_with("model.") => {
+            "in the default model spec (give a spec with --model)".to_string()
+        }
+        _ => format!(
+            "online identification of {} with {}",
+            list(&a.data),
+            a.model
+                .as_ref()
+                .map_or("the default model spec".to_string(), |p| format!(
+                    "the model spec {}",
+                    p.display()
+                ))
+        ),
+    };
+    context(whose)(e.into())
+}
+
+fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
     let mut spec = match a.model.as_deref() {
         Some(p) => read_spec(p)?,
         None => OnlineSpec::default(),
@@ -60,8 +97,7 @@ pub fn identify(a: &IdentifyRequest) -> Result<Outcome> {
             .collect()
     };
     let records = read(&a.data)?;
-    let run = identify_records(&spec, &records, &a.outputs)
-        .map_err(|e| context("online identification")(e.into()))?;
+    let run = identify_records(&spec, &records, &a.outputs).map_err(|e| identification_error(e, a))?;
     let validation = if a.validate.is_empty() {
         None
     } else {
@@ -177,19 +213,22 @@ pub(super) fn predict_online(
     out: &Path,
     steps: Option<usize>,
 ) -> Result<Outcome> {
-    let m: OnlineModel = serde_json::from_str(text).map_err(|e| {
-        Error::Input(format!(
-            "{} is not a valid online model: {e}",
-            model_path.display()
-        ))
-    })?;
+    let m: OnlineModel = super::parse_json(text, model_path, "a valid online model")?;
     let mut id = m
         .identifier()
         .map_err(|e| context(format!("{} is not a valid model", model_path.display()))(e.into()))?;
     let rec = crate::read_record(data, &m.inputs, &m.outputs, 2)?;
     let recs = std::slice::from_ref(&rec);
     rhonn::ident::sample_time(recs)?;
-    let pred = predict_records(&mut id, recs, steps)?.remove(0);
+    let pred = predict_records(&mut id, recs, steps)
+        .map_err(|e| {
+            context(format!(
+                "predicting {} with the model {}",
+                data.display(),
+                model_path.display()
+            ))(e.into())
+        })?
+        .remove(0);
     let figures = crate::identify::online_prediction_figures(&rec, &pred, &m.outputs, steps.unwrap_or(0));
     let files = crate::identify::write_online_prediction(
         out,
@@ -208,8 +247,11 @@ pub(super) fn predict_online(
     let mode = steps.map_or("free run".to_string(), |k| format!("{k} steps ahead"));
     for f in &figures {
         o.lines.push(format!(
-            "{} ({mode}): rms error {:.4}, fit {:.1} %, nrmse {:.4}",
-            f.output, f.rms_error, f.fit_percent, f.nrmse
+            "{} ({mode}): rms error {:.4}, fit {}, nrmse {}",
+            f.output,
+            f.rms_error,
+            super::percent(f.fit_percent),
+            super::ratio(f.nrmse)
         ));
     }
     Ok(o)

@@ -83,6 +83,65 @@ pub fn campaign_outcome(o: &CampaignOutcome) -> Outcome {
     }
 }
 
+/// Check `dir` before the work of `f` (writable, or creatable), run `f`, then remove the
+/// run files of an earlier run in `dir` that `f` did not write (`crate::folder`), saying
+/// so in a note.
+pub(crate) fn in_folder(dir: &Path, f: impl FnOnce() -> crate::Result<Outcome>) -> crate::Result<Outcome> {
+    crate::folder::check_writable(dir)?;
+    let mut o = f()?;
+    finish_folder(dir, &mut o)?;
+    Ok(o)
+}
+
+/// Remove the run files of an earlier run that `o` did not write into `dir`; when any
+/// went, `report.html` (which shows the folder's plots) is written again without them.
+pub(crate) fn finish_folder(dir: &Path, o: &mut Outcome) -> crate::Result<()> {
+    let removed = crate::folder::remove_stale(dir, &o.files);
+    for r in &removed {
+        o.notes.push(format!(
+            "note: removed {} (an earlier run's file, which this run does not write)",
+            r.display()
+        ));
+    }
+    if !removed.is_empty() && o.files.iter().any(|f| f.ends_with("report.html")) {
+        crate::write_report(dir)?;
+    }
+    Ok(())
+}
+
+/// A fit in percent, or why it is undefined (a constant measured output).
+pub(crate) fn percent(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.1} %")
+    } else {
+        "undefined (the measured output is constant)".into()
+    }
+}
+
+/// A normalised error, or why it is undefined (a constant measured output).
+pub(crate) fn ratio(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.4}")
+    } else {
+        "undefined".into()
+    }
+}
+
+/// `text` (the file `path`) as a `T`; an error names the file, the field's path in it
+/// (`model.weights[0][4]`), the line and the column.
+pub(crate) fn parse_json<T: serde::de::DeserializeOwned>(
+    text: &str,
+    path: &Path,
+    what: &str,
+) -> crate::Result<T> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let at = e.path().to_string();
+        let inner = e.into_inner();
+        crate::Error::Input(format!("{} is not {what}: field `{at}`: {inner}", path.display()))
+    })
+}
+
 /// A file's text, or an error naming the file and what the system said.
 pub(crate) fn read_text(p: &Path) -> crate::Result<String> {
     std::fs::read_to_string(p).map_err(|e| {

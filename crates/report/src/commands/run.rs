@@ -12,6 +12,14 @@ pub const REPRODUCED: [&str; 4] = ["thesis-ch3", "thesis-ch5", "regulated-pi", "
 /// `rhonn run`: run a scenario (a shipped name or a TOML file, of any plant) and write its
 /// folder (`out`, default `out/<name>`).
 pub fn run(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
+    // A scenario read from a file: every error names the file.
+    if Path::new(scenario).is_file() {
+        return run_named(scenario, out).map_err(context(format!("in the scenario file {scenario}")));
+    }
+    run_named(scenario, out)
+}
+
+fn run_named(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
     let spec = match preset::load_any(scenario)? {
         preset::AnyScenario::Pump(spec) => spec,
         preset::AnyScenario::Plant(spec) => return run_plant(&spec, out),
@@ -21,6 +29,7 @@ pub fn run(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
     o.notes
         .extend(sc.warnings.iter().map(|w| format!("warning: {w}")));
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&spec.name));
+    crate::folder::check_writable(&dir)?;
     let mut trace = Trace::default();
     let output = run_full(&sc, &mut trace)?;
     let summary = &output.summary;
@@ -65,6 +74,7 @@ pub fn run(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
         "  solver: {} rhs evaluations, {} accepted and {} rejected steps, {} events",
         s.rhs_evaluations, s.accepted_steps, s.rejected_steps, s.events
     ));
+    super::finish_folder(&dir, &mut o)?;
     Ok(o)
 }
 
@@ -78,6 +88,7 @@ fn written(name: &str) -> impl FnOnce(Error) -> Error {
 /// `rhonn run` for a plant scenario (`[plant] kind`).
 fn run_plant(spec: &PlantScenarioSpec, out: Option<PathBuf>) -> Result<Outcome> {
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&spec.name));
+    crate::folder::check_writable(&dir)?;
     let output = rhonn::experiment::run_plant_scenario(spec, None)?;
     let mut o = Outcome {
         files: crate::write_plant_run(&dir, &output).map_err(written(&spec.name))?,
@@ -112,6 +123,7 @@ fn run_plant(spec: &PlantScenarioSpec, out: Option<PathBuf>) -> Result<Outcome> 
     }
     o.lines
         .extend(s.findings.iter().map(|f| format!("  finding: {f}")));
+    super::finish_folder(&dir, &mut o)?;
     Ok(o)
 }
 

@@ -398,9 +398,9 @@ impl PlantScenarioSpec {
         }
         if self.duration_s / self.output_interval_s > 1e7 {
             return Err(invalid(
-                "output_interval_s",
-                self.output_interval_s,
-                "at most 10,000,000 samples",
+                "duration_s, output_interval_s",
+                format!("{} s, {} s", self.duration_s, self.output_interval_s),
+                "at most 10,000,000 output samples (duration_s / output_interval_s): a shorter duration_s or a longer output_interval_s",
             ));
         }
         match (&self.identifier, &self.control) {

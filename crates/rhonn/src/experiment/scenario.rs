@@ -459,19 +459,20 @@ impl ScenarioSpec {
             ));
         }
         let xn = self.measurement.stroke_noise_std_mm;
-        if !(xn.is_finite() && xn >= 0.0) {
+        // Bounded so that the value in SI stays finite for the noise's distribution.
+        if !(xn.is_finite() && (0.0..=100.0).contains(&xn)) {
             return Err(invalid(
                 "measurement.stroke_noise_std_mm",
                 xn,
-                "a finite number >= 0",
+                "a number in [0, 100] mm",
             ));
         }
         let noise = self.measurement.noise_std_mpa;
-        if !(noise.is_finite() && noise >= 0.0) {
+        if !(noise.is_finite() && (0.0..=100.0).contains(&noise)) {
             return Err(invalid(
                 "measurement.noise_std_mpa",
                 noise,
-                "a finite number >= 0",
+                "a number in [0, 100] MPa",
             ));
         }
         let solver = self.check_solver()?;

@@ -326,32 +326,7 @@ pub(super) fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64,
     if !(spec.dead_zone.is_finite() && spec.dead_zone >= 0.0) {
         return Err(invalid("model.dead_zone", spec.dead_zone, "a finite number >= 0"));
     }
-    let ok = |v: &[f64], n: usize, positive: bool| {
-        v.len() == n && v.iter().all(|x| x.is_finite() && (!positive || *x > 0.0))
-    };
-    if !(ok(&s.y_offset, ny, false)
-        && ok(&s.y_scale, ny, true)
-        && ok(&s.u_offset, nu, false)
-        && ok(&s.u_scale, nu, true))
-    {
-        return Err(invalid(
-            "scaling",
-            format!("{s:?}"),
-            format!("{ny} output and {nu} input offsets and scales, scales > 0"),
-        ));
-    }
-    if let Some(b) = &s.y_bounds {
-        if b.len() != ny
-            || b.iter()
-                .any(|[lo, hi]| !(lo.is_finite() && hi.is_finite() && lo < hi))
-        {
-            return Err(invalid(
-                "scaling.y_bounds",
-                format!("{b:?}"),
-                format!("{ny} finite [low, high] pairs, low < high"),
-            ));
-        }
-    }
+    check_scaling(s, ny, nu)?;
     if spec.structure != OnlineStructure::Lagged && spec.lags.is_some() {
         return Err(invalid(
             "model.lags",
@@ -389,6 +364,66 @@ pub(super) fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64,
             spec.output_margin,
             "a finite number (negative: unbounded)",
         ));
+    }
+    Ok(())
+}
+
+/// Offsets and scales within what the arithmetic can carry: every value finite, offsets
+/// of magnitude at most 1e150 and scales in [1e-150, 1e150] (a scale of 5e-324 or 1e308
+/// makes every prediction NaN or infinite), bounds finite with low < high. Errors name
+/// the field and its index.
+fn check_scaling(s: &Scaling, ny: usize, nu: usize) -> Result<()> {
+    const BIG: f64 = 1e150;
+    let fields: [(&str, &[f64], usize, bool); 4] = [
+        ("y_offset", &s.y_offset, ny, false),
+        ("y_scale", &s.y_scale, ny, true),
+        ("u_offset", &s.u_offset, nu, false),
+        ("u_scale", &s.u_scale, nu, true),
+    ];
+    for (name, v, n, scale) in fields {
+        if v.len() != n {
+            return Err(invalid(
+                format!("scaling.{name}"),
+                format!("{} values", v.len()),
+                format!(
+                    "{n} (one per {})",
+                    if name.starts_with('y') { "output" } else { "input" }
+                ),
+            ));
+        }
+        for (k, x) in v.iter().enumerate() {
+            let ok = if scale {
+                x.is_finite() && (1.0 / BIG..=BIG).contains(x)
+            } else {
+                x.is_finite() && x.abs() <= BIG
+            };
+            if !ok {
+                let allowed = if scale {
+                    "a scale in [1e-150, 1e150]"
+                } else {
+                    "a finite offset of magnitude at most 1e150"
+                };
+                return Err(invalid(format!("scaling.{name}[{k}]"), x, allowed));
+            }
+        }
+    }
+    if let Some(b) = &s.y_bounds {
+        if b.len() != ny {
+            return Err(invalid(
+                "scaling.y_bounds",
+                format!("{} pairs", b.len()),
+                format!("{ny} (one per output)"),
+            ));
+        }
+        for (k, [lo, hi]) in b.iter().enumerate() {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi && lo.abs() <= BIG && hi.abs() <= BIG) {
+                return Err(invalid(
+                    format!("scaling.y_bounds[{k}]"),
+                    format!("[{lo}, {hi}]"),
+                    "finite [low, high] with low < high, of magnitude at most 1e150",
+                ));
+            }
+        }
     }
     Ok(())
 }

@@ -48,7 +48,7 @@ pub const MAX_LISTED_WEIGHTS: usize = 50;
 /// The sample time of records: the first record's median interval; every record must
 /// be uniform within 1 % of it.
 pub fn sample_time(records: &[Record]) -> Result<f64> {
-    let dt = records.first().map_or(f64::NAN, |r| r.median_interval());
+    let dt = records.first().map_or(f64::NAN, |r| r.sample_interval());
     if !(dt.is_finite() && dt > 0.0) {
         return Err(invalid(
             "data",
@@ -82,6 +82,21 @@ pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String
     let (ny, nu) = (records[0].outputs.len(), records[0].inputs.len());
     let ys: Vec<Vec<f64>> = (0..ny).map(|j| cols(|r| &r.outputs, j)).collect();
     let us: Vec<Vec<f64>> = (0..nu).map(|j| cols(|r| &r.inputs, j)).collect();
+    if let Some((j, c)) = ys.iter().enumerate().find(|(_, c)| c.iter().all(|v| *v == c[0])) {
+        return Err(invalid(
+            format!(
+                "{}: output `{}`",
+                records
+                    .iter()
+                    .map(|r| r.source.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                outputs.get(j).map_or("?", |s| s.as_str())
+            ),
+            format!("constant {}", c[0]),
+            "an output that varies: a constant output has nothing to identify",
+        ));
+    }
     let mut scaling = Scaling::of(
         &ys.iter().map(|v| v.as_slice()).collect::<Vec<_>>(),
         &us.iter().map(|v| v.as_slice()).collect::<Vec<_>>(),
@@ -250,6 +265,14 @@ pub fn predict_records(
             }
         }
         id.set_free_run(false);
+        if let Some((k, j)) =
+            (0..pred.len()).find_map(|k| pred[k].iter().position(|v| !v.is_finite()).map(|j| (k, j)))
+        {
+            return Err(crate::Error::NotFinite {
+                what: format!("the frozen model's prediction of output {j} on {} at t = {} s", r.source, r.t[k]),
+                cause: "the model overflows on these data (its scaling or weights far outside what identification gives, or data far outside the training range); nothing was written".into(),
+            });
+        }
         out.push(pred);
     }
     Ok(out)

@@ -165,7 +165,9 @@ pub(super) fn ensure_finite_model(m: &Model, records: &[Record]) -> Result<()> {
 pub fn ensure_finite_figures(figures: &[OutputFigures], source: &str) -> Result<()> {
     match figures
         .iter()
-        .find(|f| !(f.rms_error.is_finite() && f.fit_percent.is_finite() && f.nrmse.is_finite()))
+        // The fit and NRMSE of a constant output are undefined, not an overflow: only the
+        // error itself must be finite.
+        .find(|f| !f.rms_error.is_finite())
     {
         None => Ok(()),
         Some(f) => Err(Error::NotFinite {

@@ -198,9 +198,9 @@ fn blank_model(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs:
     for r in records {
         r.check(lag + 2)?;
     }
-    let dt = records[0].median_interval();
+    let dt = records[0].sample_interval();
     for r in &records[1..] {
-        let d = r.median_interval();
+        let d = r.sample_interval();
         if (d - dt).abs() > 1e-6 * dt {
             return Err(invalid(
                 format!("{}: sampling interval", r.source),

@@ -36,7 +36,12 @@ impl FittedModel {
     /// baseline.
     pub fn validate(&self) -> Result<()> {
         for (k, m) in self.all_members().enumerate() {
-            m.validate()?;
+            let checked = m.validate();
+            if k == 0 {
+                checked?;
+            } else {
+                checked.map_err(|e| crate::error::rerooted(e, &format!("members[{}]", k - 1)))?;
+            }
             if m.inputs != self.model.inputs
                 || m.outputs != self.model.outputs
                 || (m.sample_time_s - self.model.sample_time_s).abs() > 1e-9 * self.model.sample_time_s
@@ -49,7 +54,7 @@ impl FittedModel {
             }
         }
         if let Some(b) = &self.baseline {
-            b.validate()?;
+            b.validate().map_err(|e| crate::error::rerooted(e, "baseline"))?;
         }
         Ok(())
     }

@@ -202,6 +202,13 @@ pub struct Model {
     pub weights: Vec<Vec<f64>>,
 }
 
+/// `v` held within `(lo, hi)`; unlike `f64::clamp`, never a panic (a NaN bound, or
+/// bounds in the wrong order from data whose statistics overflowed): NaN then propagates
+/// to the figures' finiteness checks, which name the data.
+fn hold(v: f64, (lo, hi): (f64, f64)) -> f64 {
+    v.max(lo).min(hi)
+}
+
 /// Figures of one output.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct OutputFigures {
@@ -209,9 +216,11 @@ pub struct OutputFigures {
     pub output: String,
     /// RMS of y - yhat.
     pub rms_error: f64,
-    /// 100 (1 - |y - yhat| / |y - mean y|).
+    /// 100 (1 - |y - yhat| / |y - mean y|); undefined (left out of JSON) for a constant y.
+    #[serde(skip_serializing_if = "crate::metrics::undefined")]
     pub fit_percent: f64,
-    /// RMS error / range of y.
+    /// RMS error / range of y; undefined (left out of JSON) for a constant y.
+    #[serde(skip_serializing_if = "crate::metrics::undefined")]
     pub nrmse: f64,
     /// Samples compared.
     pub samples: usize,
@@ -422,30 +431,57 @@ impl Model {
         feat[c] = 1.0;
     }
 
+    /// Normalisation and output ranges as a file may hold them: one per input and output,
+    /// means and ranges finite and of magnitude at most 1e150, standard deviations in
+    /// [1e-150, 1e150], each range low <= high. Errors name the field and its index.
+    fn check_scaling(&self) -> Result<()> {
+        const BIG: f64 = 1e150;
+        type Pairs<'a> = &'a [(f64, f64)];
+        let lists: [(&str, Pairs, usize); 3] = [
+            ("model.input_norm", &self.input_norm, self.ni()),
+            ("model.output_norm", &self.output_norm, self.no()),
+            ("model.output_range", &self.output_range, self.no()),
+        ];
+        for (name, v, n) in lists {
+            if v.len() != n {
+                return Err(invalid(
+                    name,
+                    format!("{} entries", v.len()),
+                    format!("{n}, one per column"),
+                ));
+            }
+            for (k, &(a, b)) in v.iter().enumerate() {
+                let ok = if name.ends_with("range") {
+                    a.is_finite() && b.is_finite() && a <= b && a.abs() <= BIG && b.abs() <= BIG
+                } else {
+                    a.is_finite() && a.abs() <= BIG && b.is_finite() && (1.0 / BIG..=BIG).contains(&b)
+                };
+                if !ok {
+                    let allowed = if name.ends_with("range") {
+                        "[low, high], finite, low <= high, of magnitude at most 1e150"
+                    } else {
+                        "[mean, standard deviation]: a finite mean of magnitude at most 1e150, a deviation in [1e-150, 1e150]"
+                    };
+                    return Err(invalid(format!("{name}[{k}]"), format!("[{a}, {b}]"), allowed));
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Check a model read from a file: names, normalisation, terms and weight lengths.
     pub fn validate(&self) -> Result<()> {
         self.spec.check()?;
         if self.outputs.is_empty() {
             return Err(invalid("model.outputs", "[]", "at least one output"));
         }
-        if self.input_norm.len() != self.ni()
-            || self.output_norm.len() != self.no()
-            || self.output_range.len() != self.no()
-        {
+        self.check_scaling()?;
+        if !(self.sample_time_s.is_finite() && self.sample_time_s > 0.0) {
             return Err(invalid(
-                "model normalisation",
-                "lengths",
-                "one entry per input and per output",
+                "model.sample_time_s",
+                self.sample_time_s,
+                "a finite number > 0",
             ));
-        }
-        for (m, s) in self.input_norm.iter().chain(&self.output_norm) {
-            if !(m.is_finite() && s.is_finite() && *s > 0.0) {
-                return Err(invalid(
-                    "model normalisation",
-                    format!("({m}, {s})"),
-                    "a finite mean and a standard deviation > 0",
-                ));
-            }
         }
         if self.spec.kind == Kind::Pump {
             return pump_grey::validate(self);
@@ -480,9 +516,6 @@ impl Model {
                 format!("{} vectors", self.weights.len()),
                 format!("one vector of {nf} finite weights per output"),
             ));
-        }
-        if !(self.sample_time_s.is_finite() && self.sample_time_s > 0.0) {
-            return Err(invalid("model.sample_time_s", self.sample_time_s, "a number > 0"));
         }
         Ok(())
     }
@@ -583,7 +616,7 @@ impl Model {
                     }
                     for j in 0..no {
                         let v: f64 = self.weights[j].iter().zip(&feat).map(|(w, f)| w * f).sum();
-                        pred[j][k] = v.clamp(bounds[j].0, bounds[j].1);
+                        pred[j][k] = hold(v, bounds[j]);
                     }
                 }
             }
@@ -604,7 +637,7 @@ impl Model {
                         }
                         for j in 0..no {
                             let v: f64 = self.weights[j].iter().zip(&feat).map(|(w, f)| w * f).sum();
-                            hist[j][k] = v.clamp(bounds[j].0, bounds[j].1);
+                            hist[j][k] = hold(v, bounds[j]);
                         }
                     }
                     for j in 0..no {

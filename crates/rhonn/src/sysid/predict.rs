@@ -85,11 +85,11 @@ pub fn predict(fitted: &FittedModel, record: &Record, steps_ahead: Option<usize>
     }
     let m = &fitted.model;
     let need = samples_needed(fitted, steps_ahead);
-    let dt = record.median_interval();
-    let (record, resampled_from_s) = if (dt - m.sample_time_s).abs() > 1e-6 * m.sample_time_s {
-        (record.uniform(m.sample_time_s), Some(dt))
-    } else {
+    let dt = record.sample_interval();
+    let (record, resampled_from_s) = if record.on_grid(m.sample_time_s) {
         (record.clone(), None)
+    } else {
+        (record.uniform(m.sample_time_s), Some(dt))
     };
     if record.len() < need {
         return Err(invalid(

@@ -77,6 +77,9 @@ pub struct FitSummary {
     /// How the structure was chosen (`--select auto`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub selection: Option<super::select::Selection>,
+    /// Records whose times were not uniform and were put on a grid: what that changed.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub regridded: Vec<crate::data::Regrid>,
 }
 
 /// The figures of `predict` on every record; an error when any is not finite.
@@ -122,6 +125,7 @@ pub fn train_beside(
     let fitted = fit_ensemble(specs, records, inputs, outputs, baseline)?;
     let m = &fitted.model;
     let summary = FitSummary {
+        regridded: Vec::new(),
         rhonn_version: env!("CARGO_PKG_VERSION"),
         model: m.spec.clone(),
         features: m.n_features(),
