@@ -20,6 +20,8 @@ part() {
     fi
 }
 part "Rust (cargo test --workspace --release)" cargo test --workspace --release --locked
+# The binary the Rust tests built (the same crates the Python extension's build reuses).
+export RHONN_BIN="$PWD/target/release/rhonn"
 part "Python (python/test.sh)" python/test.sh
 if rustup target list --installed 2>/dev/null | grep -qx thumbv7em-none-eabihf && command -v qemu-system-arm >/dev/null; then
     part "firmware (embedded/run-qemu.sh)" embedded/run-qemu.sh

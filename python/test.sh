@@ -11,9 +11,14 @@ if [ ! -x "$VENV/bin/python" ]; then
 fi
 "$VENV/bin/python" -m pip install --quiet --upgrade pip
 "$VENV/bin/python" -m pip install --quiet maturin pytest numpy
-cargo build --release --locked --bin rhonn
+# test-all.sh hands over the binary its `cargo test --release` built (RHONN_BIN): no second
+# build. Run alone, this builds it.
+if [ -z "${RHONN_BIN:-}" ]; then
+    cargo build --release --locked --bin rhonn
+    RHONN_BIN="$PWD/target/release/rhonn"
+fi
+export RHONN_BIN
 "$VENV/bin/python" -m pip install --quiet ./python
-export RHONN_BIN="$PWD/target/release/rhonn"
 # From the tests' folder, so that `import rhonn` is the installed package, not the source.
 cd python/tests
 "../../$VENV/bin/python" -m pytest -q .

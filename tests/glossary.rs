@@ -11,8 +11,9 @@ use std::path::Path;
 use util::{rhonn, stderr};
 
 /// Subtrees of a summary.json that echo settings or hold data, not figures.
-const NOT_FIGURES: [&str; 11] = [
+const NOT_FIGURES: [&str; 12] = [
     "plan",
+    "spec",
     "scenario",
     "solver",
     "model",

@@ -121,6 +121,13 @@ pub enum Command {
     /// Identify a RHONN online from recordings, sample by sample, with the thesis's
     /// stability-proven laws; then freeze it and validate it.
     ///
+    /// Without --model the model is picked online: a bank of candidates (recursive ARX,
+    /// lagged RHONNs by recursive least squares, the continuous-time neurons and, for
+    /// one output and at most 5,000 samples, the cascade) runs over the records in one
+    /// pass and the one with the lowest prequential free-run error wins (each sample
+    /// predicted before it is learned; summary.json's `selection`). With --validate, an
+    /// offline ARX (lags by cross-validation on the records) runs free beside it.
+    ///
     /// The identifier runs over the --data records in time order (inputs held between
     /// samples, or linear with `inputs = "linear"` in the model spec), series-parallel on
     /// the measured outputs; unmeasured states are stood in for by filtered inputs
@@ -154,7 +161,7 @@ pub enum Command {
         /// Output columns, comma-separated.
         #[arg(long, value_delimiter = ',', required = true)]
         outputs: Vec<String>,
-        /// Model spec (TOML); defaults as listed above.
+        /// Model spec (TOML); without it the bank picks the model online.
         #[arg(long, value_name = "SPEC.toml")]
         model: Option<PathBuf>,
         /// Passes over the records (overrides the spec's `epochs`).

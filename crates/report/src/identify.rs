@@ -63,6 +63,13 @@ pub struct IdentifySummary {
     pub validation: Vec<ValidationFigures>,
     /// Findings in words.
     pub findings: Vec<String>,
+    /// Without `--model`: the online selection (every candidate's prequential figures).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub selection: Option<rhonn::ident::bank::BankSelection>,
+    /// With validation records: the offline ARX (lags by cross-validation on the training
+    /// records) beside the frozen online model, per record and output.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub baseline_arx: Option<rhonn::ident::compare::ArxBaseline>,
 }
 
 /// Figures of validation predictions.

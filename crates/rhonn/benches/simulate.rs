@@ -333,6 +333,51 @@ fn bench_online_cascade(c: &mut Criterion) {
     );
 }
 
+/// The online selection's bank (`rhonn identify` without `--model`) on a 20,000-sample
+/// record of one input and one output (a Wiener-Hammerstein-like chain: a first-order
+/// filter, a static tanh, another filter): the whole bank in one pass, divide by 20,000 for
+/// the time per sample (issue 34's budget: 20 us).
+fn bench_online_bank(c: &mut Criterion) {
+    use rhonn::ident::bank::{default_candidates, select};
+    let n = 20_000;
+    let (mut a, mut b, mut u) = (0.0_f64, 0.0_f64, 0.0_f64);
+    let (mut t, mut us, mut ys) = (vec![], vec![], vec![]);
+    let mut state = 12345u64;
+    for k in 0..n {
+        if k % 7 == 0 {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            u = (state >> 33) as f64 / (1u64 << 31) as f64 * 2.0 - 1.0;
+        }
+        t.push(k as f64 * 1e-3);
+        us.push(u);
+        ys.push(b);
+        a = 0.9 * a + 0.1 * u;
+        b = 0.8 * b + 0.2 * (2.0 * a).tanh();
+    }
+    let rec = [rhonn::data::Record {
+        source: "wh.csv".into(),
+        t,
+        inputs: vec![us],
+        outputs: vec![ys],
+    }];
+    let outputs = ["y".to_string()];
+    let mut g = c.benchmark_group("online selection");
+    g.sample_size(10);
+    g.bench_function(
+        "the default bank (9 candidates), one pass over 20,000 samples, 1 in 1 out",
+        |bch| {
+            bch.iter(|| {
+                select(default_candidates(1, n), black_box(&rec), &outputs)
+                    .unwrap()
+                    .chosen
+            })
+        },
+    );
+    g.finish();
+}
+
 /// The pump-identify record (current and demand in, measured pressure out), simulated.
 fn pump_identify_record() -> rhonn::data::Record {
     let mut tr = Trace::default();
@@ -376,6 +421,7 @@ criterion_group!(
     bench_pump_grey,
     bench_online,
     bench_online_cascade,
+    bench_online_bank,
     bench_runs,
     bench_discrete_step,
     bench_sysid,

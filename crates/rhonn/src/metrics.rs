@@ -23,6 +23,32 @@ pub fn rms_error(y: &[f64], yhat: &[f64]) -> f64 {
     (y.iter().zip(yhat).map(|(a, b)| (a - b) * (a - b)).sum::<f64>() / n as f64).sqrt()
 }
 
+/// `v` with `digits` significant digits, for people to read: plain decimals from 1e-4 to
+/// 1e6 (`0.007589`, `27.65`), else scientific (`5.331e-5`); trailing zeros dropped.
+pub fn sig(v: f64, digits: usize) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return v.to_string();
+    }
+    let digits = digits.max(1);
+    let mag = v.abs().log10().floor() as i32;
+    if !(-4..6).contains(&mag) {
+        let s = format!("{v:.*e}", digits - 1);
+        return match s.split_once('e') {
+            Some((m, e)) if m.contains('.') => {
+                format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
+            }
+            _ => s,
+        };
+    }
+    let decimals = (digits as i32 - 1 - mag).max(0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 /// Whether a figure is undefined (NaN or infinite): the fit and NRMSE of a constant output,
 /// which `summary.json` leaves out rather than writing null.
 pub fn undefined(v: &f64) -> bool {
@@ -83,6 +109,12 @@ mod tests {
         // |y - yhat| = 2, |y - mean| = sqrt(5)
         assert!((fit_percent(&y, &yhat) - 100.0 * (1.0 - 2.0 / 5f64.sqrt())).abs() < 1e-12);
         assert_eq!(fit_percent(&y, &y), 100.0);
+        assert_eq!(sig(0.007589123, 4), "0.007589");
+        assert_eq!(sig(27.654, 4), "27.65");
+        assert_eq!(sig(5.3312e-5, 4), "5.331e-5");
+        assert_eq!(sig(1.0e-4, 4), "0.0001");
+        assert_eq!(sig(1234567.0, 3), "1.23e6");
+        assert_eq!(sig(-0.5, 4), "-0.5");
         assert!((nrmse(&y, &yhat) - 1.0 / 3.0).abs() < 1e-15);
         let t = [0.0, 0.1, 0.2, 0.3, 0.4];
         let e = [5.0, -2.0, 0.5, -0.1, 0.05];

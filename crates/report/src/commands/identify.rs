@@ -78,13 +78,7 @@ fn identification_error(e: rhonn::Error, a: &IdentifyRequest) -> Error {
 }
 
 fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
-    let mut spec = match a.model.as_deref() {
-        Some(p) => read_spec(p)?,
-        None => OnlineSpec::default(),
-    };
-    if let Some(e) = a.epochs {
-        spec.epochs = e;
-    }
+    let given = a.model.as_deref().map(read_spec).transpose()?;
     if a.steps_ahead == Some(0) {
         return Err(Error::Input(
             "--steps-ahead 0 is not allowed: give K >= 1 samples".into(),
@@ -97,6 +91,20 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
             .collect()
     };
     let records = read(&a.data)?;
+    // Without a spec, the bank of candidates picks the model online (rhonn::ident::bank).
+    let (mut spec, bank) = match given {
+        Some(s) => (s, None),
+        None => {
+            let total = records.iter().map(|r| r.len()).sum();
+            let cands = rhonn::ident::bank::default_candidates(a.outputs.len(), total);
+            let sel = rhonn::ident::bank::select(cands, &records, &a.outputs)
+                .map_err(|e| identification_error(e, a))?;
+            (sel.chosen_spec().clone(), Some(sel))
+        }
+    };
+    if let Some(e) = a.epochs {
+        spec.epochs = e;
+    }
     let run = identify_records(&spec, &records, &a.outputs).map_err(|e| identification_error(e, a))?;
     let validation = if a.validate.is_empty() {
         None
@@ -125,6 +133,20 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
         .as_ref()
         .map(|v| validation_figures(v, &a.outputs))
         .unwrap_or_default();
+    // The offline ARX beside the online model, on each validation record.
+    let baseline = match &validation {
+        Some(v) => {
+            let (arx, _) = rhonn::sysid::select::best_arx(&records, &a.inputs, &a.outputs)
+                .map_err(|e| context("the ARX baseline")(e.into()))?;
+            Some(rhonn::ident::compare::compare_with_arx(
+                &v.records,
+                &v.free_run,
+                &arx,
+                &a.outputs,
+            )?)
+        }
+        None => None,
+    };
     let summary = IdentifySummary {
         model: spec.clone(),
         records: records.iter().map(|r| r.source.clone()).collect(),
@@ -134,7 +156,14 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
         online: run.figures.clone(),
         final_weight_norms: final_norms,
         max_weight_norm_per_pass: run.max_norm_per_pass.clone(),
-        findings: findings(&run, &vfig),
+        findings: bank
+            .iter()
+            .flat_map(|b| b.findings())
+            .chain(findings(&run, &vfig))
+            .chain(baseline.iter().flat_map(|b| b.findings()))
+            .collect(),
+        selection: bank,
+        baseline_arx: baseline,
         validation: vfig,
     };
     let model = OnlineModel {
@@ -166,15 +195,34 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
             f.output, f.rms_error_last_half, f.fit_percent_last_half
         ));
     }
+    // Per validation record and output, beside the offline ARX.
+    for c in summary
+        .baseline_arx
+        .iter()
+        .flat_map(|b| b.records.iter().map(move |c| (b, c)))
+    {
+        let (b, c) = c;
+        o.lines.push(format!(
+            "{} on {}: frozen, free run (from sample {}): RMS error {}, fit {}; offline ARX ({}): RMS error {}, fit {}",
+            c.output,
+            c.record,
+            c.from_sample,
+            rhonn::metrics::sig(c.online_rms_error, 4),
+            super::percent(c.online_fit_percent),
+            b.structure,
+            rhonn::metrics::sig(c.arx_rms_error, 4),
+            super::percent(c.arx_fit_percent)
+        ));
+    }
     for v in &summary.validation {
-        let mut line = format!(
-            "{}: frozen, free run on the validation data: RMS error {:.4}, fit {:.1} %",
-            v.output, v.free_run_rms_error, v.free_run_fit_percent
-        );
         if let (Some(k), Some(r), Some(f)) = (v.horizon, v.ahead_rms_error, v.ahead_fit_percent) {
-            line += &format!("; {k} samples ahead: RMS error {r:.4}, fit {f:.1} %");
+            o.lines.push(format!(
+                "{}: {k} samples ahead, over every validation record: RMS error {}, fit {}",
+                v.output,
+                rhonn::metrics::sig(r, 4),
+                super::percent(f)
+            ));
         }
-        o.lines.push(line);
     }
     Ok(o)
 }
@@ -184,8 +232,17 @@ fn findings(run: &rhonn::ident::OnlineRun, v: &[crate::identify::ValidationFigur
     let mut out = Vec::new();
     for f in &run.figures {
         out.push(match f.converged_s {
-            Some(t) => format!("{}: the online error stays within +-{:.4} (twice its final RMS) from {t} s of the final pass on", f.output, f.band),
-            None => format!("{}: the online error leaves the band +-{:.4} until the end of the final pass", f.output, f.band),
+            Some(t) => format!(
+                "{}: the online error stays within +-{} (twice its final RMS) from {} s of the final pass on (a band of the tracking error, not a claim that the system is learnt: the validation below says how the frozen model runs free)",
+                f.output,
+                rhonn::metrics::sig(f.band, 4),
+                rhonn::metrics::sig(t, 6)
+            ),
+            None => format!(
+                "{}: the online error leaves the band +-{} until the end of the final pass",
+                f.output,
+                rhonn::metrics::sig(f.band, 4)
+            ),
         });
     }
     let passes = &run.max_norm_per_pass;

@@ -191,15 +191,6 @@ impl Lagged {
         })
     }
 
-    /// Restart every covariance at `p0 I` (a new pass over recordings, as `rhonn fit`'s
-    /// `rls` starts each epoch).
-    pub(super) fn restart_law(&mut self) {
-        let nf = self.feat.len();
-        for pj in &mut self.p {
-            self.rule.init(0, nf, pj);
-        }
-    }
-
     /// One sample, normalised: `un` the inputs, `yn` the outputs. Writes the normalised
     /// estimate of `y(k)` (the measurement itself until the windows hold `max_lag`
     /// samples) into `y_hat`, then learns unless frozen or free. Whether it predicted.

@@ -434,7 +434,9 @@ impl DiscreteIdentifier {
     }
 }
 
+pub mod bank;
 mod cascade_online;
+pub mod compare;
 mod lagged;
 mod online;
 mod online_spec;
@@ -443,7 +445,8 @@ mod spec;
 pub use online::{InputHold, OnlineIdentifier, OnlineModel, OnlineSpec, Scaling, Snapshot};
 pub use online_spec::{CascadeOnlineSpec, LagSpec, OnlineStructure};
 pub use recordings::{
-    identify_records, predict_records, sample_time, OnlineFigures, OnlineRun, MAX_LISTED_WEIGHTS,
+    check_outputs_vary, identify_records, predict_records, record_scaling, sample_time, OnlineFigures,
+    OnlineRun, MAX_LISTED_WEIGHTS,
 };
 pub use spec::{IdentSettings, IdentifierSpec, SigmoidSpec};
 

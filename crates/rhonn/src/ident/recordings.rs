@@ -71,32 +71,37 @@ pub fn sample_time(records: &[Record]) -> Result<f64> {
     Ok(dt)
 }
 
-/// Identify `records` online with `spec`: `spec.epochs` passes, weights carried, the
-/// model restarted at each record's first measurement; scaled by the records' means and
-/// standard deviations.
-pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String]) -> Result<OnlineRun> {
-    let dt = sample_time(records)?;
+/// A constant output has nothing to identify: an error naming the records and the output.
+pub fn check_outputs_vary(records: &[Record], outputs: &[String]) -> Result<()> {
+    let ny = records.first().map_or(0, |r| r.outputs.len());
+    for j in 0..ny {
+        let first = records[0].outputs[j].first().copied().unwrap_or(0.0);
+        if records.iter().all(|r| r.outputs[j].iter().all(|v| *v == first)) {
+            let sources: Vec<&str> = records.iter().map(|r| r.source.as_str()).collect();
+            return Err(invalid(
+                format!(
+                    "{}: output `{}`",
+                    sources.join(", "),
+                    outputs.get(j).map_or("?", |s| s.as_str())
+                ),
+                format!("constant {first}"),
+                "an output that varies: a constant output has nothing to identify",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The scaling an identification of `records` with `spec` uses: each output's and
+/// input's mean and standard deviation over the records, and, unless `output_margin` is
+/// negative, each output's range widened by `output_margin` of it on each side.
+pub fn record_scaling(spec: &OnlineSpec, records: &[Record]) -> Scaling {
+    let (ny, nu) = (records[0].outputs.len(), records[0].inputs.len());
     let cols = |f: fn(&Record) -> &Vec<Vec<f64>>, j: usize| -> Vec<f64> {
         records.iter().flat_map(|r| f(r)[j].iter().copied()).collect()
     };
-    let (ny, nu) = (records[0].outputs.len(), records[0].inputs.len());
     let ys: Vec<Vec<f64>> = (0..ny).map(|j| cols(|r| &r.outputs, j)).collect();
     let us: Vec<Vec<f64>> = (0..nu).map(|j| cols(|r| &r.inputs, j)).collect();
-    if let Some((j, c)) = ys.iter().enumerate().find(|(_, c)| c.iter().all(|v| *v == c[0])) {
-        return Err(invalid(
-            format!(
-                "{}: output `{}`",
-                records
-                    .iter()
-                    .map(|r| r.source.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                outputs.get(j).map_or("?", |s| s.as_str())
-            ),
-            format!("constant {}", c[0]),
-            "an output that varies: a constant output has nothing to identify",
-        ));
-    }
     let mut scaling = Scaling::of(
         &ys.iter().map(|v| v.as_slice()).collect::<Vec<_>>(),
         &us.iter().map(|v| v.as_slice()).collect::<Vec<_>>(),
@@ -113,6 +118,17 @@ pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String
                 .collect(),
         );
     }
+    scaling
+}
+
+/// Identify `records` online with `spec`: `spec.epochs` passes, weights carried, the
+/// model restarted at each record's first measurement; scaled by the records' means and
+/// standard deviations.
+pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String]) -> Result<OnlineRun> {
+    let dt = sample_time(records)?;
+    check_outputs_vary(records, outputs)?;
+    let (ny, nu) = (records[0].outputs.len(), records[0].inputs.len());
+    let scaling = record_scaling(spec, records);
     let mut id = OnlineIdentifier::new(spec, ny, nu, dt, scaling)?;
     let mut max_norm_per_pass = Vec::new();
     let (mut estimates, mut weight_norms, mut weights) = (Vec::new(), Vec::new(), Vec::new());
@@ -164,7 +180,7 @@ pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String
     })
 }
 
-fn sample(r: &Record, k: usize, u: &mut [f64], y: &mut [f64]) {
+pub(super) fn sample(r: &Record, k: usize, u: &mut [f64], y: &mut [f64]) {
     for (j, c) in r.inputs.iter().enumerate() {
         u[j] = c[k];
     }

@@ -224,9 +224,48 @@ pub fn select(
             "a number of seconds > 0",
         ));
     }
+    select_from(
+        candidates(outputs.len(), opts.cascade),
+        records,
+        inputs,
+        outputs,
+        opts,
+        progress,
+    )
+}
+
+/// The best ARX by the same cross-validation (free run on contiguous folds, lags 1 to 8),
+/// trained on every record: the offline baseline `rhonn identify` reports beside its
+/// online model. Returns the model and the selection among the ARX structures.
+pub fn best_arx(
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<(super::FittedModel, Selection)> {
+    let opts = SelectOptions {
+        cascade: false,
+        ..SelectOptions::default()
+    };
+    let list: Vec<(String, ModelSpec)> = candidates(outputs.len(), false)
+        .into_iter()
+        .filter(|(_, s)| s.kind == Kind::Arx)
+        .collect();
+    let sel = select_from(list, records, inputs, outputs, &opts, &|_| {})?;
+    let (fitted, _) = super::train(std::slice::from_ref(sel.chosen_spec()), records, inputs, outputs)?;
+    Ok((fitted, sel))
+}
+
+/// [`select`] over the candidates `list`.
+fn select_from(
+    list: Vec<(String, ModelSpec)>,
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+    opts: &SelectOptions,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Selection> {
     let start = Instant::now();
     let parts = folds(records, opts.folds);
-    let list = candidates(outputs.len(), opts.cascade);
     let total = list.len();
     let mut scores = Vec::new();
     let samples: usize = records.iter().map(Record::len).sum();
