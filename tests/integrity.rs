@@ -379,3 +379,49 @@ fn a_reused_folder_keeps_no_stale_file_and_a_file_as_out_is_refused_first() {
         stderr(&o)
     );
 }
+
+#[test]
+fn a_missing_row_and_an_infinite_bias_are_named_as_what_they_are() {
+    let d = tempfile::tempdir().unwrap();
+    // One row fewer: `t` moves by 8 s where the record samples every 4 s.
+    let gap = edited(d.path(), "gap.csv", |r| {
+        r.remove(500);
+    });
+    let o = rhonn(
+        d.path(),
+        &[
+            "identify",
+            "--data",
+            s(&gap),
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--out",
+            "g",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("gap.csv, line 502, column `t`")
+            && e.contains("moves by 8 s")
+            && e.contains("1 missing sample"),
+        "{e}"
+    );
+    // A PI's bias must be a finite number within its loop's output range.
+    let o = rhonn(d.path(), &["show", "tanks-control"]);
+    let text = String::from_utf8_lossy(&o.stdout).replace(
+        "inner = { kind = \"pi\", state = \"h1\", kp = 0.2, ti_s = 10.0 }",
+        "inner = { kind = \"pi\", state = \"h1\", kp = 0.2, ti_s = 10.0, bias = inf }",
+    );
+    assert!(text.contains("bias = inf"));
+    std::fs::write(d.path().join("bias.toml"), text).unwrap();
+    let o = rhonn(d.path(), &["run", "bias.toml", "--out", "b"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("bias.toml") && stderr(&o).contains("control.baseline.inner.bias"),
+        "{}",
+        stderr(&o)
+    );
+}

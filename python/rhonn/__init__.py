@@ -155,11 +155,25 @@ def _names(given: Optional[Sequence[str]], n: int, prefix: str, arg: str) -> Lis
     return names
 
 
+def _check_finite_dict(d, at: str) -> None:
+    """A NaN or infinity in a dict spec, named by its key (JSON, and TOML's reader after
+    it, would only say that the text is not valid)."""
+    if isinstance(d, Mapping):
+        for k, v in d.items():
+            _check_finite_dict(v, f"{at}[{k!r}]")
+    elif isinstance(d, (list, tuple)):
+        for i, v in enumerate(d):
+            _check_finite_dict(v, f"{at}[{i}]")
+    elif isinstance(d, float) and not np.isfinite(d):
+        raise ValueError(f"{at} = {d} is not allowed: every number of a model spec must be finite")
+
+
 def _spec_text(model, arg: str = "model"):
     """(toml_text, source) of a model spec given as None, a path or a dict."""
     if model is None:
         return None, "the default model"
     if isinstance(model, Mapping):
+        _check_finite_dict(model, arg)
         return _rhonn.json_to_toml(json.dumps(dict(model))), f"{arg} (dict)"
     if isinstance(model, (str, os.PathLike)):
         path = os.fspath(model)
@@ -375,6 +389,9 @@ class OnlineIdentifier(_OnlineIdentifier):
     def __new__(
         cls, inputs, outputs, dt, model=None, y_offset=None, y_scale=None, u_offset=None, u_scale=None, y_bounds=None
     ):
+        for arg, names in (("inputs", inputs), ("outputs", outputs)):
+            if isinstance(names, str):
+                raise TypeError(f"{arg} must be a sequence of names, e.g. [{names!r}], not the string {names!r}")
         text, _ = _spec_text(model)
         return super().__new__(
             cls,

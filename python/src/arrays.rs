@@ -32,6 +32,28 @@ pub fn columns(name: &str, a: &PyReadonlyArray2<'_, f64>, k: usize) -> PyResult<
 /// A 1-D float64 array or a sequence of numbers, of `out.len()` finite values, into
 /// `out` (a float64 array is read without a copy).
 pub fn vector_into(name: &str, a: &Bound<'_, PyAny>, out: &mut [f64]) -> PyResult<()> {
+    // A complex array would lose its imaginary part in a conversion to float: refused.
+    let kind = a
+        .getattr("dtype")
+        .and_then(|d| d.getattr("kind"))
+        .and_then(|k| k.extract::<String>());
+    if kind.is_ok_and(|k| k == "c") {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "{name} must hold real numbers, not complex ones"
+        )));
+    }
+    // One signal: a plain number is its value.
+    if out.len() == 1 && a.get_type().name().is_ok_and(|n| n != "str") {
+        if let Ok(v) = a.extract::<f64>() {
+            if !v.is_finite() {
+                return Err(value_error(format!(
+                    "{name} = {v} is not allowed: every value must be finite"
+                )));
+            }
+            out[0] = v;
+            return Ok(());
+        }
+    }
     let owned: Vec<f64>;
     let arr;
     let contiguous = a

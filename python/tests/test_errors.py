@@ -133,3 +133,22 @@ def test_odd_inputs_raise_exceptions_never_panics(tmp_path):
             assert str(e), f"case {k}: an exception without a message"
             raised += 1
     assert raised >= len(odd) - 3, raised
+
+
+def test_online_identifier_refuses_what_it_used_to_take_silently():
+    """Issue 33: complex inputs lost their imaginary part, a string of names was split into
+    letters, a NaN in a dict spec read as "not JSON", a denormal dt was blamed on a gain."""
+    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0)
+    with pytest.raises(TypeError, match="u must hold real numbers, not complex"):
+        ident.update(0.0, np.array([1.0 + 2.0j]), [1.0])
+    with pytest.raises(TypeError, match="inputs must be a sequence of names"):
+        rhonn.OnlineIdentifier("uv", ["y"], dt=1.0)
+    with pytest.raises(ValueError, match=r"model\['gain'\] = nan is not allowed"):
+        rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0, model={"gain": float("nan")})
+    with pytest.raises(ValueError, match="sample time"):
+        rhonn.OnlineIdentifier(["u"], ["y"], dt=1e-320)
+    # One input: a plain number is its value (issue 38).
+    a = rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0)
+    b = rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0)
+    for k in range(5):
+        np.testing.assert_array_equal(a.update(float(k), 0.5 * k, [0.1 * k]), b.update(float(k), [0.5 * k], [0.1 * k]))

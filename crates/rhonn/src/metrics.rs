@@ -55,6 +55,11 @@ pub fn undefined(v: &f64) -> bool {
     !v.is_finite()
 }
 
+/// Whether an optional figure is present but undefined (None stays: it means "not run").
+pub fn undefined_opt(v: &Option<f64>) -> bool {
+    v.is_some_and(|x| !x.is_finite())
+}
+
 /// MATLAB `compare`'s fit: `100 (1 - |y - yhat| / |y - mean(y)|)` \[%\]; 100 is perfect,
 /// 0 is no better than the mean, negative is worse.
 pub fn fit_percent(y: &[f64], yhat: &[f64]) -> f64 {

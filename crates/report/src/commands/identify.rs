@@ -110,7 +110,19 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
         None
     } else {
         let vrec = read(&a.validate)?;
-        rhonn::ident::sample_time(&vrec)?;
+        let (vdt, dt) = (
+            rhonn::ident::sample_time(&vrec)?,
+            rhonn::ident::sample_time(&records)?,
+        );
+        if (vdt - dt).abs() > 0.01 * dt {
+            return Err(Error::Input(format!(
+                "{} samples every {} s, but the training records ({}) every {} s: give validation records with the same sample time (is one `t` column in milliseconds?)",
+                list(&a.validate),
+                rhonn::metrics::sig(vdt, 6),
+                list(&a.data),
+                rhonn::metrics::sig(dt, 6)
+            )));
+        }
         let mut id = run.identifier.clone();
         let free_run = predict_records(&mut id, &vrec, None)?;
         let ahead = match a.steps_ahead {

@@ -48,9 +48,12 @@ pub struct StateFigures {
     pub unit: &'static str,
     /// RMS of x_hat - x.
     pub rms_error: f64,
-    /// 100 (1 - |y - yhat| / |y - mean y|).
+    /// 100 (1 - |y - yhat| / |y - mean y|); left out of JSON when undefined (a state
+    /// that does not move).
+    #[serde(skip_serializing_if = "crate::metrics::undefined")]
     pub fit_percent: f64,
-    /// RMS error / range of the state.
+    /// RMS error / range of the state; left out of JSON when undefined.
+    #[serde(skip_serializing_if = "crate::metrics::undefined")]
     pub nrmse: f64,
     /// The band: 1 % of the state's range over the run.
     pub convergence_band: f64,

@@ -31,12 +31,15 @@ pub struct IdentStateFigures {
     pub unit: &'static str,
     /// RMS error of the online (series-parallel) estimate over the second half.
     pub training_rms_error: f64,
-    /// Fit \[%\] of the same.
+    /// Fit \[%\] of the same; left out of JSON when undefined (a state that does not
+    /// move).
+    #[serde(skip_serializing_if = "crate::metrics::undefined")]
     pub training_fit_percent: f64,
     /// RMS error of the frozen model's free run on the validation inputs (after its
     /// first tenth), when there is a validation.
     pub validation_rms_error: Option<f64>,
-    /// Fit \[%\] of the same.
+    /// Fit \[%\] of the same (left out of JSON when undefined).
+    #[serde(skip_serializing_if = "crate::metrics::undefined_opt")]
     pub validation_fit_percent: Option<f64>,
     /// |w| of the neuron at the end of training.
     pub final_weight_norm: f64,
@@ -239,12 +242,8 @@ fn run_control<P: Plant>(
             "finite, > 0 and at most duration_s",
         ));
     }
-    let sp = signal(
-        &c.setpoint,
-        "control.setpoint",
-        &qy,
-        (f64::NEG_INFINITY, f64::INFINITY),
-    )?;
+    // Bounded so that the error's integrals (IAE, ISE) stay finite.
+    let sp = signal(&c.setpoint, "control.setpoint", &qy, (-1e150, 1e150))?;
     let mut runs = Vec::new();
     for (field, l) in [
         ("control.controller", &c.controller),

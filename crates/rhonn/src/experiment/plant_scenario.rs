@@ -291,6 +291,14 @@ pub(crate) fn build_loop<P: Plant>(
                 return Err(invalid(format!("{field}.kp"), kp, "a finite number"));
             }
             let ti = positive("ti_s", *ti_s)?;
+            let (lo, hi) = (range.0 * out.display_per_si, range.1 * out.display_per_si);
+            if !(bias.is_finite() && lo.min(hi) <= *bias && *bias <= hi.max(lo)) {
+                return Err(invalid(
+                    format!("{field}.bias"),
+                    bias,
+                    format!("a number within the loop's output range [{lo}, {hi}]"),
+                ));
+            }
             let kp_si = kp * q.display_per_si / out.display_per_si;
             let mut pi = Pi::new(kp_si, ti, period_s, bias / out.display_per_si, range.0, range.1);
             pi.measured = [i];

@@ -281,8 +281,12 @@ pub(super) fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64,
             "at least one of each",
         ));
     }
-    if !(period_s.is_finite() && period_s > 0.0) {
-        return Err(invalid("sample time", period_s, "a finite number of seconds > 0"));
+    if !(period_s.is_finite() && (1e-9..=1e9).contains(&period_s)) {
+        return Err(invalid(
+            "sample time",
+            period_s,
+            "a number of seconds in [1e-9, 1e9]",
+        ));
     }
     if !(1..=4).contains(&spec.degree) {
         return Err(invalid("model.degree", spec.degree, "an integer in [1, 4]"));

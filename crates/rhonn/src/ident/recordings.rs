@@ -60,10 +60,21 @@ pub fn sample_time(records: &[Record]) -> Result<f64> {
         for (k, w) in r.t.windows(2).enumerate() {
             let d = w[1] - w[0];
             if !(d > 0.0) || (d - dt).abs() > 0.01 * dt {
+                let what = if d > 1.5 * dt {
+                    format!("{} missing sample(s) or a gap", (d / dt).round() as i64 - 1)
+                } else {
+                    "an uneven interval".to_string()
+                };
                 return Err(invalid(
                     format!("{}, line {}, column `t`", r.source, k + 3),
                     w[1],
-                    format!("{} s after the previous sample ({}): samples every {dt} s (a gap or an uneven interval; resample the record first)", w[0] + dt, w[0]),
+                    format!(
+                        "samples every {} s: after {} s comes {} s, but `t` moves by {} s here ({what}); resample the record first",
+                        metrics::sig(dt, 6),
+                        w[0],
+                        metrics::sig(w[0] + dt, 9),
+                        metrics::sig(d, 6)
+                    ),
                 ));
             }
         }
