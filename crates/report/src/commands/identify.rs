@@ -84,57 +84,13 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
             "--steps-ahead 0 is not allowed: give K >= 1 samples".into(),
         ));
     }
-    let read = |paths: &[PathBuf]| -> Result<Vec<rhonn::data::Record>> {
-        paths
-            .iter()
-            .map(|p| crate::read_record(p, &a.inputs, &a.outputs, 2).map_err(Error::from))
-            .collect()
-    };
-    let records = read(&a.data)?;
-    // Without a spec, the bank of candidates picks the model online (rhonn::ident::bank).
-    let (mut spec, bank) = match given {
-        Some(s) => (s, None),
-        None => {
-            let total = records.iter().map(|r| r.len()).sum();
-            let cands = rhonn::ident::bank::default_candidates(a.outputs.len(), total);
-            let sel = rhonn::ident::bank::select(cands, &records, &a.outputs)
-                .map_err(|e| identification_error(e, a))?;
-            (sel.chosen_spec().clone(), Some(sel))
-        }
-    };
+    let records = read_all(a, &a.data)?;
+    let (mut spec, bank) = choose_spec(a, given, &records)?;
     if let Some(e) = a.epochs {
         spec.epochs = e;
     }
     let run = identify_records(&spec, &records, &a.outputs).map_err(|e| identification_error(e, a))?;
-    let validation = if a.validate.is_empty() {
-        None
-    } else {
-        let vrec = read(&a.validate)?;
-        let (vdt, dt) = (
-            rhonn::ident::sample_time(&vrec)?,
-            rhonn::ident::sample_time(&records)?,
-        );
-        if (vdt - dt).abs() > 0.01 * dt {
-            return Err(Error::Input(format!(
-                "{} samples every {} s, but the training records ({}) every {} s: give validation records with the same sample time (is one `t` column in milliseconds?)",
-                list(&a.validate),
-                rhonn::metrics::sig(vdt, 6),
-                list(&a.data),
-                rhonn::metrics::sig(dt, 6)
-            )));
-        }
-        let mut id = run.identifier.clone();
-        let free_run = predict_records(&mut id, &vrec, None)?;
-        let ahead = match a.steps_ahead {
-            Some(k) => Some((k, predict_records(&mut id, &vrec, Some(k))?)),
-            None => None,
-        };
-        Some(Validation {
-            records: vrec,
-            free_run,
-            ahead,
-        })
-    };
+    let validation = validate(a, &run, &records)?;
     let dt = rhonn::ident::sample_time(&records)?;
     let weights = run.identifier.weights();
     let final_norms: Vec<f64> = weights
@@ -145,20 +101,7 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
         .as_ref()
         .map(|v| validation_figures(v, &a.outputs))
         .unwrap_or_default();
-    // The offline ARX beside the online model, on each validation record.
-    let baseline = match &validation {
-        Some(v) => {
-            let (arx, _) = rhonn::sysid::select::best_arx(&records, &a.inputs, &a.outputs)
-                .map_err(|e| context("the ARX baseline")(e.into()))?;
-            Some(rhonn::ident::compare::compare_with_arx(
-                &v.records,
-                &v.free_run,
-                &arx,
-                &a.outputs,
-            )?)
-        }
-        None => None,
-    };
+    let baseline = arx_baseline(a, &records, validation.as_ref())?;
     let summary = IdentifySummary {
         model: spec.clone(),
         records: records.iter().map(|r| r.source.clone()).collect(),
@@ -201,34 +144,122 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
         ..Outcome::default()
     };
     o.files.push(crate::write_report(&a.out)?);
+    o.lines = console_lines(&summary);
+    Ok(o)
+}
+
+/// The records of `paths`, with `a`'s columns.
+fn read_all(a: &IdentifyRequest, paths: &[PathBuf]) -> Result<Vec<rhonn::data::Record>> {
+    paths
+        .iter()
+        .map(|p| crate::read_record(p, &a.inputs, &a.outputs, 2).map_err(Error::from))
+        .collect()
+}
+
+/// The spec given, or, without one, the winner of the bank of candidates run online over
+/// the records (`rhonn::ident::bank`), with the bank's figures.
+fn choose_spec(
+    a: &IdentifyRequest,
+    given: Option<OnlineSpec>,
+    records: &[rhonn::data::Record],
+) -> Result<(OnlineSpec, Option<rhonn::ident::bank::BankSelection>)> {
+    match given {
+        Some(s) => Ok((s, None)),
+        None => {
+            let total = records.iter().map(|r| r.len()).sum();
+            let cands = rhonn::ident::bank::default_candidates(a.outputs.len(), total);
+            let sel = rhonn::ident::bank::select(cands, records, &a.outputs)
+                .map_err(|e| identification_error(e, a))?;
+            Ok((sel.chosen_spec().clone(), Some(sel)))
+        }
+    }
+}
+
+/// The frozen model run free (and K samples ahead) on the --validate records, which must
+/// be sampled as the training records are.
+fn validate(
+    a: &IdentifyRequest,
+    run: &rhonn::ident::OnlineRun,
+    records: &[rhonn::data::Record],
+) -> Result<Option<Validation>> {
+    if a.validate.is_empty() {
+        return Ok(None);
+    }
+    let vrec = read_all(a, &a.validate)?;
+    let (vdt, dt) = (
+        rhonn::ident::sample_time(&vrec)?,
+        rhonn::ident::sample_time(records)?,
+    );
+    if (vdt - dt).abs() > 0.01 * dt {
+        return Err(Error::Input(format!(
+            "{} samples every {} s, but the training records ({}) every {} s: give validation records with the same sample time (is one `t` column in milliseconds?)",
+            list(&a.validate),
+            rhonn::metrics::sig(vdt, 6),
+            list(&a.data),
+            rhonn::metrics::sig(dt, 6)
+        )));
+    }
+    let mut id = run.identifier.clone();
+    let free_run = predict_records(&mut id, &vrec, None)?;
+    let ahead = match a.steps_ahead {
+        Some(k) => Some((k, predict_records(&mut id, &vrec, Some(k))?)),
+        None => None,
+    };
+    Ok(Some(Validation {
+        records: vrec,
+        free_run,
+        ahead,
+    }))
+}
+
+/// The offline ARX (lags by cross-validation on the records) beside the frozen model on
+/// each validation record.
+fn arx_baseline(
+    a: &IdentifyRequest,
+    records: &[rhonn::data::Record],
+    validation: Option<&Validation>,
+) -> Result<Option<rhonn::ident::compare::ArxBaseline>> {
+    let Some(v) = validation else { return Ok(None) };
+    let (arx, _) = rhonn::sysid::best_arx(records, &a.inputs, &a.outputs)
+        .map_err(|e| context("the ARX baseline")(e.into()))?;
+    Ok(Some(rhonn::ident::compare::compare_with_arx(
+        &v.records,
+        &v.free_run,
+        &arx,
+        &a.outputs,
+    )?))
+}
+
+/// The figures for the console: the online fit, then per validation record and output
+/// the frozen free run beside the offline ARX, then K samples ahead.
+fn console_lines(summary: &IdentifySummary) -> Vec<String> {
+    let mut lines = Vec::new();
     for f in &summary.online {
-        o.lines.push(format!(
-            "{}: online (last half of the final pass) RMS error {:.4}, fit {:.1} %",
-            f.output, f.rms_error_last_half, f.fit_percent_last_half
+        lines.push(format!(
+            "{}: online (last half of the final pass) RMS error {}, fit {}",
+            f.output,
+            rhonn::metrics::sig(f.rms_error_last_half, 4),
+            super::percent(f.fit_percent_last_half)
         ));
     }
-    // Per validation record and output, beside the offline ARX.
-    for c in summary
-        .baseline_arx
-        .iter()
-        .flat_map(|b| b.records.iter().map(move |c| (b, c)))
-    {
-        let (b, c) = c;
-        o.lines.push(format!(
-            "{} on {}: frozen, free run (from sample {}): RMS error {}, fit {}; offline ARX ({}): RMS error {}, fit {}",
-            c.output,
-            c.record,
-            c.from_sample,
-            rhonn::metrics::sig(c.online_rms_error, 4),
-            super::percent(c.online_fit_percent),
-            b.structure,
-            rhonn::metrics::sig(c.arx_rms_error, 4),
-            super::percent(c.arx_fit_percent)
-        ));
+    if let Some(b) = &summary.baseline_arx {
+        for c in &b.records {
+            lines.push(format!(
+                "{} on {}: frozen, free run (from sample {}): RMS error {}, fit {}; offline ARX ({}): RMS error {}, fit {}",
+                c.output,
+                c.record,
+                c.from_sample,
+                rhonn::metrics::sig(c.online_rms_error, 4),
+                super::percent(c.online_fit_percent),
+                b.structure,
+                rhonn::metrics::sig(c.arx_rms_error, 4),
+                super::percent(c.arx_fit_percent)
+            ));
+        }
     }
     for v in &summary.validation {
         if let (Some(k), Some(r), Some(f)) = (v.horizon, v.ahead_rms_error, v.ahead_fit_percent) {
-            o.lines.push(format!(
+            lines.push(format!(
                 "{}: {k} samples ahead, over every validation record: RMS error {}, fit {}",
                 v.output,
                 rhonn::metrics::sig(r, 4),
@@ -236,7 +267,7 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
             ));
         }
     }
-    Ok(o)
+    lines
 }
 
 /// What the numbers mean, in words.

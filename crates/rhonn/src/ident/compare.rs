@@ -1,6 +1,6 @@
 //! The online model beside an offline ARX on each validation record (`rhonn identify`'s
 //! baseline): the ARX with the lags that cross-validation on the training records chose
-//! (`sysid::select::best_arx`), trained on them, run free on each validation record; both
+//! (`sysid::best_arx`), trained on them, run free on each validation record; both
 //! scored from the same sample, per record and output (no pooled figure).
 
 use crate::data::Record;

@@ -41,7 +41,7 @@ pub use fitted::{fit_ensemble, fit_with_baseline, parse_spec_file, FittedModel};
 use lm::lm;
 pub use predict::{predict, samples_needed, PredictSummary, Prediction};
 pub use train::{
-    train, train_beside, BaselineSummary, FitSummary, MemberSummary, RecordFigures, TrainingFigures,
+    best_arx, train, train_beside, BaselineSummary, FitSummary, MemberSummary, RecordFigures, TrainingFigures,
 };
 
 use crate::data::Record;

@@ -234,29 +234,8 @@ pub fn select(
     )
 }
 
-/// The best ARX by the same cross-validation (free run on contiguous folds, lags 1 to 8),
-/// trained on every record: the offline baseline `rhonn identify` reports beside its
-/// online model. Returns the model and the selection among the ARX structures.
-pub fn best_arx(
-    records: &[Record],
-    inputs: &[String],
-    outputs: &[String],
-) -> Result<(super::FittedModel, Selection)> {
-    let opts = SelectOptions {
-        cascade: false,
-        ..SelectOptions::default()
-    };
-    let list: Vec<(String, ModelSpec)> = candidates(outputs.len(), false)
-        .into_iter()
-        .filter(|(_, s)| s.kind == Kind::Arx)
-        .collect();
-    let sel = select_from(list, records, inputs, outputs, &opts, &|_| {})?;
-    let (fitted, _) = super::train(std::slice::from_ref(sel.chosen_spec()), records, inputs, outputs)?;
-    Ok((fitted, sel))
-}
-
 /// [`select`] over the candidates `list`.
-fn select_from(
+pub(super) fn select_from(
     list: Vec<(String, ModelSpec)>,
     records: &[Record],
     inputs: &[String],

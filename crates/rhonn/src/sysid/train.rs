@@ -170,3 +170,25 @@ pub fn train_beside(
     };
     Ok((fitted, summary))
 }
+
+/// The best ARX by `rhonn fit`'s selection (3-fold cross-validation, free run, lags 1 to
+/// 8), trained on every record: the offline baseline `rhonn identify` reports beside its
+/// online model. Returns the model and the selection among the ARX structures.
+pub fn best_arx(
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<(FittedModel, super::select::Selection)> {
+    use super::select::{candidates, select_from, SelectOptions};
+    let opts = SelectOptions {
+        cascade: false,
+        ..SelectOptions::default()
+    };
+    let list: Vec<(String, ModelSpec)> = candidates(outputs.len(), false)
+        .into_iter()
+        .filter(|(_, s)| s.kind == super::Kind::Arx)
+        .collect();
+    let sel = select_from(list, records, inputs, outputs, &opts, &|_| {})?;
+    let (fitted, _) = train(std::slice::from_ref(sel.chosen_spec()), records, inputs, outputs)?;
+    Ok((fitted, sel))
+}
