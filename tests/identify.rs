@@ -474,6 +474,8 @@ fn without_a_model_the_bank_picks_online_and_beats_the_offline_arx_on_the_tanks(
             "y",
             "--validate",
             val.to_str().unwrap(),
+            "--units",
+            "u=V,y=V",
             "--out",
             "o",
         ],
@@ -518,4 +520,6 @@ fn without_a_model_the_bank_picks_online_and_beats_the_offline_arx_on_the_tanks(
     );
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("offline ARX (na"), "{out}");
+    // --units as in fit: on the figures and in summary.json.
+    assert!(out.contains(" V, fit") && s["units"]["y"] == "V", "{out}");
 }

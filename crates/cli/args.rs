@@ -174,6 +174,10 @@ pub enum Command {
         /// Also predict K samples ahead on the validation records.
         #[arg(long, value_name = "K")]
         steps_ahead: Option<usize>,
+        /// Units of the columns, as COLUMN=UNIT pairs (e.g. `--units u=V,y=V`), as for
+        /// `rhonn fit`: printed with the figures and kept in summary.json.
+        #[arg(long, value_delimiter = ',', value_name = "COLUMN=UNIT")]
+        units: Vec<String>,
         /// Output folder.
         #[arg(long, value_name = "DIR", required = true)]
         out: PathBuf,

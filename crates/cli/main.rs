@@ -67,6 +67,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             epochs,
             validate,
             steps_ahead,
+            units,
             out,
         } => {
             let req = commands::IdentifyRequest {
@@ -77,6 +78,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 epochs,
                 validate,
                 steps_ahead,
+                units,
                 out,
             };
             let busy = progress::Busy::start(format!("identifying online on {} record(s)", req.data.len()));

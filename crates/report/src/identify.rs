@@ -70,6 +70,9 @@ pub struct IdentifySummary {
     /// records) beside the frozen online model, per record and output.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub baseline_arx: Option<rhonn::ident::compare::ArxBaseline>,
+    /// `--units`: the columns' units (the figures are in them).
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub units: std::collections::BTreeMap<String, String>,
 }
 
 /// Figures of validation predictions.

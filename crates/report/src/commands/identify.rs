@@ -24,6 +24,8 @@ pub struct IdentifyRequest {
     pub validate: Vec<PathBuf>,
     /// Validation K samples ahead as well as in free run.
     pub steps_ahead: Option<usize>,
+    /// `--units`: `COLUMN=UNIT` pairs, printed with the figures.
+    pub units: Vec<String>,
     /// The output folder.
     pub out: PathBuf,
 }
@@ -79,6 +81,7 @@ fn identification_error(e: rhonn::Error, a: &IdentifyRequest) -> Error {
 
 fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
     let given = a.model.as_deref().map(read_spec).transpose()?;
+    let units = super::parse_units(&a.units, &a.inputs, &a.outputs)?;
     if a.steps_ahead == Some(0) {
         return Err(Error::Input(
             "--steps-ahead 0 is not allowed: give K >= 1 samples".into(),
@@ -120,6 +123,7 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
         selection: bank,
         baseline_arx: baseline,
         validation: vfig,
+        units,
     };
     let model = OnlineModel {
         kind: OnlineModel::KIND.into(),
@@ -234,18 +238,20 @@ fn arx_baseline(
 /// the frozen free run beside the offline ARX, then K samples ahead.
 fn console_lines(summary: &IdentifySummary) -> Vec<String> {
     let mut lines = Vec::new();
+    let unit = |col: &str| super::unit_of(&summary.units, col);
     for f in &summary.online {
         lines.push(format!(
-            "{}: online (last half of the final pass) RMS error {}, fit {}",
+            "{}: online (last half of the final pass) RMS error {}{}, fit {}",
             f.output,
             rhonn::metrics::sig(f.rms_error_last_half, 4),
+            unit(&f.output),
             super::percent(f.fit_percent_last_half)
         ));
     }
     if let Some(b) = &summary.baseline_arx {
         for c in &b.records {
             lines.push(format!(
-                "{} on {}: frozen, free run (from sample {}): RMS error {}, fit {}; offline ARX ({}): RMS error {}, fit {}",
+                "{} on {}: frozen, free run (from sample {}): RMS error {}{u}, fit {}; offline ARX ({}): RMS error {}{u}, fit {}",
                 c.output,
                 c.record,
                 c.from_sample,
@@ -253,16 +259,18 @@ fn console_lines(summary: &IdentifySummary) -> Vec<String> {
                 super::percent(c.online_fit_percent),
                 b.structure,
                 rhonn::metrics::sig(c.arx_rms_error, 4),
-                super::percent(c.arx_fit_percent)
+                super::percent(c.arx_fit_percent),
+                u = unit(&c.output)
             ));
         }
     }
     for v in &summary.validation {
         if let (Some(k), Some(r), Some(f)) = (v.horizon, v.ahead_rms_error, v.ahead_fit_percent) {
             lines.push(format!(
-                "{}: {k} samples ahead, over every validation record: RMS error {}, fit {}",
+                "{}: {k} samples ahead, over every validation record: RMS error {}{}, fit {}",
                 v.output,
                 rhonn::metrics::sig(r, 4),
+                unit(&v.output),
                 super::percent(f)
             ));
         }
