@@ -85,7 +85,7 @@ impl Record {
     pub fn on_grid(&self, dt: f64) -> bool {
         let t0 = self.t.first().copied().unwrap_or(0.0);
         let tol = TIME_JITTER * dt;
-        self.t.windows(2).all(|w| ((w[1] - w[0]) - dt).abs() <= 1e-6 * dt)
+        self.evenly_spaced(dt)
             || self
                 .t
                 .iter()
@@ -93,17 +93,17 @@ impl Record {
                 .all(|(k, &t)| (t - (t0 + k as f64 * dt)).abs() <= tol)
     }
 
+    /// Whether every interval is `dt` to within 1e-6 of it.
+    fn evenly_spaced(&self, dt: f64) -> bool {
+        self.t.windows(2).all(|w| ((w[1] - w[0]) - dt).abs() <= 1e-6 * dt)
+    }
+
     /// The sampling interval \[s\]: the median interval, or, when the times sit on a
     /// uniform grid only to within [`TIME_JITTER`] (rounded times), the grid's own
     /// interval, from the first to the last time.
     pub fn sample_interval(&self) -> f64 {
         let med = self.median_interval();
-        if self.len() < 3
-            || self
-                .t
-                .windows(2)
-                .all(|w| ((w[1] - w[0]) - med).abs() <= 1e-6 * med)
-        {
+        if self.len() < 3 || self.evenly_spaced(med) {
             return med;
         }
         let fit = (self.t[self.len() - 1] - self.t[0]) / (self.len() - 1) as f64;

@@ -147,11 +147,9 @@ pub fn fit_with_progress(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> 
 
 /// A structure the spec allows key by key but not as a whole is the spec file's error.
 fn spec_error(e: rhonn::Error, req: &FitRequest) -> Error {
-    match (&e, &req.model) {
-        (rhonn::Error::Invalid { value, .. }, Some(p)) if value.field.starts_with("model.") => {
-            context(format!("in the model spec {}", p.display()))(e.into())
-        }
-        _ => e.into(),
+    match super::spec_blame(&e, req.model.as_deref()) {
+        Some(whose) => context(whose)(e.into()),
+        None => e.into(),
     }
 }
 

@@ -58,14 +58,11 @@ pub fn identify(a: &IdentifyRequest) -> Result<Outcome> {
 /// An identification's error, named by whose it is: a setting of the spec is the spec
 /// file's; anything else is the data's (with the spec named).
 fn identification_error(e: rhonn::Error, a: &IdentifyRequest) -> Error {
-    let whose = match (&e, &a.model) {
-        (rhonn::Error::Invalid { value, .. }, Some(p)) if value.field.starts_with("model.") => {
-            format!("in the model spec {}", p.display())
-        }
-        (rhonn::Error::Invalid { value, .. }, None) if value.field.starts_with("model.") => {
-            "in the default model spec (give a spec with --model)".to_string()
-        }
-        _ => format!(
+    let of_spec = matches!(&e, rhonn::Error::Invalid { value, .. } if value.field.starts_with("model."));
+    let whose = match super::spec_blame(&e, a.model.as_deref()) {
+        Some(whose) => whose,
+        None if of_spec => "in the default model spec (give a spec with --model)".to_string(),
+        None => format!(
             "online identification of {} with {}",
             list(&a.data),
             a.model

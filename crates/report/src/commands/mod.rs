@@ -109,6 +109,17 @@ pub(crate) fn finish_folder(dir: &Path, o: &mut Outcome) -> crate::Result<()> {
     Ok(())
 }
 
+/// "in the model spec FILE" when `e` is about a setting of the spec (`model.*`) read from
+/// `spec`: the context both `fit` and `identify` give such an error.
+pub(crate) fn spec_blame(e: &rhonn::Error, spec: Option<&Path>) -> Option<String> {
+    match (e, spec) {
+        (rhonn::Error::Invalid { value, .. }, Some(p)) if value.field.starts_with("model.") => {
+            Some(format!("in the model spec {}", p.display()))
+        }
+        _ => None,
+    }
+}
+
 /// A fit in percent, or why it is undefined (a constant measured output).
 pub(crate) fn percent(v: f64) -> String {
     if v.is_finite() {

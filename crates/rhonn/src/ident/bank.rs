@@ -6,8 +6,8 @@
 //! Nothing looks ahead: a candidate's weights at a window's start come from the samples
 //! before it. The candidate with the lowest free-run error over the windows of the second
 //! half of the stream wins (the first half is its warm-up); every candidate keeps its own
-//! law's bound (least squares with its covariance floor and output bounds, the continuous
-//! neurons' law, the cascade's bounded chain).
+//! law's bound (least squares, whose covariance only shrinks, with its output bounds; the
+//! continuous neurons' law; the cascade's bounded chain).
 
 use super::online::{OnlineIdentifier, OnlineSpec, Scaling};
 use super::online_spec::{LagSpec, OnlineStructure};
@@ -128,6 +128,11 @@ fn lagged(na: usize, nb: usize, degree: usize, nonlinear_lags: Option<usize>) ->
             ..OnlineSpec::default()
         },
     }
+}
+
+/// Whether a candidate is a recursive ARX (the lagged structure of degree 1).
+fn is_linear(spec: &OnlineSpec) -> bool {
+    spec.structure == OnlineStructure::Lagged && spec.degree == 1
 }
 
 /// The most samples of a stream the cascade candidate (extended Kalman filters from
@@ -300,7 +305,7 @@ pub fn select(candidates: Vec<Candidate>, records: &[Record], outputs: &[String]
         scored
             .iter()
             .enumerate()
-            .filter(|(_, c)| !arx || c.name.starts_with("recursive ARX"))
+            .filter(|(_, c)| !arx || is_linear(&c.spec))
             .filter_map(|(k, c)| c.free_run_nrmse.map(|s| (k, s)))
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(k, _)| k)
