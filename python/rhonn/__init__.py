@@ -270,6 +270,14 @@ def _steps(steps_ahead) -> Optional[int]:
     return int(steps_ahead)
 
 
+def _count(n, arg: str) -> int:
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
+        raise TypeError(f"{arg} must be an int or None, not {type(n).__name__}")
+    if n < 4:
+        raise ValueError(f"{arg} = {n} is not allowed: give the stream's length, at least 4 samples, or None")
+    return int(n)
+
+
 class Model:
     """A model of recordings: from ``rhonn.fit``, ``rhonn.load`` or
     ``OnlineIdentifier.freeze()``; the same ``model.json`` as the command line."""
@@ -361,6 +369,16 @@ def load(path: PathLike) -> Model:
 class OnlineIdentifier(_OnlineIdentifier):
     """Online RHONN identification, one sample at a time (``rhonn identify``'s identifier).
 
+    Without ``model`` it picks its model online as ``rhonn identify`` does: a bank of
+    candidates (recursive ARX, lagged RHONNs by recursive least squares, the
+    continuous-time neurons, and the cascade for one output and at most 5,000 samples)
+    learns the same stream; each is normalised by the warm-up window (the stream's first
+    half) and judged by its prequential free-run error; ``update`` returns the leader's
+    estimate (during the warm-up: the last measurement), ``selection`` lists every
+    candidate's figures, and ``freeze()`` keeps the winner. Fed the records
+    ``rhonn identify --epochs 1`` learns (``reset()`` between records) with
+    ``samples`` their total length, it gives the command's selection and model.
+
     Parameters
     ----------
     inputs, outputs : sequence of str
@@ -368,7 +386,8 @@ class OnlineIdentifier(_OnlineIdentifier):
     dt : float
         Sample time [s].
     model : str, path or dict, optional
-        Settings (``models/tanks-online.toml``'s keys: law, gain, degree, filters_s, ...;
+        None: choose online (above). Else the settings: ``{}`` for the defaults, the
+        continuous-time neurons (``models/tanks-online.toml``'s keys: law, gain, degree, filters_s, ...;
         or ``{"structure": "lagged", "lags": {"na": 3, "nb": 2}}``: a lagged RHONN learned
         by recursive least squares, ``models/tanks-online-lagged.toml``; or
         ``{"structure": "cascade", "epochs": 4}``: the continuous-time cascade with a
@@ -378,16 +397,31 @@ class OnlineIdentifier(_OnlineIdentifier):
         The identifier sees ``(signal - offset) / scale``.
     y_bounds : sequence of (low, high), optional
         Per output, the range its estimate is held in (as ``rhonn identify`` sets from
-        the records' range and ``output_margin``).
+        the records' range and ``output_margin``). Offsets, scales and bounds need a
+        model: choosing online, the warm-up window sets them.
+    samples : int, optional
+        Choosing online: the stream's length, which sets the warm-up (its first half),
+        the free-run window (a tenth, within [20, 5000]) and the scored part (its second
+        half). None: as for 2,000 samples.
 
     Examples
     --------
-    >>> ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0)
+    >>> ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0, samples=1024)
     >>> y_est = ident.update(0.0, [3.2], [5.2])
     """
 
     def __new__(
-        cls, inputs, outputs, dt, model=None, y_offset=None, y_scale=None, u_offset=None, u_scale=None, y_bounds=None
+        cls,
+        inputs,
+        outputs,
+        dt,
+        model=None,
+        y_offset=None,
+        y_scale=None,
+        u_offset=None,
+        u_scale=None,
+        y_bounds=None,
+        samples=None,
     ):
         for arg, names in (("inputs", inputs), ("outputs", outputs)):
             if isinstance(names, str):
@@ -404,11 +438,21 @@ class OnlineIdentifier(_OnlineIdentifier):
             None if u_offset is None else [float(v) for v in u_offset],
             None if u_scale is None else [float(v) for v in u_scale],
             None if y_bounds is None else [(float(lo), float(hi)) for lo, hi in y_bounds],
+            None if samples is None else _count(samples, "samples"),
         )
 
     def freeze(self) -> Model:
-        """Stop adapting; return the frozen model (``predict``, ``save``)."""
+        """Stop adapting; return the frozen model (``predict``, ``save``). Choosing
+        online: the winner so far, which the identifier then is."""
         return Model(super().freeze())
+
+    @property
+    def selection(self) -> Optional[Dict[str, Any]]:
+        """Choosing online (no model, before ``freeze()``): every candidate's prequential
+        figures and the winner so far, as ``rhonn identify``'s ``selection`` in
+        summary.json; None otherwise."""
+        text = self._selection_json
+        return None if text is None else json.loads(text)
 
 
 def _read_table(path: str) -> Dict[str, np.ndarray]:

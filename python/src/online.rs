@@ -6,19 +6,39 @@ use crate::errors::{report_err, rhonn_err, value_error};
 use crate::model::Model;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
+use rhonn::ident::bank::{default_candidates, BankSettings, OnlineBank};
 use rhonn::ident::{OnlineIdentifier as Inner, OnlineModel, OnlineSpec, Scaling};
 
 /// Identify a sampled plant online: `update(t, u, y)` returns the estimate of `y(t)`
 /// made before seeing `y`, then learns from it.
 #[pyclass(module = "rhonn._rhonn", subclass)]
 pub struct OnlineIdentifier {
-    inner: Inner,
-    spec: OnlineSpec,
+    engine: Engine,
     inputs: Vec<String>,
     outputs: Vec<String>,
     dt: f64,
     u: Vec<f64>,
     y: Vec<f64>,
+}
+
+/// One model given by the caller, or the bank choosing one online until `freeze()`.
+enum Engine {
+    One {
+        inner: Box<Inner>,
+        spec: Box<OnlineSpec>,
+    },
+    Bank(Box<OnlineBank>),
+}
+
+/// The bank's settings for a stream of `samples` samples (None: not known).
+fn bank_settings(samples: Option<usize>) -> PyResult<BankSettings> {
+    match samples {
+        Some(n) if n < 4 => Err(value_error(format!(
+            "samples = {n} is not allowed: give the stream's length, at least 4 samples, or None"
+        ))),
+        Some(n) => Ok(BankSettings::for_stream(n)),
+        None => Ok(BankSettings::open_ended()),
+    }
 }
 
 /// A per-signal vector given by the caller, or `default` repeated.
@@ -65,6 +85,16 @@ fn check_bounds(b: Option<Vec<[f64; 2]>>, n: usize) -> PyResult<Option<Vec<[f64;
     Ok(Some(b))
 }
 
+impl OnlineIdentifier {
+    /// The model's identifier: the one given, or, choosing online, the leader so far.
+    fn current(&self) -> PyResult<std::borrow::Cow<'_, Inner>> {
+        match &self.engine {
+            Engine::One { inner, .. } => Ok(std::borrow::Cow::Borrowed(inner.as_ref())),
+            Engine::Bank(b) => Ok(std::borrow::Cow::Owned(b.selection().map_err(rhonn_err)?.1)),
+        }
+    }
+}
+
 #[pymethods]
 impl OnlineIdentifier {
     /// `inputs`, `outputs`: the signals' names; `dt`: the sample time \[s\]; `model`: the
@@ -72,7 +102,7 @@ impl OnlineIdentifier {
     /// offsets and scales: the identifier sees `(signal - offset) / scale`; `y_bounds`: per
     /// output the range `[low, high]` its estimate is held in.
     #[new]
-    #[pyo3(signature = (inputs, outputs, dt, model=None, y_offset=None, y_scale=None, u_offset=None, u_scale=None, y_bounds=None))]
+    #[pyo3(signature = (inputs, outputs, dt, model=None, y_offset=None, y_scale=None, u_offset=None, u_scale=None, y_bounds=None, samples=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         inputs: Vec<String>,
@@ -84,6 +114,7 @@ impl OnlineIdentifier {
         u_offset: Option<Vec<f64>>,
         u_scale: Option<Vec<f64>>,
         y_bounds: Option<Vec<[f64; 2]>>,
+        samples: Option<usize>,
     ) -> PyResult<Self> {
         if outputs.is_empty() {
             return Err(value_error("outputs is empty: name at least one output"));
@@ -93,11 +124,38 @@ impl OnlineIdentifier {
                 "dt = {dt} is not allowed: give the sample time in seconds, finite and > 0"
             )));
         }
-        let spec = match model {
-            Some(text) => rhonn_report::commands::online_spec(text, "model").map_err(report_err)?,
-            None => OnlineSpec::default(),
-        };
         let (ny, nu) = (outputs.len(), inputs.len());
+        let Some(text) = model else {
+            let given = [
+                ("y_offset", y_offset.is_some()),
+                ("y_scale", y_scale.is_some()),
+                ("u_offset", u_offset.is_some()),
+                ("u_scale", u_scale.is_some()),
+                ("y_bounds", y_bounds.is_some()),
+            ];
+            if let Some((name, _)) = given.iter().find(|(_, g)| *g) {
+                return Err(value_error(format!(
+                    "{name} needs a model: without one the identifier picks its model online and normalises by its warm-up window (give model={{}} for the continuous-time neurons with your scaling)"
+                )));
+            }
+            let settings = bank_settings(samples)?;
+            let cands = default_candidates(ny, samples.unwrap_or(usize::MAX));
+            let bank = OnlineBank::new(cands, ny, nu, dt, settings).map_err(rhonn_err)?;
+            return Ok(OnlineIdentifier {
+                engine: Engine::Bank(Box::new(bank)),
+                inputs,
+                outputs,
+                dt,
+                u: vec![0.0; nu],
+                y: vec![0.0; ny],
+            });
+        };
+        if samples.is_some() {
+            return Err(value_error(
+                "samples is for the online selection (no model): a given model does not use it",
+            ));
+        }
+        let spec = rhonn_report::commands::online_spec(text, "model").map_err(report_err)?;
         let scaling = Scaling {
             y_offset: per_signal("y_offset", y_offset, ny, 0.0, false)?,
             y_scale: per_signal("y_scale", y_scale, ny, 1.0, true)?,
@@ -105,10 +163,12 @@ impl OnlineIdentifier {
             u_scale: per_signal("u_scale", u_scale, nu, 1.0, true)?,
             y_bounds: check_bounds(y_bounds, ny)?,
         };
-        let inner = Inner::new(&spec, ny, nu, dt, scaling).map_err(rhonn_err)?;
+        let inner = Box::new(Inner::new(&spec, ny, nu, dt, scaling).map_err(rhonn_err)?);
         Ok(OnlineIdentifier {
-            inner,
-            spec,
+            engine: Engine::One {
+                inner,
+                spec: Box::new(spec),
+            },
             inputs,
             outputs,
             dt,
@@ -128,45 +188,79 @@ impl OnlineIdentifier {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         vector_into("u", u, &mut self.u)?;
         vector_into("y", y, &mut self.y)?;
-        let est = self.inner.update(t, &self.u, &self.y).map_err(rhonn_err)?;
+        let est = match &mut self.engine {
+            Engine::One { inner, .. } => inner.update(t, &self.u, &self.y),
+            Engine::Bank(b) => b.update(t, &self.u, &self.y),
+        }
+        .map_err(rhonn_err)?;
         Ok(PyArray1::from_slice(py, est))
     }
 
     /// Stop adapting and return the frozen model (`Model.predict`, `Model.save`); the
-    /// identifier stays frozen until `resume()`.
-    fn freeze(&mut self) -> Model {
-        self.inner.freeze(true);
-        Model::online(OnlineModel {
+    /// identifier stays frozen until `resume()`. Choosing online: the winner so far
+    /// becomes the identifier (the other candidates are dropped).
+    fn freeze(&mut self) -> PyResult<Model> {
+        if let Engine::Bank(b) = &self.engine {
+            let (sel, id) = b.selection().map_err(rhonn_err)?;
+            self.engine = Engine::One {
+                inner: Box::new(id),
+                spec: Box::new(sel.chosen_spec().clone()),
+            };
+        }
+        let Engine::One { inner, spec } = &mut self.engine else {
+            return Err(value_error("no model to freeze"));
+        };
+        inner.freeze(true);
+        Ok(Model::online(OnlineModel {
             kind: OnlineModel::KIND.into(),
             inputs: self.inputs.clone(),
             outputs: self.outputs.clone(),
             sample_time_s: self.dt,
-            model: self.spec.clone(),
-            scaling: self.inner.scaling().clone(),
-            weights: self.inner.weights(),
-        })
+            model: spec.as_ref().clone(),
+            scaling: inner.scaling().clone(),
+            weights: inner.weights(),
+        }))
     }
 
     /// Adapt the weights again after `freeze()`.
     fn resume(&mut self) {
-        self.inner.freeze(false);
+        if let Engine::One { inner, .. } = &mut self.engine {
+            inner.freeze(false);
+        }
     }
 
     /// Forget the last sample (a new record starts); the weights stay.
     fn reset(&mut self) {
-        self.inner.reset();
+        match &mut self.engine {
+            Engine::One { inner, .. } => inner.reset(),
+            Engine::Bank(b) => b.reset(),
+        }
     }
 
-    /// The weights, one row per output's neuron (normalised units), shape (p, terms).
+    /// The weights, one row per output's neuron (normalised units), shape (p, terms);
+    /// choosing online: the leading candidate's.
     #[getter]
     fn weights<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        PyArray2::from_vec2(py, &self.inner.weights()).map_err(|e| value_error(e.to_string()))
+        PyArray2::from_vec2(py, &self.current()?.weights()).map_err(|e| value_error(e.to_string()))
     }
 
-    /// Each term's name, in weight order.
+    /// Each term's name, in weight order (choosing online: the leading candidate's).
     #[getter]
-    fn term_names(&self) -> Vec<String> {
-        self.inner.term_names(&self.outputs, &self.inputs)
+    fn term_names(&self) -> PyResult<Vec<String>> {
+        Ok(self.current()?.term_names(&self.outputs, &self.inputs))
+    }
+
+    /// Choosing online: every candidate's prequential figures and the winner so far, as
+    /// JSON (`rhonn identify`'s `selection` in summary.json); None with a given model.
+    #[getter]
+    fn _selection_json(&self) -> PyResult<Option<String>> {
+        match &self.engine {
+            Engine::One { .. } => Ok(None),
+            Engine::Bank(b) => {
+                let (sel, _) = b.selection().map_err(rhonn_err)?;
+                crate::errors::json(&sel).map(Some)
+            }
+        }
     }
 
     /// For the bench (`python/bench.py`): the same updates as `update` on the rows of `t`,
@@ -184,7 +278,10 @@ impl OnlineIdentifier {
         if u.iter().chain(&y).any(|c| c.len() != t.len()) {
             return Err(value_error("t, u and y need one row per sample"));
         }
-        let mut id = self.inner.clone();
+        let Engine::One { inner, .. } = &self.engine else {
+            return Err(value_error("the bench times a given model (give model=...)"));
+        };
+        let mut id = inner.as_ref().clone();
         let (mut uk, mut yk) = (self.u.clone(), self.y.clone());
         let start = std::time::Instant::now();
         for (k, tk) in t.iter().enumerate() {
@@ -201,7 +298,10 @@ impl OnlineIdentifier {
             self.inputs,
             self.outputs,
             self.dt,
-            self.inner.n_terms()
+            match &self.engine {
+                Engine::One { inner, .. } => inner.n_terms().to_string(),
+                Engine::Bank(_) => "choosing online".into(),
+            }
         )
     }
 }

@@ -85,7 +85,7 @@ def test_online_identifier_refuses():
     with pytest.raises(ValueError, match="dt = 0"):
         rhonn.OnlineIdentifier(["u"], ["y"], dt=0.0)
     with pytest.raises(ValueError, match=r"y_scale\[0\] = 0"):
-        rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0, y_scale=[0.0])
+        rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0, model={}, y_scale=[0.0])
     with pytest.raises(ValueError, match="outputs is empty"):
         rhonn.OnlineIdentifier(["u"], [], dt=1.0)
     ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0)

@@ -4,6 +4,7 @@ import json
 import subprocess
 
 import numpy as np
+import pytest
 
 import rhonn
 
@@ -34,7 +35,9 @@ def test_same_estimates_as_rhonn_identify(tmp_path, root, rhonn_bin, tanks):
 
 def test_freeze_gives_a_model_that_saves_and_predicts(tmp_path, tanks):
     est, val = tanks
-    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0, y_offset=[5.0], y_scale=[2.0], u_offset=[5.0], u_scale=[2.0])
+    ident = rhonn.OnlineIdentifier(
+        ["u"], ["y"], dt=4.0, model={}, y_offset=[5.0], y_scale=[2.0], u_offset=[5.0], u_scale=[2.0]
+    )
     errors = []
     for t, u, y in zip(est["t"], est["u"], est["y"]):
         errors.append(ident.update(t, np.array([u]), np.array([y]))[0] - y)
@@ -103,3 +106,43 @@ def test_cascade_structure_matches_rhonn_identify(tmp_path, root, rhonn_bin, tan
     np.testing.assert_allclose(ident.weights, np.array(cli_model["weights"]), rtol=1e-12, atol=0)
     estimate = read_csv(tmp_path / "id/estimate.csv")
     np.testing.assert_allclose(y_hat, estimate["y_hat"], rtol=0, atol=1e-12)
+
+
+def test_without_a_model_it_chooses_online_as_rhonn_identify_does(tmp_path, root, rhonn_bin, tanks):
+    """No model: the bank, fed the tanks' estimation record one sample at a time, gives
+    `rhonn identify --epochs 1`'s selection (every candidate's prequential figures and the
+    winner), its model (weights and scaling) and its free run on the validation record."""
+    est, val = tanks
+    data = root / "data/cascaded-tanks"
+    subprocess.run(
+        [rhonn_bin, "identify", "--data", str(data / "estimation.csv"), "--validate", str(data / "validation.csv"),
+         "--inputs", "u", "--outputs", "y", "--epochs", "1", "--out", str(tmp_path / "id")],
+        check=True, capture_output=True, cwd=root,
+    )
+    summary = json.loads((tmp_path / "id/summary.json").read_text())
+    cli_model = json.loads((tmp_path / "id/model.json").read_text())
+    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0, samples=len(est["t"]))
+    y_hat = [ident.update(t, u, y)[0] for t, u, y in zip(est["t"], est["u"], est["y"])]
+    assert np.all(np.isfinite(y_hat))
+    assert ident.selection == summary["selection"]
+    model = ident.freeze()
+    assert ident.selection is None
+    saved = json.loads(model.to_json())
+    assert saved["weights"] == cli_model["weights"]
+    assert saved["scaling"] == cli_model["scaling"]
+    free = model.predict(val["u"], val["y"])[:, 0]
+    validation = read_csv(tmp_path / "id/validation.csv")
+    np.testing.assert_array_equal(free, validation["y_free_run"])
+
+
+def test_choosing_online_refuses_a_scaling_it_would_not_use():
+    with pytest.raises(ValueError, match="y_offset needs a model"):
+        rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0, y_offset=[1.0])
+    with pytest.raises(ValueError, match="samples = 2 is not allowed"):
+        rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0, samples=2)
+    with pytest.raises(ValueError, match="a given model does not use it"):
+        rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0, model={}, samples=100)
+    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0)
+    ident.update(0.0, 1.0, 2.0)
+    with pytest.raises(ValueError, match="at least 2 samples"):
+        ident.freeze()

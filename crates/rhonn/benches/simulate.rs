@@ -366,12 +366,33 @@ fn bench_online_bank(c: &mut Criterion) {
     let mut g = c.benchmark_group("online selection");
     g.sample_size(10);
     g.bench_function(
-        "the default bank (9 candidates), one pass over 20,000 samples, 1 in 1 out",
+        "the default bank (10 candidates), one pass over 20,000 samples, 1 in 1 out",
         |bch| {
             bch.iter(|| {
                 select(default_candidates(1, n), black_box(&rec), &outputs)
                     .unwrap()
                     .chosen
+            })
+        },
+    );
+    // The same bank fed one sample at a time on one thread (`OnlineBank`, Python's
+    // `OnlineIdentifier()` without a model): the cost of a sample in a user's own loop.
+    g.bench_function(
+        "the default bank in a loop (OnlineBank::update, one thread), 20,000 samples, 1 in 1 out",
+        |bch| {
+            use rhonn::ident::bank::{BankSettings, OnlineBank};
+            let r = &rec[0];
+            bch.iter(|| {
+                let mut bank =
+                    OnlineBank::new(default_candidates(1, n), 1, 1, 1e-3, BankSettings::for_stream(n))
+                        .unwrap();
+                for k in 0..n {
+                    black_box(
+                        bank.update(r.t[k], &[r.inputs[0][k]], &[r.outputs[0][k]])
+                            .unwrap(),
+                    );
+                }
+                bank.settings().window
             })
         },
     );

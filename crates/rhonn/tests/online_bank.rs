@@ -123,3 +123,79 @@ fn a_record_too_short_for_a_window_or_a_constant_output_is_a_clear_error() {
         .to_string();
     assert!(e.contains("output `y`") && e.contains("constant"), "{e}");
 }
+
+/// The bank fed one sample at a time (`OnlineBank`, Python's `OnlineIdentifier()`)
+/// gives the figures and the winner the bank over recordings gives (`rhonn identify`),
+/// on two records; and `rhonn identify`'s retraining of the winner for one pass, with
+/// the bank's warm-up, is the very model the bank ran.
+#[test]
+fn the_bank_in_a_loop_gives_the_figures_of_the_bank_over_recordings() {
+    use rhonn::ident::bank::{select_with, BankSettings, OnlineBank};
+    let recs = vec![record(900, 5, 0.4, 0.01), record(700, 6, 0.4, 0.01)];
+    let out = vec!["y".to_string()];
+    let settings = BankSettings::for_stream(1600);
+    let cands = default_candidates(1, 1600);
+    let (batch, winner) = select_with(cands.clone(), &recs, &out, settings).unwrap();
+    // The sample time as the command measures it from `t` (the continuous-time
+    // candidates integrate over it).
+    let dt = rhonn::ident::sample_time(&recs).unwrap();
+    let mut bank = OnlineBank::new(cands, 1, 1, dt, settings).unwrap();
+    let mut last = Vec::new();
+    for r in &recs {
+        bank.reset();
+        for k in 0..r.len() {
+            last = bank
+                .update(r.t[k], &[r.inputs[0][k]], &[r.outputs[0][k]])
+                .unwrap()
+                .to_vec();
+        }
+    }
+    let (streamed, id) = bank.selection().unwrap();
+    assert_eq!(streamed, batch);
+    assert_eq!(id.weights(), winner.weights());
+    // The loop's estimates are the leader's: finite, and the last one close to the
+    // measurement it predicted.
+    let y_last = *recs[1].outputs[0].last().unwrap();
+    assert!((last[0] - y_last).abs() < 0.5, "{last:?} {y_last}");
+    // One pass of the winner, retrained with the bank's warm-up: the same weights.
+    let spec = OnlineSpec {
+        epochs: 1,
+        ..batch.chosen_spec().clone()
+    };
+    let run = rhonn::ident::identify_records_scaled(&spec, &recs, &out, Some(settings.warmup)).unwrap();
+    assert_eq!(run.identifier.weights(), winner.weights());
+    assert_eq!(run.identifier.scaling(), winner.scaling());
+}
+
+/// An online identifier's scaling comes from the warm-up window alone: changing every
+/// sample after it changes neither the offsets nor the scales, and its bounds cover the
+/// range of the samples it learned from (widened by the margin), not more.
+#[test]
+fn warm_up_scaling_uses_nothing_after_the_window() {
+    use rhonn::ident::WarmUp;
+    let a = record(1000, 7, 0.4, 0.01);
+    let mut b = a.clone();
+    for v in &mut b.outputs[0][500..] {
+        *v = 3.0 * *v + 10.0;
+    }
+    let (wa, wb) = (
+        WarmUp::of_records(std::slice::from_ref(&a), 500),
+        WarmUp::of_records(std::slice::from_ref(&b), 500),
+    );
+    assert_eq!(wa, wb);
+    let spec = OnlineSpec::default();
+    let out = vec!["y".to_string()];
+    let run = rhonn::ident::identify_records_scaled(&spec, std::slice::from_ref(&b), &out, Some(500)).unwrap();
+    let (lo, hi) = b.outputs[0]
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(*v), h.max(*v))
+        });
+    let m = spec.output_margin * (hi - lo);
+    let got = run.identifier.scaling().y_bounds.clone().unwrap()[0];
+    assert!(
+        (got[0] - (lo - m)).abs() < 1e-9 && (got[1] - (hi + m)).abs() < 1e-9,
+        "{got:?}"
+    );
+    assert_eq!(run.identifier.scaling().y_offset, wa.scaling.y_offset);
+}

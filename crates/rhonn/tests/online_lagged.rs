@@ -203,7 +203,7 @@ fn pump(name: &str) -> Record {
 }
 
 /// The README's pump figure: `models/pump-online-lagged.toml` identified online on
-/// pump-identify, frozen, predicts pump-validate 10 samples (50 ms) ahead at 84.2 %
+/// pump-identify, frozen, predicts pump-validate 10 samples (50 ms) ahead at 84.7 %
 /// fit, at least the ARX with the same lags fitted on the same record (84.0 %).
 #[test]
 fn the_pump_lagged_model_predicts_10_samples_ahead_at_least_as_its_arx() {
@@ -238,7 +238,7 @@ fn the_pump_lagged_model_predicts_10_samples_ahead_at_least_as_its_arx() {
     let online = rhonn::metrics::fit_percent(&val.outputs[0][fa..], &p[fa..]);
     eprintln!("online lagged {online:.2} %, ARX same lags {arx_fit:.2} %");
     assert!(online >= arx_fit, "online {online} % < ARX {arx_fit} %");
-    assert!((online - 84.2).abs() < 0.5, "{online}");
+    assert!((online - 84.7).abs() < 0.5, "{online}");
 }
 
 /// Ten passes over the noisy pump-identify record with the lagged structure's laws. Least

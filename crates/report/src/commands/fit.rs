@@ -119,8 +119,15 @@ fn read_specs(model: Option<&Path>) -> Result<Vec<ModelSpec>> {
 pub fn model_specs(text: Option<&str>, source: &str) -> Result<Vec<ModelSpec>> {
     let specs = match text {
         None => vec![ModelSpec::default()],
-        Some(text) => parse_spec_file(text)
-            .map_err(|e| Error::Input(format!("cannot read model spec {source}: {e}")))?,
+        // An online spec of the same model (`rhonn identify`'s lagged or cascade
+        // structure) is read as the offline one, or refused naming the keys that differ.
+        Some(text) => {
+            parse_spec_file(text).or_else(|e| match rhonn::ident::shared_spec::fit_from_online(text) {
+                Some(Ok(spec)) => Ok(vec![spec]),
+                Some(Err(why)) => Err(Error::Input(format!("cannot read model spec {source}: {why}"))),
+                None => Err(Error::Input(format!("cannot read model spec {source}: {e}"))),
+            })?
+        }
     };
     for (k, spec) in specs.iter().enumerate() {
         let at = match (specs.len() > 1, source.is_empty()) {

@@ -4,7 +4,7 @@
 use super::{context, read_text, Outcome};
 use crate::identify::{validation_figures, write_identify, IdentifySummary, Validation};
 use crate::{Error, Result};
-use rhonn::ident::{identify_records, predict_records, OnlineModel, OnlineSpec};
+use rhonn::ident::{predict_records, OnlineModel, OnlineSpec};
 use std::path::{Path, PathBuf};
 
 /// What `rhonn identify` takes.
@@ -43,10 +43,15 @@ fn read_spec(p: &Path) -> Result<OnlineSpec> {
     online_spec(&read_text(p)?, &p.display().to_string())
 }
 
-/// An online model's settings from TOML; `source` names them in errors.
+/// An online model's settings from TOML; `source` names them in errors. A `rhonn fit`
+/// spec of the same model is read as its online structure
+/// (`rhonn::ident::shared_spec`), or refused naming the keys that differ.
 pub fn online_spec(text: &str, source: &str) -> Result<OnlineSpec> {
-    toml::from_str::<OnlineSpec>(text)
-        .map_err(|e| Error::Input(format!("cannot read model spec {source}: {e}")))
+    toml::from_str::<OnlineSpec>(text).or_else(|e| match rhonn::ident::shared_spec::online_from_fit(text) {
+        Some(Ok(spec)) => Ok(spec),
+        Some(Err(why)) => Err(Error::Input(format!("cannot read model spec {source}: {why}"))),
+        None => Err(Error::Input(format!("cannot read model spec {source}: {e}"))),
+    })
 }
 
 /// `rhonn identify`: learn the recordings online, validate the frozen model, write the
@@ -89,7 +94,9 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
     if let Some(e) = a.epochs {
         spec.epochs = e;
     }
-    let run = identify_records(&spec, &records, &a.outputs).map_err(|e| identification_error(e, a))?;
+    let warmup = bank.as_ref().map(|b| b.warmup);
+    let run = rhonn::ident::identify_records_scaled(&spec, &records, &a.outputs, warmup)
+        .map_err(|e| identification_error(e, a))?;
     let validation = validate(a, &run, &records)?;
     let dt = rhonn::ident::sample_time(&records)?;
     let weights = run.identifier.weights();

@@ -64,7 +64,7 @@ pub(super) struct CascadeOnline {
     pub(super) free_run: bool,
     u_last: Vec<f64>,
     un: Vec<f64>,
-    out: Vec<f64>,
+    pub(super) out: Vec<f64>,
     work: Vec<f64>,
 }
 

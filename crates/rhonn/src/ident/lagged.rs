@@ -54,10 +54,24 @@ pub(super) struct LaggedSnapshot {
     t_last: Option<f64>,
 }
 
+/// `scaling.y_bounds` in normalised units (unbounded without).
+fn normalised_bounds(scaling: &Scaling, ny: usize) -> Vec<(f64, f64)> {
+    match &scaling.y_bounds {
+        Some(b) => b
+            .iter()
+            .zip(scaling.y_offset.iter().zip(&scaling.y_scale))
+            .map(|([lo, hi], (m, s))| ((lo - m) / s, (hi - m) / s))
+            .collect(),
+        None => vec![(f64::NEG_INFINITY, f64::INFINITY); ny],
+    }
+}
+
 /// The `rhonn fit` structure a lagged online spec stands for.
 pub(super) fn model_spec(spec: &OnlineSpec, lags: &LagSpec) -> ModelSpec {
     ModelSpec {
-        kind: Kind::Rhonn,
+        // Degree 1 is linear in the lagged samples: an ARX (the high-order terms of
+        // degree 1 would be the inputs again and the outputs' sigmoids).
+        kind: if spec.degree == 1 { Kind::Arx } else { Kind::Rhonn },
         na: lags.na,
         nb: lags.nb,
         nk: lags.nk,
@@ -132,14 +146,7 @@ impl Lagged {
                 ),
             ));
         }
-        let bounds: Vec<(f64, f64)> = match &scaling.y_bounds {
-            Some(b) => b
-                .iter()
-                .zip(scaling.y_offset.iter().zip(&scaling.y_scale))
-                .map(|([lo, hi], (m, s))| ((lo - m) / s, (hi - m) / s))
-                .collect(),
-            None => vec![(f64::NEG_INFINITY, f64::INFINITY); ny],
-        };
+        let bounds = normalised_bounds(scaling, ny);
         let mut model = Model {
             spec: ms,
             inputs: (0..nu).map(|j| format!("u{j}")).collect(),
@@ -219,14 +226,18 @@ impl Lagged {
                 .features(&|j, i| wy[j][i], &self.win_u, last, &self.terms, &mut self.feat);
         }
         for j in 0..yn.len() {
-            let est = if predicting {
-                let v = crate::law::dot(&self.model.weights[j], &self.feat);
-                v.clamp(self.bounds[j].0, self.bounds[j].1)
+            let raw = if predicting {
+                crate::law::dot(&self.model.weights[j], &self.feat)
             } else {
                 yn[j]
             };
+            // The bounds limit what the model puts out (and feeds back in a free run);
+            // least squares learns from its own prediction's error, unlimited, so a
+            // bound that the data outgrow (an online identifier's range seen so far)
+            // does not bend the weights.
+            let est = raw.clamp(self.bounds[j].0, self.bounds[j].1);
             self.y_hat[j] = est;
-            let e = est - yn[j];
+            let e = raw - yn[j];
             let outside = self.dead_zone[j] == 0.0 || e.abs() > self.dead_zone[j];
             if predicting && !self.frozen && !self.free_run && outside {
                 let w = &mut self.model.weights[j];
@@ -237,6 +248,11 @@ impl Lagged {
         }
         self.seen += 1;
         predicting
+    }
+
+    /// Hold the estimate within `scaling.y_bounds` from now on.
+    pub(super) fn set_bounds(&mut self, scaling: &Scaling) {
+        self.bounds = normalised_bounds(scaling, self.bounds.len());
     }
 
     /// Put the newest output sample of the windows at `yn` (normalised).
@@ -356,6 +372,11 @@ impl LaggedOnline {
             yn: vec![0.0; ny],
             out: vec![0.0; ny],
         })
+    }
+
+    /// The last estimate (output units).
+    pub(super) fn estimate(&self) -> &[f64] {
+        &self.out
     }
 
     /// Take the sample `(t, u, y)`: the estimate of `y(t)` from the lagged samples before

@@ -441,12 +441,13 @@ mod lagged;
 mod online;
 mod online_spec;
 mod recordings;
+pub mod shared_spec;
 mod spec;
-pub use online::{InputHold, OnlineIdentifier, OnlineModel, OnlineSpec, Scaling, Snapshot};
+pub use online::{widened, InputHold, OnlineIdentifier, OnlineModel, OnlineSpec, Scaling, Snapshot};
 pub use online_spec::{CascadeOnlineSpec, LagSpec, OnlineStructure};
 pub use recordings::{
-    check_outputs_vary, identify_records, predict_records, record_scaling, sample_time, OnlineFigures,
-    OnlineRun, MAX_LISTED_WEIGHTS,
+    check_outputs_vary, identify_records, identify_records_scaled, predict_records, record_scaling,
+    sample_time, OnlineFigures, OnlineRun, WarmUp, MAX_LISTED_WEIGHTS,
 };
 pub use spec::{IdentSettings, IdentifierSpec, SigmoidSpec};
 

@@ -124,6 +124,33 @@ enum Saved {
 #[derive(Debug, Clone)]
 pub struct OnlineIdentifier {
     engine: Engine,
+    /// With [`OnlineIdentifier::track_bounds`]: the outputs' range over the samples
+    /// learned from, which the estimate's bounds follow.
+    range: Option<SeenRange>,
+    /// Not adapting (frozen or in a free run): nothing widens the range.
+    frozen: bool,
+    free_run: bool,
+}
+
+/// Per output, the lowest and highest value learned from, and the margin the bounds
+/// keep around them.
+#[derive(Debug, Clone)]
+struct SeenRange {
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    margin: f64,
+}
+
+/// Per output, the range `[lo, hi]` widened by `margin` of it on each side (an output
+/// that has not moved: by `margin` of the smallest positive width).
+pub fn widened(lo: &[f64], hi: &[f64], margin: f64) -> Vec<[f64; 2]> {
+    lo.iter()
+        .zip(hi)
+        .map(|(l, h)| {
+            let m = margin * (h - l).max(f64::EPSILON);
+            [l - m, h + m]
+        })
+        .collect()
 }
 
 #[derive(Debug, Clone)]
@@ -173,7 +200,53 @@ impl OnlineIdentifier {
                 Engine::Cascade(Box::new(CascadeOnline::new(spec, ny, nu, period_s, scaling)?))
             }
         };
-        Ok(OnlineIdentifier { engine })
+        Ok(OnlineIdentifier {
+            engine,
+            range: None,
+            frozen: false,
+            free_run: false,
+        })
+    }
+
+    /// From now on, hold the estimate within the outputs' range seen so far, widened by
+    /// `margin` of it on each side: starting from `[lo, hi]` (e.g. a warm-up window's
+    /// range), each sample learned from widens it before the next estimate. A bound of
+    /// data not yet seen is never used, so an online identifier may use it.
+    pub fn track_bounds(&mut self, lo: Vec<f64>, hi: Vec<f64>, margin: f64) {
+        let r = SeenRange { lo, hi, margin };
+        self.set_y_bounds(widened(&r.lo, &r.hi, r.margin));
+        self.range = Some(r);
+    }
+
+    fn set_y_bounds(&mut self, b: Vec<[f64; 2]>) {
+        match &mut self.engine {
+            Engine::Continuous(c) => c.scaling.y_bounds = Some(b),
+            Engine::Lagged(l) => {
+                l.scaling.y_bounds = Some(b);
+                l.core.set_bounds(&l.scaling);
+            }
+            Engine::Cascade(c) => c.scaling.y_bounds = Some(b),
+        }
+    }
+
+    /// After a sample learned from: widen the tracked range to `y`.
+    fn widen(&mut self, y: &[f64]) {
+        let Some(r) = &mut self.range else { return };
+        if self.frozen || self.free_run {
+            return;
+        }
+        let mut moved = false;
+        for ((l, h), v) in r.lo.iter_mut().zip(r.hi.iter_mut()).zip(y) {
+            if v.is_finite() && (*v < *l || *v > *h) {
+                *l = l.min(*v);
+                *h = h.max(*v);
+                moved = true;
+            }
+        }
+        if moved {
+            let b = widened(&r.lo, &r.hi, r.margin);
+            self.set_y_bounds(b);
+        }
     }
 
     /// Take the sample `(t, u, y)` and return the estimate of `y(t)` made before seeing
@@ -182,15 +255,29 @@ impl OnlineIdentifier {
     /// (the measurement itself until it has seen its largest lag). In a free run `y` is
     /// ignored (give anything of the right length).
     pub fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<&[f64]> {
-        match &mut self.engine {
-            Engine::Continuous(c) => c.update(t, u, y),
-            Engine::Lagged(l) => l.update(t, u, y),
-            Engine::Cascade(c) => c.update(t, u, y),
+        if self.range.is_none() {
+            return match &mut self.engine {
+                Engine::Continuous(c) => c.update(t, u, y),
+                Engine::Lagged(l) => l.update(t, u, y),
+                Engine::Cascade(c) => c.update(t, u, y),
+            };
         }
+        match &mut self.engine {
+            Engine::Continuous(c) => c.update(t, u, y).map(|_| ()),
+            Engine::Lagged(l) => l.update(t, u, y).map(|_| ()),
+            Engine::Cascade(c) => c.update(t, u, y).map(|_| ()),
+        }?;
+        self.widen(y);
+        Ok(match &self.engine {
+            Engine::Continuous(c) => &c.y_hat,
+            Engine::Lagged(l) => l.estimate(),
+            Engine::Cascade(c) => &c.out,
+        })
     }
 
     /// Stop (`true`) or resume adapting the weights.
     pub fn freeze(&mut self, frozen: bool) {
+        self.frozen = frozen;
         match &mut self.engine {
             Engine::Continuous(c) => c.freeze(frozen),
             Engine::Lagged(l) => l.core.frozen = frozen,
@@ -201,6 +288,7 @@ impl OnlineIdentifier {
     /// Run free (`true`): the model on its own outputs, weights frozen; or back to
     /// series-parallel.
     pub fn set_free_run(&mut self, free: bool) {
+        self.free_run = free;
         match &mut self.engine {
             Engine::Continuous(c) => c.set_free_run(free),
             Engine::Lagged(l) => l.core.free_run = free,

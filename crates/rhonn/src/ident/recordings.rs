@@ -118,29 +118,108 @@ pub fn record_scaling(spec: &OnlineSpec, records: &[Record]) -> Scaling {
         &us.iter().map(|v| v.as_slice()).collect::<Vec<_>>(),
     );
     if spec.output_margin >= 0.0 {
-        scaling.y_bounds = Some(
-            ys.iter()
-                .map(|c| {
-                    let lo = c.iter().copied().fold(f64::INFINITY, f64::min);
-                    let hi = c.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-                    let m = spec.output_margin * (hi - lo).max(f64::EPSILON);
-                    [lo - m, hi + m]
-                })
-                .collect(),
-        );
+        let (lo, hi) = ranges(&ys);
+        scaling.y_bounds = Some(super::online::widened(&lo, &hi, spec.output_margin));
     }
     scaling
+}
+
+/// Per column, its lowest and highest value.
+fn ranges(cols: &[Vec<f64>]) -> (Vec<f64>, Vec<f64>) {
+    cols.iter()
+        .map(|c| {
+            let lo = c.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = c.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            (lo, hi)
+        })
+        .unzip()
+}
+
+/// Normalisation an online identifier may use: taken from a warm-up window at the
+/// stream's start, never from samples after it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WarmUp {
+    /// Each output's and input's mean and standard deviation over the window (no bounds).
+    pub scaling: Scaling,
+    /// Per output, the lowest and highest value in the window.
+    pub lo: Vec<f64>,
+    /// See `lo`.
+    pub hi: Vec<f64>,
+}
+
+impl WarmUp {
+    /// From the window's columns: `ys[j]`, `us[j]` the samples of output and input `j`.
+    pub fn of(ys: &[Vec<f64>], us: &[Vec<f64>]) -> Self {
+        let scaling = Scaling::of(
+            &ys.iter().map(|v| v.as_slice()).collect::<Vec<_>>(),
+            &us.iter().map(|v| v.as_slice()).collect::<Vec<_>>(),
+        );
+        let (lo, hi) = ranges(ys);
+        WarmUp { scaling, lo, hi }
+    }
+
+    /// From the first `samples` samples of `records`, in order.
+    pub fn of_records(records: &[Record], samples: usize) -> Self {
+        let (ny, nu) = (records[0].outputs.len(), records[0].inputs.len());
+        let (mut ys, mut us) = (vec![Vec::new(); ny], vec![Vec::new(); nu]);
+        let mut left = samples.max(1);
+        for r in records {
+            let n = left.min(r.len());
+            for (c, src) in ys.iter_mut().zip(&r.outputs) {
+                c.extend_from_slice(&src[..n]);
+            }
+            for (c, src) in us.iter_mut().zip(&r.inputs) {
+                c.extend_from_slice(&src[..n]);
+            }
+            left -= n;
+            if left == 0 {
+                break;
+            }
+        }
+        Self::of(&ys, &us)
+    }
+
+    /// A new identifier with `spec` normalised by this window; unless
+    /// `spec.output_margin` is negative, its estimate held within the outputs' range seen
+    /// so far, widened by the margin (see [`OnlineIdentifier::track_bounds`]).
+    pub fn identifier(&self, spec: &OnlineSpec, dt: f64) -> Result<OnlineIdentifier> {
+        let mut scaling = self.scaling.clone();
+        let tracked = spec.output_margin >= 0.0;
+        if tracked {
+            scaling.y_bounds = Some(super::online::widened(&self.lo, &self.hi, spec.output_margin));
+        }
+        let (ny, nu) = (scaling.y_scale.len(), scaling.u_scale.len());
+        let mut id = OnlineIdentifier::new(spec, ny, nu, dt, scaling)?;
+        if tracked {
+            id.track_bounds(self.lo.clone(), self.hi.clone(), spec.output_margin);
+        }
+        Ok(id)
+    }
 }
 
 /// Identify `records` online with `spec`: `spec.epochs` passes, weights carried, the
 /// model restarted at each record's first measurement; scaled by the records' means and
 /// standard deviations.
 pub fn identify_records(spec: &OnlineSpec, records: &[Record], outputs: &[String]) -> Result<OnlineRun> {
+    identify_records_scaled(spec, records, outputs, None)
+}
+
+/// As [`identify_records`]; with `warmup = Some(n)`, normalised by the stream's first
+/// `n` samples and held within the outputs' range seen so far ([`WarmUp::identifier`]),
+/// as an online identifier must be.
+pub fn identify_records_scaled(
+    spec: &OnlineSpec,
+    records: &[Record],
+    outputs: &[String],
+    warmup: Option<usize>,
+) -> Result<OnlineRun> {
     let dt = sample_time(records)?;
     check_outputs_vary(records, outputs)?;
     let (ny, nu) = (records[0].outputs.len(), records[0].inputs.len());
-    let scaling = record_scaling(spec, records);
-    let mut id = OnlineIdentifier::new(spec, ny, nu, dt, scaling)?;
+    let mut id = match warmup {
+        Some(n) => WarmUp::of_records(records, n).identifier(spec, dt)?,
+        None => OnlineIdentifier::new(spec, ny, nu, dt, record_scaling(spec, records))?,
+    };
     let mut max_norm_per_pass = Vec::new();
     let (mut estimates, mut weight_norms, mut weights) = (Vec::new(), Vec::new(), Vec::new());
     let listed = ny * id.n_terms() <= MAX_LISTED_WEIGHTS;

@@ -9,11 +9,17 @@
 //! law's bound (least squares, whose covariance only shrinks, with its output bounds; the
 //! continuous neurons' law; the cascade's bounded chain).
 
-use super::online::{OnlineIdentifier, OnlineSpec, Scaling};
+mod lane;
+mod stream;
+
+use super::online::{OnlineIdentifier, OnlineSpec};
 use super::online_spec::{LagSpec, OnlineStructure};
+use super::WarmUp;
 use crate::data::Record;
 use crate::error::{invalid, Result};
+use lane::Lane;
 use serde::Serialize;
+pub use stream::OnlineBank;
 
 /// A candidate of the bank: a name and its settings.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -50,6 +56,8 @@ pub struct BankSelection {
     pub judged_by: String,
     /// Samples in each free-run window.
     pub window: usize,
+    /// Samples of the warm-up window that normalised every candidate.
+    pub warmup: usize,
     /// Every candidate, in the bank's order.
     pub candidates: Vec<CandidateScore>,
     /// Index of the winner.
@@ -145,6 +153,7 @@ pub const MAX_CASCADE_SAMPLES: usize = 5_000;
 /// stream of at most [`MAX_CASCADE_SAMPLES`], the cascade with a hidden neuron.
 pub fn default_candidates(ny: usize, samples: usize) -> Vec<Candidate> {
     let mut c = vec![
+        lagged(1, 1, 1, None),
         lagged(2, 2, 1, None),
         lagged(4, 4, 1, None),
         lagged(8, 8, 1, None),
@@ -180,123 +189,116 @@ pub fn window_for(samples: usize) -> usize {
     (samples / 10).clamp(20, 5_000)
 }
 
-/// Per output, the sum of squared errors and its count.
-#[derive(Clone)]
-struct Sums {
-    sq: Vec<f64>,
-    n: usize,
+/// How the bank judges a stream.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BankSettings {
+    /// Samples at the stream's start whose means, standard deviations and range
+    /// normalise every candidate (nothing after them is used to scale).
+    pub warmup: usize,
+    /// Samples in each free-run window.
+    pub window: usize,
+    /// The first sample (counted over the stream) whose errors are scored.
+    pub scored_from: usize,
 }
 
-impl Sums {
-    fn new(ny: usize) -> Self {
-        Sums {
-            sq: vec![0.0; ny],
-            n: 0,
+impl BankSettings {
+    /// For a stream of `samples` samples, as `rhonn identify` judges recordings: windows
+    /// of [`window_for`], the second half scored, the first [`warmup_for`] samples the
+    /// warm-up.
+    pub fn for_stream(samples: usize) -> Self {
+        BankSettings {
+            warmup: warmup_for(samples),
+            window: window_for(samples),
+            scored_from: samples / 2,
         }
-    }
-
-    fn add(&mut self, y: &[f64], yh: &[f64]) {
-        for ((s, a), b) in self.sq.iter_mut().zip(y).zip(yh) {
-            *s += (a - b) * (a - b);
-        }
-        self.n += 1;
-    }
-
-    /// RMS error / sd per output, averaged.
-    fn nrmse(&self, sd: &[f64]) -> f64 {
-        let n = self.n.max(1) as f64;
-        self.sq
-            .iter()
-            .zip(sd)
-            .map(|(s, d)| (s / n).sqrt() / d)
-            .sum::<f64>()
-            / sd.len() as f64
     }
 }
 
-/// Run one candidate over the stream: (one-step, free-run) normalised errors.
-fn score(c: &Candidate, records: &[Record], dt: f64, window: usize, sd: &[f64]) -> Result<(f64, f64)> {
-    let (ny, nu) = (records[0].outputs.len(), records[0].inputs.len());
-    let scaling: Scaling = super::record_scaling(&c.spec, records);
-    // One pass, whatever the candidate's final passes: predicted before learned.
-    let one_pass = OnlineSpec {
-        epochs: 1,
-        ..c.spec.clone()
-    };
-    let mut id = OnlineIdentifier::new(&one_pass, ny, nu, dt, scaling)?;
-    let total: usize = records.iter().map(Record::len).sum();
-    let (mut one, mut free) = (Sums::new(ny), Sums::new(ny));
-    let (mut u, mut y) = (vec![0.0; nu], vec![0.0; ny]);
-    let mut g = 0;
-    id.new_pass();
-    for r in records {
-        id.reset();
-        id.freeze(false);
-        for k in 0..r.len() {
-            let scored = g >= total / 2;
-            // A window starts every half window in the scored half, wherever a whole one
-            // fits in the record (after the candidate's first sample there).
-            if scored && k > 0 && k % (window / 2).max(1) == 0 && k + window <= r.len() {
-                let mut f = id.clone();
-                f.freeze(true);
-                f.set_free_run(true);
-                for j in k..k + window {
-                    super::recordings::sample(r, j, &mut u, &mut y);
-                    let yh = f.update(r.t[j], &u, &y)?;
-                    free.add(&y, yh);
-                }
-            }
-            super::recordings::sample(r, k, &mut u, &mut y);
-            let yh = id.update(r.t[k], &u, &y)?;
-            if scored {
-                one.add(&y, yh);
-            }
-            g += 1;
-        }
+impl BankSettings {
+    /// For a stream whose length is not known: as for 2,000 samples (warm-up and
+    /// scoring from sample 1,000, windows of 200).
+    pub fn open_ended() -> Self {
+        Self::for_stream(2_000)
     }
-    if free.n == 0 {
-        return Err(invalid(
-            "data",
-            format!("{total} samples"),
-            format!("records long enough for a free-run window of {window} samples in the second half"),
-        ));
-    }
-    Ok((one.nrmse(sd), free.nrmse(sd)))
+}
+
+/// The warm-up window for a stream of `samples` samples: its first half, the part the
+/// bank does not score (at least 2 samples).
+pub fn warmup_for(samples: usize) -> usize {
+    (samples / 2).max(2)
 }
 
 /// Run the bank `candidates` on `records` (outputs named `outputs`) and pick the winner
-/// by its prequential free-run error. Candidates run in parallel; one that fails
-/// (diverges, or does not fit the data) is listed with its reason.
+/// by its prequential free-run error, with [`BankSettings::for_stream`]. Candidates run
+/// in parallel; one that fails (diverges, or does not fit the data) is listed with its
+/// reason.
 pub fn select(candidates: Vec<Candidate>, records: &[Record], outputs: &[String]) -> Result<BankSelection> {
+    let total: usize = records.iter().map(Record::len).sum();
+    select_with(candidates, records, outputs, BankSettings::for_stream(total)).map(|(s, _)| s)
+}
+
+/// As [`select`] with `settings`; also returns the winner as it stands after the pass.
+pub fn select_with(
+    candidates: Vec<Candidate>,
+    records: &[Record],
+    outputs: &[String],
+    settings: BankSettings,
+) -> Result<(BankSelection, OnlineIdentifier)> {
     use rayon::prelude::*;
     let dt = super::sample_time(records)?;
     super::check_outputs_vary(records, outputs)?;
-    let total: usize = records.iter().map(Record::len).sum();
-    let window = window_for(total);
     let ny = records[0].outputs.len();
-    let sd: Vec<f64> = (0..ny)
-        .map(|j| {
-            let col: Vec<&[f64]> = records.iter().map(|r| r.outputs[j].as_slice()).collect();
-            crate::metrics::mean_std(&col).1
-        })
-        .collect();
-    let scored: Vec<CandidateScore> = candidates
+    let warm = WarmUp::of_records(records, settings.warmup);
+    let mut spread = lane::Spread::new(ny);
+    let mut y = vec![0.0; ny];
+    let mut u = vec![0.0; records[0].inputs.len()];
+    for r in records {
+        for k in 0..r.len() {
+            super::recordings::sample(r, k, &mut u, &mut y);
+            spread.add(&y);
+        }
+    }
+    let lanes: Vec<Lane> = candidates
         .into_par_iter()
         .map(|c| {
-            let (one, free, failed) = match score(&c, records, dt, window, &sd) {
-                Ok((a, b)) if a.is_finite() && b.is_finite() => (Some(a), Some(b), None),
-                Ok(_) => (
-                    None,
-                    None,
-                    Some("its prequential error is not finite".to_string()),
-                ),
-                Err(e) => (None, None, Some(e.to_string())),
+            let mut lane = Lane::new(c, &warm, dt, settings);
+            let (mut u, mut y) = (u.clone(), y.clone());
+            for r in records {
+                lane.reset();
+                for k in 0..r.len() {
+                    super::recordings::sample(r, k, &mut u, &mut y);
+                    lane.update(r.t[k], &u, &y);
+                }
+            }
+            lane
+        })
+        .collect();
+    judge(lanes, &spread.sd(), settings)
+}
+
+/// The bank's verdict on its lanes: every candidate's figures, the winner (lowest
+/// free-run error) and the best recursive ARX.
+fn judge(lanes: Vec<Lane>, sd: &[f64], settings: BankSettings) -> Result<(BankSelection, OnlineIdentifier)> {
+    let mut ids = Vec::with_capacity(lanes.len());
+    let scored: Vec<CandidateScore> = lanes
+        .into_iter()
+        .map(|l| {
+            let (one, free) = (l.one.nrmse(sd), l.free.nrmse(sd));
+            let failed = match (&l.failed, free) {
+                (Some(f), _) => Some(f.clone()),
+                (None, None) => Some(format!(
+                    "no free-run window of {} samples fitted in a record after sample {}",
+                    settings.window, settings.scored_from
+                )),
+                (None, Some(_)) => None,
             };
+            ids.push(l.id);
+            let ok = failed.is_none();
             CandidateScore {
-                name: c.name,
-                spec: c.spec,
-                one_step_nrmse: one,
-                free_run_nrmse: free,
+                name: l.candidate.name,
+                spec: l.candidate.spec,
+                one_step_nrmse: one.filter(|_| ok),
+                free_run_nrmse: free.filter(|_| ok),
                 failed,
             }
         })
@@ -310,24 +312,38 @@ pub fn select(candidates: Vec<Candidate>, records: &[Record], outputs: &[String]
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(k, _)| k)
     };
-    let Some(chosen) = best(false) else {
-        let why: Vec<String> = scored
-            .iter()
-            .map(|c| format!("{}: {}", c.name, c.failed.clone().unwrap_or_default()))
-            .collect();
+    let chosen = match best(false) {
+        Some(k) => k,
+        None => {
+            let why: Vec<String> = scored
+                .iter()
+                .map(|c| format!("{}: {}", c.name, c.failed.clone().unwrap_or_default()))
+                .collect();
+            return Err(invalid(
+                "online selection",
+                "every candidate failed",
+                why.join("; "),
+            ));
+        }
+    };
+    let Some(winner) = ids.swap_remove(chosen) else {
         return Err(invalid(
             "online selection",
-            "every candidate failed",
-            why.join("; "),
+            "the winner has no identifier",
+            "a candidate that ran",
         ));
     };
-    Ok(BankSelection {
+    let window = settings.window;
+    let selection = BankSelection {
         judged_by: format!(
-            "prequential free run over windows of {window} samples in the second half of the stream"
+            "prequential free run over windows of {window} samples from sample {}, every candidate normalised by the first {} samples",
+            settings.scored_from, settings.warmup
         ),
         window,
+        warmup: settings.warmup,
         best_arx: best(true),
         candidates: scored,
         chosen,
-    })
+    };
+    Ok((selection, winner))
 }
