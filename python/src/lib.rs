@@ -102,13 +102,7 @@ fn fit(
         opts.time_budget_s = t;
     }
     let max_lag = if select {
-        let lag = rhonn::sysid::select::candidates(outputs.len(), opts.cascade)
-            .iter()
-            .map(|(_, s)| s.max_lag())
-            .max()
-            .unwrap_or(0);
-        // Each fold of a recording must hold the largest candidate's lags.
-        opts.folds * (lag + 20) - 2
+        rhonn::sysid::select::min_samples(outputs.len(), &opts) - 2
     } else {
         specs.iter().map(|s| s.max_lag()).max().unwrap_or(0)
     };
@@ -138,10 +132,9 @@ fn fit(
     if let Some(sel) = &selection {
         notes.extend(sel.findings.iter().map(|f| format!("selection: {f}")));
     }
-    let (fitted, mut summary) = py
-        .detach(|| rhonn::sysid::train(&specs, &recs, &inputs, &outputs))
+    let (fitted, summary) = py
+        .detach(|| rhonn::sysid::train_selected(&specs, selection, &recs, &inputs, &outputs))
         .map_err(rhonn_err)?;
-    summary.selection = selection;
     Ok(model::Model::fitted(fitted, Some(errors::json(&summary)?), notes))
 }
 

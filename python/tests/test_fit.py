@@ -130,3 +130,33 @@ def test_the_selection_options_are_those_of_the_command(tanks):
         rhonn.fit(est["u"], est["y"], dt=4.0, time_budget_s=float("nan"))
     with pytest.raises(ValueError, match="steps_ahead"):
         rhonn.fit(est["u"], est["y"], dt=4.0, select_steps_ahead=0)
+
+
+def test_the_default_fit_equals_the_command_with_its_baseline(tmp_path, root, rhonn_bin, tanks):
+    """The same data through `rhonn fit` (no spec: the structure selected) and through
+    `rhonn.fit`: the same model.json (model and ARX baseline: the selection's best ARX on
+    the folds) and the same figures in summary.json, the baseline's included."""
+    est, _ = tanks
+    subprocess.run(
+        [rhonn_bin, "fit", "--data", str(root / "data/cascaded-tanks/estimation.csv"), "--inputs", "u",
+         "--outputs", "y", "--out", str(tmp_path / "fit")],
+        check=True, capture_output=True, cwd=root,
+    )
+    cli = json.loads((tmp_path / "fit/model.json").read_text())
+    cli_summary = json.loads((tmp_path / "fit/summary.json").read_text())
+    m = rhonn.fit(est["u"], est["y"], dt=4.0, inputs=["u"], outputs=["y"])
+    py = json.loads(m.to_json())
+    assert py["model"]["weights"] == cli["model"]["weights"]
+    assert py["baseline"] == cli["baseline"]
+    assert py["baseline"]["spec"]["na"] == cli_summary["selection"]["candidates"][cli_summary["selection"]["best_arx"]]["model"]["na"]
+    for key in ("training", "baseline_arx", "model", "features"):
+        assert m.summary[key] == _without_sources(cli_summary[key]), key
+
+
+def _without_sources(v):
+    """summary.json names the command's files; Python's recordings are `recording K`."""
+    if isinstance(v, dict):
+        return {k: ("recording 0" if k == "data" else _without_sources(x)) for k, x in v.items()}
+    if isinstance(v, list):
+        return [_without_sources(x) for x in v]
+    return v

@@ -185,7 +185,8 @@ fn warm_up_scaling_uses_nothing_after_the_window() {
     assert_eq!(wa, wb);
     let spec = OnlineSpec::default();
     let out = vec!["y".to_string()];
-    let run = rhonn::ident::identify_records_scaled(&spec, std::slice::from_ref(&b), &out, Some(500)).unwrap();
+    let run =
+        rhonn::ident::identify_records_scaled(&spec, std::slice::from_ref(&b), &out, Some(500)).unwrap();
     let (lo, hi) = b.outputs[0]
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {

@@ -173,17 +173,11 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
     let (specs, selection) = match &req.select {
         None => (read_specs(req.model.as_deref())?, None),
         Some(opts) => {
-            let lag = rhonn::sysid::select::candidates(outputs.len(), opts.cascade)
-                .iter()
-                .map(|(_, s)| s.max_lag())
-                .max()
-                .unwrap_or(0);
-            // Each of the folds of a record must hold the largest candidate's lags.
             let recs = read_data(
                 &req.data,
                 inputs,
                 outputs,
-                opts.folds * (lag + 20),
+                rhonn::sysid::select::min_samples(outputs.len(), opts),
                 req.resample_s,
             )?;
             let sel = rhonn::sysid::select::select(&recs, inputs, outputs, opts, progress)?;
@@ -206,12 +200,8 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
             o.notes.push(format!("warning: {w}"));
         }
     }
-    // A selection's baseline is its best ARX on the folds (an honest linear tuning), not
-    // the ARX with the chosen structure's lags.
-    let baseline = selection.as_ref().map(|s| &s.candidates[s.best_arx].model);
-    let (mut fitted, mut summary) = rhonn::sysid::train_beside(&specs, baseline, &recs, inputs, outputs)
+    let (mut fitted, mut summary) = rhonn::sysid::train_selected(&specs, selection, &recs, inputs, outputs)
         .map_err(|e| spec_error(e, req))?;
-    summary.selection = selection;
     summary.regridded = regridded;
     fitted.units = units;
     // The free run on each training record, for the plots (at most 8 records drawn).

@@ -61,6 +61,18 @@ pub struct CandidateScore {
     pub failed: Option<String>,
 }
 
+/// The fewest samples a record needs for a selection with `opts` among the candidates
+/// for `ny` outputs: each of its folds must hold the largest candidate's lags and 20
+/// samples more.
+pub fn min_samples(ny: usize, opts: &SelectOptions) -> usize {
+    let lag = candidates(ny, opts.cascade)
+        .iter()
+        .map(|(_, s)| s.max_lag())
+        .max()
+        .unwrap_or(0);
+    opts.folds * (lag + 20)
+}
+
 /// What the selection found (written to `summary.json` as `selection`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Selection {

@@ -113,6 +113,23 @@ pub fn train(
     train_beside(specs, None, records, inputs, outputs)
 }
 
+/// What `rhonn fit` and Python's `rhonn.fit` both do once the structure is known: train
+/// `specs` beside the baseline a structure selection names (its best ARX on the folds: an
+/// honest linear tuning, not the ARX with the chosen structure's lags), or, without a
+/// selection, the ARX with the same lags; the summary carries the selection.
+pub fn train_selected(
+    specs: &[ModelSpec],
+    selection: Option<super::select::Selection>,
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<(FittedModel, FitSummary)> {
+    let baseline = selection.as_ref().map(|s| s.candidates[s.best_arx].model.clone());
+    let (fitted, mut summary) = train_beside(specs, baseline.as_ref(), records, inputs, outputs)?;
+    summary.selection = selection;
+    Ok((fitted, summary))
+}
+
 /// [`train`] beside the ARX structure `baseline` (a structure selection's best ARX on the
 /// folds) instead of the ARX with the same lags; None: the same lags.
 pub fn train_beside(
