@@ -162,6 +162,21 @@ fn the_glossary_names_every_figure_the_outputs_write() {
             "identify",
         ],
     ];
+    let benchmarks = root.join("data/benchmarks");
+    let o = rhonn(
+        d.path(),
+        &[
+            "benchmark",
+            "daisy-hair-dryer",
+            "--data-dir",
+            benchmarks.to_str().unwrap(),
+            "--out",
+            "benchmark",
+        ],
+    );
+    assert!(o.status.success(), "benchmark: {}", stderr(&o));
+    read_summary(&d.path().join("benchmark"));
+    read_summary(&d.path().join("benchmark/daisy-hair-dryer"));
     let o = rhonn(
         d.path(),
         &["bench", "thesis-ch3", "--seconds", "0.05", "--out", "bench"],

@@ -208,6 +208,34 @@ pub enum Command {
         #[arg(long, value_name = "K")]
         steps_ahead: Option<usize>,
     },
+    /// The field's standard benchmarks under their published protocol, beside the
+    /// published figures.
+    ///
+    /// For each benchmark of data/benchmarks/ (Silverbox, Wiener-Hammerstein 2009,
+    /// Bouc-Wen, coupled electric drives, cascaded tanks, four DaISy sets): rhonn fit's
+    /// default model, rhonn identify's default online model and an ARX of lags by
+    /// cross-validation, each trained on train only, run free on every test set from its
+    /// start-up window; RMS error in the data's units. Writes into DIR:
+    ///   summary.json, benchmark.csv   the table (one row per test set and output)
+    ///   NAME/model.json               rhonn fit's model (runs with `rhonn predict`)
+    ///   NAME/online/model.json        the online model, frozen
+    ///   NAME/free_run_K.csv, .svg     test set K: measured and the three free runs
+    ///   NAME/residuals_K.svg          the fit model's residuals on test set K
+    ///   report.html, NAME/report.html
+    #[command(verbatim_doc_comment)]
+    Benchmark {
+        /// Benchmark names (folders of --data-dir; default: every one).
+        names: Vec<String>,
+        /// The benchmarks' folder.
+        #[arg(long, value_name = "DIR", default_value = "data/benchmarks")]
+        data_dir: PathBuf,
+        /// Output folder.
+        #[arg(long, value_name = "DIR", default_value = "out/benchmark")]
+        out: PathBuf,
+        /// Print the table as JSON (summary.json's text) instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Time whole runs without I/O and print a table (or JSON).
     ///
     /// Per scenario: the median wall time of one run on one core, the right-hand-side

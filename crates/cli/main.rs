@@ -97,6 +97,23 @@ fn dispatch(cli: Cli) -> Result<()> {
             drop(busy);
             o?.print();
         }
+        Command::Benchmark {
+            names,
+            data_dir,
+            out,
+            json,
+        } => {
+            let req = commands::BenchmarkRequest {
+                names,
+                data_dir,
+                out,
+                json,
+            };
+            let busy = progress::Busy::start("benchmarks".into());
+            let o = commands::benchmark(&req, &|line| busy.set_message(line.to_string()));
+            drop(busy);
+            o?.print();
+        }
         Command::Bench {
             scenarios,
             json,

@@ -17,6 +17,7 @@ rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &output)
 
 mod atomic;
 pub mod bench_report;
+mod benchmark_data;
 pub mod campaign;
 mod campaign_options;
 mod campaign_plots;

@@ -3,10 +3,12 @@
 //! warnings for stderr, the files written). The binary parses arguments and prints an
 //! `Outcome`; the Python package and tests call the same functions.
 
+mod benchmark;
 mod fit;
 mod identify;
 mod run;
 
+pub use benchmark::{benchmark, figure, BenchmarkRequest, Row};
 pub use fit::{fit, fit_with_progress, model_specs, parse_units, predict, read_data, FitRequest};
 pub use identify::{identify, online_spec, IdentifyRequest};
 pub use run::{bench, run, show, REPRODUCED};

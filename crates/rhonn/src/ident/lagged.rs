@@ -66,6 +66,15 @@ fn normalised_bounds(scaling: &Scaling, ny: usize) -> Vec<(f64, f64)> {
     }
 }
 
+/// The first sample a frozen model of `spec` predicts in a free run (before it, it holds
+/// the measurement): the lagged structure's largest lag, else the sample after the first.
+pub fn first_prediction(spec: &OnlineSpec) -> usize {
+    match spec.structure {
+        super::OnlineStructure::Lagged => model_spec(spec, &spec.lags.clone().unwrap_or_default()).max_lag(),
+        _ => 1,
+    }
+}
+
 /// The `rhonn fit` structure a lagged online spec stands for.
 pub(super) fn model_spec(spec: &OnlineSpec, lags: &LagSpec) -> ModelSpec {
     ModelSpec {

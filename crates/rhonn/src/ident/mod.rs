@@ -438,6 +438,7 @@ pub mod bank;
 mod cascade_online;
 pub mod compare;
 mod lagged;
+pub use lagged::first_prediction;
 mod online;
 mod online_spec;
 mod recordings;

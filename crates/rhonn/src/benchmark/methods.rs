@@ -1,0 +1,198 @@
+//! The three models of a benchmark row, each trained on train only and run free on every
+//! test set: rhonn's default fit, rhonn's default online identifier, the ARX of lags by
+//! cross-validation. All three are scored on the same samples of each test set: after the
+//! start-up window and after every model's first genuine prediction.
+
+use super::{Benchmark, Published};
+use crate::data::Record;
+use crate::error::Result;
+use crate::ident::bank::{default_candidates, select};
+use crate::ident::{identify_records_scaled, predict_records, OnlineModel};
+use crate::sysid::{self, FittedModel};
+use serde::Serialize;
+use std::time::Instant;
+
+/// One model's free run on one test set.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TestScore {
+    /// The test set's label.
+    pub test: String,
+    /// Per output, the RMS error from `scored_from` on (data units).
+    pub rmse: Vec<f64>,
+    /// Per output, the free run (the measurement repeated before the model's first
+    /// prediction).
+    #[serde(skip)]
+    pub prediction: Vec<Vec<f64>>,
+}
+
+/// One model of a row.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MethodResult {
+    /// `rhonn fit (default)`, `rhonn identify (default)` or `ARX (lags by CV)`.
+    pub method: String,
+    /// Its structure, in words.
+    pub structure: String,
+    /// Wall time of its training \[s\] (selection included).
+    pub train_time_s: f64,
+    /// Per test set.
+    pub tests: Vec<TestScore>,
+}
+
+/// What a benchmark gives (`summary.json` of `rhonn benchmark`, per benchmark).
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchmarkOutcome {
+    /// Its folder's name.
+    pub name: String,
+    /// What the system is.
+    pub title: String,
+    /// Its reference paper.
+    pub reference: String,
+    /// Output columns.
+    pub outputs: Vec<String>,
+    /// Units of the columns.
+    pub units: std::collections::BTreeMap<String, String>,
+    /// Per test set: its label, the first sample scored (the start-up window, or a
+    /// model's first prediction if later) and the published figures.
+    pub test_sets: Vec<TestSet>,
+    /// The three models.
+    pub methods: Vec<MethodResult>,
+    /// rhonn's default model, trained on train (`NAME/model.json`).
+    #[serde(skip)]
+    pub fitted: FittedModel,
+    /// rhonn's default online model, frozen after train (`NAME/online/model.json`).
+    #[serde(skip)]
+    pub online: OnlineModel,
+}
+
+/// A test set's protocol as scored.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TestSet {
+    /// Its label.
+    pub label: String,
+    /// The first sample scored.
+    pub scored_from: usize,
+    /// Samples scored.
+    pub samples: usize,
+    /// The published figures.
+    pub published: Vec<Published>,
+}
+
+/// Per output, the RMS error of `pred` against `r` from sample `from` on.
+fn rmse_from(r: &Record, pred: &[Vec<f64>], from: usize) -> Vec<f64> {
+    r.outputs
+        .iter()
+        .zip(pred)
+        .map(|(y, p)| crate::metrics::rms_error(&y[from..], &p[from..]))
+        .collect()
+}
+
+/// rhonn fit's default: the structure selected by cross-validation on train, trained
+/// beside the selection's best ARX.
+fn fit_default(b: &Benchmark, progress: &(dyn Fn(&str) + Sync)) -> Result<(FittedModel, String, f64)> {
+    let (ins, outs) = (&b.spec.inputs, &b.spec.outputs);
+    let start = Instant::now();
+    let opts = sysid::select::SelectOptions::default();
+    let sel = sysid::select::select(&b.train, ins, outs, &opts, progress)?;
+    let spec = sel.chosen_spec().clone();
+    let structure = sel.candidates[sel.chosen].name.clone();
+    let (fitted, _) = sysid::train_selected(std::slice::from_ref(&spec), Some(sel), &b.train, ins, outs)?;
+    Ok((fitted, structure, start.elapsed().as_secs_f64()))
+}
+
+/// rhonn identify's default: the bank picks online, the winner trained for its passes
+/// with the bank's warm-up scaling, then frozen.
+fn online_default(b: &Benchmark) -> Result<(OnlineModel, String, f64)> {
+    let outs = &b.spec.outputs;
+    let start = Instant::now();
+    let total = b.train.iter().map(Record::len).sum();
+    let sel = select(default_candidates(outs.len(), total), &b.train, outs)?;
+    let spec = sel.chosen_spec().clone();
+    let run = identify_records_scaled(&spec, &b.train, outs, Some(sel.warmup))?;
+    let model = OnlineModel {
+        kind: OnlineModel::KIND.into(),
+        inputs: b.spec.inputs.clone(),
+        outputs: outs.clone(),
+        sample_time_s: crate::ident::sample_time(&b.train)?,
+        model: spec,
+        scaling: run.identifier.scaling().clone(),
+        weights: run.identifier.weights(),
+    };
+    let name = sel.candidates[sel.chosen].name.clone();
+    Ok((model, name, start.elapsed().as_secs_f64()))
+}
+
+/// Run the benchmark: the three models on train, each run free on every test set.
+/// `progress` hears a line per stage.
+pub fn run(b: &Benchmark, progress: &(dyn Fn(&str) + Sync)) -> Result<BenchmarkOutcome> {
+    b.check()?;
+    let (ins, outs) = (&b.spec.inputs, &b.spec.outputs);
+    progress(&format!("{}: rhonn fit (structure selected on train)", b.name));
+    let named = |l: &str| progress(&format!("{}: rhonn fit: {l}", b.name));
+    let (fitted, fit_structure, fit_s) = fit_default(b, &named)?;
+    progress(&format!("{}: rhonn identify (online selection)", b.name));
+    let (online, online_structure, online_s) = online_default(b)?;
+    progress(&format!("{}: ARX, lags by cross-validation", b.name));
+    let start = Instant::now();
+    let (arx, arx_sel) = sysid::best_arx(&b.train, ins, outs)?;
+    let arx_s = start.elapsed().as_secs_f64();
+    let mut id = online.identifier()?;
+    let lag = crate::ident::first_prediction(&online.model);
+    let mut runs: [Vec<Vec<Vec<f64>>>; 3] = Default::default();
+    let mut test_sets = Vec::new();
+    for (t, r) in b.spec.test.iter().zip(&b.tests) {
+        let f = sysid::predict(&fitted, r, None)?;
+        let a = sysid::predict(&arx, r, None)?;
+        let o = predict_records(&mut id, std::slice::from_ref(r), None)?.remove(0);
+        let o: Vec<Vec<f64>> = (0..outs.len())
+            .map(|j| o.iter().map(|s| s[j]).collect())
+            .collect();
+        let from = b.spec.skip.max(f.first).max(a.first).max(lag);
+        test_sets.push(TestSet {
+            label: t.label.clone(),
+            scored_from: from,
+            samples: r.len().saturating_sub(from),
+            published: t.published.clone(),
+        });
+        runs[0].push(f.outputs);
+        runs[1].push(o);
+        runs[2].push(a.outputs);
+    }
+    let names = [
+        ("rhonn fit (default)", fit_structure, fit_s),
+        ("rhonn identify (default)", online_structure, online_s),
+        (
+            "ARX (lags by CV)",
+            arx_sel.candidates[arx_sel.chosen].name.clone(),
+            arx_s,
+        ),
+    ];
+    let methods = names
+        .into_iter()
+        .zip(runs)
+        .map(|((method, structure, s), preds)| MethodResult {
+            method: method.into(),
+            structure,
+            train_time_s: s,
+            tests: preds
+                .into_iter()
+                .zip(b.tests.iter().zip(&test_sets))
+                .map(|(p, (r, ts))| TestScore {
+                    test: ts.label.clone(),
+                    rmse: rmse_from(r, &p, ts.scored_from),
+                    prediction: p,
+                })
+                .collect(),
+        })
+        .collect();
+    Ok(BenchmarkOutcome {
+        name: b.name.clone(),
+        title: b.spec.title.clone(),
+        reference: b.spec.reference.clone(),
+        outputs: outs.clone(),
+        units: b.spec.units.clone(),
+        test_sets,
+        methods,
+        fitted,
+        online,
+    })
+}

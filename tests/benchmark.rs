@@ -1,0 +1,192 @@
+//! `rhonn benchmark`: the shipped benchmarks under their protocol. On two small ones (the
+//! DaISy hair dryer and the coupled electric drives, two test records): the table, the
+//! files, every figure a number, the models trained on train that `rhonn predict` runs to
+//! the very figures of the table, the published figures beside them; and clear errors.
+
+mod util;
+
+use std::path::{Path, PathBuf};
+use util::{files_in, rhonn, stderr};
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn json(p: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+/// RMS error of column `hat` against `y` in a CSV, from row `from` on.
+fn rms_in_csv(p: &Path, y: &str, hat: &str, from: usize) -> f64 {
+    let mut rd = csv::Reader::from_path(p).unwrap();
+    let h = rd.headers().unwrap().clone();
+    let (iy, ih) = (
+        h.iter().position(|c| c == y).unwrap(),
+        h.iter().position(|c| c == hat).unwrap(),
+    );
+    let e: Vec<f64> = rd
+        .records()
+        .skip(from)
+        .map(|r| {
+            let r = r.unwrap();
+            r[iy].parse::<f64>().unwrap() - r[ih].parse::<f64>().unwrap()
+        })
+        .collect();
+    (e.iter().map(|v| v * v).sum::<f64>() / e.len() as f64).sqrt()
+}
+
+#[test]
+fn two_benchmarks_give_the_table_the_files_and_models_that_predict_their_figures() {
+    let d = tempfile::tempdir().unwrap();
+    let data = repo().join("data/benchmarks");
+    let o = rhonn(
+        d.path(),
+        &[
+            "benchmark",
+            "daisy-hair-dryer",
+            "coupled-electric-drives",
+            "--data-dir",
+            data.to_str().unwrap(),
+            "--out",
+            "b",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("coupled-electric-drives | test 2 | y |"), "{out}");
+    assert!(
+        out.contains("0.089 (GP-NARX, Champneys et al., arXiv 2405.10779)"),
+        "{out}"
+    );
+    let b = d.path().join("b");
+    assert_eq!(
+        files_in(&b),
+        [
+            "benchmark.csv",
+            "coupled-electric-drives",
+            "daisy-hair-dryer",
+            "report.html",
+            "summary.json"
+        ]
+    );
+    assert_eq!(
+        files_in(&b.join("coupled-electric-drives")),
+        [
+            "free_run_0.csv",
+            "free_run_0.svg",
+            "free_run_1.csv",
+            "free_run_1.svg",
+            "model.json",
+            "online",
+            "report.html",
+            "residuals_0.svg",
+            "residuals_1.svg",
+            "summary.json"
+        ]
+    );
+    let s = json(&b.join("summary.json"));
+    let rows = s["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 3, "{s}");
+    for r in rows {
+        for k in ["fit_rmse", "online_rmse", "arx_rmse", "fit_time_s"] {
+            let v = r[k].as_f64().unwrap_or(f64::NAN);
+            assert!(v.is_finite() && v > 0.0, "{k}: {r}");
+        }
+        // The coupled drives are scored from sample 4 or a model's largest lag, later.
+        if r["benchmark"] == "coupled-electric-drives" {
+            assert!(r["scored_from"].as_u64().unwrap() >= 4, "{r}");
+        }
+    }
+    // The table's figure of rhonn fit's model is what `rhonn predict` gives with the
+    // model.json it wrote, on the test record it wrote (free_run_1.csv: test 2).
+    let ced = b.join("coupled-electric-drives");
+    let p = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            ced.join("model.json").to_str().unwrap(),
+            "--data",
+            ced.join("free_run_1.csv").to_str().unwrap(),
+            "--out",
+            "p",
+        ],
+    );
+    assert!(p.status.success(), "{}", stderr(&p));
+    let row = &rows[2];
+    assert_eq!(row["test"], "test 2");
+    let from = row["scored_from"].as_u64().unwrap() as usize;
+    let predicted = rms_in_csv(&d.path().join("p/prediction.csv"), "y", "y_hat", from);
+    let table = row["fit_rmse"].as_f64().unwrap();
+    assert!((predicted - table).abs() <= 1e-9 * table, "{predicted} {table}");
+    // The same figure from the free-run file's own column.
+    let in_file = rms_in_csv(&ced.join("free_run_1.csv"), "y", "y_fit", from);
+    assert!((in_file - table).abs() <= 1e-9 * table);
+    // The online model is a frozen online model `rhonn predict` reads too.
+    let m = json(&ced.join("online/model.json"));
+    assert_eq!(m["kind"], "online-rhonn");
+}
+
+#[test]
+fn an_unknown_benchmark_or_a_bad_file_is_a_clear_error_and_writes_nothing() {
+    let d = tempfile::tempdir().unwrap();
+    let data = repo().join("data/benchmarks");
+    let o = rhonn(
+        d.path(),
+        &[
+            "benchmark",
+            "silverbux",
+            "--data-dir",
+            data.to_str().unwrap(),
+            "--out",
+            "b",
+        ],
+    );
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("no benchmark `silverbux`") && e.contains("silverbox"),
+        "{e}"
+    );
+    assert!(!d.path().join("b").exists());
+    // A copy of a benchmark with a cell that is not a number: file, line and column named.
+    let mine = d.path().join("mine/dryer");
+    std::fs::create_dir_all(&mine).unwrap();
+    let src = data.join("daisy-hair-dryer");
+    std::fs::copy(src.join("benchmark.toml"), mine.join("benchmark.toml")).unwrap();
+    std::fs::copy(src.join("train.csv.gz"), mine.join("train.csv.gz")).unwrap();
+    std::fs::write(
+        mine.join("test.csv.gz"),
+        b"", // not gzip: an unreadable file
+    )
+    .unwrap();
+    let o = rhonn(d.path(), &["benchmark", "--data-dir", "mine", "--out", "b"]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(e.contains("test.csv.gz"), "{e}");
+    std::fs::write(
+        mine.join("test.csv.gz"),
+        gz("k,t_s,u_heater_V,y_outlet_temp_V\n0,0,1,2\n1,0.08,1,nan\n"),
+    )
+    .unwrap();
+    let o = rhonn(d.path(), &["benchmark", "--data-dir", "mine", "--out", "b"]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("test.csv.gz, line 3, column `y_outlet_temp_V`: `nan` is not a finite number"),
+        "{e}"
+    );
+    std::fs::write(mine.join("benchmark.toml"), "title = 3\n").unwrap();
+    let o = rhonn(d.path(), &["benchmark", "--data-dir", "mine", "--out", "b"]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(e.contains("benchmark.toml") && e.contains("title"), "{e}");
+    assert!(!d.path().join("b").exists());
+}
+
+fn gz(text: &str) -> Vec<u8> {
+    use std::io::Write;
+    let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    e.write_all(text.as_bytes()).unwrap();
+    e.finish().unwrap()
+}
