@@ -102,18 +102,12 @@ fn dispatch(cli: Cli) -> Result<()> {
             data_dir,
             out,
             json,
-        } => {
-            let req = commands::BenchmarkRequest {
-                names,
-                data_dir,
-                out,
-                json,
-            };
-            let busy = progress::Busy::start("benchmarks".into());
-            let o = commands::benchmark(&req, &|line| busy.set_message(line.to_string()));
-            drop(busy);
-            o?.print();
-        }
+        } => cmd_benchmark(commands::BenchmarkRequest {
+            names,
+            data_dir,
+            out,
+            json,
+        })?,
         Command::Bench {
             scenarios,
             json,
@@ -242,6 +236,15 @@ fn fit_selection(
         }
         o
     }))
+}
+
+/// `rhonn benchmark`: the benchmark and model being trained on the spinner.
+fn cmd_benchmark(req: commands::BenchmarkRequest) -> Result<()> {
+    let busy = progress::Busy::start("benchmarks".into());
+    let o = commands::benchmark(&req, &|line| busy.set_message(line.to_string()));
+    drop(busy);
+    o?.print();
+    Ok(())
 }
 
 /// `rhonn fit`: the fit with the candidate structure being tried on the spinner.
