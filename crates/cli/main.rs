@@ -59,33 +59,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 out,
             })?
         }
-        Command::Identify {
-            data,
-            inputs,
-            outputs,
-            model,
-            epochs,
-            validate,
-            steps_ahead,
-            units,
-            out,
-        } => {
-            let req = commands::IdentifyRequest {
-                data,
-                inputs,
-                outputs,
-                model,
-                epochs,
-                validate,
-                steps_ahead,
-                units,
-                out,
-            };
-            let busy = progress::Busy::start(format!("identifying online on {} record(s)", req.data.len()));
-            let o = commands::identify(&req);
-            drop(busy);
-            o?.print();
-        }
+        c @ Command::Identify { .. } => cmd_identify(c)?,
         Command::Predict {
             model,
             data,
@@ -236,6 +210,40 @@ fn fit_selection(
         }
         o
     }))
+}
+
+/// `rhonn identify`: the identification with a spinner.
+fn cmd_identify(c: Command) -> Result<()> {
+    let Command::Identify {
+        data,
+        inputs,
+        outputs,
+        model,
+        epochs,
+        validate,
+        steps_ahead,
+        units,
+        out,
+    } = c
+    else {
+        return Ok(());
+    };
+    let req = commands::IdentifyRequest {
+        data,
+        inputs,
+        outputs,
+        model,
+        epochs,
+        validate,
+        steps_ahead,
+        units,
+        out,
+    };
+    let busy = progress::Busy::start(format!("identifying online on {} record(s)", req.data.len()));
+    let o = commands::identify(&req);
+    drop(busy);
+    o?.print();
+    Ok(())
 }
 
 /// `rhonn benchmark`: the benchmark and model being trained on the spinner.
