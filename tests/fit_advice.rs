@@ -175,3 +175,53 @@ fn suspicious_columns_are_warned_about_and_bad_options_refused() {
         assert!(!d.path().join("x").exists());
     }
 }
+
+/// The DaISy ball-and-beam (an open-loop unstable plant): no structure runs free better
+/// than the output's mean on the folds; `rhonn fit` says so as a warning (and keeps it in
+/// summary.json), instead of choosing an ARX silently.
+#[test]
+fn a_selection_whose_every_candidate_is_worse_than_the_mean_warns() {
+    use std::io::Read;
+    let d = tempfile::tempdir().unwrap();
+    let gz = std::fs::File::open(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("data/benchmarks/daisy-ball-and-beam/train.csv.gz"),
+    )
+    .unwrap();
+    let mut text = String::new();
+    flate2::read::GzDecoder::new(gz)
+        .read_to_string(&mut text)
+        .unwrap();
+    let csv = text.replace("k,t_s,u_beam_angle,y_ball_position", "k,t,u,y");
+    std::fs::write(d.path().join("bb.csv"), csv).unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "fit",
+            "--data",
+            "bb.csv",
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--out",
+            "f",
+        ],
+    );
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains(
+            "warning: every candidate structure ran free run worse than the output's mean on the folds"
+        ),
+        "{e}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("f/summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        s["selection"]["warnings"].as_array().map(Vec::len),
+        Some(1),
+        "{}",
+        s["selection"]
+    );
+}

@@ -131,6 +131,7 @@ fn fit(
     let mut notes = rhonn::sysid::data_warnings(&recs, &inputs, &outputs, lag, dt, "dt");
     if let Some(sel) = &selection {
         notes.extend(sel.findings.iter().map(|f| format!("selection: {f}")));
+        notes.extend(sel.warnings.iter().cloned());
     }
     let (fitted, summary) = py
         .detach(|| rhonn::sysid::train_selected(&specs, selection, &recs, &inputs, &outputs))

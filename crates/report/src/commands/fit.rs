@@ -184,6 +184,9 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
             for f in &sel.findings {
                 o.notes.push(format!("selection: {f}"));
             }
+            for w in &sel.warnings {
+                o.notes.push(format!("warning: {w}"));
+            }
             (vec![sel.chosen_spec().clone()], Some(sel))
         }
     };

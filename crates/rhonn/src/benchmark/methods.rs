@@ -56,6 +56,10 @@ pub struct BenchmarkOutcome {
     pub test_sets: Vec<TestSet>,
     /// The three models.
     pub methods: Vec<MethodResult>,
+    /// What the user must know (rhonn fit's selection: every structure worse than the
+    /// mean on the folds).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// rhonn's default model, trained on train (`NAME/model.json`).
     #[serde(skip)]
     pub fitted: FittedModel,
@@ -88,15 +92,19 @@ fn rmse_from(r: &Record, pred: &[Vec<f64>], from: usize) -> Vec<f64> {
 
 /// rhonn fit's default: the structure selected by cross-validation on train, trained
 /// beside the selection's best ARX.
-fn fit_default(b: &Benchmark, progress: &(dyn Fn(&str) + Sync)) -> Result<(FittedModel, String, f64)> {
+fn fit_default(
+    b: &Benchmark,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<(FittedModel, String, f64, Vec<String>)> {
     let (ins, outs) = (&b.spec.inputs, &b.spec.outputs);
     let start = Instant::now();
     let opts = sysid::select::SelectOptions::default();
     let sel = sysid::select::select(&b.train, ins, outs, &opts, progress)?;
     let spec = sel.chosen_spec().clone();
     let structure = sel.candidates[sel.chosen].name.clone();
+    let warnings = sel.warnings.clone();
     let (fitted, _) = sysid::train_selected(std::slice::from_ref(&spec), Some(sel), &b.train, ins, outs)?;
-    Ok((fitted, structure, start.elapsed().as_secs_f64()))
+    Ok((fitted, structure, start.elapsed().as_secs_f64(), warnings))
 }
 
 /// rhonn identify's default: the bank picks online, the winner trained for its passes
@@ -128,7 +136,7 @@ pub fn run(b: &Benchmark, progress: &(dyn Fn(&str) + Sync)) -> Result<BenchmarkO
     let (ins, outs) = (&b.spec.inputs, &b.spec.outputs);
     progress(&format!("{}: rhonn fit (structure selected on train)", b.name));
     let named = |l: &str| progress(&format!("{}: rhonn fit: {l}", b.name));
-    let (fitted, fit_structure, fit_s) = fit_default(b, &named)?;
+    let (fitted, fit_structure, fit_s, warnings) = fit_default(b, &named)?;
     progress(&format!("{}: rhonn identify (online selection)", b.name));
     let (online, online_structure, online_s) = online_default(b)?;
     progress(&format!("{}: ARX, lags by cross-validation", b.name));
@@ -192,6 +200,7 @@ pub fn run(b: &Benchmark, progress: &(dyn Fn(&str) + Sync)) -> Result<BenchmarkO
         units: b.spec.units.clone(),
         test_sets,
         methods,
+        warnings,
         fitted,
         online,
     })

@@ -88,6 +88,10 @@ pub struct Selection {
     pub best_arx: usize,
     /// Seconds the selection took.
     pub seconds: f64,
+    /// What the user must know: every candidate ran worse than the output's mean on the
+    /// folds (the chosen one's score at least 1).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// What it found, in words.
     pub findings: Vec<String>,
 }
@@ -374,6 +378,13 @@ fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, seconds: f64) -
             opts.time_budget_s
         ));
     }
+    let mut warnings = Vec::new();
+    if score >= 1.0 {
+        warnings.push(format!(
+            "every candidate structure ran {judged_by} worse than the output's mean on the folds (the chosen, {}, scored {score:.4} of the output's standard deviation; 1 is the mean's): the model is no better than a constant there; judge K samples ahead (--select-steps-ahead K) or give a structure",
+            candidates[chosen].name
+        ));
+    }
     Ok(Selection {
         judged_by,
         folds: opts.folds,
@@ -382,6 +393,7 @@ fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, seconds: f64) -
         best_arx,
         seconds,
         findings,
+        warnings,
     })
 }
 
