@@ -30,6 +30,7 @@ All quantities are SI inside ([`units`] converts); people read MPa, mm and dm^3/
 // Numerical kernels index several slices in lockstep; index loops read best there.
 #![allow(clippy::needless_range_loop)]
 
+pub mod activity;
 pub mod benchmark;
 pub mod control;
 pub mod data;

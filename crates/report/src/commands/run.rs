@@ -54,6 +54,12 @@ fn run_named(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
             "  regulation: max |p - p_ref| {:.3} MPa ({:.3} MPa from 1 s after each set-point change), ISE {:.3} MPa^2 s, current saturated {:.3} s",
             r.max_abs_deviation_mpa, r.max_abs_deviation_settled_mpa, r.ise_mpa2_s, r.time_current_saturated_s
         ));
+        l.push(format!(
+            "  actuator activity: the current moved {} A in all (total variation; RMS change per control period {} A), switching between 0 and its maximum {} s",
+            rhonn::metrics::sig(r.current_total_variation_a, 4),
+            rhonn::metrics::sig(r.current_rms_change_per_sample_a, 3),
+            rhonn::metrics::sig(r.time_current_switching_s, 3)
+        ));
     }
     if let Some(id) = &summary.identification {
         l.extend(id.to_string().lines().map(|line| format!("  {line}")));

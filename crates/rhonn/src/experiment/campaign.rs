@@ -65,6 +65,7 @@ pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
                 "time_current_saturated_s",
                 "iae_mpa_s",
                 "within_1pct_percent",
+                "current_total_variation_a",
             ]
             .map(String::from),
         );
@@ -80,6 +81,7 @@ pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
                 "baseline_time_below_p_min_after_1s_s",
                 "baseline_iae_mpa_s",
                 "baseline_within_1pct_percent",
+                "baseline_current_total_variation_a",
                 "w_norm_max",
                 "w1_distance_max",
             ]
@@ -112,6 +114,7 @@ pub fn figure_values(summary: &Summary) -> Vec<f64> {
             r.time_current_saturated_s,
             r.iae_mpa_s,
             r.within_1pct_percent,
+            r.current_total_variation_a,
         ]);
     }
     if let Some(c) = &summary.control {
@@ -123,6 +126,7 @@ pub fn figure_values(summary: &Summary) -> Vec<f64> {
             b.time_below_p_min_after_1s_s,
             rb.map_or(f64::NAN, |r| r.iae_mpa_s),
             rb.map_or(f64::NAN, |r| r.within_1pct_percent),
+            rb.map_or(f64::NAN, |r| r.current_total_variation_a),
             c.adaptive.w_norm_max,
             c.adaptive.w1_distance_max,
         ]);

@@ -59,6 +59,13 @@ pub struct Regulation {
     /// the controller's output finite and in range, and (adaptive) every weight inside
     /// its projection ball (a non-finite value stops the run with an error instead).
     pub signals_bounded: bool,
+    /// Sum of the applied current's changes over the control instants \[A\].
+    pub current_total_variation_a: f64,
+    /// RMS of the applied current's change per control period \[A\].
+    pub current_rms_change_per_sample_a: f64,
+    /// Time at 0 or the maximum current reached from the other bound within
+    /// `activity::SWITCH_WINDOW` control periods (bang-bang) \[s\].
+    pub time_current_switching_s: f64,
 }
 
 /// The figures of a run (display units, named with their unit).
@@ -266,6 +273,27 @@ pub(super) fn comparison(fa: &Figures, fb: &Figures, base: &str) -> Vec<String> 
             "time with the current saturated",
             ra.time_current_saturated_s,
             rb.time_current_saturated_s,
+            "s",
+            true,
+        ),
+        line(
+            "actuator activity: total variation of the applied current",
+            ra.current_total_variation_a,
+            rb.current_total_variation_a,
+            "A",
+            true,
+        ),
+        line(
+            "actuator activity: RMS change of the current per control period",
+            ra.current_rms_change_per_sample_a,
+            rb.current_rms_change_per_sample_a,
+            "A",
+            true,
+        ),
+        line(
+            "time switching the current between 0 and its maximum",
+            ra.time_current_switching_s,
+            rb.time_current_switching_s,
             "s",
             true,
         ),
@@ -539,6 +567,10 @@ impl<'a> Accumulator<'a> {
                 signals_bounded: self.p_lo >= 0.0
                     && self.p_hi <= self.p_max * (1.0 + 1e-12)
                     && self.x_hi <= self.x_max * (1.0 + 1e-12),
+                // Set from the control instants' commands by the run (pump_loop).
+                current_total_variation_a: 0.0,
+                current_rms_change_per_sample_a: 0.0,
+                time_current_switching_s: 0.0,
             }),
         }
     }

@@ -58,6 +58,14 @@ pub struct LoopFigures {
     pub final_error: f64,
     /// Time the input spent at a bound of its range \[s\].
     pub time_input_saturated_s: f64,
+    /// Sum of the input's changes |u(k) - u(k-1)| over the control instants (the
+    /// input's display unit).
+    pub input_total_variation: f64,
+    /// RMS of the input's change per control period (the input's display unit).
+    pub input_rms_change_per_sample: f64,
+    /// Time the input spent at a bound reached from the other bound within
+    /// `activity::SWITCH_WINDOW` control periods (bang-bang) \[s\].
+    pub time_input_switching_s: f64,
 }
 
 /// `summary.json` of a plant scenario.
@@ -104,9 +112,28 @@ impl PlantSummary {
             v.push((format!("{role}_iae"), f.iae));
             v.push((format!("{role}_ise"), f.ise));
             v.push((format!("{role}_final_error"), f.final_error));
+            v.push((format!("{role}_input_total_variation"), f.input_total_variation));
+            v.push((format!("{role}_time_input_switching_s"), f.time_input_switching_s));
         }
         v
     }
+}
+
+/// The controller's actuator activity beside the baseline's, in words.
+fn activity_finding(a: &LoopFigures, b: &LoopFigures, unit: &str) -> String {
+    format!(
+        "{}: the input moved {} {unit} in all (total variation; RMS change per control period {} {unit}) against {} {unit} (RMS change {} {unit}) for the baseline {}; at a bound {} s against {} s, switching between the bounds {} s against {} s",
+        a.controller,
+        crate::metrics::sig(a.input_total_variation, 3),
+        crate::metrics::sig(a.input_rms_change_per_sample, 3),
+        crate::metrics::sig(b.input_total_variation, 3),
+        crate::metrics::sig(b.input_rms_change_per_sample, 3),
+        b.controller,
+        crate::metrics::sig(a.time_input_saturated_s, 4),
+        crate::metrics::sig(b.time_input_saturated_s, 4),
+        crate::metrics::sig(a.time_input_switching_s, 4),
+        crate::metrics::sig(b.time_input_switching_s, 4),
+    )
 }
 
 /// What a plant scenario's run produced.
@@ -267,19 +294,18 @@ fn run_control<P: Plant>(
             spec.duration_s,
         )?);
     }
-    let figs = |r: &LoopRun| LoopFigures {
-        controller: r.controller,
-        iae: qy.to_display(r.iae),
-        ise: qy.to_display(qy.to_display(r.ise)),
-        final_error: qy.to_display(r.final_error()),
-        time_input_saturated_s: r
-            .u
-            .iter()
-            .filter(|u| {
-                **u <= range.0 + 1e-9 * (range.1 - range.0) || **u >= range.1 - 1e-9 * (range.1 - range.0)
-            })
-            .count() as f64
-            * c.period_s,
+    let figs = |r: &LoopRun| {
+        let act = crate::activity::activity(&r.u, range, c.period_s);
+        LoopFigures {
+            controller: r.controller,
+            iae: qy.to_display(r.iae),
+            ise: qy.to_display(qy.to_display(r.ise)),
+            final_error: qy.to_display(r.final_error()),
+            time_input_saturated_s: act.time_saturated_s,
+            input_total_variation: qu.to_display(act.total_variation),
+            input_rms_change_per_sample: qu.to_display(act.rms_change_per_sample),
+            time_input_switching_s: act.time_switching_s,
+        }
     };
     let [a, b] = [figs(&runs[0]), figs(&runs[1])];
     summary.findings.push(format!(
@@ -293,6 +319,7 @@ fn run_control<P: Plant>(
         b.final_error,
         u = qy.display_unit
     ));
+    summary.findings.push(activity_finding(&a, &b, qu.display_unit));
     summary.regulated = Some((qy.name, qy.display_unit));
     summary.control = Some([a, b]);
     let inner = [&c.controller, &c.baseline].map(|l| match l {

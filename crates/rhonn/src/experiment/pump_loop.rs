@@ -182,12 +182,12 @@ fn act<S: Integrated<Plant = PumpSystem>>(
     sp: &Signal,
     adaptive: &mut Option<AdaptiveReport>,
     queue: &mut VecDeque<f64>,
-) -> Result<(f64, Option<CascadeState>)> {
+) -> Result<(f64, Option<CascadeState>, Option<f64>)> {
     let t = solver.t();
     let y = sensors.pressure(solver.state()[P_LINE]);
     let xm = sensors.stroke(solver.state()[STROKE]);
     let Ctl::Closed(c) = ctl else {
-        return Ok((y, None));
+        return Ok((y, None, None));
     };
     // What the sensors give, by plant state; the controller reads what it declares.
     let sensors = [y, xm];
@@ -212,7 +212,7 @@ fn act<S: Integrated<Plant = PumpSystem>>(
         .pop_front()
         .expect("the delay line holds at least this output");
     solver.system_mut().plant_mut().set_current(applied);
-    Ok((y, cs))
+    Ok((y, cs, Some(applied)))
 }
 
 /// An adaptive controller's state at a control instant, checked finite, and its
@@ -268,6 +268,8 @@ struct PumpHooks<'a, R: Recorder> {
     acc: Accumulator<'a>,
     plant_figures: bool,
     ctl: Ctl,
+    /// The applied current's activity at the control instants.
+    activity: crate::activity::ActivityCounter,
     sensors: Sensors,
     /// Transport delay: what the controller outputs reaches the solenoid this many
     /// periods later; until then the initial current holds.
@@ -286,7 +288,7 @@ impl<S: Integrated<Plant = PumpSystem>, R: Recorder> Hooks<S> for PumpHooks<'_, 
     #[inline]
     fn instant(&mut self, solver: &mut Dopri5<S>) -> Result<()> {
         if let Some(sp) = self.setpoint {
-            let (y, cs) = act(
+            let (y, cs, applied) = act(
                 solver,
                 &mut self.ctl,
                 &mut self.sensors,
@@ -294,6 +296,9 @@ impl<S: Integrated<Plant = PumpSystem>, R: Recorder> Hooks<S> for PumpHooks<'_, 
                 &mut self.adaptive,
                 &mut self.queue,
             )?;
+            if let Some(u) = applied {
+                self.activity.add(u);
+            }
             self.last_meas = Some(y);
             self.ctl_state = cs;
         }
@@ -389,6 +394,7 @@ pub(super) fn simulate<S: Integrated<Plant = PumpSystem>>(
         bounds: [(0.0, p.p_max), (0.0, p.x_max)],
         full: vec![0.0; dim],
         ctl,
+        activity: crate::activity::ActivityCounter::new((0.0, p.i_max), sc.spec.plant.t_control_ms * 1e-3),
     };
     // Control instants k * T, computed from T in ms like the output times, so that a
     // control instant and an output sample at the same decimal time coincide exactly;
@@ -400,6 +406,12 @@ pub(super) fn simulate<S: Integrated<Plant = PumpSystem>>(
     let mut figures = hooks
         .acc
         .figures(t_end, hooks.clock.n_out as usize + 1, last, regulated);
+    if let Some(r) = figures.regulation.as_mut() {
+        let a = hooks.activity.finish();
+        r.current_total_variation_a = a.total_variation;
+        r.current_rms_change_per_sample_a = a.rms_change_per_sample;
+        r.time_current_switching_s = a.time_switching_s;
+    }
     if let (Some(r), Some(a)) = (figures.regulation.as_mut(), hooks.adaptive.as_ref()) {
         r.signals_bounded &=
             a.w1_distance_max <= a.w1_ball_radius * (1.0 + 1e-9) && a.w_norm_max <= a.w_bound;
