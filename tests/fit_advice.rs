@@ -225,3 +225,87 @@ fn a_selection_whose_every_candidate_is_worse_than_the_mean_warns() {
         s["selection"]
     );
 }
+
+/// Messages read as sentences and figures keep their significant digits: "an ARX model",
+/// "1 sample", a small RMS error not printed as 0.0000, `--resample -1` refused by rhonn
+/// (not taken for an option), and a fit into a folder holding one says it replaces it,
+/// with both fits.
+#[test]
+fn fit_messages_read_as_sentences_and_keep_significant_digits() {
+    let d = tempfile::tempdir().unwrap();
+    let est = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cascaded-tanks/estimation.csv");
+    // The tanks' output scaled by 1e-5: an RMS error of about 1e-5.
+    let text = std::fs::read_to_string(&est).unwrap();
+    let mut small = String::from("t,u,y\n");
+    for line in text.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+        small.push_str(&format!("{},{},{}\n", v[0], v[1], v[2] * 1e-5));
+    }
+    std::fs::write(d.path().join("small.csv"), small).unwrap();
+    std::fs::write(d.path().join("arx.toml"), "kind = \"arx\"\nna = 1\nnb = 1\n").unwrap();
+    let fit = |spec: Option<&str>, out: &str| {
+        let mut a = vec![
+            "fit",
+            "--data",
+            "small.csv",
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--out",
+            out,
+        ];
+        if let Some(s) = spec {
+            a.extend(["--model", s]);
+        }
+        rhonn(d.path(), &a)
+    };
+    let o = fit(Some("arx.toml"), "f");
+    let (out, err) = (String::from_utf8_lossy(&o.stdout).into_owned(), stderr(&o));
+    assert!(o.status.success(), "{err}");
+    assert!(out.contains("fitted an ARX model with 3 features"), "{out}");
+    assert!(err.contains("the model looks back 1 sample (4 s)"), "{err}");
+    let line = out
+        .lines()
+        .find(|l| l.contains("free run (training data)"))
+        .unwrap();
+    let rms: f64 = line
+        .split("rms error ")
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(rms > 1e-6 && !line.contains("rms error 0.0000"), "{line}");
+    // Again into the same folder, another structure: it says what it replaces.
+    let o = fit(None, "f");
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("note: replacing")
+            && err.contains("model.json of an earlier fit")
+            && err.contains(" before, "),
+        "{err}"
+    );
+    let o = rhonn(
+        d.path(),
+        &[
+            "fit",
+            "--data",
+            "small.csv",
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--resample",
+            "-1",
+            "--out",
+            "g",
+        ],
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("--resample -1 is not allowed"), "{err}");
+}

@@ -87,7 +87,7 @@ pub enum Command {
         /// Put every record on a uniform grid of this sample time [s] instead of its own
         /// median interval (inputs held, outputs interpolated; no anti-alias filter):
         /// for data sampled much faster than the system moves, as a warning then says.
-        #[arg(long, value_name = "SECONDS")]
+        #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
         resample: Option<f64>,
         /// Units of the columns, as COLUMN=UNIT pairs (e.g. `--units u=V,y=V`): printed
         /// with the errors and kept in model.json for `rhonn predict`.

@@ -214,6 +214,9 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
         .map(|r| rhonn::sysid::predict(&fitted, r, None))
         .collect::<rhonn::Result<_>>()?;
     bound_warnings(&fitted, &training, &mut o);
+    if let Some(n) = replaced_note(&req.out, &summary) {
+        o.notes.push(n);
+    }
     o.files = crate::write_fit(&req.out, &fitted, &summary, &training)?;
     o.files.push(crate::write_report(&req.out)?);
     o.lines.push(if grey {
@@ -224,8 +227,8 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
         )
     } else if fitted.members.is_empty() {
         format!(
-            "fitted a {:?} model with {} features per output on {} record(s)",
-            specs[0].kind,
+            "fitted {} model with {} features per output on {} record(s)",
+            specs[0].kind.with_article(),
             fitted.model.n_features(),
             recs.len()
         )
@@ -270,6 +273,32 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
     Ok(o)
 }
 
+/// When `dir` holds an earlier fit's model, a note that it is replaced, with both free-run
+/// fits on the first training record, so that a worse model never replaces a better one
+/// silently.
+fn replaced_note(dir: &Path, summary: &rhonn::sysid::FitSummary) -> Option<String> {
+    let old = dir.join("model.json");
+    if !old.is_file() {
+        return None;
+    }
+    let first_fit =
+        |v: &serde_json::Value| v["training"]["free_run"][0]["outputs"][0]["fit_percent"].as_f64();
+    let before = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| first_fit(&v));
+    let now = summary.training.free_run.first()?.outputs.first()?.fit_percent;
+    Some(match before {
+        Some(b) => format!(
+            "note: replacing {} of an earlier fit (free-run fit on the first training record: {} before, {} now)",
+            old.display(),
+            super::percent(b),
+            super::percent(now)
+        ),
+        None => format!("note: replacing {} of an earlier fit", old.display()),
+    })
+}
+
 /// The frozen model's stability check: a warning for each free run that reaches the bound
 /// of the output range.
 fn bound_warnings(
@@ -296,10 +325,10 @@ fn training_lines(o: &mut Outcome, figures: &[RecordFigures], label: &str, units
     for rec in figures {
         for f in &rec.outputs {
             o.lines.push(format!(
-                "  {label}: {} {}: rms error {:.4}{}, fit {:.1} %",
+                "  {label}: {} {}: rms error {}{}, fit {:.1} %",
                 rec.data,
                 f.output,
-                f.rms_error,
+                rhonn::metrics::sig(f.rms_error, 4),
                 unit_of(units, &f.output),
                 f.fit_percent
             ));
@@ -357,17 +386,17 @@ fn predict_into(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> 
     for (j, f) in p.figures.iter().enumerate() {
         let unit = unit_of(&fitted.units, &f.output);
         let mut line = format!(
-            "{} ({mode}): rms error {:.4}{unit}, fit {}, nrmse {}",
+            "{} ({mode}): rms error {}{unit}, fit {}, nrmse {}",
             f.output,
-            f.rms_error,
+            rhonn::metrics::sig(f.rms_error, 4),
             super::percent(f.fit_percent),
             super::ratio(f.nrmse)
         );
         if let (Some((_, fb)), Some(b)) = (&p.baseline, &fitted.baseline) {
             line += &format!(
-                "; ARX baseline ({}): rms error {:.4}{unit}, fit {}",
+                "; ARX baseline ({}): rms error {}{unit}, fit {}",
                 b.spec.lags_name(),
-                fb[j].rms_error,
+                rhonn::metrics::sig(fb[j].rms_error, 4),
                 super::percent(fb[j].fit_percent)
             );
         }

@@ -359,9 +359,9 @@ pub(super) fn predict_online(
     let mode = steps.map_or("free run".to_string(), |k| format!("{k} steps ahead"));
     for f in &figures {
         o.lines.push(format!(
-            "{} ({mode}): rms error {:.4}, fit {}, nrmse {}",
+            "{} ({mode}): rms error {}, fit {}, nrmse {}",
             f.output,
-            f.rms_error,
+            rhonn::metrics::sig(f.rms_error, 4),
             super::percent(f.fit_percent),
             super::ratio(f.nrmse)
         ));

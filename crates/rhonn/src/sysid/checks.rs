@@ -87,10 +87,11 @@ pub fn data_warnings(
             let suggest = sample_s * n as f64 / (5 * span) as f64;
             w.push(format!(
                 "output `{name}` changes slowly against the sample time: its autocorrelation falls to 1/e only after \
-                 {n} samples ({} s), while the model looks back {span} samples ({} s); lagged models then see \
+                 {n} samples ({} s), while the model looks back {span} sample{} ({} s); lagged models then see \
                  almost none of the dynamics and often run away in free run. Resample to a longer sample time, e.g. \
                  `{resample_option} {}` (about {} samples to 1/e), or give the model more lags",
                 round_sig(n as f64 * sample_s, 3),
+                if span == 1 { "" } else { "s" },
                 round_sig(span as f64 * sample_s, 3),
                 round_sig(suggest, 2),
                 5 * span

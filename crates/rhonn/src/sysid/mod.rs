@@ -69,6 +69,19 @@ pub enum Kind {
     Pump,
 }
 
+impl Kind {
+    /// The kind with its article, for messages: "an ARX", "a RHONN", "a cascade", "the
+    /// pump's grey-box".
+    pub fn with_article(self) -> &'static str {
+        match self {
+            Kind::Arx => "an ARX",
+            Kind::Rhonn => "a RHONN",
+            Kind::Cascade => "a cascade",
+            Kind::Pump => "the pump's grey-box",
+        }
+    }
+}
+
 /// Training law.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]

@@ -222,7 +222,7 @@ fn score_fold(
 }
 
 /// Select a structure for `outputs` from `inputs` on `records` (see the module's docs);
-/// `progress` hears a line per candidate as it finishes.
+/// `progress` hears a line per candidate as it starts and as it finishes.
 pub fn select(
     records: &[Record],
     inputs: &[String],
@@ -293,6 +293,8 @@ pub(super) fn select_from(
             });
             continue;
         }
+        // Said before it runs, so that a slow candidate is not shown as the one before it.
+        progress(&format!("candidate {}/{total}, {name}: running", i + 1));
         let t0 = Instant::now();
         let results: Vec<Result<f64>> = parts
             .par_iter()
@@ -456,6 +458,34 @@ mod tests {
         }
         assert_eq!(lines.lock().unwrap().len(), sel.candidates.len());
         assert!(sel.findings[0].starts_with("chose "), "{:?}", sel.findings);
+    }
+
+    #[test]
+    fn progress_names_each_candidate_as_it_starts_then_with_its_score() {
+        let (i, o) = names();
+        let opts = SelectOptions {
+            cascade: false,
+            ..Default::default()
+        };
+        let lines = std::sync::Mutex::new(Vec::new());
+        let sel = select(&[record(2, 600, 0.3)], &i, &o, &opts, &|l| {
+            lines.lock().unwrap().push(l.to_string())
+        })
+        .unwrap();
+        let lines = lines.into_inner().unwrap();
+        let n = sel.candidates.len();
+        assert_eq!(lines.len(), 2 * n, "{lines:?}");
+        for (k, pair) in lines.chunks(2).enumerate() {
+            let head = format!("candidate {}/{n}, ", k + 1);
+            assert!(
+                pair[0].starts_with(&head) && pair[0].ends_with(": running"),
+                "{pair:?}"
+            );
+            assert!(
+                pair[1].starts_with(&head) && !pair[1].ends_with(": running"),
+                "{pair:?}"
+            );
+        }
     }
 
     #[test]
