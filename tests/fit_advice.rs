@@ -68,6 +68,9 @@ fn fast_sampled_data_is_warned_about_and_resample_fixes_it() {
     assert!((0.05..0.2).contains(&dt), "{advised}");
     let out = String::from_utf8_lossy(&o.stdout).to_string();
     assert!(out.contains("rms error") && out.contains(" m, fit"), "{out}");
+    // --units reaches the plots' axes.
+    let svg = std::fs::read_to_string(d.path().join("a/training.svg")).unwrap();
+    assert!(svg.contains("y [m]"), "the training plot's axis has no unit");
     let slow = fit_percent(&out, "free run (training data)");
     // The advice taken: no warning, and the free-run fit far better.
     let o = rhonn(

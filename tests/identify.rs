@@ -522,8 +522,12 @@ fn without_a_model_the_bank_picks_online_and_beats_the_offline_arx_on_the_tanks(
     );
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("offline ARX (na"), "{out}");
-    // --units as in fit: on the figures and in summary.json.
+    // --units as in fit: on the figures, in summary.json and on the plots' axes.
     assert!(out.contains(" V, fit") && s["units"]["y"] == "V", "{out}");
+    for svg in ["estimate.svg", "validation.svg"] {
+        let text = std::fs::read_to_string(d.path().join("o").join(svg)).unwrap();
+        assert!(text.contains("y [V]"), "{svg} has no unit on its axis");
+    }
 }
 
 /// One spec for `fit` and `identify` where their kinds overlap: a `fit` ARX spec given to

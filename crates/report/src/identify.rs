@@ -120,7 +120,7 @@ pub fn write_identify(
     }
     set.write("summary.json", |w| write_json(w, summary))?;
     set.write("model.json", |w| write_json(w, model))?;
-    let (est, wts) = plots(run, records, outputs);
+    let (est, wts) = plots(run, records, outputs, &summary.units);
     set.write("estimate.svg", |w| w.write_all(est.as_bytes()))?;
     set.write("weights.svg", |w| w.write_all(wts.as_bytes()))?;
     // The online estimate's residuals over the last half of the final pass (the first
@@ -133,7 +133,7 @@ pub fn write_identify(
     let hist = crate::residuals::residual_histograms(&all, &est, half, outputs);
     set.write("residual_histogram.svg", |w| w.write_all(hist.as_bytes()))?;
     if let Some(v) = validation {
-        let svg = validation_plot(v, outputs);
+        let svg = validation_plot(v, outputs, &summary.units);
         set.write("validation.svg", |w| w.write_all(svg.as_bytes()))?;
         let (vj, vest) = joined(&v.records, &v.free_run, outputs.len());
         let acf = crate::residuals::plot_residuals(&vj, &vest, 0, &model.inputs, outputs);
@@ -268,14 +268,24 @@ fn joined_times(records: &[Record]) -> Vec<f64> {
     t
 }
 
-fn plots(run: &OnlineRun, records: &[Record], outputs: &[String]) -> (String, String) {
+/// An output's axis label, with the unit given by `--units`.
+fn axis(o: &str, units: &std::collections::BTreeMap<String, String>) -> String {
+    units.get(o).map_or(o.to_string(), |u| format!("{o} [{u}]"))
+}
+
+fn plots(
+    run: &OnlineRun,
+    records: &[Record],
+    outputs: &[String],
+    units: &std::collections::BTreeMap<String, String>,
+) -> (String, String) {
     let t = joined_times(records);
     let panels: Vec<TimePlot> = outputs
         .iter()
         .enumerate()
         .map(|(j, o)| TimePlot {
             title: format!("online identification (final pass): {o}"),
-            y_label: o.clone(),
+            y_label: axis(o, units),
             t: t.clone(),
             series: vec![
                 Series::solid(
@@ -336,7 +346,11 @@ fn plots(run: &OnlineRun, records: &[Record], outputs: &[String]) -> (String, St
 
 /// The validation against the measurements, the fit of each prediction in its legend
 /// (the same figure as summary.json's `validation`).
-fn validation_plot(v: &Validation, outputs: &[String]) -> String {
+fn validation_plot(
+    v: &Validation,
+    outputs: &[String],
+    units: &std::collections::BTreeMap<String, String>,
+) -> String {
     let t = joined_times(&v.records);
     let figures = validation_figures(v, outputs);
     let panels: Vec<TimePlot> = outputs
@@ -367,7 +381,7 @@ fn validation_plot(v: &Validation, outputs: &[String]) -> String {
             }
             TimePlot {
                 title: format!("validation: {o}"),
-                y_label: o.clone(),
+                y_label: axis(o, units),
                 t: t.clone(),
                 series,
             }

@@ -56,10 +56,13 @@ pub fn plot_prediction(fitted: &FittedModel, p: &Prediction) -> String {
         .iter()
         .enumerate()
         .map(|(j, name)| {
-            let (to_display, y_label): (ToDisplay, String) = match display_unit(name) {
-                Some((f, unit)) => (f, format!("{name} [{unit}]")),
-                None => (|v| v, name.clone()),
-            };
+            // The pump's SI columns in display units; else the unit given with --units.
+            let (to_display, y_label): (ToDisplay, String) =
+                match (display_unit(name), fitted.units.get(name)) {
+                    (Some((f, unit)), _) => (f, format!("{name} [{unit}]")),
+                    (None, Some(unit)) => (|v| v, format!("{name} [{unit}]")),
+                    (None, None) => (|v| v, name.clone()),
+                };
             let scaled = |v: &[f64]| v.iter().map(|&x| to_display(x)).collect::<Vec<f64>>();
             let mut series = vec![
                 Series {
