@@ -287,7 +287,9 @@ class Model:
             raise TypeError("Model is made by rhonn.fit, rhonn.load or OnlineIdentifier.freeze()")
         self._inner = inner
 
-    def predict(self, u: ArrayLike, y: ArrayLike, steps_ahead: Optional[int] = None) -> np.ndarray:
+    def predict(
+        self, u: ArrayLike, y: ArrayLike, steps_ahead: Optional[int] = None, baseline: bool = False
+    ) -> np.ndarray:
         """Predict the outputs: free run (``steps_ahead=None``) or K steps ahead.
 
         Parameters
@@ -298,16 +300,23 @@ class Model:
             Measured outputs (a free run uses only the first samples).
         steps_ahead : int, optional
             K >= 1, or None for a free run.
+        baseline : bool
+            True: the prediction of the model's ARX baseline instead (``rhonn predict``'s
+            ``<y>_hat_arx`` column; the selection's best ARX on the folds, or the ARX with
+            the same lags). A model without one (online) raises ``ValueError``.
 
         Returns
         -------
         numpy.ndarray of shape (n, p)
             Samples before the first prediction repeat ``y``.
         """
-        return self._inner.predict(_matrix("u", u), _matrix("y", y), _steps(steps_ahead))
+        return self._inner.predict(_matrix("u", u), _matrix("y", y), _steps(steps_ahead), bool(baseline))
 
-    def score(self, u: ArrayLike, y: ArrayLike, steps_ahead: Optional[int] = None) -> List[Dict[str, Any]]:
-        """The figures ``rhonn predict`` gives for the same data and horizon.
+    def score(
+        self, u: ArrayLike, y: ArrayLike, steps_ahead: Optional[int] = None, baseline: bool = False
+    ) -> List[Dict[str, Any]]:
+        """The figures ``rhonn predict`` gives for the same data and horizon (``baseline=True``:
+        its ARX baseline's figures).
 
         Returns
         -------
@@ -316,7 +325,9 @@ class Model:
             (100 (1 - |y - y_hat| / |y - mean y|)), ``nrmse``, ``samples`` (those scored:
             from the first predicted sample on).
         """
-        return json.loads(self._inner.score_json(_matrix("u", u), _matrix("y", y), _steps(steps_ahead)))
+        return json.loads(
+            self._inner.score_json(_matrix("u", u), _matrix("y", y), _steps(steps_ahead), bool(baseline))
+        )
 
     def save(self, path: PathLike) -> None:
         """Write ``model.json`` (read by ``rhonn predict`` and ``rhonn.load``)."""
@@ -334,7 +345,10 @@ class Model:
 
     @property
     def warnings(self) -> List[str]:
-        """What the data checks found (as ``rhonn fit`` prints them)."""
+        """What the user must know, as ``rhonn fit`` prints it after ``warning:``: the data
+        checks (a record sampled far faster than it moves, ...) and the selection's
+        warnings (every structure worse than the mean on the folds). What the selection
+        found is in ``summary["selection"]["findings"]``."""
         return list(self._inner.warnings)
 
     @property

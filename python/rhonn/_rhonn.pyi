@@ -46,10 +46,18 @@ class Model:
     summary_json: Optional[str]
     warnings: List[str]
     def predict(
-        self, u: npt.NDArray[np.float64], y: npt.NDArray[np.float64], steps_ahead: Optional[int] = None
+        self,
+        u: npt.NDArray[np.float64],
+        y: npt.NDArray[np.float64],
+        steps_ahead: Optional[int] = None,
+        baseline: bool = False,
     ) -> npt.NDArray[np.float64]: ...
     def score_json(
-        self, u: npt.NDArray[np.float64], y: npt.NDArray[np.float64], steps_ahead: Optional[int] = None
+        self,
+        u: npt.NDArray[np.float64],
+        y: npt.NDArray[np.float64],
+        steps_ahead: Optional[int] = None,
+        baseline: bool = False,
     ) -> str: ...
     def save(self, path: str) -> None: ...
     def to_json(self) -> str: ...

@@ -130,7 +130,6 @@ fn fit(
     let lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
     let mut notes = rhonn::sysid::data_warnings(&recs, &inputs, &outputs, lag, dt, "dt");
     if let Some(sel) = &selection {
-        notes.extend(sel.findings.iter().map(|f| format!("selection: {f}")));
         notes.extend(sel.warnings.iter().cloned());
     }
     let (fitted, summary) = py

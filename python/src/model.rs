@@ -49,7 +49,13 @@ impl Model {
         u: &PyReadonlyArray2<'_, f64>,
         y: &PyReadonlyArray2<'_, f64>,
         steps_ahead: Option<usize>,
+        baseline: bool,
     ) -> PyResult<(Vec<Vec<f64>>, String)> {
+        if baseline && !matches!(&self.kind, Kind::Fitted(f) if f.baseline.is_some()) {
+            return Err(value_error(
+                "baseline=True: this model has no ARX baseline (an online model, or one loaded without it)",
+            ));
+        }
         if steps_ahead == Some(0) {
             return Err(value_error(
                 "steps_ahead = 0 is not allowed: give K >= 1, or None for a free run",
@@ -69,7 +75,12 @@ impl Model {
                 let p = py
                     .detach(|| rhonn::sysid::predict(f, &rec, steps_ahead))
                     .map_err(rhonn_err)?;
-                Ok((p.outputs, json(&p.figures)?))
+                match (baseline, p.baseline) {
+                    // The ARX baseline's prediction and figures, as prediction.csv's
+                    // `<y>_hat_arx` and summary.json's baseline.
+                    (true, Some((cols, figures))) => Ok((cols, json(&figures)?)),
+                    _ => Ok((p.outputs, json(&p.figures)?)),
+                }
             }
             Kind::Online(m) => {
                 let mut id = m.identifier().map_err(rhonn_err)?;
@@ -137,15 +148,16 @@ impl Model {
     /// Predict the outputs from inputs `u` (n, m) and measured outputs `y` (n, p):
     /// free run (`steps_ahead` None: only the first samples of `y` are used) or K steps
     /// ahead. Returns (n, p); samples before the first prediction repeat `y`.
-    #[pyo3(signature = (u, y, steps_ahead=None))]
+    #[pyo3(signature = (u, y, steps_ahead=None, baseline=false))]
     fn predict<'py>(
         &self,
         py: Python<'py>,
         u: PyReadonlyArray2<'py, f64>,
         y: PyReadonlyArray2<'py, f64>,
         steps_ahead: Option<usize>,
+        baseline: bool,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let (cols, _) = self.prediction(py, &u, &y, steps_ahead)?;
+        let (cols, _) = self.prediction(py, &u, &y, steps_ahead, baseline)?;
         let n = cols.first().map_or(0, Vec::len);
         let rows: Vec<Vec<f64>> = (0..n).map(|k| cols.iter().map(|c| c[k]).collect()).collect();
         PyArray2::from_vec2(py, &rows).map_err(|e| value_error(e.to_string()))
@@ -153,15 +165,16 @@ impl Model {
 
     /// The figures `rhonn predict` prints and writes for the same data (JSON text: one
     /// object per output with `rms_error`, `fit_percent`, `nrmse`, `samples`).
-    #[pyo3(signature = (u, y, steps_ahead=None))]
+    #[pyo3(signature = (u, y, steps_ahead=None, baseline=false))]
     fn score_json<'py>(
         &self,
         py: Python<'py>,
         u: PyReadonlyArray2<'py, f64>,
         y: PyReadonlyArray2<'py, f64>,
         steps_ahead: Option<usize>,
+        baseline: bool,
     ) -> PyResult<String> {
-        Ok(self.prediction(py, &u, &y, steps_ahead)?.1)
+        Ok(self.prediction(py, &u, &y, steps_ahead, baseline)?.1)
     }
 
     /// Write the model as `model.json` (the format `rhonn predict` and `rhonn.load` read).

@@ -49,6 +49,12 @@ def test_tanks_free_run_equals_the_command(tanks, tanks_model, command_predictio
         assert abs(score[k] - cli[k]) < 1e-6, k
     csv = read_csv(command_prediction / "pred/prediction.csv")
     np.testing.assert_allclose(pred[:, 0], csv["y_hat"], rtol=0, atol=1e-9)
+    # The ARX baseline's prediction and figures: the command's `y_hat_arx` and baseline.
+    base = tanks_model.predict(val["u"], val["y"], baseline=True)
+    np.testing.assert_allclose(base[:, 0], csv["y_hat_arx"], rtol=0, atol=1e-9)
+    cli_base = json.loads((command_prediction / "pred/summary.json").read_text())["baseline_arx"][0]
+    assert abs(tanks_model.score(val["u"], val["y"], baseline=True)[0]["rms_error"] - cli_base["rms_error"]) < 1e-9
+    assert not np.allclose(base, pred)
 
 
 def test_the_commands_model_loads_and_predicts_the_same(tanks, tanks_model, command_prediction):
@@ -160,3 +166,17 @@ def _without_sources(v):
     if isinstance(v, list):
         return [_without_sources(x) for x in v]
     return v
+
+
+def test_warnings_are_warnings_and_an_online_model_has_no_baseline(tanks):
+    est, val = tanks
+    m = rhonn.fit(est["u"], est["y"], dt=4.0, model={"kind": "arx", "na": 1, "nb": 1})
+    # The tanks sampled far faster than they move for one lag: a data warning, and nothing
+    # of the selection's findings (those are in summary["selection"]).
+    assert m.warnings and all(not w.startswith("selection:") for w in m.warnings), m.warnings
+    assert any("changes slowly" in w for w in m.warnings), m.warnings
+    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0, model={})
+    for t, u, y in zip(est["t"][:50], est["u"][:50], est["y"][:50]):
+        ident.update(t, u, y)
+    with pytest.raises(ValueError, match="no ARX baseline"):
+        ident.freeze().predict(val["u"], val["y"], baseline=True)
