@@ -169,6 +169,7 @@ fn flatten(prefix: &str, v: &Value, rows: &mut Vec<(String, String)>) {
                 }
             }
         }
+        Value::Array(a) if a.is_empty() => rows.push((prefix.to_string(), "none".into())),
         Value::Array(a) if a.iter().all(|x| x.is_number()) => {
             let shown: Vec<String> = a.iter().take(12).map(number).collect();
             let more = if a.len() > 12 {
@@ -233,7 +234,7 @@ mod tests {
         let d = tempfile::tempdir().unwrap();
         std::fs::write(
             d.path().join("summary.json"),
-            r#"{"scenario": {"name": "x<y"}, "figures": {"iae_mpa_s": 10.5, "steps": [1, 2]}, "findings": ["adaptive better"]}"#,
+            r#"{"scenario": {"name": "x<y"}, "figures": {"iae_mpa_s": 10.5, "steps": [1, 2], "overshoot_percent": []}, "findings": ["adaptive better"]}"#,
         )
         .unwrap();
         std::fs::write(
@@ -246,6 +247,11 @@ mod tests {
         assert!(html.contains("<title>x&lt;y"));
         assert!(html.contains("<li>adaptive better</li>"));
         assert!(html.contains("figures.iae_mpa_s</td><td class=\"num\">10.5"));
+        // An empty list reads "none", not "[]".
+        assert!(
+            html.contains("figures.overshoot_percent</td><td") && !html.contains("[]"),
+            "{html}"
+        );
         assert!(html.contains("<figure><svg width=\"10\""));
         assert!(
             !html.contains("<script") && !html.contains("http"),

@@ -444,6 +444,7 @@ pub fn write_online_prediction(
         data: &'a str,
         mode: String,
         figures: &'a [OnlinePredictionFigures],
+        findings: Vec<String>,
     }
     let mode = steps_ahead.map_or("free run".to_string(), |k| format!("{k} steps ahead"));
     let mut set = OutputSet::new(dir)?;
@@ -461,6 +462,22 @@ pub fn write_online_prediction(
         data: &record.source,
         mode: mode.clone(),
         figures,
+        findings: figures
+            .iter()
+            .filter(|f| f.fit_percent.is_finite())
+            .map(|f| {
+                format!(
+                    "{} ({mode}): fit {:.1} % ({})",
+                    f.output,
+                    f.fit_percent,
+                    if f.fit_percent < 0.0 {
+                        "worse than predicting the mean"
+                    } else {
+                        "better than predicting the mean"
+                    }
+                )
+            })
+            .collect(),
     };
     set.write("summary.json", |w| write_json(w, &summary))?;
     let t = record.t.clone();

@@ -46,6 +46,19 @@ fn fit_then_predict_as_library_calls() {
         p.lines
     );
     assert!(dir.path().join("pred/prediction.csv").exists());
+    // Its summary and report say in words how it compares with the mean and the baseline.
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("pred/summary.json")).unwrap())
+            .unwrap();
+    let f = s["findings"][0].as_str().unwrap();
+    assert!(
+        f.starts_with("y (10 step(s) ahead): fit ")
+            && f.contains("predicting the mean")
+            && f.contains("x the baseline's"),
+        "{f}"
+    );
+    let html = std::fs::read_to_string(dir.path().join("pred/report.html")).unwrap();
+    assert!(html.contains("x the baseline"), "no findings in the report");
 }
 
 #[test]

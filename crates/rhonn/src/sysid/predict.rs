@@ -42,6 +42,42 @@ pub struct PredictSummary<'a> {
     pub outputs: &'a [OutputFigures],
     /// The baseline's figures.
     pub baseline_arx: Option<&'a [OutputFigures]>,
+    /// What the figures say, in words.
+    pub findings: Vec<String>,
+}
+
+/// Per output: the prediction against the mean and against the ARX baseline, in words.
+fn findings(mode: &str, figures: &[OutputFigures], baseline: Option<&[OutputFigures]>) -> Vec<String> {
+    let sig = crate::metrics::sig;
+    let mut v = Vec::new();
+    for (j, f) in figures.iter().enumerate() {
+        if !f.fit_percent.is_finite() {
+            continue;
+        }
+        let mut line = format!(
+            "{} ({mode}): fit {:.1} % over {} samples ({})",
+            f.output,
+            f.fit_percent,
+            f.samples,
+            if f.fit_percent < 0.0 {
+                "worse than predicting the mean"
+            } else {
+                "better than predicting the mean"
+            }
+        );
+        if let Some(b) = baseline
+            .and_then(|b| b.get(j))
+            .filter(|b| b.fit_percent.is_finite())
+        {
+            line += &format!(
+                "; the ARX baseline's {:.1} %: the model's RMS error is {} x the baseline's",
+                b.fit_percent,
+                sig(f.rms_error / b.rms_error, 3)
+            );
+        }
+        v.push(line);
+    }
+    v
 }
 
 impl Prediction {
@@ -63,6 +99,11 @@ impl Prediction {
             steps_ahead: self.steps_ahead,
             outputs: &self.figures,
             baseline_arx: self.baseline.as_ref().map(|(_, f)| f.as_slice()),
+            findings: findings(
+                &self.mode(),
+                &self.figures,
+                self.baseline.as_ref().map(|(_, f)| f.as_slice()),
+            ),
         }
     }
 }
