@@ -68,3 +68,24 @@ fn the_pumps_adaptive_run_reports_the_currents_activity_for_both_controllers() {
         r["time_current_switching_s"].as_f64().unwrap() <= r["time_current_saturated_s"].as_f64().unwrap()
     );
 }
+
+/// A PI-regulated pump run (no comparison) says in words how it tracked and how much its
+/// current moved, in summary.json and in its report.
+#[test]
+fn a_regulated_run_has_findings_in_its_summary_and_report() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(d.path(), &["run", "regulated-pi", "--out", "r"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = summary(&d.path().join("r"));
+    let f = s["findings"].to_string();
+    assert!(
+        f.contains("the PI: the line pressure stays within 1 % of the set-point"),
+        "{f}"
+    );
+    assert!(f.contains("the PI: the current moved"), "{f}");
+    let html = std::fs::read_to_string(d.path().join("r/report.html")).unwrap();
+    assert!(
+        html.contains("<li>the PI: the current moved"),
+        "no findings in the report"
+    );
+}

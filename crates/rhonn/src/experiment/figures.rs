@@ -114,6 +114,29 @@ pub struct Summary {
     pub control: Option<ControlReport>,
     /// Warnings (also printed by the command).
     pub warnings: Vec<String>,
+    /// A regulated run's figures in words (an adaptive run compares in `control`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub findings: Vec<String>,
+}
+
+/// A regulated run's tracking and its actuator's activity, in words.
+pub(super) fn regulation_findings(controller: &str, r: &Regulation) -> Vec<String> {
+    let sig = crate::metrics::sig;
+    vec![
+        format!(
+            "{controller}: the line pressure stays within 1 % of the set-point {} % of the run; IAE {} MPa s; largest deviation from 1 s after each set-point change {} MPa",
+            sig(r.within_1pct_percent, 3),
+            sig(r.iae_mpa_s, 4),
+            sig(r.max_abs_deviation_settled_mpa, 3)
+        ),
+        format!(
+            "{controller}: the current moved {} A in all (RMS change per control period {} A), at 0 or its maximum {} s, switching between them {} s",
+            sig(r.current_total_variation_a, 4),
+            sig(r.current_rms_change_per_sample_a, 3),
+            sig(r.time_current_saturated_s, 3),
+            sig(r.time_current_switching_s, 3)
+        ),
+    ]
 }
 
 /// The baseline of an adaptive run.

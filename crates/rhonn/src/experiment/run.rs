@@ -27,6 +27,17 @@ fn report(sc: &Scenario, st: Stats, figures: Figures, identification: Option<Ide
             events: st.events,
             breakpoints: st.breakpoints,
         },
+        findings: match (&figures.regulation, &sc.spec.controller) {
+            (Some(r), Some(c)) => super::figures::regulation_findings(
+                match c {
+                    super::scenario::ControllerSpec::Pi { .. } => "the PI",
+                    super::scenario::ControllerSpec::CascadePi { .. } => "the cascade PI",
+                    super::scenario::ControllerSpec::RhonnAdaptive { .. } => "the adaptive controller",
+                },
+                r,
+            ),
+            _ => Vec::new(),
+        },
         figures,
         identification,
         control: None,
