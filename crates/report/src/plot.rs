@@ -193,7 +193,14 @@ where
     let mut chart = time_chart(area, &p.title, &p.y_label, (t0, t1), (lo, hi))?;
     let labels: Vec<&str> = p.series.iter().map(|s| s.label.as_str()).collect();
     let mut all_points = Vec::new();
-    for (s, color) in p.series.iter().zip(colors(labels.iter().copied())) {
+    // Dashed lines (set-points, references, limits) are drawn over the solid ones, so
+    // that a trace that follows its set-point does not hide it; colours stay by label.
+    let colored: Vec<_> = p.series.iter().zip(colors(labels.iter().copied())).collect();
+    let solid_first = colored
+        .iter()
+        .filter(|(s, _)| !s.dashed)
+        .chain(colored.iter().filter(|(s, _)| s.dashed));
+    for &(s, color) in solid_first {
         let pts = decimate(&p.t, &s.y, 2000);
         all_points.extend(pts.iter().copied().filter(|(_, y)| y.is_finite()));
         let width = if s.dashed { 1 } else { 2 };
@@ -726,6 +733,31 @@ pub fn plot_identification(
 
 #[cfg(test)]
 mod tests {
+
+    /// A set-point (dashed) is drawn over the trace that follows it, whatever their order.
+    #[test]
+    fn dashed_set_points_are_drawn_over_solid_traces() {
+        let t: Vec<f64> = (0..50).map(f64::from).collect();
+        let p = TimePlot {
+            title: "x".into(),
+            y_label: "y".into(),
+            t: t.clone(),
+            series: vec![
+                Series::dashed("set-point", t.clone()),
+                Series::solid("level", t.clone()),
+            ],
+        };
+        let svg = TimePlot::render(&[p], 400, 300);
+        let hex = |c: RGBColor| format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2);
+        let c = crate::style::colors(["set-point", "level"]);
+        let (dashed, solid) = (hex(c[0]), hex(c[1]));
+        let first = |h: &str| svg.to_uppercase().find(&h.to_uppercase()).unwrap_or(usize::MAX);
+        assert!(
+            first(&solid) < first(&dashed),
+            "the set-point is drawn first: hidden under the trace"
+        );
+    }
+
     use super::*;
 
     #[test]
