@@ -294,10 +294,17 @@ where
         .y_label_area_size(60)
         .build_cartesian_2d(lo..hi, 0.0..top)
         .map_err(|e| e.to_string())?;
+    // Few ticks with significant digits (long fixed-decimal labels ran into each other),
+    // whole counts on the count axis.
+    let x_fmt = |v: &f64| rhonn::metrics::sig(*v, 3);
+    let y_fmt = |v: &f64| format!("{v:.0}");
     chart
         .configure_mesh()
-        .x_desc(h.x_label.as_str())
-        .y_desc("runs")
+        .x_desc(axis_with_unit(&h.x_label))
+        .y_desc("number of runs")
+        .x_labels(5)
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(|e| e.to_string())?;
@@ -309,6 +316,26 @@ where
         }))
         .map_err(|e| e.to_string())?;
     Ok(())
+}
+
+/// A figure's name with the unit its suffix names, for an axis: `iae_mpa_s` reads
+/// `iae_mpa_s [MPa s]`; a name without a known suffix stays as it is.
+pub(crate) fn axis_with_unit(name: &str) -> String {
+    const UNITS: [(&str, &str); 9] = [
+        ("_mpa2_s", "MPa^2 s"),
+        ("_mpa_s", "MPa s"),
+        ("_mpa", "MPa"),
+        ("_mm", "mm"),
+        ("_percent", "%"),
+        ("_a", "A"),
+        ("_ms", "ms"),
+        ("_s", "s"),
+        ("_v", "V"),
+    ];
+    match UNITS.iter().find(|(suffix, _)| name.ends_with(suffix)) {
+        Some((_, unit)) => format!("{name} [{unit}]"),
+        None => name.to_string(),
+    }
 }
 
 impl Histogram {
@@ -759,6 +786,28 @@ mod tests {
     }
 
     use super::*;
+
+    #[test]
+    fn histogram_axes_have_units_few_ticks_and_whole_counts() {
+        assert_eq!(axis_with_unit("iae_mpa_s"), "iae_mpa_s [MPa s]");
+        assert_eq!(axis_with_unit("ise_mpa2_s"), "ise_mpa2_s [MPa^2 s]");
+        assert_eq!(axis_with_unit("controller_iae"), "controller_iae");
+        let values: Vec<f64> = (0..200).map(|k| 550_000.0 + 500.0 * f64::from(k)).collect();
+        let svg = Histogram::render(
+            &[Histogram {
+                title: "x".into(),
+                x_label: "max_abs_deviation_mpa".into(),
+                values,
+            }],
+            1,
+            20,
+        );
+        assert!(svg.contains("max_abs_deviation_mpa [MPa]") && svg.contains("number of runs"));
+        assert!(
+            !svg.contains("550000.0") && !svg.contains(".5<"),
+            "fixed-decimal ticks"
+        );
+    }
 
     #[test]
     fn bins_count_every_value_once() {
