@@ -456,7 +456,8 @@ mod tests {
         for c in sel.candidates.iter().filter(|c| c.model.kind == Kind::Arx) {
             assert!(c.score.unwrap() >= arx);
         }
-        assert_eq!(lines.lock().unwrap().len(), sel.candidates.len());
+        // A line when each candidate starts and one when it ends.
+        assert_eq!(lines.lock().unwrap().len(), 2 * sel.candidates.len());
         assert!(sel.findings[0].starts_with("chose "), "{:?}", sel.findings);
     }
 
