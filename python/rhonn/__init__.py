@@ -280,7 +280,31 @@ def _count(n, arg: str) -> int:
 
 class Model:
     """A model of recordings: from ``rhonn.fit``, ``rhonn.load`` or
-    ``OnlineIdentifier.freeze()``; the same ``model.json`` as the command line."""
+    ``OnlineIdentifier.freeze()``; the same ``model.json`` as the command line.
+
+    Attributes
+    ----------
+    kind : str
+        ``"fit"`` or ``"online-rhonn"``.
+    inputs, outputs : list of str
+        Signal names, in column order of ``u`` and ``y``.
+    sample_time_s : float
+        The sample time the model runs at [s].
+    summary : dict or None
+        ``rhonn.fit``'s summary.json (training figures, the ARX baseline's, the selection);
+        None for a loaded or online model.
+    warnings : list of str
+        What the user must know (data checks, the selection's warnings).
+
+    Methods
+    -------
+    predict(u, y, steps_ahead=None, baseline=False)
+        Free run or K steps ahead; ``baseline=True``: the ARX baseline's.
+    score(u, y, steps_ahead=None, baseline=False)
+        The figures ``rhonn predict`` gives.
+    save(path), to_json()
+        The command's ``model.json``.
+    """
 
     def __init__(self, inner: "_rhonn.Model"):
         if not isinstance(inner, _rhonn.Model):
@@ -376,7 +400,34 @@ class Model:
 
 
 def load(path: PathLike) -> Model:
-    """Read a ``model.json`` written by ``rhonn fit``, ``rhonn identify`` or ``Model.save``."""
+    """Read a ``model.json`` written by ``rhonn fit``, ``rhonn identify``,
+    ``rhonn benchmark`` (``DIR/NAME/model.json``, ``DIR/NAME/online/model.json``) or
+    ``Model.save``.
+
+    Parameters
+    ----------
+    path : str or path
+        The file.
+
+    Returns
+    -------
+    Model
+        ``kind`` is ``"fit"`` (an offline model, with its ARX baseline when it has one) or
+        ``"online-rhonn"`` (a frozen online model). ``summary`` is None: a loaded model
+        carries no training figures.
+
+    Raises
+    ------
+    OSError
+        The file cannot be read (the message says why: missing, a folder, no permission).
+    ValueError
+        It is not JSON, or not a valid model (the field and the value are named).
+
+    Examples
+    --------
+    >>> m = rhonn.load("out/fit/model.json")
+    >>> y_hat = m.predict(u_val, y_val)            # free run, as ``rhonn predict``
+    """
     return Model(_rhonn.load(os.fspath(path)))
 
 
