@@ -211,15 +211,13 @@ impl OnlineIdentifier {
             return Err(value_error("no model to freeze"));
         };
         inner.freeze(true);
-        Ok(Model::online(OnlineModel {
-            kind: OnlineModel::KIND.into(),
-            inputs: self.inputs.clone(),
-            outputs: self.outputs.clone(),
-            sample_time_s: self.dt,
-            model: spec.as_ref().clone(),
-            scaling: inner.scaling().clone(),
-            weights: inner.weights(),
-        }))
+        Ok(Model::online(OnlineModel::of(
+            inner,
+            spec.as_ref().clone(),
+            &self.inputs,
+            &self.outputs,
+            self.dt,
+        )))
     }
 
     /// Adapt the weights again after `freeze()`.

@@ -129,15 +129,7 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
         validation: vfig,
         units,
     };
-    let model = OnlineModel {
-        kind: OnlineModel::KIND.into(),
-        inputs: a.inputs.clone(),
-        outputs: a.outputs.clone(),
-        sample_time_s: dt,
-        model: spec,
-        scaling: run.identifier.scaling().clone(),
-        weights,
-    };
+    let model = OnlineModel::of(&run.identifier, spec, &a.inputs, &a.outputs, dt);
     let files = write_identify(
         &a.out,
         &run,

@@ -99,11 +99,11 @@ fn fit_default(
     let (ins, outs) = (&b.spec.inputs, &b.spec.outputs);
     let start = Instant::now();
     let opts = sysid::select::SelectOptions::default();
-    let sel = sysid::select::select(&b.train, ins, outs, &opts, progress)?;
-    let spec = sel.chosen_spec().clone();
-    let structure = sel.candidates[sel.chosen].name.clone();
-    let warnings = sel.warnings.clone();
-    let (fitted, _) = sysid::train_selected(std::slice::from_ref(&spec), Some(sel), &b.train, ins, outs)?;
+    let (fitted, summary) = sysid::select_and_train(&b.train, ins, outs, &opts, progress)?;
+    let (structure, warnings) = match &summary.selection {
+        Some(sel) => (sel.candidates[sel.chosen].name.clone(), sel.warnings.clone()),
+        None => (String::new(), Vec::new()),
+    };
     Ok((fitted, structure, start.elapsed().as_secs_f64(), warnings))
 }
 
@@ -116,15 +116,8 @@ fn online_default(b: &Benchmark) -> Result<(OnlineModel, String, f64)> {
     let sel = select(default_candidates(outs.len(), total), &b.train, outs)?;
     let spec = sel.chosen_spec().clone();
     let run = identify_records_scaled(&spec, &b.train, outs, Some(sel.warmup))?;
-    let model = OnlineModel {
-        kind: OnlineModel::KIND.into(),
-        inputs: b.spec.inputs.clone(),
-        outputs: outs.clone(),
-        sample_time_s: crate::ident::sample_time(&b.train)?,
-        model: spec,
-        scaling: run.identifier.scaling().clone(),
-        weights: run.identifier.weights(),
-    };
+    let dt = crate::ident::sample_time(&b.train)?;
+    let model = OnlineModel::of(&run.identifier, spec, &b.spec.inputs, outs, dt);
     let name = sel.candidates[sel.chosen].name.clone();
     Ok((model, name, start.elapsed().as_secs_f64()))
 }

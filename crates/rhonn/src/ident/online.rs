@@ -61,6 +61,26 @@ impl OnlineModel {
     /// The kind name in `model.json`.
     pub const KIND: &'static str = "online-rhonn";
 
+    /// The model `id` stands for now (its settings `spec`, scaling and weights), as
+    /// `model.json` holds it.
+    pub fn of(
+        id: &OnlineIdentifier,
+        spec: OnlineSpec,
+        inputs: &[String],
+        outputs: &[String],
+        sample_time_s: f64,
+    ) -> Self {
+        OnlineModel {
+            kind: Self::KIND.into(),
+            inputs: inputs.to_vec(),
+            outputs: outputs.to_vec(),
+            sample_time_s,
+            model: spec,
+            scaling: id.scaling().clone(),
+            weights: id.weights(),
+        }
+    }
+
     /// The identifier with these weights, frozen; every size and value checked (the file
     /// may have been edited by hand).
     pub fn identifier(&self) -> Result<OnlineIdentifier> {

@@ -130,6 +130,21 @@ pub fn train_selected(
     Ok((fitted, summary))
 }
 
+/// `rhonn fit` without a spec on records already read: select the structure by
+/// cross-validation (`opts`), then [`train_selected`] (Python's `rhonn.fit` and `rhonn
+/// benchmark` call this; the command reads its records once per step, as each needs).
+pub fn select_and_train(
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+    opts: &super::select::SelectOptions,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<(FittedModel, FitSummary)> {
+    let sel = super::select::select(records, inputs, outputs, opts, progress)?;
+    let spec = sel.chosen_spec().clone();
+    train_selected(std::slice::from_ref(&spec), Some(sel), records, inputs, outputs)
+}
+
 /// [`train`] beside the ARX structure `baseline` (a structure selection's best ARX on the
 /// folds) instead of the ARX with the same lags; None: the same lags.
 pub fn train_beside(
