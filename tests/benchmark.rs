@@ -127,6 +127,66 @@ fn two_benchmarks_give_the_table_the_files_and_models_that_predict_their_figures
     assert_eq!(m["kind"], "online-rhonn");
 }
 
+/// The ball and beam (an unstable plant): the online selection's final check rules out
+/// the candidates that, frozen as they ended on train, drift or diverge in a long free run
+/// (the high-order recursive ARX won the short windows and ran free on test at 2.3 x the
+/// output's deviation). The frozen winner then runs free on test below the ARX of lags by
+/// cross-validation, below the test's own mean and within 1.5 x rhonn fit's default.
+#[test]
+fn ball_and_beam_online_model_runs_free_below_the_arx_and_the_mean() {
+    let d = tempfile::tempdir().unwrap();
+    let data = repo().join("data/benchmarks");
+    let o = rhonn(
+        d.path(),
+        &[
+            "benchmark",
+            "daisy-ball-and-beam",
+            "--data-dir",
+            data.to_str().unwrap(),
+            "--out",
+            "b",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = json(&d.path().join("b/summary.json"));
+    let r = &s["rows"][0];
+    let (online, arx, fit) = (
+        r["online_rmse"].as_f64().unwrap(),
+        r["arx_rmse"].as_f64().unwrap(),
+        r["fit_rmse"].as_f64().unwrap(),
+    );
+    let test = d.path().join("b/daisy-ball-and-beam/free_run_0.csv");
+    let mut rd = csv::Reader::from_path(&test).unwrap();
+    let iy = rd
+        .headers()
+        .unwrap()
+        .iter()
+        .position(|c| c == "y_ball_position")
+        .unwrap();
+    let ys: Vec<f64> = rd
+        .records()
+        .map(|x| x.unwrap()[iy].parse::<f64>().unwrap())
+        .collect();
+    let mean = ys.iter().sum::<f64>() / ys.len() as f64;
+    let sd = (ys.iter().map(|y| (y - mean) * (y - mean)).sum::<f64>() / ys.len() as f64).sqrt();
+    assert!(online < arx, "online {online} ARX {arx}");
+    assert!(online < sd, "online {online} test mean {sd}");
+    assert!(online <= 1.5 * fit, "online {online} fit {fit}");
+    let b = json(&d.path().join("b/daisy-ball-and-beam/summary.json"));
+    let sel = &b["online_selection"];
+    let cands = sel["candidates"].as_array().unwrap();
+    let chosen = &cands[sel["chosen"].as_u64().unwrap() as usize];
+    assert!(chosen.get("ruled_out").is_none(), "{chosen}");
+    assert!(chosen["final_free_run_nrmse"].as_f64().unwrap() < 1.0, "{chosen}");
+    let out: Vec<&serde_json::Value> = cands.iter().filter(|c| c.get("ruled_out").is_some()).collect();
+    assert!(!out.is_empty(), "{sel}");
+    for c in out {
+        let f = c["final_free_run_nrmse"].as_f64().unwrap_or(f64::INFINITY);
+        assert!(f >= 1.0, "{c}");
+    }
+    assert_eq!(sel["checked"], 375, "{sel}");
+}
+
 #[test]
 fn an_unknown_benchmark_or_a_bad_file_is_a_clear_error_and_writes_nothing() {
     let d = tempfile::tempdir().unwrap();

@@ -50,10 +50,18 @@ fn a_nonlinear_system_gets_a_nonlinear_winner_that_runs_free_better_than_the_rec
     .unwrap();
     let chosen = &sel.candidates[sel.chosen];
     assert!(!chosen.name.starts_with("recursive ARX"), "{}", chosen.name);
-    // Every candidate has its prequential figures (or says why not).
+    // Every candidate has its prequential figures (or says why not), and its final check
+    // (frozen as it ended, run free over the stream's second half): one worse than the
+    // mean is ruled out, and the winner is not.
     for c in &sel.candidates {
         assert!(c.free_run_nrmse.is_some() || c.failed.is_some(), "{}", c.name);
+        if c.failed.is_none() {
+            let f = c.final_free_run_nrmse.unwrap_or(f64::INFINITY);
+            assert_eq!(c.ruled_out.is_some(), f >= 1.0, "{c:?}");
+        }
     }
+    assert_eq!(sel.checked, 1500);
+    assert!(chosen.ruled_out.is_none() && sel.warnings.is_empty(), "{sel:?}");
     let arx = &sel.candidates[sel.best_arx.unwrap()];
     assert!(chosen.free_run_nrmse.unwrap() < arx.free_run_nrmse.unwrap());
     // Frozen and run free on a record it never saw, the winner beats the best recursive

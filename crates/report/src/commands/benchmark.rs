@@ -144,11 +144,8 @@ pub fn benchmark(req: &BenchmarkRequest, progress: &(dyn Fn(&str) + Sync)) -> Re
             let res = rhonn::benchmark::run(b, progress)
                 .map_err(|e| super::context(format!("benchmark {}", b.name))(e.into()))?;
             o.files.extend(write_one(&req.out.join(&b.name), b, &res)?);
-            o.notes.extend(
-                res.warnings
-                    .iter()
-                    .map(|w| format!("warning: {}: rhonn fit: {w}", b.name)),
-            );
+            o.notes
+                .extend(res.warnings.iter().map(|w| format!("warning: {}: {w}", b.name)));
             rows.extend(rows_of(&res));
         }
         let mut set = OutputSet::new(&req.out)?;

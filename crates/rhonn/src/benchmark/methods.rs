@@ -6,7 +6,7 @@
 use super::{Benchmark, Published};
 use crate::data::Record;
 use crate::error::Result;
-use crate::ident::bank::{default_candidates, select};
+use crate::ident::bank::{default_candidates, select, BankSelection};
 use crate::ident::{identify_records_scaled, predict_records, OnlineModel};
 use crate::sysid::{self, FittedModel};
 use serde::Serialize;
@@ -56,8 +56,12 @@ pub struct BenchmarkOutcome {
     pub test_sets: Vec<TestSet>,
     /// The three models.
     pub methods: Vec<MethodResult>,
-    /// What the user must know (rhonn fit's selection: every structure worse than the
-    /// mean on the folds).
+    /// How rhonn identify's default picked its model on train (every candidate's
+    /// prequential figures and the final check), as `rhonn identify`'s `selection`.
+    pub online_selection: BankSelection,
+    /// What the user must know, each led by the method it concerns (rhonn fit's
+    /// selection: every structure worse than the mean on the folds; rhonn identify's: every
+    /// candidate worse than the mean in its final check).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
     /// rhonn's default model, trained on train (`NAME/model.json`).
@@ -109,7 +113,7 @@ fn fit_default(
 
 /// rhonn identify's default: the bank picks online, the winner trained for its passes
 /// with the bank's warm-up scaling, then frozen.
-fn online_default(b: &Benchmark) -> Result<(OnlineModel, String, f64)> {
+fn online_default(b: &Benchmark) -> Result<(OnlineModel, BankSelection, f64)> {
     let outs = &b.spec.outputs;
     let start = Instant::now();
     let total = b.train.iter().map(Record::len).sum();
@@ -118,8 +122,7 @@ fn online_default(b: &Benchmark) -> Result<(OnlineModel, String, f64)> {
     let run = identify_records_scaled(&spec, &b.train, outs, Some(sel.warmup))?;
     let dt = crate::ident::sample_time(&b.train)?;
     let model = OnlineModel::of(&run.identifier, spec, &b.spec.inputs, outs, dt);
-    let name = sel.candidates[sel.chosen].name.clone();
-    Ok((model, name, start.elapsed().as_secs_f64()))
+    Ok((model, sel, start.elapsed().as_secs_f64()))
 }
 
 /// Run the benchmark: the three models on train, each run free on every test set.
@@ -131,7 +134,18 @@ pub fn run(b: &Benchmark, progress: &(dyn Fn(&str) + Sync)) -> Result<BenchmarkO
     let named = |l: &str| progress(&format!("{}: rhonn fit: {l}", b.name));
     let (fitted, fit_structure, fit_s, warnings) = fit_default(b, &named)?;
     progress(&format!("{}: rhonn identify (online selection)", b.name));
-    let (online, online_structure, online_s) = online_default(b)?;
+    let (online, online_selection, online_s) = online_default(b)?;
+    let online_structure = online_selection.candidates[online_selection.chosen].name.clone();
+    let warnings: Vec<String> = warnings
+        .iter()
+        .map(|w| format!("rhonn fit: {w}"))
+        .chain(
+            online_selection
+                .warnings
+                .iter()
+                .map(|w| format!("rhonn identify: {w}")),
+        )
+        .collect();
     progress(&format!("{}: ARX, lags by cross-validation", b.name));
     let start = Instant::now();
     let (arx, arx_sel) = sysid::best_arx(&b.train, ins, outs)?;
@@ -193,6 +207,7 @@ pub fn run(b: &Benchmark, progress: &(dyn Fn(&str) + Sync)) -> Result<BenchmarkO
         units: b.spec.units.clone(),
         test_sets,
         methods,
+        online_selection,
         warnings,
         fitted,
         online,

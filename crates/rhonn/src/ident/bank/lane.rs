@@ -9,6 +9,7 @@
 use super::{BankSettings, Candidate};
 use crate::error::Result;
 use crate::ident::{OnlineIdentifier, OnlineSpec, WarmUp};
+use std::collections::VecDeque;
 
 /// Per output, the sum of squared errors and its count.
 #[derive(Debug, Clone)]
@@ -54,6 +55,82 @@ impl Sums {
             / sd.len() as f64;
         Some(v)
     }
+}
+
+/// A sample of the stream, and whether a record started with it.
+#[derive(Debug, Clone)]
+pub(super) struct Sample {
+    pub(super) t: f64,
+    pub(super) u: Vec<f64>,
+    pub(super) y: Vec<f64>,
+    pub(super) starts_record: bool,
+}
+
+/// The stream's last `cap` samples: what each candidate, frozen as it ended, runs free
+/// over before it may be chosen.
+#[derive(Debug, Clone)]
+pub(super) struct Tail {
+    cap: usize,
+    buf: VecDeque<Sample>,
+}
+
+impl Tail {
+    pub(super) fn new(cap: usize) -> Self {
+        Tail {
+            cap,
+            buf: VecDeque::with_capacity(cap.min(1 << 16)),
+        }
+    }
+
+    pub(super) fn push(&mut self, t: f64, u: &[f64], y: &[f64], starts_record: bool) {
+        if self.cap == 0 {
+            return;
+        }
+        if self.buf.len() == self.cap {
+            self.buf.pop_front();
+        }
+        self.buf.push_back(Sample {
+            t,
+            u: u.to_vec(),
+            y: y.to_vec(),
+            starts_record,
+        });
+    }
+
+    /// Samples held.
+    pub(super) fn len(&self) -> usize {
+        self.buf.len()
+    }
+}
+
+/// `id` frozen as it stands, run free over `tail` from the tail's start (restarted at
+/// the tail's first sample and at every record's start), its errors counted from its
+/// first genuine prediction after each restart. `Ok(None)`: its free run was not finite.
+pub(super) fn final_free_run(id: &OnlineIdentifier, spec: &OnlineSpec, tail: &Tail) -> Result<Option<Sums>> {
+    let Some(first) = tail.buf.front() else {
+        return Ok(None);
+    };
+    let mut copy = id.clone();
+    copy.freeze(true);
+    copy.set_free_run(true);
+    let lead = crate::ident::first_prediction(spec);
+    let mut sums = Sums::new(first.y.len());
+    let mut since = 0;
+    for (k, s) in tail.buf.iter().enumerate() {
+        if k == 0 || s.starts_record {
+            copy.reset();
+            since = 0;
+        }
+        let yh = copy.update(s.t, &s.u, &s.y)?;
+        if yh.iter().any(|v| !v.is_finite()) {
+            return Ok(None);
+        }
+        if since >= lead {
+            sums.add(&s.y, yh);
+        }
+        since += 1;
+    }
+    Ok(Some(sums))
 }
 
 /// A free-run copy under way: the copy, its errors so far, the samples it has run.

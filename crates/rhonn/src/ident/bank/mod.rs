@@ -5,8 +5,12 @@
 //! the next window of inputs and is compared with the outputs it has not yet learned from.
 //! Nothing looks ahead: a candidate's weights at a window's start come from the samples
 //! before it. The candidate with the lowest free-run error over the windows of the second
-//! half of the stream wins (the first half is its warm-up); every candidate keeps its own
-//! law's bound (least squares, whose covariance only shrinks, with its output bounds; the
+//! half of the stream wins (the first half is its warm-up), among those that, frozen as
+//! they ended the pass (the model that would be saved), run free over the stream's last
+//! samples (its second half) better than the output's mean: a window restarts from
+//! measurements every few samples and so cannot see a model that drifts or diverges over
+//! a longer run (on an unstable plant, a least-squares ARX of high order often does).
+//! Every candidate keeps its own law's bound (least squares, whose covariance only shrinks, with its output bounds; the
 //! continuous neurons' law; the cascade's bounded chain).
 
 mod lane;
@@ -44,9 +48,17 @@ pub struct CandidateScore {
     /// Free run of the frozen copy over each window of the second half, as the one-step
     /// figure (the ranking figure; None: failed).
     pub free_run_nrmse: Option<f64>,
+    /// The candidate as it ended the pass, frozen, run free over the stream's last
+    /// `checked` samples (restarted from measurements at their start and at each
+    /// record's), as the one-step figure (None: failed, or its free run was not finite).
+    pub final_free_run_nrmse: Option<f64>,
     /// Why it has no figures (it diverged, or its settings do not fit the data).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
+    /// Why it ran but could not be chosen: frozen as it ended, its free run over the last
+    /// samples was worse than the output's mean (or not finite).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ruled_out: Option<String>,
 }
 
 /// What the bank found (`summary.json`'s `selection`).
@@ -58,12 +70,21 @@ pub struct BankSelection {
     pub window: usize,
     /// Samples of the warm-up window that normalised every candidate.
     pub warmup: usize,
+    /// Samples at the stream's end that every candidate, frozen as it ended, ran free
+    /// over (`final_free_run_nrmse`).
+    pub checked: usize,
     /// Every candidate, in the bank's order.
     pub candidates: Vec<CandidateScore>,
     /// Index of the winner.
     pub chosen: usize,
-    /// Index of the best recursive ARX (the linear candidates).
+    /// Index of the best recursive ARX (the linear candidates), among those not ruled
+    /// out if any is not.
     pub best_arx: Option<usize>,
+    /// What the user must know: every candidate, frozen as it ended, ran free worse than
+    /// the output's mean over the last samples (the winner is then no better than a
+    /// constant there).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 impl BankSelection {
@@ -111,6 +132,22 @@ impl BankSelection {
                 failed.join(", ")
             ));
         }
+        let out: Vec<&str> = self
+            .candidates
+            .iter()
+            .filter(|c| c.ruled_out.is_some())
+            .map(|c| c.name.as_str())
+            .collect();
+        if !out.is_empty() && self.warnings.is_empty() {
+            v.push(format!(
+                "online selection: ruled out {} of {}: frozen as they ended, they ran free over the last {} samples worse than the output's mean ({})",
+                out.len(),
+                self.candidates.len(),
+                self.checked,
+                out.join(", ")
+            ));
+        }
+        v.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
         v
     }
 }
@@ -199,17 +236,21 @@ pub struct BankSettings {
     pub window: usize,
     /// The first sample (counted over the stream) whose errors are scored.
     pub scored_from: usize,
+    /// Samples at the stream's end that each candidate, frozen as it ended, runs free
+    /// over before it may be chosen.
+    pub check: usize,
 }
 
 impl BankSettings {
     /// For a stream of `samples` samples, as `rhonn identify` judges recordings: windows
     /// of [`window_for`], the second half scored, the first [`warmup_for`] samples the
-    /// warm-up.
+    /// warm-up, the second half the final check.
     pub fn for_stream(samples: usize) -> Self {
         BankSettings {
             warmup: warmup_for(samples),
             window: window_for(samples),
             scored_from: samples / 2,
+            check: samples - samples / 2,
         }
     }
 }
@@ -250,12 +291,14 @@ pub fn select_with(
     let ny = records[0].outputs.len();
     let warm = WarmUp::of_records(records, settings.warmup);
     let mut spread = lane::Spread::new(ny);
+    let mut tail = lane::Tail::new(settings.check);
     let mut y = vec![0.0; ny];
     let mut u = vec![0.0; records[0].inputs.len()];
     for r in records {
         for k in 0..r.len() {
             super::recordings::sample(r, k, &mut u, &mut y);
             spread.add(&y);
+            tail.push(r.t[k], &u, &y, k == 0);
         }
     }
     let lanes: Vec<Lane> = candidates
@@ -273,41 +316,82 @@ pub fn select_with(
             lane
         })
         .collect();
-    judge(lanes, &spread.sd(), settings)
+    judge(lanes, &spread.sd(), settings, &tail)
+}
+
+/// One lane's figures, and its identifier as it ended (None if it failed): the
+/// prequential figures, then the final check (frozen, run free over `tail`).
+fn score(
+    l: Lane,
+    sd: &[f64],
+    settings: BankSettings,
+    tail: &lane::Tail,
+) -> (CandidateScore, Option<OnlineIdentifier>) {
+    let (one, free) = (l.one.nrmse(sd), l.free.nrmse(sd));
+    let failed = match (&l.failed, free) {
+        (Some(f), _) => Some(f.clone()),
+        (None, None) => Some(format!(
+            "no free-run window of {} samples fitted in a record after sample {}",
+            settings.window, settings.scored_from
+        )),
+        (None, Some(_)) => None,
+    };
+    let ok = failed.is_none();
+    let checked = tail.len();
+    let (final_nrmse, ruled_out) = match (&l.id, ok && checked > 0) {
+        (Some(id), true) => match lane::final_free_run(id, &l.candidate.spec, tail) {
+            Ok(Some(s)) => match s.nrmse(sd) {
+                Some(v) if v < 1.0 => (Some(v), None),
+                Some(v) => (
+                    Some(v),
+                    Some(format!(
+                        "frozen as it ended, it ran free over the last {checked} samples at {v:.3} of the output's standard deviation, worse than the output's mean (1)"
+                    )),
+                ),
+                None => (None, Some(format!("no sample of its final free run over the last {checked} samples came after its first prediction"))),
+            },
+            Ok(None) => (None, Some(format!("frozen as it ended, its free run over the last {checked} samples was not finite"))),
+            Err(e) => (None, Some(format!("frozen as it ended, its free run over the last {checked} samples failed: {e}"))),
+        },
+        _ => (None, None),
+    };
+    let c = CandidateScore {
+        name: l.candidate.name,
+        spec: l.candidate.spec,
+        one_step_nrmse: one.filter(|_| ok),
+        free_run_nrmse: free.filter(|_| ok),
+        final_free_run_nrmse: final_nrmse,
+        failed,
+        ruled_out,
+    };
+    (c, l.id)
 }
 
 /// The bank's verdict on its lanes: every candidate's figures, the winner (lowest
-/// free-run error) and the best recursive ARX.
-fn judge(lanes: Vec<Lane>, sd: &[f64], settings: BankSettings) -> Result<(BankSelection, OnlineIdentifier)> {
-    let mut ids = Vec::with_capacity(lanes.len());
-    let scored: Vec<CandidateScore> = lanes
+/// prequential free-run error among the candidates the final check did not rule out;
+/// among all that ran if it ruled out every one, with a warning) and the best recursive
+/// ARX.
+fn judge(
+    lanes: Vec<Lane>,
+    sd: &[f64],
+    settings: BankSettings,
+    tail: &lane::Tail,
+) -> Result<(BankSelection, OnlineIdentifier)> {
+    use rayon::prelude::*;
+    let (scored, mut ids): (Vec<CandidateScore>, Vec<Option<OnlineIdentifier>>) = lanes
+        .into_par_iter()
+        .map(|l| score(l, sd, settings, tail))
+        .collect::<Vec<_>>()
         .into_iter()
-        .map(|l| {
-            let (one, free) = (l.one.nrmse(sd), l.free.nrmse(sd));
-            let failed = match (&l.failed, free) {
-                (Some(f), _) => Some(f.clone()),
-                (None, None) => Some(format!(
-                    "no free-run window of {} samples fitted in a record after sample {}",
-                    settings.window, settings.scored_from
-                )),
-                (None, Some(_)) => None,
-            };
-            ids.push(l.id);
-            let ok = failed.is_none();
-            CandidateScore {
-                name: l.candidate.name,
-                spec: l.candidate.spec,
-                one_step_nrmse: one.filter(|_| ok),
-                free_run_nrmse: free.filter(|_| ok),
-                failed,
-            }
-        })
-        .collect();
+        .unzip();
+    let eligible = |c: &CandidateScore| c.free_run_nrmse.is_some() && c.ruled_out.is_none();
+    let any_eligible = scored.iter().any(eligible);
     let best = |arx: bool| {
         scored
             .iter()
             .enumerate()
             .filter(|(_, c)| !arx || is_linear(&c.spec))
+            .filter(|(_, c)| !any_eligible || eligible(c))
             .filter_map(|(k, c)| c.free_run_nrmse.map(|s| (k, s)))
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(k, _)| k)
@@ -333,17 +417,26 @@ fn judge(lanes: Vec<Lane>, sd: &[f64], settings: BankSettings) -> Result<(BankSe
             "a candidate that ran",
         ));
     };
-    let window = settings.window;
+    let (window, checked) = (settings.window, tail.len());
+    let mut warnings = Vec::new();
+    if !any_eligible && checked > 0 {
+        warnings.push(format!(
+            "online selection: every candidate, frozen as it ended, ran free over the last {checked} samples worse than the output's mean; the chosen ({}) is no better than a constant there: give a structure (--model) or more data",
+            scored[chosen].name
+        ));
+    }
     let selection = BankSelection {
         judged_by: format!(
-            "prequential free run over windows of {window} samples from sample {}, every candidate normalised by the first {} samples",
+            "prequential free run over windows of {window} samples from sample {}, every candidate normalised by the first {} samples; chosen among those that, frozen as they ended, ran free over the last {checked} samples better than the output's mean",
             settings.scored_from, settings.warmup
         ),
         window,
         warmup: settings.warmup,
+        checked,
         best_arx: best(true),
         candidates: scored,
         chosen,
+        warnings,
     };
     Ok((selection, winner))
 }

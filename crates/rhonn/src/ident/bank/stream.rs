@@ -5,19 +5,10 @@
 //! [`Lane`] that [`super::select_with`] runs over recordings, so a stream fed here gives
 //! the figures `rhonn identify` gives for the same records.
 
-use super::lane::{Lane, Spread};
+use super::lane::{Lane, Sample, Spread, Tail};
 use super::{judge, BankSelection, BankSettings, Candidate};
 use crate::error::{invalid, Result};
 use crate::ident::{OnlineIdentifier, WarmUp};
-
-/// A sample kept during the warm-up, and whether a record started with it.
-#[derive(Debug, Clone)]
-struct Kept {
-    t: f64,
-    u: Vec<f64>,
-    y: Vec<f64>,
-    starts_record: bool,
-}
 
 /// The bank fed one sample at a time.
 #[derive(Debug, Clone)]
@@ -27,8 +18,9 @@ pub struct OnlineBank {
     ny: usize,
     nu: usize,
     dt: f64,
-    kept: Vec<Kept>,
+    kept: Vec<Sample>,
     lanes: Vec<Lane>,
+    tail: Tail,
     spread: Spread,
     estimate: Vec<f64>,
     /// The last measurement (the estimate during the warm-up).
@@ -75,6 +67,7 @@ impl OnlineBank {
             dt,
             kept: Vec::new(),
             lanes: Vec::new(),
+            tail: Tail::new(settings.check),
             spread: Spread::new(ny),
             estimate: vec![0.0; ny],
             held: vec![0.0; ny],
@@ -96,11 +89,12 @@ impl OnlineBank {
         self.spread.add(y);
         let starts = std::mem::replace(&mut self.record_starts, false);
         self.t_last = Some(t);
+        self.tail.push(t, u, y, starts);
         if self.lanes.is_empty() {
             let held = if starts { y } else { &self.held };
             self.estimate.copy_from_slice(held);
             self.held.copy_from_slice(y);
-            self.kept.push(Kept {
+            self.kept.push(Sample {
                 t,
                 u: u.to_vec(),
                 y: y.to_vec(),
@@ -187,7 +181,7 @@ impl OnlineBank {
             }
             me.start_lanes();
         }
-        judge(me.lanes, &me.spread.sd(), me.settings)
+        judge(me.lanes, &me.spread.sd(), me.settings, &me.tail)
     }
 
     fn check(&self, t: f64, u: &[f64], y: &[f64]) -> Result<()> {
