@@ -1,4 +1,5 @@
-//! "The README's glossary defines every figure name the outputs print": every figure a
+//! "The README's glossary defines every figure name the outputs print" (now
+//! docs/reference/glossary.md): every figure a
 //! command writes (summary.json of each shipped scenario, of `rhonn fit` and `rhonn
 //! identify`, the columns and statistics of campaigns) is named in the README's
 //! "Glossary of the figures". Settings echoed back (scenario, solver, model,
@@ -62,11 +63,11 @@ fn figure_keys(v: &serde_json::Value, out: &mut BTreeSet<String>) {
 
 /// The names the glossary's first column gives in backticks (`*` and `...` stand for
 /// any text).
-fn glossary_names(readme: &str) -> Vec<String> {
-    let (_, rest) = readme
-        .split_once("## Glossary of the figures")
-        .expect("README has a glossary");
-    let table = rest.split("\n## ").next().unwrap();
+fn glossary_names(glossary: &str) -> Vec<String> {
+    let (_, rest) = glossary
+        .split_once("# Glossary of the figures")
+        .expect("docs/reference/glossary.md has a glossary");
+    let table = rest.split("\n# ").next().unwrap();
     let mut names = Vec::new();
     for row in table.lines().filter(|l| l.starts_with("| ")) {
         let first = row[2..].split(" | ").next().unwrap();
@@ -216,8 +217,8 @@ fn the_glossary_names_every_figure_the_outputs_write() {
         }
         figure_keys(&summary, &mut keys);
     }
-    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
-    let names = glossary_names(&readme);
+    let glossary = std::fs::read_to_string(root.join("docs/reference/glossary.md")).unwrap();
+    let names = glossary_names(&glossary);
     let missing: Vec<&String> = keys
         .iter()
         .filter(|k| !names.iter().any(|n| matches(n, k)))

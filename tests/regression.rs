@@ -170,8 +170,9 @@ fn what_users_read_carries_no_internal_notes_and_the_licenses_exist() {
             .any(|(i, _)| low[i + 6..].chars().next().is_some_and(|c| c.is_ascii_digit()));
         issue || low.contains("this session") || low.contains("last session")
     };
-    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
-    assert!(!internal(&readme), "README.md carries an internal note");
+    for (name, text) in util::user_docs(root) {
+        assert!(!internal(&text), "{name} carries an internal note");
+    }
     let d = tempfile::tempdir().unwrap();
     for cmd in [
         "",
@@ -202,12 +203,11 @@ fn what_users_read_carries_no_internal_notes_and_the_licenses_exist() {
 }
 
 /// "A plain clone is not self-contained: the README points to `shared/spec/SPEC.md`, which
-/// a clone does not have." Every repository path the README names in backticks exists in
-/// the repository.
+/// a clone does not have." Every repository path the README and docs/ name in backticks
+/// exists in the repository.
 #[test]
 fn every_file_the_readme_names_is_in_the_repository() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
     let tops = [
         "docs/",
         "data/",
@@ -222,23 +222,31 @@ fn every_file_the_readme_names_is_in_the_repository() {
         "embedded/",
     ];
     let mut named = 0;
-    for quoted in readme.split('`').skip(1).step_by(2) {
-        for word in quoted.split_whitespace() {
-            let word = word.trim_end_matches([',', '.', ')', ':']);
-            if tops.iter().any(|t| word.starts_with(t)) && !word.contains(['<', '*', '{']) {
-                named += 1;
-                assert!(
-                    root.join(word).exists(),
-                    "README names `{word}`, which is not in the repository"
-                );
+    // The changelog is history: it may name files since removed.
+    for (name, text) in util::user_docs(root)
+        .into_iter()
+        .filter(|(n, _)| n != "CHANGELOG.md")
+    {
+        for quoted in text.split('`').skip(1).step_by(2) {
+            for word in quoted.split_whitespace() {
+                let word = word.trim_end_matches([',', '.', ')', ':', ';']);
+                // A segment in capitals (`NAME`, `DIR`) is a placeholder.
+                let placeholder = word
+                    .split('/')
+                    .any(|seg| !seg.is_empty() && seg.chars().all(|c| c.is_ascii_uppercase() || c == '_'));
+                if tops.iter().any(|t| word.starts_with(t)) && !word.contains(['<', '*', '{']) && !placeholder
+                {
+                    named += 1;
+                    assert!(
+                        root.join(word).exists(),
+                        "{name} names `{word}`, which is not in the repository"
+                    );
+                }
             }
         }
+        assert!(!text.contains("shared/"), "{name} points outside the repository");
     }
     assert!(named > 10, "only {named} paths found: the scan is broken");
-    assert!(
-        !readme.contains("shared/"),
-        "README points outside the repository"
-    );
 }
 
 /// "`run <a directory>` says 'no such file'; a campaign into a read-only folder says

@@ -64,3 +64,9 @@ pub fn exp(x: f64) -> f64 {
 pub fn dot<T: Real, const N: usize>(a: &[T; N], b: &[T; N]) -> T {
     a.iter().zip(b).map(|(x, y)| *x * *y).sum()
 }
+
+/// The guide's example of the online identifier on a target (docs/guides/embedded.md),
+/// compiled and run by `cargo test --doc`.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/guides/embedded.md")]
+struct EmbeddedGuide;
