@@ -91,16 +91,27 @@ fn written(name: &str) -> impl FnOnce(Error) -> Error {
     ))
 }
 
+/// Write a plant run's folder as `rhonn run` does: trajectory.csv, summary.json, plots and
+/// report.html, all or nothing; an earlier run's files this run does not write are removed
+/// (a note each). Your own plant: `rhonn::experiment::run_plant_scenario_on`, then this
+/// (`examples/custom_plant.rs`).
+pub fn save_plant_run(dir: &Path, output: &rhonn::experiment::PlantRunOutput) -> Result<Outcome> {
+    crate::folder::check_writable(dir)?;
+    let mut o = Outcome {
+        files: crate::write_plant_run(dir, output).map_err(written(&output.summary.scenario))?,
+        ..Outcome::default()
+    };
+    o.files.push(crate::write_report(dir)?);
+    super::finish_folder(dir, &mut o)?;
+    Ok(o)
+}
+
 /// `rhonn run` for a plant scenario (`[plant] kind`).
 fn run_plant(spec: &PlantScenarioSpec, out: Option<PathBuf>) -> Result<Outcome> {
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&spec.name));
     crate::folder::check_writable(&dir)?;
     let output = rhonn::experiment::run_plant_scenario(spec, None)?;
-    let mut o = Outcome {
-        files: crate::write_plant_run(&dir, &output).map_err(written(&spec.name))?,
-        ..Outcome::default()
-    };
-    o.files.push(crate::write_report(&dir)?);
+    let mut o = save_plant_run(&dir, &output)?;
     let s = &output.summary;
     o.lines.push(format!(
         "{}: {} s simulated, plant {}",
@@ -129,7 +140,6 @@ fn run_plant(spec: &PlantScenarioSpec, out: Option<PathBuf>) -> Result<Outcome> 
     }
     o.lines
         .extend(s.findings.iter().map(|f| format!("  finding: {f}")));
-    super::finish_folder(&dir, &mut o)?;
     Ok(o)
 }
 

@@ -20,8 +20,8 @@ pub mod tuning;
 
 pub use bench::{bench, bench_plant, BenchFigures};
 pub use plant_run::{
-    nominal_plant_parameters, run_plant_scenario, IdentStateFigures, LoopFigures, PlantColumn,
-    PlantRunOutput, PlantSummary, WEIGHT_QUANTITIES,
+    nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on, IdentStateFigures, LoopFigures,
+    PlantColumn, PlantRunOutput, PlantSummary, WEIGHT_QUANTITIES,
 };
 pub use plant_scenario::{
     is_plant_scenario, ControlSpec, LoopSpec, PlantScenarioSpec, PlantSection, ValidationSpec,

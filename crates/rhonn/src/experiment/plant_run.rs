@@ -121,8 +121,9 @@ impl PlantSummary {
 
 /// The controller's actuator activity beside the baseline's, in words.
 fn activity_finding(a: &LoopFigures, b: &LoopFigures, unit: &str) -> String {
+    let unit = shown_unit(unit);
     format!(
-        "{}: the input moved {} {unit} in all (total variation; RMS change per control period {} {unit}) against {} {unit} (RMS change {} {unit}) for the baseline {}; at a bound {} s against {} s, switching between the bounds {} s against {} s",
+        "{}: the input moved {}{unit} in all (total variation; RMS change per control period {}{unit}) against {}{unit} (RMS change {}{unit}) for the baseline {}; at a bound {} s against {} s, switching between the bounds {} s against {} s",
         a.controller,
         crate::metrics::sig(a.input_total_variation, 3),
         crate::metrics::sig(a.input_rms_change_per_sample, 3),
@@ -134,6 +135,66 @@ fn activity_finding(a: &LoopFigures, b: &LoopFigures, unit: &str) -> String {
         crate::metrics::sig(a.time_input_switching_s, 4),
         crate::metrics::sig(b.time_input_switching_s, 4),
     )
+}
+
+/// A unit as printed after a number: none for a dimensionless "1".
+fn shown_unit(unit: &str) -> String {
+    if unit == "1" {
+        String::new()
+    } else {
+        format!(" {unit}")
+    }
+}
+
+/// A warning when `r`'s input sits at a bound of `range` over the run's last tenth (at
+/// least its last 10 control periods) and the output ends more than 1 % of the
+/// set-point's size (of the output's unit if the set-point is 0) away from it: the
+/// actuator cannot reach the set-point.
+fn limit_warning(
+    r: &LoopRun,
+    range: (f64, f64),
+    (qy, qu): (&Quantity, &Quantity),
+    duration_s: f64,
+) -> Option<String> {
+    let n = r.u.len();
+    let tail = (n / 10).max(10).min(n);
+    if tail == 0 {
+        return None;
+    }
+    let tol = 1e-9 * (range.1 - range.0);
+    let last = &r.u[n - tail..];
+    let bound = if last.iter().all(|u| *u >= range.1 - tol) {
+        ("upper", range.1)
+    } else if last.iter().all(|u| *u <= range.0 + tol) {
+        ("lower", range.0)
+    } else {
+        return None;
+    };
+    let e = r.final_error();
+    let size = r.setpoint.last().map_or(0.0, |v| v.abs());
+    let allowed = if size > 0.0 {
+        0.01 * size
+    } else {
+        1.0 / qy.display_per_si
+    };
+    if !(e.abs() > allowed) {
+        return None;
+    }
+    let at = r.u[..n - tail]
+        .iter()
+        .rposition(|u| (u - bound.1).abs() > tol)
+        .map_or(r.t[0], |k| r.t[k + 1]);
+    Some(format!(
+        "warning: {} sits at its {} limit ({}{}) from {} s to the end ({} s) and ends {}{} from the set-point: the actuator cannot reach it (widen control.input_range, or give a set-point within reach)",
+        r.controller,
+        bound.0,
+        crate::metrics::sig(qu.to_display(bound.1), 4),
+        shown_unit(qu.display_unit),
+        crate::metrics::sig(at, 4),
+        crate::metrics::sig(duration_s, 4),
+        crate::metrics::sig(qy.to_display(e), 3),
+        shown_unit(qy.display_unit)
+    ))
 }
 
 /// What a plant scenario's run produced.
@@ -172,6 +233,14 @@ pub fn run_plant_scenario(spec: &PlantScenarioSpec, parameters: Option<&[f64]>) 
         }
     }
     with_kind(&spec.plant.kind, Run(spec, parameters))
+}
+
+/// Run `spec` on your own `plant` (any [`Plant`]; `spec.plant.kind` only names it): the
+/// same experiment, figures and findings as a shipped plant's scenario, for
+/// `rhonn_report::write_plant_run` to write as `rhonn run` does (`examples/custom_plant.rs`).
+pub fn run_plant_scenario_on<P: Plant>(plant: &P, spec: &PlantScenarioSpec) -> Result<PlantRunOutput> {
+    spec.check_common()?;
+    run_on(plant, spec, None)
 }
 
 /// The plant named by a scenario, nominal (for its parameter table).
@@ -320,6 +389,11 @@ fn run_control<P: Plant>(
         u = qy.display_unit
     ));
     summary.findings.push(activity_finding(&a, &b, qu.display_unit));
+    for r in &runs {
+        summary
+            .findings
+            .extend(limit_warning(r, range, (&qy, qu), spec.duration_s));
+    }
     summary.regulated = Some((qy.name, qy.display_unit));
     summary.control = Some([a, b]);
     let inner = [&c.controller, &c.baseline].map(|l| match l {

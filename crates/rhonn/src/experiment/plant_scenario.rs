@@ -155,8 +155,9 @@ impl LoopSpec {
         match self {
             LoopSpec::Pi { .. } => "pi",
             LoopSpec::RhonnIndirect { .. } => "rhonn-indirect",
-            LoopSpec::Cascade { outer, .. } => match **outer {
-                LoopSpec::RhonnIndirect { .. } => "rhonn-cascade",
+            LoopSpec::Cascade { outer, inner, .. } => match (&**outer, &**inner) {
+                (LoopSpec::RhonnIndirect { .. }, _) => "rhonn-cascade",
+                (_, LoopSpec::RhonnIndirect { .. }) => "pi-over-rhonn-cascade",
                 _ => "pi-cascade",
             },
         }
