@@ -123,6 +123,8 @@ fn suspicious_columns_are_warned_about_and_bad_options_refused() {
     }
     std::fs::write(d.path().join("r.csv"), flat).unwrap();
     let warn = |inputs: &str, outputs: &str| {
+        // A folder per call: another model into a folder that holds one is refused.
+        let out = format!("m-{}", inputs.replace(',', "-"));
         let o = rhonn(
             d.path(),
             &[
@@ -138,7 +140,7 @@ fn suspicious_columns_are_warned_about_and_bad_options_refused() {
                 "--select",
                 "none",
                 "--out",
-                "m",
+                &out,
             ],
         );
         stderr(&o)
@@ -231,8 +233,8 @@ fn a_selection_whose_every_candidate_is_worse_than_the_mean_warns() {
 
 /// Messages read as sentences and figures keep their significant digits: "an ARX model",
 /// "1 sample", a small RMS error not printed as 0.0000, `--resample -1` refused by rhonn
-/// (not taken for an option), and a fit into a folder holding one says it replaces it,
-/// with both fits.
+/// (not taken for an option), and a fit into a folder holding another model is refused
+/// unless `--force` (then it says what it replaces, with both fits).
 #[test]
 fn fit_messages_read_as_sentences_and_keep_significant_digits() {
     let d = tempfile::tempdir().unwrap();
@@ -246,7 +248,7 @@ fn fit_messages_read_as_sentences_and_keep_significant_digits() {
     }
     std::fs::write(d.path().join("small.csv"), small).unwrap();
     std::fs::write(d.path().join("arx.toml"), "kind = \"arx\"\nna = 1\nnb = 1\n").unwrap();
-    let fit = |spec: Option<&str>, out: &str| {
+    let fit_with = |spec: Option<&str>, out: &str, force: bool| {
         let mut a = vec![
             "fit",
             "--data",
@@ -261,8 +263,12 @@ fn fit_messages_read_as_sentences_and_keep_significant_digits() {
         if let Some(s) = spec {
             a.extend(["--model", s]);
         }
+        if force {
+            a.push("--force");
+        }
         rhonn(d.path(), &a)
     };
+    let fit = |spec: Option<&str>, out: &str| fit_with(spec, out, false);
     let o = fit(Some("arx.toml"), "f");
     let (out, err) = (String::from_utf8_lossy(&o.stdout).into_owned(), stderr(&o));
     assert!(o.status.success(), "{err}");
@@ -282,8 +288,29 @@ fn fit_messages_read_as_sentences_and_keep_significant_digits() {
         .parse()
         .unwrap();
     assert!(rms > 1e-6 && !line.contains("rms error 0.0000"), "{line}");
-    // Again into the same folder, another structure: it says what it replaces.
-    let o = fit(None, "f");
+    // The same fit again: the same model, nothing to say.
+    let o = fit(Some("arx.toml"), "f");
+    assert!(
+        o.status.success() && !stderr(&o).contains("replacing"),
+        "{}",
+        stderr(&o)
+    );
+    // Another structure into the same folder: refused before anything is written, with
+    // both fits; with --force it is replaced and says so.
+    std::fs::write(d.path().join("arx2.toml"), "kind = \"arx\"\nna = 2\nnb = 2\n").unwrap();
+    let model = d.path().join("f/model.json");
+    let before = std::fs::read(&model).unwrap();
+    let o = fit(Some("arx2.toml"), "f");
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("model.json holds another model")
+            && err.contains(" before, ")
+            && err.contains("give --force to replace it"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&model).unwrap(), before, "the earlier model stays");
+    let o = fit_with(Some("arx2.toml"), "f", true);
     let err = stderr(&o);
     assert!(o.status.success(), "{err}");
     assert!(
@@ -292,6 +319,7 @@ fn fit_messages_read_as_sentences_and_keep_significant_digits() {
             && err.contains(" before, "),
         "{err}"
     );
+    assert_ne!(std::fs::read(&model).unwrap(), before);
     let o = rhonn(
         d.path(),
         &[

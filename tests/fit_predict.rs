@@ -388,6 +388,8 @@ fn pump_model_predicts_the_validation_record_10_steps_ahead() {
             spec.to_str().unwrap(),
             "--out",
             "m",
+            // One folder for both structures: each replaces the other.
+            "--force",
         ]))
     };
     // The direct predictor drifts to its output bound in free run, and `fit` says so.

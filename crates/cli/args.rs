@@ -117,6 +117,10 @@ pub enum Command {
         /// Output folder.
         #[arg(long, value_name = "DIR", required = true)]
         out: PathBuf,
+        /// Replace a different model already in --out (without it, that is refused and
+        /// nothing is written; the same model again is always fine).
+        #[arg(long)]
+        force: bool,
     },
     /// Identify a RHONN online from recordings, sample by sample, with the thesis's
     /// stability-proven laws; then freeze it and validate it.

@@ -46,6 +46,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             select_steps_ahead,
             time_budget,
             out,
+            force,
         } => {
             let select = fit_selection(model.is_some(), select, select_steps_ahead, time_budget)?;
             cmd_fit(commands::FitRequest {
@@ -57,6 +58,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 units,
                 select,
                 out,
+                force,
             })?
         }
         c @ Command::Identify { .. } => cmd_identify(c)?,

@@ -25,6 +25,7 @@ pub mod commands;
 mod csv_out;
 mod data_in;
 pub mod folder;
+pub mod front_plot;
 mod html;
 pub mod identify;
 pub mod plant_campaign;

@@ -27,6 +27,9 @@ pub struct FitRequest {
     pub select: Option<rhonn::sysid::select::SelectOptions>,
     /// The output folder.
     pub out: PathBuf,
+    /// `--force`: replace a different model already in `out` (else that is refused,
+    /// nothing written).
+    pub force: bool,
 }
 
 /// `--units COL=UNIT,...`: every column named must be an input or an output.
@@ -214,7 +217,7 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
         .map(|r| rhonn::sysid::predict(&fitted, r, None))
         .collect::<rhonn::Result<_>>()?;
     bound_warnings(&fitted, &training, &mut o);
-    if let Some(n) = replaced_note(&req.out, &summary) {
+    if let Some(n) = replaced_note(&req.out, &fitted, &summary, req.force)? {
         o.notes.push(n);
     }
     o.files = crate::write_fit(&req.out, &fitted, &summary, &training)?;
@@ -273,13 +276,26 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
     Ok(o)
 }
 
-/// When `dir` holds an earlier fit's model, a note that it is replaced, with both free-run
-/// fits on the first training record, so that a worse model never replaces a better one
-/// silently.
-fn replaced_note(dir: &Path, summary: &rhonn::sysid::FitSummary) -> Option<String> {
+/// When `dir` holds an earlier fit's model that differs from `fitted`: without `force` an
+/// error (nothing written) that gives both free-run fits on the first training record, so
+/// that no model is replaced silently; with it, a note saying what is replaced. The same
+/// model again (a rerun) passes without a word.
+fn replaced_note(
+    dir: &Path,
+    fitted: &rhonn::sysid::FittedModel,
+    summary: &rhonn::sysid::FitSummary,
+    force: bool,
+) -> Result<Option<String>> {
     let old = dir.join("model.json");
-    if !old.is_file() {
-        return None;
+    let Ok(text) = std::fs::read_to_string(&old) else {
+        return Ok(None);
+    };
+    let same = serde_json::from_str::<serde_json::Value>(&text)
+        .ok()
+        .zip(serde_json::to_value(fitted).ok())
+        .is_some_and(|(a, b)| a == b);
+    if same {
+        return Ok(None);
     }
     let first_fit =
         |v: &serde_json::Value| v["training"]["free_run"][0]["outputs"][0]["fit_percent"].as_f64();
@@ -287,16 +303,30 @@ fn replaced_note(dir: &Path, summary: &rhonn::sysid::FitSummary) -> Option<Strin
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
         .and_then(|v| first_fit(&v));
-    let now = summary.training.free_run.first()?.outputs.first()?.fit_percent;
-    Some(match before {
-        Some(b) => format!(
-            "note: replacing {} of an earlier fit (free-run fit on the first training record: {} before, {} now)",
-            old.display(),
+    let now = summary
+        .training
+        .free_run
+        .first()
+        .and_then(|r| r.outputs.first())
+        .map(|o| o.fit_percent);
+    let fits = match (before, now) {
+        (Some(b), Some(n)) => format!(
+            " (free-run fit on the first training record: {} before, {} now)",
             super::percent(b),
-            super::percent(now)
+            super::percent(n)
         ),
-        None => format!("note: replacing {} of an earlier fit", old.display()),
-    })
+        _ => String::new(),
+    };
+    if !force {
+        return Err(Error::Input(format!(
+            "{} holds another model{fits}: nothing written; give --force to replace it, or another --out",
+            old.display()
+        )));
+    }
+    Ok(Some(format!(
+        "note: replacing {} of an earlier fit{fits}",
+        old.display()
+    )))
 }
 
 /// The frozen model's stability check: a warning for each free run that reaches the bound

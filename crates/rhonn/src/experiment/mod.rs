@@ -5,6 +5,7 @@ mod bench;
 pub mod campaign;
 mod campaign_plan;
 mod figures;
+pub mod front;
 mod ident_figures;
 mod integrated;
 mod plant_run;

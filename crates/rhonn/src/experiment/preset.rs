@@ -33,6 +33,14 @@ pub const SHIPPED: &[(&str, &str)] = &[
         include_str!("../../../../scenarios/control-adaptive.toml"),
     ),
     (
+        "control-adaptive-gentle",
+        include_str!("../../../../scenarios/control-adaptive-gentle.toml"),
+    ),
+    (
+        "control-adaptive-fast",
+        include_str!("../../../../scenarios/control-adaptive-fast.toml"),
+    ),
+    (
         "tanks-identify",
         include_str!("../../../../scenarios/tanks-identify.toml"),
     ),
@@ -154,7 +162,7 @@ mod tests {
         let e = load("thesis-ch9").unwrap_err().to_string();
         assert_eq!(
             e,
-            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5, pump-identify, pump-validate, control-adaptive, tanks-identify, tanks-control)"
+            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5, pump-identify, pump-validate, control-adaptive, control-adaptive-gentle, control-adaptive-fast, tanks-identify, tanks-control)"
         );
         assert!(load("nope/x.toml")
             .unwrap_err()

@@ -119,16 +119,16 @@ pub enum ControllerSpec {
         /// Identification phase \[s\] (2).
         #[serde(default)]
         identification_s: Option<f64>,
-        /// Stroke feedback gain g (5).
+        /// Stroke feedback gain g (3).
         #[serde(default)]
         stroke_gain: Option<f64>,
         /// Lead on the stroke reference \[s\] (0.06).
         #[serde(default)]
         lead_s: Option<f64>,
-        /// Identifier filter pole a \[1/s\] (280).
+        /// Identifier filter pole a \[1/s\] (70).
         #[serde(default)]
         observer_pole_per_s: Option<f64>,
-        /// Learning rate of the drift weights (4e4).
+        /// Learning rate of the drift weights (1e4).
         #[serde(default)]
         gamma_w: Option<f64>,
         /// Learning rate of the gain weights (10).

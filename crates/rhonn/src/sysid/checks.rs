@@ -76,6 +76,7 @@ pub fn data_warnings(
             ));
         }
     }
+    w.extend(milliseconds_hint(records, sample_s));
     let span = max_lag.max(1);
     for (j, name) in outputs.iter().enumerate() {
         let lags: Vec<usize> = records
@@ -99,6 +100,28 @@ pub fn data_warnings(
         }
     }
     w
+}
+
+/// Sample times, in seconds, that are common sample times in milliseconds.
+const MS_LIKE_STEPS: [f64; 10] = [2.0, 5.0, 10.0, 20.0, 25.0, 50.0, 100.0, 200.0, 250.0, 500.0];
+
+/// A hint when `t` looks like milliseconds read as seconds: every time a whole number, a
+/// sample time that is a common one in milliseconds (2 to 500) and records spanning at
+/// least 1,000 "seconds" (a 50 ms log of a minute reads as 16 hours at 50 s).
+fn milliseconds_hint(records: &[Record], sample_s: f64) -> Option<String> {
+    let whole = records.iter().all(|r| r.t.iter().all(|t| t.fract() == 0.0));
+    let span: f64 = records
+        .iter()
+        .map(|r| r.t.last().unwrap_or(&0.0) - r.t.first().unwrap_or(&0.0))
+        .sum();
+    (whole && span >= 1000.0 && MS_LIKE_STEPS.contains(&sample_s)).then(|| {
+        format!(
+            "`t` steps by {sample_s} on whole numbers, read as seconds: a {sample_s} s sample time over {} s; \
+             if `t` is in milliseconds, the sample time is {} s: give `t` in seconds (divide it by 1,000)",
+            round_sig(span, 3),
+            sample_s / 1000.0
+        )
+    })
 }
 
 /// `v` rounded to `digits` significant digits (for advice).
@@ -274,6 +297,19 @@ mod tests {
         );
         // With lags spanning more of it, no warning.
         assert!(data_warnings(&[slow], &s(&["u"]), &s(&["y"]), 30, 0.01, "--resample").is_empty());
+        // A 50 ms log of 100 s with `t` in milliseconds: read as 50 s steps over 5,000 s.
+        let ms = record(50.0, 2000, |k| (k % 7) as f64, |k| ((k * 37) % 11) as f64);
+        let w = data_warnings(&[ms], &s(&["u"]), &s(&["y"]), 2, 50.0, "--resample");
+        assert!(
+            w.len() == 1 && w[0].contains("`t` steps by 50") && w[0].contains("the sample time is 0.05 s"),
+            "{w:?}"
+        );
+        // The tanks' 4 s, a sample index (1) and a short record of whole 50 s steps: none.
+        for (step, n) in [(4.0, 1024), (1.0, 2000), (50.0, 10)] {
+            let r = record(step, n, |k| (k % 7) as f64, |k| ((k * 37) % 11) as f64);
+            let w = data_warnings(&[r], &s(&["u"]), &s(&["y"]), 2, step, "--resample");
+            assert!(w.iter().all(|m| !m.contains("milliseconds")), "{step}: {w:?}");
+        }
     }
 
     #[test]
