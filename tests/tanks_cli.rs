@@ -264,7 +264,7 @@ fn bad_tanks_scenarios_name_the_field() {
         ("input = \"voltage\"", "input = \"current\"", "control.input"),
         ("period_s = 1.0", "period_s = 0.0", "control.period_s"),
         (
-            "lambda_per_s = 0.2",
+            "lambda_per_s = 0.05",
             "lambda_per_s = -1.0",
             "control.controller.outer.lambda_per_s",
         ),
