@@ -27,7 +27,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
 const STYLE: &str = "body{font-family:system-ui,-apple-system,'Segoe UI',sans-serif;margin:2em auto;max-width:1000px;color:#222;line-height:1.45;padding:0 1em}
 h1{font-size:1.6em;margin-bottom:0.2em}h2{font-size:1.25em;margin-top:1.6em;border-bottom:1px solid #ccc}
 table{border-collapse:collapse;margin:0.5em 0;font-size:0.92em}td,th{border:1px solid #ddd;padding:3px 8px;text-align:left;vertical-align:top}
-th{background:#f3f3f3}td.num{text-align:right;font-variant-numeric:tabular-nums}
+th{background:#f3f3f3}td.num{text-align:right;font-variant-numeric:tabular-nums}td.what{color:#555;font-size:90%}
 figure{margin:1em 0}figure svg{max-width:100%;height:auto;border:1px solid #eee}figcaption{font-size:0.9em;color:#555}
 .muted{color:#666;font-size:0.9em}ul.findings li{margin:0.2em 0}";
 
@@ -98,14 +98,21 @@ fn render(dir: &Path) -> Result<String> {
         h.push_str("<h2>Figures and settings (summary.json)</h2>\n");
         let mut rows = Vec::new();
         flatten("", s, &mut rows);
-        h.push_str("<table><tr><th>field</th><th>value</th></tr>\n");
+        h.push_str("<table><tr><th>field</th><th>value</th><th>what it is (glossary)</th></tr>\n");
         for (k, v) in rows {
             let class = if v.parse::<f64>().is_ok() {
                 " class=\"num\""
             } else {
                 ""
             };
-            let _ = writeln!(h, "<tr><td>{}</td><td{class}>{}</td></tr>", esc(&k), esc(&v));
+            let what = crate::glossary::describe(&k).unwrap_or_default();
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td{class}>{}</td><td class=\"what\">{}</td></tr>",
+                esc(&k),
+                esc(&v),
+                esc(&what)
+            );
         }
         h.push_str("</table>\n");
     }
