@@ -290,7 +290,7 @@ impl Default for CascadeSettings {
             lead_s: 0.06,
             observer_pole_per_s: 70.0,
             gamma_w: 1e4,
-            gamma_w1: 10.0,
+            gamma_w1: 5.0,
             ball_fraction: 0.5,
             p_scale_mpa: 10.0,
             integral_per_s2: 1000.0,

@@ -131,7 +131,7 @@ pub enum ControllerSpec {
         /// Learning rate of the drift weights (1e4).
         #[serde(default)]
         gamma_w: Option<f64>,
-        /// Learning rate of the gain weights (10).
+        /// Learning rate of the gain weights (5).
         #[serde(default)]
         gamma_w1: Option<f64>,
         /// Radius of the gain weights' ball as a fraction of the largest safe radius, in (0, 1) (0.5).
