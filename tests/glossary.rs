@@ -7,6 +7,8 @@
 
 mod util;
 
+// The same matching as the report's "what it is" column.
+use rhonn_report::glossary::matches;
 use std::collections::BTreeSet;
 use std::path::Path;
 use util::{rhonn, stderr};
@@ -74,26 +76,6 @@ fn glossary_names(glossary: &str) -> Vec<String> {
         names.extend(first.split('`').skip(1).step_by(2).map(str::to_string));
     }
     names
-}
-
-fn matches(pattern: &str, name: &str) -> bool {
-    let p = pattern.replace("...", "*");
-    let parts: Vec<&str> = p.split('*').collect();
-    if parts.len() == 1 {
-        return p == name;
-    }
-    let (first, last) = (parts[0], parts[parts.len() - 1]);
-    if !name.starts_with(first) || !name[first.len()..].ends_with(last) {
-        return false;
-    }
-    let mut rest = &name[first.len()..name.len() - last.len()];
-    for mid in &parts[1..parts.len() - 1] {
-        match rest.find(mid) {
-            Some(i) => rest = &rest[i + mid.len()..],
-            None => return false,
-        }
-    }
-    true
 }
 
 #[test]

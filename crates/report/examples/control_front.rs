@@ -10,8 +10,10 @@
 //! `cargo run --release -p rhonn-report --example control_front [OUT]` (about 10 s on 2
 //! cores) prints both tables and writes OUT/front.csv and OUT/front.svg (default OUT:
 //! out/control-front).
-use rhonn::experiment::front::{adaptive_points, best_iae_within, cascade_points, points, FrontPoint};
-use rhonn::experiment::tuning::{grid, robustness_cases, with_cascade_pi};
+use rhonn::experiment::front::{
+    adaptive_points, best_iae_within, cascade_grid, cascade_points, points, FrontPoint,
+};
+use rhonn::experiment::tuning::{robustness_cases, with_cascade_pi};
 use rhonn::experiment::{preset, NOMINAL_OPTIMAL};
 
 const SHIPPED: [&str; 3] = [
@@ -27,12 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .unwrap_or_else(|| "out/control-front".into()),
     );
     let spec = preset::load("control-adaptive")?;
-    let gains = grid(
-        &[0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0],
-        &[0.03, 0.05, 0.07, 0.1, 0.15, 0.2, 0.3],
-        &[0.2, 0.4, 0.6, 0.8, 1.0],
-        &[1.0, 2.0, 4.0, 8.0],
-    );
+    let gains = cascade_grid();
     let cascade = cascade_points(&spec, &gains);
     let mut adaptive = adaptive_points(&spec, &[40.0, 50.0, 70.0, 100.0, 140.0, 200.0]);
     let shipped: Vec<(String, FrontPoint)> = SHIPPED

@@ -26,7 +26,7 @@ mod csv_out;
 mod data_in;
 pub mod folder;
 pub mod front_plot;
-mod glossary;
+pub mod glossary;
 mod html;
 pub mod identify;
 pub mod plant_campaign;

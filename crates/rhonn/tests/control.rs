@@ -467,16 +467,11 @@ fn the_measured_margins_are_consistent_and_the_robust_tuning_keeps_them() {
 /// no more current activity on every one of the 37 plants of the robustness study.
 #[test]
 fn every_shipped_adaptive_setting_beats_the_cascade_front() {
-    use rhonn::experiment::front::{best_iae_within, cascade_points, points};
-    use rhonn::experiment::tuning::{grid, robustness_cases, with_cascade_pi};
+    use rhonn::experiment::front::{best_iae_within, cascade_grid, cascade_points, points};
+    use rhonn::experiment::tuning::{robustness_cases, with_cascade_pi};
     use rhonn::experiment::NOMINAL_OPTIMAL;
     let spec = preset::load("control-adaptive").unwrap();
-    let gains = grid(
-        &[0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0],
-        &[0.03, 0.05, 0.07, 0.1, 0.15, 0.2, 0.3],
-        &[0.2, 0.4, 0.6, 0.8, 1.0],
-        &[1.0, 2.0, 4.0, 8.0],
-    );
+    let gains = cascade_grid();
     let cascade = cascade_points(&spec, &gains);
     for name in [
         "control-adaptive",

@@ -6,7 +6,7 @@
 
 use super::pump_controllers::CascadePiGainsMpa;
 use super::scenario::{ControllerSpec, ScenarioSpec};
-use super::tuning::with_cascade_pi;
+use super::tuning::{grid, with_cascade_pi};
 use super::{run_full, NoRecorder};
 use rayon::prelude::*;
 
@@ -39,6 +39,17 @@ fn point(controller: &'static str, setting: String, spec: &ScenarioSpec) -> Fron
         current_total_variation_a: r.as_ref().map_or(f64::INFINITY, |r| r.current_total_variation_a),
         within_1pct_percent: r.as_ref().map_or(0.0, |r| r.within_1pct_percent),
     }
+}
+
+/// The cascade PI gain sets the front is drawn from (1,540): kp 0.1-3 mm/MPa, ti 0.03-0.3
+/// s, set-point weight 0.2-1, stroke gain 1-8.
+pub fn cascade_grid() -> Vec<CascadePiGainsMpa> {
+    grid(
+        &[0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0],
+        &[0.03, 0.05, 0.07, 0.1, 0.15, 0.2, 0.3],
+        &[0.2, 0.4, 0.6, 0.8, 1.0],
+        &[1.0, 2.0, 4.0, 8.0],
+    )
 }
 
 /// Each cascade PI gain set of `gains` as the only controller of `spec` (an adaptive
