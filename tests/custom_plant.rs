@@ -81,3 +81,21 @@ fn a_controller_at_its_limit_short_of_the_set_point_is_warned_about() {
         warned[0]
     );
 }
+
+#[test]
+fn a_users_plant_takes_sensor_noise_a_delay_and_a_dither() {
+    let oven = Oven(Input::Held(0.0));
+    let figures = |text: &str| {
+        let spec = PlantScenarioSpec::from_toml(text, "test").unwrap();
+        run_plant_scenario_on(&oven, &spec).unwrap()
+    };
+    let clean = figures(CASCADE);
+    let text = CASCADE.replace("period_s = 1.0\n", "period_s = 1.0\ndelay_periods = 2\n")
+        + "\n[control.dither]\nkind = \"prbs\"\nstart_s = 0.0\nend_s = 100.0\nbit_s = 2.0\nlow = -0.05\nhigh = 0.05\nseed = 4\n\n[measurement]\nnoise_std = { chamber = 1.0 }\nseed = 3\n";
+    let noisy = figures(&text);
+    assert!(noisy.trajectory.iter().any(|c| c.name == "chamber_measured"));
+    let [a0, _] = clean.summary.control.unwrap();
+    let [a1, _] = noisy.summary.control.unwrap();
+    assert!(a1.iae.is_finite() && a1.iae != a0.iae, "{} -> {}", a0.iae, a1.iae);
+    assert!(a1.input_total_variation > a0.input_total_variation);
+}

@@ -237,12 +237,13 @@ fn every_file_a_guides_shell_block_names_ships() {
 /// The scenario reference (docs/reference/scenarios.md): its first block is an open-loop
 /// scenario; each later block, in place of `[current_a]` (a controller) or added to it (an
 /// identifier), is one too; every key shown commented out but `degree` and `max_factors`
-/// (the alternative to `terms`) is accepted when uncommented.
+/// (the alternative to `terms`) is accepted when uncommented. The fifth is a plant
+/// scenario with sensor noise, a delay and a dither.
 #[test]
 fn the_scenario_reference_blocks_are_scenarios_rhonn_runs() {
     let text = std::fs::read_to_string(root().join("docs/reference/scenarios.md")).unwrap();
     let toml = blocks(&text, "toml");
-    assert!(toml.len() >= 4, "{} TOML blocks", toml.len());
+    assert!(toml.len() >= 5, "{} TOML blocks", toml.len());
     let uncomment = |b: &[String]| -> String {
         b.iter()
             .map(|l| {
@@ -276,6 +277,8 @@ fn the_scenario_reference_blocks_are_scenarios_rhonn_runs() {
             format!("{}\n{}", open_loop(&base), uncomment(&toml[2])),
         ),
         ("identifier", format!("{base}\n{}", uncomment(&toml[3]))),
+        // A plant scenario with its noise, delay and dither.
+        ("plant", uncomment(&toml[4])),
     ];
     let d = tempfile::tempdir().unwrap();
     for (name, scenario) in cases {
@@ -286,4 +289,9 @@ fn the_scenario_reference_blocks_are_scenarios_rhonn_runs() {
         assert!(o.status.success(), "{name}: {}\n{scenario}", stderr(&o));
         assert!(Path::new(&d.path().join(name).join("summary.json")).exists());
     }
+    let csv = std::fs::read_to_string(d.path().join("plant/trajectory.csv")).unwrap();
+    assert!(
+        csv.lines().next().unwrap().contains("h2_measured"),
+        "the noise's column"
+    );
 }

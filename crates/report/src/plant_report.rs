@@ -83,11 +83,15 @@ pub fn write_plant_run(dir: &Path, output: &PlantRunOutput) -> Result<Vec<PathBu
             .iter()
             .any(|q| q.name == c.quantity.name)
     };
+    // What a noisy sensor measured is in trajectory.csv; the plot shows the true states.
+    let is_measured = |c: &PlantColumn| c.name.contains("_measured");
     let mut plots = vec![
         (
             "states.svg",
             TimePlot::render(
-                &panels(name, &output.trajectory, |c| !is_in(c) && !is_weight(c)),
+                &panels(name, &output.trajectory, |c| {
+                    !is_in(c) && !is_weight(c) && !is_measured(c)
+                }),
                 900,
                 380,
             ),

@@ -5,6 +5,8 @@
 //! dense output for the pump).
 
 use super::integrated::{Alone, Integrated};
+pub use super::loop_conditions::LoopConditions;
+use super::loop_conditions::{Actuator, Sensors};
 use super::sim::{describe, drive, start, Hooks, Instants};
 use crate::control::Controller;
 use crate::error::{Error, Result};
@@ -173,6 +175,9 @@ pub struct LoopRun {
     /// An adaptive controller's weights at each instant (empty for others): |W|, |W_1|,
     /// |W_1 - centre| and the radius of W_1's ball, in the neuron's (scaled) units.
     pub weights: Vec<[f64; 4]>,
+    /// What the controller measured of the controlled state at each instant, SI (empty
+    /// when no state is measured with noise).
+    pub y_measured: Vec<f64>,
     /// Integral of |y - r| over the run (rectangle rule at the control instants), SI s.
     pub iae: f64,
     /// Integral of (y - r)^2, SI^2 s.
@@ -191,15 +196,31 @@ impl LoopRun {
 
 /// `ctl` drives input `input` of `plant` from `x0` for `duration_s`, every `period_s`,
 /// to follow `setpoint`; an error (with the time and the state) when the solver fails
-/// or the controller's output is not finite.
+/// or the controller's output is not finite. A clean loop: exact measurements, no
+/// delay ([`closed_loop_with`] for noise, dither and delay).
 pub fn closed_loop<P: Plant>(
-    mut plant: P,
+    plant: P,
     x0: &[f64],
     ctl: &mut dyn Controller,
     input: usize,
     setpoint: &Signal,
     period_s: f64,
     duration_s: f64,
+) -> Result<LoopRun> {
+    let clean = LoopConditions::default();
+    closed_loop_with(plant, x0, ctl, input, (setpoint, period_s, duration_s), &clean)
+}
+
+/// [`closed_loop`] under `conditions`: the controller sees its states through noisy
+/// sensors, and its command, dithered, reaches the plant after the delay. `u` records
+/// what reached the plant; `y_measured` what the controller saw of the regulated state.
+pub fn closed_loop_with<P: Plant>(
+    mut plant: P,
+    x0: &[f64],
+    ctl: &mut dyn Controller,
+    input: usize,
+    (setpoint, period_s, duration_s): (&Signal, f64, f64),
+    conditions: &LoopConditions,
 ) -> Result<LoopRun> {
     let meas_idx = ctl.measurements().to_vec();
     let y_idx = *meas_idx.first().ok_or_else(|| {
@@ -218,9 +239,13 @@ pub fn closed_loop<P: Plant>(
             states: vec![Vec::new(); n_states],
             inner_reference: Vec::new(),
             weights: Vec::new(),
+            y_measured: Vec::new(),
             iae: 0.0,
             ise: 0.0,
         },
+        sensors: Sensors::new(conditions),
+        actuator: Actuator::new(conditions),
+        noisy: conditions.noisy(),
         meas: vec![0.0; meas_idx.len()],
         meas_idx,
         y_idx,
@@ -245,13 +270,16 @@ struct Regulate<'a> {
     input: usize,
     setpoint: &'a Signal,
     period_s: f64,
+    sensors: Sensors,
+    actuator: Actuator,
+    noisy: bool,
 }
 
 impl<P: Plant> Hooks<Alone<P>> for Regulate<'_> {
     fn instant(&mut self, s: &mut Dopri5<Alone<P>>) -> Result<()> {
         let t = s.t();
         for (m, &i) in self.meas.iter_mut().zip(&self.meas_idx) {
-            *m = s.state()[i];
+            *m = self.sensors.measure(i, s.state()[i]);
         }
         let r = self.setpoint.eval(t);
         let ctl = &mut *self.ctl;
@@ -266,8 +294,12 @@ impl<P: Plant> Hooks<Alone<P>> for Regulate<'_> {
                 ),
             });
         }
+        let u = self.actuator.apply(t, u);
         s.system_mut().plant_mut().hold_input(self.input, u);
         let (run, y) = (&mut self.run, s.state()[self.y_idx]);
+        if self.noisy {
+            run.y_measured.push(self.meas[0]);
+        }
         let e = y - r;
         run.iae += e.abs() * self.period_s;
         run.ise += e * e * self.period_s;

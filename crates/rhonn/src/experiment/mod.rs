@@ -8,6 +8,7 @@ mod figures;
 pub mod front;
 mod ident_figures;
 mod integrated;
+mod loop_conditions;
 mod plant_run;
 mod plant_scenario;
 pub mod preset;
@@ -20,12 +21,14 @@ mod trace;
 pub mod tuning;
 
 pub use bench::{bench, bench_plant, BenchFigures};
+pub use loop_conditions::LoopConditions;
 pub use plant_run::{
     nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on, IdentStateFigures, LoopFigures,
     PlantColumn, PlantRunOutput, PlantSummary, WEIGHT_QUANTITIES,
 };
 pub use plant_scenario::{
-    is_plant_scenario, ControlSpec, LoopSpec, PlantScenarioSpec, PlantSection, ValidationSpec,
+    is_plant_scenario, ControlSpec, LoopSpec, PlantScenarioSpec, PlantSection, SensorNoiseSpec,
+    ValidationSpec, MAX_DELAY_PERIODS,
 };
 pub use pump_controllers::{
     Baseline, CascadePiGainsMpa, CascadePiSettings, PiSettings, NOMINAL_OPTIMAL, ROBUST,

@@ -3,8 +3,10 @@
 //! identical plants. Produces columns (SI) and a summary (display units) that the
 //! report crate writes as trajectory.csv, validation.csv, summary.json and plots.
 
-use super::any_plant::{closed_loop, identify, IdentRun, LoopRun};
-use super::plant_scenario::{build_loop, configure, drive, signal, state_index, PlantScenarioSpec};
+use super::any_plant::{closed_loop_with, identify, IdentRun, LoopRun};
+use super::plant_scenario::{
+    build_loop, configure, drive, loop_conditions, signal, state_index, PlantScenarioSpec,
+};
 use crate::error::{invalid, Result};
 use crate::plant::{with_kind, Plant, Quantity, WithPlant};
 use serde::Serialize;
@@ -135,6 +137,47 @@ fn activity_finding(a: &LoopFigures, b: &LoopFigures, unit: &str) -> String {
         crate::metrics::sig(a.time_input_switching_s, 4),
         crate::metrics::sig(b.time_input_switching_s, 4),
     )
+}
+
+/// The loop's conditions in words, when it is not clean: what both controllers faced.
+fn conditions_finding<P: Plant>(
+    plant: &P,
+    c: &super::plant_scenario::ControlSpec,
+    spec: &PlantScenarioSpec,
+    qu: &Quantity,
+) -> Option<String> {
+    let mut parts = Vec::new();
+    if let Some(m) = &spec.measurement {
+        let noise: Vec<String> = plant
+            .states()
+            .iter()
+            .filter_map(|q| {
+                let std = m.noise_std.get(q.name)?;
+                Some(format!(
+                    "{} {}{}",
+                    q.name,
+                    crate::metrics::sig(*std, 3),
+                    shown_unit(q.display_unit)
+                ))
+            })
+            .collect();
+        parts.push(format!(
+            "sensor noise (standard deviation) {} (seed {})",
+            noise.join(", "),
+            m.seed
+        ));
+    }
+    if c.delay_periods > 0 {
+        parts.push(format!(
+            "the command delayed {} control periods ({} s)",
+            c.delay_periods,
+            crate::metrics::sig(f64::from(c.delay_periods) * c.period_s, 4)
+        ));
+    }
+    if c.dither.is_some() {
+        parts.push(format!("a dither added to the {}", qu.name));
+    }
+    (!parts.is_empty()).then(|| format!("both controllers ran with {}", parts.join("; ")))
 }
 
 /// A unit as printed after a number: none for a dimensionless "1".
@@ -340,6 +383,7 @@ fn run_control<P: Plant>(
     }
     // Bounded so that the error's integrals (IAE, ISE) stay finite.
     let sp = signal(&c.setpoint, "control.setpoint", &qy, (-1e150, 1e150))?;
+    let conditions = loop_conditions(&plant, spec, c, qu, range)?;
     let mut runs = Vec::new();
     for (field, l) in [
         ("control.controller", &c.controller),
@@ -353,14 +397,13 @@ fn run_control<P: Plant>(
             ));
         }
         let mut ctl = build_loop(&plant, l, field, (qu, range), c.period_s, x0)?;
-        runs.push(closed_loop(
+        runs.push(closed_loop_with(
             plant.clone(),
             x0,
             ctl.as_mut(),
             k,
-            &sp,
-            c.period_s,
-            spec.duration_s,
+            (&sp, c.period_s, spec.duration_s),
+            &conditions,
         )?);
     }
     let figs = |r: &LoopRun| {
@@ -377,6 +420,7 @@ fn run_control<P: Plant>(
         }
     };
     let [a, b] = [figs(&runs[0]), figs(&runs[1])];
+    summary.findings.extend(conditions_finding(&plant, c, spec, qu));
     summary.findings.push(format!(
         "{}: IAE {:.1} {u} s against {:.1} for the baseline {} ({:+.1} %); final error {:.3} against {:.3} {u}",
         a.controller,
@@ -435,6 +479,13 @@ fn loop_columns<P: Plant>(
             input: true,
             ..col(format!("{}{suffix}", qu.name), *qu, run.u.clone())
         });
+        if !run.y_measured.is_empty() {
+            cols.push(col(
+                format!("{}_measured{suffix}", qy.name),
+                *qy,
+                run.y_measured.clone(),
+            ));
+        }
         if let (false, Some(q)) = (run.inner_reference.is_empty(), inner) {
             cols.push(col(
                 format!("{}_ref{suffix}", q.name),

@@ -4,6 +4,7 @@
 //! are in the display units of the quantity they belong to (mm for a tank's level, V for
 //! the pump voltage); times in seconds.
 
+use super::loop_conditions::LoopConditions;
 use crate::control::{Cascade, Controller, IndirectSettings, Pi, RhonnIndirect};
 use crate::error::{invalid, Error, Result};
 use crate::ident::IdentifierSpec;
@@ -40,6 +41,22 @@ pub struct PlantScenarioSpec {
     /// A controller and its baseline.
     #[serde(default)]
     pub control: Option<ControlSpec>,
+    /// Noisy sensors of a control run's states.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measurement: Option<SensorNoiseSpec>,
+}
+
+/// `[measurement]`: white Gaussian noise on what a control run's controllers measure
+/// (the controller and its baseline see the same noise; the figures are of the true
+/// states).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorNoiseSpec {
+    /// Standard deviation of the noise per state, by name (display units of the state).
+    pub noise_std: BTreeMap<String, f64>,
+    /// Seed of the noise streams (default 0; one stream per state).
+    #[serde(default)]
+    pub seed: u64,
 }
 
 fn one() -> f64 {
@@ -87,7 +104,22 @@ pub struct ControlSpec {
     pub controller: LoopSpec,
     /// The controller it is compared with.
     pub baseline: LoopSpec,
+    /// Transport delay: the command reaches the plant this many control periods late
+    /// (default 0; both loops).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub delay_periods: u32,
+    /// An excitation added to both loops' command (display units of the input), the sum
+    /// clipped to `input_range`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dither: Option<SignalSpec>,
 }
+
+fn is_zero(v: &u32) -> bool {
+    *v == 0
+}
+
+/// At most this many periods of transport delay.
+pub const MAX_DELAY_PERIODS: u32 = 100_000;
 
 /// One control loop, tagged by `kind`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -425,6 +457,11 @@ impl PlantScenarioSpec {
             (None, Some(_)) if self.validation.is_some() => {
                 Err(invalid("validation", "a section", "only with an [identifier]"))
             }
+            (Some(_), None) if self.measurement.is_some() => Err(invalid(
+                "measurement",
+                "a section",
+                "only with a [control] section (the identifier learns from the plant's states as they are integrated, not from sampled measurements)",
+            )),
             _ => Ok(()),
         }
     }
@@ -440,4 +477,49 @@ pub fn is_plant_scenario(text: &str) -> bool {
         .and_then(|p| p.get("kind"))
         .and_then(|k| k.as_str())
         .is_some()
+}
+
+/// The loop conditions of `spec`'s control run on `plant`: noise on the named states,
+/// the delay and the dither of `control` on input `qu` in `range` (SI).
+pub(crate) fn loop_conditions<P: Plant>(
+    plant: &P,
+    spec: &PlantScenarioSpec,
+    control: &ControlSpec,
+    qu: &Quantity,
+    range: (f64, f64),
+) -> Result<LoopConditions> {
+    let mut c = LoopConditions {
+        input_range: range,
+        delay_periods: control.delay_periods,
+        ..LoopConditions::default()
+    };
+    if control.delay_periods > MAX_DELAY_PERIODS {
+        return Err(invalid(
+            "control.delay_periods",
+            control.delay_periods,
+            format!("a whole number of control periods from 0 to {MAX_DELAY_PERIODS}"),
+        ));
+    }
+    if let Some(d) = &control.dither {
+        c.dither = Some(signal(d, "control.dither", qu, (-1e150, 1e150))?);
+    }
+    if let Some(m) = &spec.measurement {
+        c.seed = m.seed;
+        for (name, std) in &m.noise_std {
+            let field = format!("measurement.noise_std.{name}");
+            let i = state_index(plant, &field, name)?;
+            let si = std / plant.states()[i].display_per_si;
+            // Bounded so that a measurement plus its noise stays finite.
+            if !(std.is_finite() && *std >= 0.0 && si < 1e150) {
+                return Err(invalid(
+                    field,
+                    std,
+                    format!("a standard deviation >= 0 in {}", plant.states()[i].display_unit),
+                ));
+            }
+            c.noise_std.push((i, si));
+        }
+        c.noise_std.sort_by_key(|(i, _)| *i);
+    }
+    Ok(c)
 }
