@@ -208,3 +208,53 @@ fn no_function_is_over_120_lines() {
         vec![(1, 122)]
     );
 }
+
+/// Every controller kind registered in `loop_kinds!` (`crates/rhonn/src/control/mod.rs`)
+/// is one file in `control/` and is listed in docs/ARCHITECTURE.md by its `kind`.
+#[test]
+fn every_registered_controller_kind_is_one_file_and_listed_in_the_architecture() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let control = root.join("crates/rhonn/src/control");
+    let text = std::fs::read_to_string(control.join("mod.rs")).unwrap();
+    let start = text.find("\nloop_kinds! {").expect("the registry");
+    let block = &text[start..start + text[start..].find("\n}").unwrap()];
+    let arch = std::fs::read_to_string(root.join("docs/ARCHITECTURE.md")).unwrap();
+    let mut kinds = 0;
+    for line in block
+        .lines()
+        .skip(1)
+        .map(str::trim)
+        .filter(|l| !l.starts_with(['#', '/']))
+    {
+        let Some((variant, settings)) = line.trim_end_matches("),").split_once('(') else {
+            continue;
+        };
+        let mut kind = String::new();
+        for (i, c) in variant.chars().enumerate() {
+            if c.is_ascii_uppercase() && i > 0 {
+                kind.push('-');
+            }
+            kind.push(c.to_ascii_lowercase());
+        }
+        let file = settings.split("::").next().filter(|_| settings.contains("::"));
+        let used = match file {
+            Some(f) => f.to_string(),
+            None => {
+                // Settings re-exported in mod.rs: `pub use FILE::{..., SETTINGS, ...}`.
+                let at = text.find(settings).unwrap();
+                let line = text[..at].rsplit("pub use ").next().unwrap();
+                line.split("::").next().unwrap().to_string()
+            }
+        };
+        assert!(
+            control.join(format!("{used}.rs")).exists(),
+            "{kind}: no control/{used}.rs"
+        );
+        assert!(
+            arch.contains(&format!("`{kind}`")),
+            "docs/ARCHITECTURE.md does not list `{kind}`"
+        );
+        kinds += 1;
+    }
+    assert!(kinds >= 4, "{kinds} kinds read from the registry");
+}

@@ -5,7 +5,9 @@
 //! loop over a PI inner loop, or a PI over a PI as the classical baseline with the same
 //! sensors.
 
-use super::{AdaptiveView, Controller};
+use super::{AdaptiveView, Controller, LoopContext, LoopSettings, LoopSpec};
+use crate::error::{invalid, Result};
+use serde::{Deserialize, Serialize};
 
 /// An outer and an inner controller; measures what both measure (the outer's first).
 pub struct Cascade {
@@ -83,5 +85,71 @@ mod tests {
             "{u}"
         );
         assert!(c.adaptive(0.0).is_none());
+    }
+}
+
+/// `kind = "cascade"` in a scenario file: an outer loop that sets an inner state's
+/// set-point, and an inner loop that drives the input (one level: neither is a cascade).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CascadeLoop {
+    /// The outer loop (on the regulated state).
+    pub outer: Box<LoopSpec>,
+    /// The inner loop (on the inner state).
+    pub inner: Box<LoopSpec>,
+    /// The range of the inner set-point `[min, max]` (display units of the inner loop's
+    /// state).
+    pub inner_range: [f64; 2],
+}
+
+impl LoopSettings for CascadeLoop {
+    fn state(&self) -> &str {
+        self.outer.state()
+    }
+    fn name(&self) -> &'static str {
+        match (self.outer.name(), self.inner.name()) {
+            ("rhonn-indirect", _) => "rhonn-cascade",
+            (_, "rhonn-indirect") => "pi-over-rhonn-cascade",
+            _ => "pi-cascade",
+        }
+    }
+    fn inner_state(&self) -> Option<&str> {
+        Some(self.inner.state())
+    }
+    fn build(&self, cx: &LoopContext) -> Result<Box<dyn Controller>> {
+        let field = &cx.field;
+        let j = cx.state_index("inner.state", self.inner.state())?;
+        let qi = &cx.states[j];
+        let r = (
+            self.inner_range[0] / qi.display_per_si,
+            self.inner_range[1] / qi.display_per_si,
+        );
+        if !(r.0.is_finite() && r.1.is_finite() && r.0 < r.1) {
+            return Err(invalid(
+                format!("{field}.inner_range"),
+                format!("{:?}", self.inner_range),
+                "[min, max] with min < max",
+            ));
+        }
+        if self.inner.inner_state().is_some() || self.outer.inner_state().is_some() {
+            return Err(invalid(
+                format!("{field}.outer"),
+                "a cascade",
+                "a pi or rhonn-indirect loop (one level of cascade)",
+            ));
+        }
+        let outer_cx = LoopContext {
+            field: format!("{field}.outer"),
+            output: qi,
+            range: r,
+            ..cx.clone()
+        };
+        let o = self.outer.build(&outer_cx)?;
+        let inner_cx = LoopContext {
+            field: format!("{field}.inner"),
+            ..cx.clone()
+        };
+        let n = self.inner.build(&inner_cx)?;
+        Ok(Box::new(Cascade::new(self.name(), o, n)))
     }
 }

@@ -6,13 +6,76 @@
 pub mod adaptive;
 mod cascade;
 mod cascade_pi;
+mod loop_spec;
 mod pi;
 mod rhonn_indirect;
+#[cfg(test)]
+mod test_bang_bang;
 pub use adaptive::{AffineNeuron, CascadeSettings, CascadeState, RhonnCascade};
-pub use cascade::Cascade;
+pub use cascade::{Cascade, CascadeLoop};
 pub use cascade_pi::{CascadePi, CascadePiGains};
-pub use pi::Pi;
-pub use rhonn_indirect::{IndirectSettings, RhonnIndirect};
+pub use loop_spec::{LoopContext, LoopSettings};
+pub use pi::{Pi, PiLoop};
+pub use rhonn_indirect::{IndirectLoop, IndirectSettings, RhonnIndirect};
+
+/// Declares [`LoopSpec`], the controller kinds a scenario file can name: a variant per
+/// kind (its `kind` is the variant's name in kebab-case), holding the settings type that
+/// implements [`LoopSettings`], and the dispatch to it. A kind may carry a `cfg`.
+macro_rules! loop_kinds {
+    ($( $(#[cfg($c:meta)])? $variant:ident($settings:ty), )*) => {
+        /// One control loop of a scenario file, tagged by `kind`: see each settings type.
+        #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+        #[serde(tag = "kind", rename_all = "kebab-case")]
+        pub enum LoopSpec {
+            $(
+                $(#[cfg($c)])?
+                #[doc = concat!("`", stringify!($settings), "`")]
+                $variant($settings),
+            )*
+        }
+
+        impl LoopSpec {
+            /// The kind's settings.
+            pub fn settings(&self) -> &dyn LoopSettings {
+                match self {
+                    $( $(#[cfg($c)])? LoopSpec::$variant(s) => s, )*
+                }
+            }
+        }
+    };
+}
+
+// The registry: adding a controller kind to scenario files is its file (the controller,
+// its settings type, `impl LoopSettings`) and one line here.
+loop_kinds! {
+    Pi(PiLoop),
+    RhonnIndirect(IndirectLoop),
+    Cascade(CascadeLoop),
+    #[cfg(test)]
+    TestBangBang(test_bang_bang::BangBangLoop),
+}
+
+impl LoopSpec {
+    /// The state the loop regulates (a cascade: its outer loop's).
+    pub fn state(&self) -> &str {
+        self.settings().state()
+    }
+
+    /// Its name in reports.
+    pub fn name(&self) -> &'static str {
+        self.settings().name()
+    }
+
+    /// A cascade's inner state (None for a single loop).
+    pub fn inner_state(&self) -> Option<&str> {
+        self.settings().inner_state()
+    }
+
+    /// The controller, checked against `cx`.
+    pub fn build(&self, cx: &LoopContext) -> crate::Result<Box<dyn Controller>> {
+        self.settings().build(cx)
+    }
+}
 
 /// A sampled controller of one plant input.
 ///

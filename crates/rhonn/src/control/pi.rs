@@ -3,9 +3,11 @@
 //! microcontroller); here it becomes a [`Controller`] with a measured state and an
 //! optional dither.
 
-use super::Controller;
+use super::{Controller, LoopContext, LoopSettings};
+use crate::error::{invalid, Result};
 use crate::signal::Signal;
 pub use rhonn_core::pi::AntiWindupPi;
+use serde::{Deserialize, Serialize};
 
 /// A discrete PI regulator `u = bias + kp e + ki sum(e T)`, output clipped to
 /// `[u_min, u_max]`. Anti-windup by conditional integration: the integral does not
@@ -57,5 +59,58 @@ impl Controller for Pi {
             Some(d) => (u + d.eval(t)).clamp(self.law.u_min, self.law.u_max),
             None => u,
         }
+    }
+}
+
+/// `kind = "pi"` in a scenario file: a PI with anti-windup on one measured state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PiLoop {
+    /// The state it measures.
+    pub state: String,
+    /// Gain (display unit of the output per display unit of the state).
+    pub kp: f64,
+    /// Integral time \[s\].
+    pub ti_s: f64,
+    /// Output offset (display units; default 0).
+    #[serde(default)]
+    pub bias: f64,
+}
+
+impl LoopSettings for PiLoop {
+    fn state(&self) -> &str {
+        &self.state
+    }
+    fn name(&self) -> &'static str {
+        "pi"
+    }
+    fn build(&self, cx: &LoopContext) -> Result<Box<dyn Controller>> {
+        let field = &cx.field;
+        let i = cx.state_index("state", &self.state)?;
+        let q = &cx.states[i];
+        let (kp, bias, out) = (self.kp, self.bias, cx.output);
+        if !kp.is_finite() {
+            return Err(invalid(format!("{field}.kp"), kp, "a finite number"));
+        }
+        let ti = cx.positive("ti_s", self.ti_s)?;
+        let (lo, hi) = (cx.range.0 * out.display_per_si, cx.range.1 * out.display_per_si);
+        if !(bias.is_finite() && lo.min(hi) <= bias && bias <= hi.max(lo)) {
+            return Err(invalid(
+                format!("{field}.bias"),
+                bias,
+                format!("a number within the loop's output range [{lo}, {hi}]"),
+            ));
+        }
+        let kp_si = kp * q.display_per_si / out.display_per_si;
+        let mut pi = Pi::new(
+            kp_si,
+            ti,
+            cx.period_s,
+            bias / out.display_per_si,
+            cx.range.0,
+            cx.range.1,
+        );
+        pi.measured = [i];
+        Ok(Box::new(pi))
     }
 }

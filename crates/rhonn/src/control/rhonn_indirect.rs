@@ -16,8 +16,10 @@
 //! Ioannou, Sun, *Robust Adaptive Control*, 1996, section 8.5 (projection).
 
 use super::adaptive::{AffineNeuron, L_DRIFT, L_GAIN};
-use super::{AdaptiveView, Controller};
+use super::{AdaptiveView, Controller, LoopContext, LoopSettings};
+use crate::error::{invalid, Result};
 use crate::net::Sigmoid;
+use serde::{Deserialize, Serialize};
 
 /// Settings of [`RhonnIndirect`]; the defaults suit a plant whose scaled output moves by
 /// about one unit in some seconds.
@@ -178,5 +180,74 @@ impl Controller for RhonnIndirect {
             identifying,
             self.projections,
         ))
+    }
+}
+
+/// `kind = "rhonn-indirect"` in a scenario file: RHONN indirect adaptive control of a
+/// first-order input-affine state; unset settings follow [`IndirectSettings::for_pole`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IndirectLoop {
+    /// The state it measures.
+    pub state: String,
+    /// Closed-loop pole \[1/s\].
+    pub lambda_per_s: f64,
+    /// The state's scale for the neuron (display units).
+    pub y_scale: f64,
+    /// A guess of d(state)/d(output) in scaled units per second, of the right sign
+    /// (default 0.01: the state rises with the output).
+    #[serde(default)]
+    pub gain0: Option<f64>,
+    /// Identification phase \[s\] (default 2 / lambda).
+    #[serde(default)]
+    pub identification_s: Option<f64>,
+    /// Learning rates of W and W_1 (default 2.5 lambda).
+    #[serde(default)]
+    pub gamma: Option<f64>,
+    /// W_1's ball, fraction of the largest safe radius (default 0.5).
+    #[serde(default)]
+    pub ball_fraction: Option<f64>,
+}
+
+impl LoopSettings for IndirectLoop {
+    fn state(&self) -> &str {
+        &self.state
+    }
+    fn name(&self) -> &'static str {
+        "rhonn-indirect"
+    }
+    fn build(&self, cx: &LoopContext) -> Result<Box<dyn Controller>> {
+        let field = &cx.field;
+        let i = cx.state_index("state", &self.state)?;
+        let q = &cx.states[i];
+        let mut st = IndirectSettings::for_pole(
+            cx.positive("lambda_per_s", self.lambda_per_s)?,
+            cx.positive("y_scale", self.y_scale)? / q.display_per_si,
+        );
+        if let Some(v) = self.identification_s {
+            st.identification_s = cx.positive("identification_s", v)?;
+        }
+        if let Some(v) = self.gamma {
+            st.gamma_w = cx.positive("gamma", v)?;
+            st.gamma_w1 = st.gamma_w;
+        }
+        if let Some(v) = self.ball_fraction {
+            if !(v > 0.0 && v < 1.0) {
+                return Err(invalid(format!("{field}.ball_fraction"), v, "in (0, 1)"));
+            }
+            st.ball_fraction = v;
+        }
+        let g0 = self.gain0.unwrap_or(0.01);
+        if !(g0.is_finite() && g0 != 0.0) {
+            return Err(invalid(format!("{field}.gain0"), g0, "finite and not 0"));
+        }
+        Ok(Box::new(RhonnIndirect::new(
+            st,
+            i,
+            cx.range,
+            cx.period_s,
+            g0,
+            cx.x0[i],
+        )))
     }
 }

@@ -4,9 +4,8 @@
 //! report crate writes as trajectory.csv, validation.csv, summary.json and plots.
 
 use super::any_plant::{closed_loop_with, identify, IdentRun, LoopRun};
-use super::plant_scenario::{
-    build_loop, configure, drive, loop_conditions, signal, state_index, PlantScenarioSpec,
-};
+use super::plant_scenario::{configure, drive, loop_conditions, signal, state_index, PlantScenarioSpec};
+use crate::control::LoopContext;
 use crate::error::{invalid, Result};
 use crate::plant::{with_kind, Plant, Quantity, WithPlant};
 use serde::Serialize;
@@ -337,18 +336,8 @@ fn run_on<P: Plant>(
     run_control(plant, &x0, spec, summary)
 }
 
-/// The `[control]` experiment: the controller and the baseline, each on an identical
-/// plant from `x0`.
-fn run_control<P: Plant>(
-    plant: P,
-    x0: &[f64],
-    spec: &PlantScenarioSpec,
-    mut summary: PlantSummary,
-) -> Result<PlantRunOutput> {
-    let c = spec
-        .control
-        .as_ref()
-        .ok_or_else(|| invalid("control", "none", "a [control] section"))?;
+/// The input `c` drives (its index) and its range in SI, checked.
+fn control_input<P: Plant>(plant: &P, c: &super::plant_scenario::ControlSpec) -> Result<(usize, (f64, f64))> {
     let k = plant
         .inputs()
         .iter()
@@ -372,6 +361,23 @@ fn run_control<P: Plant>(
             "[min, max] with min < max",
         ));
     }
+    Ok((k, range))
+}
+
+/// The `[control]` experiment: the controller and the baseline, each on an identical
+/// plant from `x0`.
+fn run_control<P: Plant>(
+    plant: P,
+    x0: &[f64],
+    spec: &PlantScenarioSpec,
+    mut summary: PlantSummary,
+) -> Result<PlantRunOutput> {
+    let c = spec
+        .control
+        .as_ref()
+        .ok_or_else(|| invalid("control", "none", "a [control] section"))?;
+    let (k, range) = control_input(&plant, c)?;
+    let qu = &plant.inputs()[k];
     let y = state_index(&plant, "control.output", &c.output)?;
     let qy = plant.states()[y];
     if !(c.period_s.is_finite() && c.period_s > 0.0 && c.period_s <= spec.duration_s) {
@@ -396,7 +402,16 @@ fn run_control<P: Plant>(
                 format!("the regulated state \"{}\"", c.output),
             ));
         }
-        let mut ctl = build_loop(&plant, l, field, (qu, range), c.period_s, x0)?;
+        let cx = LoopContext {
+            plant: plant.name(),
+            states: plant.states(),
+            field: field.to_string(),
+            output: qu,
+            range,
+            period_s: c.period_s,
+            x0,
+        };
+        let mut ctl = l.build(&cx)?;
         runs.push(closed_loop_with(
             plant.clone(),
             x0,
@@ -440,11 +455,9 @@ fn run_control<P: Plant>(
     }
     summary.regulated = Some((qy.name, qy.display_unit));
     summary.control = Some([a, b]);
-    let inner = [&c.controller, &c.baseline].map(|l| match l {
-        super::plant_scenario::LoopSpec::Cascade { inner, .. } => {
-            plant.states().iter().find(|q| q.name == inner.state()).copied()
-        }
-        _ => None,
+    let inner = [&c.controller, &c.baseline].map(|l| {
+        let s = l.inner_state()?;
+        plant.states().iter().find(|q| q.name == s).copied()
     });
     let trajectory = loop_columns(&plant, &runs, &qy, qu, inner);
     Ok(PlantRunOutput {

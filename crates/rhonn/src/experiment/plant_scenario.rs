@@ -5,7 +5,7 @@
 //! the pump voltage); times in seconds.
 
 use super::loop_conditions::LoopConditions;
-use crate::control::{Cascade, Controller, IndirectSettings, Pi, RhonnIndirect};
+pub use crate::control::LoopSpec;
 use crate::error::{invalid, Error, Result};
 use crate::ident::IdentifierSpec;
 use crate::plant::{Input, Plant, Quantity};
@@ -121,90 +121,9 @@ fn is_zero(v: &u32) -> bool {
 /// At most this many periods of transport delay.
 pub const MAX_DELAY_PERIODS: u32 = 100_000;
 
-/// One control loop, tagged by `kind`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
-pub enum LoopSpec {
-    /// PI with anti-windup on one measured state.
-    Pi {
-        /// The state it measures.
-        state: String,
-        /// Gain (display unit of the output per display unit of the state).
-        kp: f64,
-        /// Integral time \[s\].
-        ti_s: f64,
-        /// Output offset (display units; default 0).
-        #[serde(default)]
-        bias: f64,
-    },
-    /// RHONN indirect adaptive control of a first-order input-affine state
-    /// (`control::RhonnIndirect`); unset settings follow `IndirectSettings::for_pole`.
-    RhonnIndirect {
-        /// The state it measures.
-        state: String,
-        /// Closed-loop pole \[1/s\].
-        lambda_per_s: f64,
-        /// The state's scale for the neuron (display units).
-        y_scale: f64,
-        /// A guess of d(state)/d(output) in scaled units per second, of the right sign
-        /// (default 0.01: the state rises with the output).
-        #[serde(default)]
-        gain0: Option<f64>,
-        /// Identification phase \[s\] (default 2 / lambda).
-        #[serde(default)]
-        identification_s: Option<f64>,
-        /// Learning rates of W and W_1 (default 2.5 lambda).
-        #[serde(default)]
-        gamma: Option<f64>,
-        /// W_1's ball, fraction of the largest safe radius (default 0.5).
-        #[serde(default)]
-        ball_fraction: Option<f64>,
-    },
-    /// An outer loop that sets an inner state's set-point, and an inner loop that
-    /// drives the input.
-    Cascade {
-        /// The outer loop (on the regulated state).
-        outer: Box<LoopSpec>,
-        /// The inner loop (on the inner state).
-        inner: Box<LoopSpec>,
-        /// The range of the inner set-point `[min, max]` (display units of the inner
-        /// loop's state).
-        inner_range: [f64; 2],
-    },
-}
-
-impl LoopSpec {
-    /// The state the loop regulates (a cascade: its outer loop's).
-    pub fn state(&self) -> &str {
-        match self {
-            LoopSpec::Pi { state, .. } | LoopSpec::RhonnIndirect { state, .. } => state,
-            LoopSpec::Cascade { outer, .. } => outer.state(),
-        }
-    }
-
-    /// Its name in reports.
-    pub fn name(&self) -> &'static str {
-        match self {
-            LoopSpec::Pi { .. } => "pi",
-            LoopSpec::RhonnIndirect { .. } => "rhonn-indirect",
-            LoopSpec::Cascade { outer, inner, .. } => match (&**outer, &**inner) {
-                (LoopSpec::RhonnIndirect { .. }, _) => "rhonn-cascade",
-                (_, LoopSpec::RhonnIndirect { .. }) => "pi-over-rhonn-cascade",
-                _ => "pi-cascade",
-            },
-        }
-    }
-}
-
 /// Index of state `name` of `plant`, or an error naming `field` and the states.
 pub(crate) fn state_index<P: Plant>(plant: &P, field: &str, name: &str) -> Result<usize> {
-    plant.states().iter().position(|q| q.name == name).ok_or_else(|| {
-        invalid(
-            field,
-            format!("\"{name}\""),
-            format!("a state of the {}: {}", plant.name(), names(plant.states())),
-        )
-    })
+    crate::plant::state_named(plant.name(), plant.states(), field, name)
 }
 
 fn names(qs: &[Quantity]) -> String {
@@ -292,122 +211,6 @@ pub(crate) fn configure<P: Plant>(nominal: &P, section: &PlantSection) -> Result
         return Err(invalid("plant.initial", v, "finite values"));
     }
     Ok((plant, x0))
-}
-
-/// The controller of `spec` for `plant`: output in `range` (SI, of the quantity `out`),
-/// sampled every `period_s`, starting from the plant state `x0`.
-pub(crate) fn build_loop<P: Plant>(
-    plant: &P,
-    spec: &LoopSpec,
-    field: &str,
-    (out, range): (&Quantity, (f64, f64)),
-    period_s: f64,
-    x0: &[f64],
-) -> Result<Box<dyn Controller>> {
-    let positive = |f: &str, v: f64| {
-        if v.is_finite() && v > 0.0 {
-            Ok(v)
-        } else {
-            Err(invalid(format!("{field}.{f}"), v, "finite and > 0"))
-        }
-    };
-    match spec {
-        LoopSpec::Pi {
-            state,
-            kp,
-            ti_s,
-            bias,
-        } => {
-            let i = state_index(plant, &format!("{field}.state"), state)?;
-            let q = &plant.states()[i];
-            if !kp.is_finite() {
-                return Err(invalid(format!("{field}.kp"), kp, "a finite number"));
-            }
-            let ti = positive("ti_s", *ti_s)?;
-            let (lo, hi) = (range.0 * out.display_per_si, range.1 * out.display_per_si);
-            if !(bias.is_finite() && lo.min(hi) <= *bias && *bias <= hi.max(lo)) {
-                return Err(invalid(
-                    format!("{field}.bias"),
-                    bias,
-                    format!("a number within the loop's output range [{lo}, {hi}]"),
-                ));
-            }
-            let kp_si = kp * q.display_per_si / out.display_per_si;
-            let mut pi = Pi::new(kp_si, ti, period_s, bias / out.display_per_si, range.0, range.1);
-            pi.measured = [i];
-            Ok(Box::new(pi))
-        }
-        LoopSpec::RhonnIndirect {
-            state,
-            lambda_per_s,
-            y_scale,
-            gain0,
-            identification_s,
-            gamma,
-            ball_fraction,
-        } => {
-            let i = state_index(plant, &format!("{field}.state"), state)?;
-            let q = &plant.states()[i];
-            let mut st = IndirectSettings::for_pole(
-                positive("lambda_per_s", *lambda_per_s)?,
-                positive("y_scale", *y_scale)? / q.display_per_si,
-            );
-            if let Some(v) = identification_s {
-                st.identification_s = positive("identification_s", *v)?;
-            }
-            if let Some(v) = gamma {
-                st.gamma_w = positive("gamma", *v)?;
-                st.gamma_w1 = st.gamma_w;
-            }
-            if let Some(v) = ball_fraction {
-                if !(*v > 0.0 && *v < 1.0) {
-                    return Err(invalid(format!("{field}.ball_fraction"), v, "in (0, 1)"));
-                }
-                st.ball_fraction = *v;
-            }
-            let g0 = gain0.unwrap_or(0.01);
-            if !(g0.is_finite() && g0 != 0.0) {
-                return Err(invalid(format!("{field}.gain0"), g0, "finite and not 0"));
-            }
-            Ok(Box::new(RhonnIndirect::new(st, i, range, period_s, g0, x0[i])))
-        }
-        LoopSpec::Cascade {
-            outer,
-            inner,
-            inner_range,
-        } => {
-            let j = state_index(plant, &format!("{field}.inner.state"), inner.state())?;
-            let qi = &plant.states()[j];
-            let r = (
-                inner_range[0] / qi.display_per_si,
-                inner_range[1] / qi.display_per_si,
-            );
-            if !(r.0.is_finite() && r.1.is_finite() && r.0 < r.1) {
-                return Err(invalid(
-                    format!("{field}.inner_range"),
-                    format!("{inner_range:?}"),
-                    "[min, max] with min < max",
-                ));
-            }
-            if matches!(**inner, LoopSpec::Cascade { .. }) || matches!(**outer, LoopSpec::Cascade { .. }) {
-                return Err(invalid(
-                    format!("{field}.outer"),
-                    "a cascade",
-                    "a pi or rhonn-indirect loop (one level of cascade)",
-                ));
-            }
-            let o = build_loop(plant, outer, &format!("{field}.outer"), (qi, r), period_s, x0)?;
-            let n = build_loop(
-                plant,
-                inner,
-                &format!("{field}.inner"),
-                (out, range),
-                period_s,
-                x0,
-            )?;
-            Ok(Box::new(Cascade::new(spec.name(), o, n)))
-        }
-    }
 }
 
 impl PlantScenarioSpec {

@@ -220,3 +220,18 @@ impl SignalRef {
         }
     }
 }
+
+/// Index of the state `name` among `states` of the plant `plant`, or an error naming
+/// `field` and the plant's states.
+pub fn state_named(plant: &str, states: &[Quantity], field: &str, name: &str) -> crate::Result<usize> {
+    states.iter().position(|q| q.name == name).ok_or_else(|| {
+        crate::error::invalid(
+            field,
+            format!("\"{name}\""),
+            format!(
+                "a state of the {plant}: {}",
+                states.iter().map(|q| q.name).collect::<Vec<_>>().join(", ")
+            ),
+        )
+    })
+}
