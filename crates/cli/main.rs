@@ -5,7 +5,7 @@
 mod args;
 mod progress;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use args::{Cli, Command};
 use clap::Parser;
 use rhonn::experiment::preset;
@@ -109,16 +109,9 @@ fn dispatch(cli: Cli) -> Result<()> {
                 corners,
                 envelope_runs,
             };
-            let go = || cmd_campaign(&scenario, &opts, out);
-            match threads {
-                Some(0) => anyhow::bail!("--threads 0 is not allowed: give 1 or more"),
-                Some(n) => rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build()
-                    .context("cannot start the worker threads")?
-                    .install(go)?,
-                None => go()?,
-            }
+            campaign::on_threads(threads, "--threads 0 is not allowed: give 1 or more", || {
+                cmd_campaign(&scenario, &opts, out)
+            })?
         }
         Command::Merge { dirs, out } => {
             commands::campaign_report(&campaign::merge_campaigns(&dirs, &out)?)?.print()
@@ -164,19 +157,11 @@ fn bench(
 
 /// `rhonn campaign`: the pump's campaigns (envelopes, merge) or another plant's.
 fn cmd_campaign(scenario: &str, opts: &campaign::CampaignOptions, out: Option<PathBuf>) -> Result<()> {
-    let spec = preset::load_any(scenario)?;
-    let name = match &spec {
-        preset::AnyScenario::Pump(s) => s.name.clone(),
-        preset::AnyScenario::Plant(s) => s.name.clone(),
-    };
+    let sc = preset::load_any(scenario)?;
+    let name = sc.name().to_string();
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("campaign-{name}")));
     let reporter = progress::Reporter::new(&name);
-    let outcome = match spec {
-        preset::AnyScenario::Pump(spec) => campaign::run_campaign(&spec, opts, &dir, &|p| reporter.update(p)),
-        preset::AnyScenario::Plant(spec) => {
-            rhonn_report::plant_campaign::run_plant_campaign(&spec, opts, &dir, &|p| reporter.update(p))
-        }
-    };
+    let outcome = rhonn_report::scenario_run::run_scenario_campaign(&sc, opts, &dir, &|p| reporter.update(p));
     reporter.finish();
     commands::campaign_report(&outcome?)?.print();
     Ok(())

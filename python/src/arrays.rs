@@ -7,7 +7,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rhonn::data::Record;
 
-/// The columns of a 2-D array (n, k), each checked finite; `name` names the argument.
+/// The columns of a 2-D array (n, k); `name` names the argument (values are checked by
+/// the library).
 pub fn columns(name: &str, a: &PyReadonlyArray2<'_, f64>, k: usize) -> PyResult<Vec<Vec<f64>>> {
     let v = a.as_array();
     let (n, cols) = v.dim();
@@ -19,11 +20,6 @@ pub fn columns(name: &str, a: &PyReadonlyArray2<'_, f64>, k: usize) -> PyResult<
     if cols != k {
         return Err(value_error(format!(
             "{name} has {cols} columns; {k} are needed (one per signal)"
-        )));
-    }
-    if let Some(((i, j), x)) = v.indexed_iter().find(|(_, x)| !x.is_finite()) {
-        return Err(value_error(format!(
-            "{name}[{i}, {j}] = {x} is not allowed: every value must be finite"
         )));
     }
     Ok((0..k).map(|j| v.column(j).to_vec()).collect())
@@ -102,28 +98,14 @@ pub fn record(
     inputs: &[String],
     outputs: &[String],
 ) -> PyResult<Record> {
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(value_error(format!(
-            "dt = {dt} is not allowed: give the sample time in seconds, finite and > 0"
-        )));
-    }
-    if outputs.is_empty() {
-        return Err(value_error("outputs is empty: name at least one output"));
-    }
-    let inputs_c = columns("u", u, inputs.len())?;
-    let outputs_c = columns("y", y, outputs.len())?;
     let (n, ny) = (u.as_array().dim().0, y.as_array().dim().0);
     if ny != n {
         return Err(value_error(format!(
             "u has {n} rows and y {ny}: give one row per sample in both"
         )));
     }
-    Ok(Record {
-        source: source.to_string(),
-        t: (0..n).map(|k| k as f64 * dt).collect(),
-        inputs: inputs_c,
-        outputs: outputs_c,
-    })
+    let (u, y) = (columns("u", u, inputs.len())?, columns("y", y, outputs.len())?);
+    Record::sampled(source, dt, u, y).map_err(crate::errors::rhonn_err)
 }
 
 /// A dict of column name -> 1-D float64 array; each array takes over its column's

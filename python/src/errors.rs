@@ -12,7 +12,7 @@ pub fn value_error(msg: impl Into<String>) -> PyErr {
 pub fn rhonn_err(e: rhonn::Error) -> PyErr {
     use rhonn::Error as E;
     match &e {
-        E::Invalid { .. } | E::Parse { .. } | E::UnknownScenario { .. } => {
+        E::Invalid { .. } | E::Parse { .. } | E::UnknownScenario { .. } | E::Argument(_) => {
             PyValueError::new_err(e.to_string())
         }
         E::Io { .. } => PyOSError::new_err(e.to_string()),

@@ -13,7 +13,7 @@ use arrays::{columns_dict, record};
 use errors::{report_err, rhonn_err};
 use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
-use rhonn::experiment::{preset::AnyScenario, run_full, run_plant_scenario, Trace};
+use rhonn::experiment::preset::AnyScenario;
 use std::path::PathBuf;
 
 /// A scenario given as a shipped name, a path, or TOML text.
@@ -41,38 +41,17 @@ type RunResult = (Py<PyAny>, Option<Py<PyAny>>, String);
 #[pyfunction]
 #[pyo3(signature = (name, toml_text=None, out=None))]
 fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>) -> PyResult<RunResult> {
-    match scenario(name, toml_text)? {
-        AnyScenario::Pump(spec) => {
-            let sc = spec.check().map_err(rhonn_err)?;
-            let (trace, output) = py
-                .detach(|| {
-                    let mut trace = Trace::default();
-                    run_full(&sc, &mut trace).map(|o| (trace, o))
-                })
-                .map_err(rhonn_err)?;
-            if let Some(dir) = out {
-                py.detach(|| rhonn_report::write_run(&dir, &trace, &output))
-                    .map_err(report_err)?;
-            }
-            let summary = errors::json(&output.summary)?;
-            let cols = |t: Trace| t.columns.into_iter().map(|c| (c.name, c.values));
-            let traj = columns_dict(py, cols(trace))?;
-            let val = output.validation.map(|v| columns_dict(py, cols(v))).transpose()?;
-            Ok((traj, val, summary))
-        }
-        AnyScenario::Plant(spec) => {
-            let output = py.detach(|| run_plant_scenario(&spec, None)).map_err(rhonn_err)?;
-            if let Some(dir) = out {
-                py.detach(|| rhonn_report::write_plant_run(&dir, &output))
-                    .map_err(report_err)?;
-            }
-            let summary = errors::json(&output.summary)?;
-            let cols = |c: Vec<rhonn::experiment::PlantColumn>| c.into_iter().map(|c| (c.name, c.values));
-            let traj = columns_dict(py, cols(output.trajectory))?;
-            let val = output.validation.map(|v| columns_dict(py, cols(v))).transpose()?;
-            Ok((traj, val, summary))
-        }
+    let sc = scenario(name, toml_text)?;
+    let run = py.detach(|| sc.run()).map_err(rhonn_err)?;
+    if let Some(dir) = out {
+        py.detach(|| rhonn_report::write_scenario_run(&dir, &run))
+            .map_err(report_err)?;
     }
+    let summary = rhonn_report::scenario_run::summary_json(&run).map_err(report_err)?;
+    let (traj, val) = run.into_columns();
+    let traj = columns_dict(py, traj.into_iter())?;
+    let val = val.map(|v| columns_dict(py, v.into_iter())).transpose()?;
+    Ok((traj, val, summary))
 }
 
 /// Fit a model to recordings given as arrays (`us[k]`: (n, m), `ys[k]`: (n, p), one pair
@@ -93,7 +72,7 @@ fn fit(
     select_steps_ahead: Option<usize>,
     time_budget_s: Option<f64>,
 ) -> PyResult<model::Model> {
-    let mut specs = rhonn_report::commands::model_specs(spec_toml, spec_source).map_err(report_err)?;
+    let specs = rhonn_report::commands::model_specs(spec_toml, spec_source).map_err(report_err)?;
     let mut opts = rhonn::sysid::select::SelectOptions {
         steps_ahead: select_steps_ahead,
         ..Default::default()
@@ -101,41 +80,25 @@ fn fit(
     if let Some(t) = time_budget_s {
         opts.time_budget_s = t;
     }
-    let max_lag = if select {
-        rhonn::sysid::select::min_samples(outputs.len(), &opts) - 2
-    } else {
-        specs.iter().map(|s| s.max_lag()).max().unwrap_or(0)
+    let recs = us
+        .iter()
+        .zip(&ys)
+        .enumerate()
+        .map(|(k, (u, y))| record(&format!("recording {k}"), dt, u, y, &inputs, &outputs))
+        .collect::<PyResult<Vec<_>>>()?;
+    let structure = match select {
+        true => rhonn::sysid::FitStructure::Select(&opts),
+        false => rhonn::sysid::FitStructure::Given(specs),
     };
-    let mut recs = Vec::new();
-    for (k, (u, y)) in us.iter().zip(&ys).enumerate() {
-        let r = record(&format!("recording {k}"), dt, u, y, &inputs, &outputs)?;
-        if r.len() < max_lag + 2 {
-            return Err(errors::value_error(format!(
-                "recording {k} has {} samples; the model needs at least {}",
-                r.len(),
-                max_lag + 2
-            )));
-        }
-        recs.push(r);
-    }
-    let selection = if select {
-        let sel = py
-            .detach(|| rhonn::sysid::select::select(&recs, &inputs, &outputs, &opts, &|_| {}))
-            .map_err(rhonn_err)?;
-        specs = vec![sel.chosen_spec().clone()];
-        Some(sel)
-    } else {
-        None
-    };
-    let lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
-    let mut notes = rhonn::sysid::data_warnings(&recs, &inputs, &outputs, lag, dt, "dt");
-    if let Some(sel) = &selection {
-        notes.extend(sel.warnings.iter().cloned());
-    }
-    let (fitted, summary) = py
-        .detach(|| rhonn::sysid::train_selected(&specs, selection, &recs, &inputs, &outputs))
+    let run = py
+        .detach(|| rhonn::sysid::fit_records(structure, &recs, &inputs, &outputs, "dt", &|_| {}))
         .map_err(rhonn_err)?;
-    Ok(model::Model::fitted(fitted, Some(errors::json(&summary)?), notes))
+    let notes = [run.data_warnings, run.selection_warnings].concat();
+    Ok(model::Model::fitted(
+        run.fitted,
+        Some(errors::json(&run.summary)?),
+        notes,
+    ))
 }
 
 /// Run a Monte Carlo campaign into `out` (resumes a folder left by an interrupted one);
@@ -154,7 +117,7 @@ fn campaign(
     corners: bool,
     envelope_runs: u64,
 ) -> PyResult<String> {
-    use rhonn_report::campaign::{run_campaign, CampaignOptions};
+    use rhonn_report::campaign::CampaignOptions;
     let sc = scenario(name, toml_text)?;
     let opts = CampaignOptions {
         runs,
@@ -163,45 +126,27 @@ fn campaign(
         corners,
         envelope_runs,
     };
-    let go = || match &sc {
-        AnyScenario::Pump(spec) => run_campaign(spec, &opts, &out, &|_| {}),
-        AnyScenario::Plant(spec) => {
-            rhonn_report::plant_campaign::run_plant_campaign(spec, &opts, &out, &|_| {})
-        }
-    };
-    let outcome = py.detach(|| match threads {
-        Some(0) => Err(rhonn_report::Error::Input(
-            "threads = 0 is not allowed: give 1 or more, or None for every core".into(),
-        )),
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(|e| rhonn_report::Error::Campaign(format!("cannot start {n} worker threads: {e}")))?
-            .install(go),
-        None => go(),
-    });
+    let go = || rhonn_report::scenario_run::run_scenario_campaign(&sc, &opts, &out, &|_| {});
+    let zero = "threads = 0 is not allowed: give 1 or more, or None for every core";
+    let outcome = py.detach(|| rhonn_report::campaign::on_threads(threads, zero, go));
     let dir = outcome.map_err(report_err)?.dir;
     rhonn_report::write_report(&dir).map_err(report_err)?;
     Ok(dir.display().to_string())
 }
 
-/// For the bench (`python/bench.py`): the median seconds of `repeats` runs of a pump
-/// scenario made from Rust exactly as `run` makes them (checked scenario, `run_full`
-/// into a `Trace`), without the conversion to Python objects.
+/// For the bench (`python/bench.py`): the median seconds of `repeats` runs of a
+/// scenario made from Rust exactly as `run` makes them, without the conversion to Python
+/// objects.
 #[pyfunction]
 fn _rust_run_seconds(py: Python<'_>, name: &str, repeats: usize) -> PyResult<f64> {
-    let AnyScenario::Pump(spec) = scenario(name, None)? else {
-        return Err(errors::value_error(format!("{name} is not a pump scenario")));
-    };
-    let sc = spec.check().map_err(rhonn_err)?;
+    let sc = scenario(name, None)?;
     let mut times = py
         .detach(|| {
             (0..repeats.max(1))
                 .map(|_| {
                     let start = std::time::Instant::now();
-                    let mut trace = Trace::default();
-                    run_full(&sc, &mut trace).map(|o| {
-                        std::hint::black_box((trace, o));
+                    sc.run().map(|r| {
+                        std::hint::black_box(r);
                         start.elapsed().as_secs_f64()
                     })
                 })

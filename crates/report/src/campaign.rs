@@ -6,7 +6,7 @@
 //! resumes it; at the end `DIR/runs.csv` holds every row sorted by run index (the same
 //! bytes whatever the thread count or sharding) and `DIR/summary.json` the statistics.
 
-pub use crate::campaign_options::{CampaignOptions, CampaignOutcome, Progress};
+pub use crate::campaign_options::{on_threads, CampaignOptions, CampaignOutcome, Progress};
 use crate::campaign_plots::{envelope_files, histograms};
 use crate::Error;
 use rayon::prelude::*;

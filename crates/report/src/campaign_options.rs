@@ -49,3 +49,22 @@ pub struct CampaignOutcome {
     /// What the user should know (a resumed campaign, a row cut by an interruption).
     pub notes: Vec<String>,
 }
+
+/// Run `f` on `threads` worker threads (None: every core, rayon's global pool), as
+/// `rhonn campaign --threads` and Python's `rhonn.campaign(threads=...)` do; `Some(0)` is
+/// refused with `zero`, the door's message naming its argument.
+pub fn on_threads<T: Send, E: From<crate::Error> + Send>(
+    threads: Option<usize>,
+    zero: &str,
+    f: impl FnOnce() -> Result<T, E> + Send,
+) -> Result<T, E> {
+    match threads {
+        Some(0) => Err(crate::Error::Input(zero.to_string()).into()),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| crate::Error::Campaign(format!("cannot start {n} worker threads: {e}")))?
+            .install(f),
+        None => f(),
+    }
+}

@@ -15,6 +15,7 @@ rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &output)
 */
 #![deny(missing_docs)]
 
+pub mod any_model;
 mod atomic;
 pub mod bench_report;
 mod benchmark_data;
@@ -35,6 +36,7 @@ mod plant_report;
 mod plot;
 mod prediction;
 mod residuals;
+pub mod scenario_run;
 mod style;
 pub mod worst_runs;
 
@@ -45,6 +47,7 @@ pub use html::write_report;
 pub use plant_report::write_plant_run;
 pub use plot::{bin_counts, plot_identification, plot_run, Band, EnvelopePlot, Histogram, Series, TimePlot};
 pub use prediction::{plot_prediction, prediction_trace, write_prediction};
+pub use scenario_run::write_scenario_run;
 
 use rhonn::experiment::{RunOutput, Trace};
 use std::path::{Path, PathBuf};

@@ -184,6 +184,45 @@ impl Record {
         (r, Some(report))
     }
 
+    /// A record sampled every `dt` s from columns given in memory (a caller's arrays, as
+    /// `u` (inputs) and `y` (outputs) name them in errors): every value finite, the same
+    /// number of samples in each, at least one output.
+    pub fn sampled(source: &str, dt: f64, inputs: Vec<Vec<f64>>, outputs: Vec<Vec<f64>>) -> Result<Record> {
+        let arg = |m: String| crate::Error::Argument(m);
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(arg(format!(
+                "dt = {dt} is not allowed: give the sample time in seconds, finite and > 0"
+            )));
+        }
+        if outputs.is_empty() {
+            return Err(arg("outputs is empty: name at least one output".into()));
+        }
+        for (name, cols) in [("u", &inputs), ("y", &outputs)] {
+            for (j, c) in cols.iter().enumerate() {
+                if let Some((i, x)) = c.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+                    return Err(arg(format!(
+                        "{name}[{i}, {j}] = {x} is not allowed: every value must be finite"
+                    )));
+                }
+            }
+        }
+        let (n, ny) = (
+            inputs.first().map_or(outputs[0].len(), Vec::len),
+            outputs[0].len(),
+        );
+        if inputs.iter().chain(&outputs).any(|c| c.len() != n) {
+            return Err(arg(format!(
+                "u has {n} rows and y {ny}: give one row per sample in both"
+            )));
+        }
+        Ok(Record {
+            source: source.to_string(),
+            t: (0..n).map(|k| k as f64 * dt).collect(),
+            inputs,
+            outputs,
+        })
+    }
+
     /// Check lengths, finiteness and increasing time (a reader does this with line
     /// numbers; this is the library's own guard).
     pub fn check(&self, min_samples: usize) -> Result<()> {

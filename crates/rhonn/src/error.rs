@@ -78,6 +78,10 @@ pub enum Error {
         /// The likely cause, in terms of the data and the settings.
         cause: String,
     },
+    /// An argument of a library call (not a file's field) is out of range; the message
+    /// names it, its value and what is allowed.
+    #[error("{0}")]
+    Argument(String),
     /// A controller produced a non-finite output or weight.
     #[error("controller diverged at t = {t_s} s ({state})")]
     Controller {

@@ -173,41 +173,31 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
         ));
     }
     let mut o = Outcome::default();
-    let (specs, selection) = match &req.select {
-        None => (read_specs(req.model.as_deref())?, None),
-        Some(opts) => {
-            let recs = read_data(
-                &req.data,
-                inputs,
-                outputs,
-                rhonn::sysid::select::min_samples(outputs.len(), opts),
-                req.resample_s,
-            )?;
-            let sel = rhonn::sysid::select::select(&recs, inputs, outputs, opts, progress)?;
-            for f in &sel.findings {
-                o.notes.push(format!("selection: {f}"));
-            }
-            for w in &sel.warnings {
-                o.notes.push(format!("warning: {w}"));
-            }
-            (vec![sel.chosen_spec().clone()], Some(sel))
+    let (structure, min_rows) = match &req.select {
+        None => {
+            let specs = read_specs(req.model.as_deref())?;
+            let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
+            (rhonn::sysid::FitStructure::Given(specs), max_lag + 2)
         }
+        Some(opts) => (
+            rhonn::sysid::FitStructure::Select(opts),
+            rhonn::sysid::select::min_samples(outputs.len(), opts),
+        ),
     };
-    let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
-    let (recs, regridded) = read_data_regridded(&req.data, inputs, outputs, max_lag + 2, req.resample_s)?;
+    let (recs, regridded) = read_data_regridded(&req.data, inputs, outputs, min_rows, req.resample_s)?;
+    let run = rhonn::sysid::fit_records(structure, &recs, inputs, outputs, "--resample", progress)
+        .map_err(|e| spec_error(e, req))?;
+    o.notes
+        .extend(run.selection_findings.iter().map(|f| format!("selection: {f}")));
+    o.notes
+        .extend(run.selection_warnings.iter().map(|w| format!("warning: {w}")));
     for g in &regridded {
         o.notes.push(format!("note: {g}"));
     }
-    let sample_s = recs.first().map_or(0.0, |r| r.sample_interval());
-    // A grey-box pump model has no lags: the lagged models' warnings do not apply.
+    o.notes
+        .extend(run.data_warnings.iter().map(|w| format!("warning: {w}")));
+    let (specs, mut fitted, mut summary) = (run.specs, run.fitted, run.summary);
     let grey = specs[0].kind == rhonn::sysid::Kind::Pump;
-    if !grey {
-        for w in rhonn::sysid::data_warnings(&recs, inputs, outputs, max_lag, sample_s, "--resample") {
-            o.notes.push(format!("warning: {w}"));
-        }
-    }
-    let (mut fitted, mut summary) = rhonn::sysid::train_selected(&specs, selection, &recs, inputs, outputs)
-        .map_err(|e| spec_error(e, req))?;
     summary.regridded = regridded;
     fitted.units = units;
     // The free run on each training record, for the plots (at most 8 records drawn).

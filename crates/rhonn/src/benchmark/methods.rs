@@ -103,12 +103,24 @@ fn fit_default(
     let (ins, outs) = (&b.spec.inputs, &b.spec.outputs);
     let start = Instant::now();
     let opts = sysid::select::SelectOptions::default();
-    let (fitted, summary) = sysid::select_and_train(&b.train, ins, outs, &opts, progress)?;
-    let (structure, warnings) = match &summary.selection {
-        Some(sel) => (sel.candidates[sel.chosen].name.clone(), sel.warnings.clone()),
-        None => (String::new(), Vec::new()),
+    let run = sysid::fit_records(
+        sysid::FitStructure::Select(&opts),
+        &b.train,
+        ins,
+        outs,
+        "the sample time",
+        progress,
+    )?;
+    let structure = match &run.summary.selection {
+        Some(sel) => sel.candidates[sel.chosen].name.clone(),
+        None => String::new(),
     };
-    Ok((fitted, structure, start.elapsed().as_secs_f64(), warnings))
+    Ok((
+        run.fitted,
+        structure,
+        start.elapsed().as_secs_f64(),
+        run.selection_warnings,
+    ))
 }
 
 /// rhonn identify's default: the bank picks online, the winner trained for its passes

@@ -1,6 +1,7 @@
 //! Experiments: scenario files, running them, recording what they produce.
 
 pub mod any_plant;
+mod any_scenario;
 mod bench;
 pub mod campaign;
 mod campaign_plan;
@@ -20,6 +21,7 @@ pub mod sim;
 mod trace;
 pub mod tuning;
 
+pub use any_scenario::{NamedColumns, ScenarioRun};
 pub use bench::{bench, bench_plant, BenchFigures};
 pub use loop_conditions::LoopConditions;
 pub use plant_run::{

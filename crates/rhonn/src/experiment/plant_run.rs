@@ -248,6 +248,8 @@ pub struct PlantRunOutput {
     pub trajectory: Vec<PlantColumn>,
     /// validation.csv's columns, when there is a validation.
     pub validation: Option<Vec<PlantColumn>>,
+    /// Simulated time \[s\] (the scenario's `duration_s`).
+    pub duration_s: f64,
 }
 
 const TIME: Quantity = Quantity::si("t", "s", "time");
@@ -464,6 +466,7 @@ fn run_control<P: Plant>(
         summary,
         trajectory,
         validation: None,
+        duration_s: spec.duration_s,
     })
 }
 
@@ -595,6 +598,7 @@ fn run_identification<P: Plant>(
         summary,
         trajectory,
         validation,
+        duration_s: spec.duration_s,
     })
 }
 

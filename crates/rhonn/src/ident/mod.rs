@@ -442,6 +442,7 @@ pub use lagged::first_prediction;
 mod online;
 mod online_spec;
 mod recordings;
+mod session;
 pub mod shared_spec;
 mod spec;
 pub use online::{widened, InputHold, OnlineIdentifier, OnlineModel, OnlineSpec, Scaling, Snapshot};
@@ -450,6 +451,7 @@ pub use recordings::{
     check_outputs_vary, identify_records, identify_records_scaled, predict_records, record_scaling,
     sample_time, OnlineFigures, OnlineRun, WarmUp, MAX_LISTED_WEIGHTS,
 };
+pub use session::{OnlineSession, SessionOptions};
 pub use spec::{IdentSettings, IdentifierSpec, SigmoidSpec};
 
 #[cfg(test)]

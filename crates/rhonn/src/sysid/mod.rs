@@ -41,8 +41,8 @@ pub use fitted::{fit_ensemble, fit_with_baseline, parse_spec_file, FittedModel};
 use lm::lm;
 pub use predict::{predict, samples_needed, PredictSummary, Prediction};
 pub use train::{
-    best_arx, select_and_train, train, train_beside, train_selected, BaselineSummary, FitSummary,
-    MemberSummary, RecordFigures, TrainingFigures,
+    best_arx, fit_records, train, train_beside, train_selected, BaselineSummary, FitRun, FitStructure,
+    FitSummary, MemberSummary, RecordFigures, TrainingFigures,
 };
 
 use crate::data::Record;

@@ -130,19 +130,85 @@ pub fn train_selected(
     Ok((fitted, summary))
 }
 
-/// `rhonn fit` without a spec on records already read: select the structure by
-/// cross-validation (`opts`), then [`train_selected`] (Python's `rhonn.fit` and `rhonn
-/// benchmark` call this; the command reads its records once per step, as each needs).
-pub fn select_and_train(
+/// The structure of a fit: given (one, or an ensemble's members), or selected by
+/// cross-validation over the candidates.
+#[derive(Debug, Clone)]
+pub enum FitStructure<'a> {
+    /// These structures.
+    Given(Vec<ModelSpec>),
+    /// The selection's choice.
+    Select(&'a super::select::SelectOptions),
+}
+
+/// What a fit of records in memory gives: the model, its summary, and what the doors
+/// print or hand over (`rhonn fit` prefixes and prints them, Python's `Model.warnings`
+/// keeps the warnings).
+#[derive(Debug, Clone)]
+pub struct FitRun {
+    /// The fitted model.
+    pub fitted: FittedModel,
+    /// Its summary (the selection included).
+    pub summary: FitSummary,
+    /// The structures trained.
+    pub specs: Vec<ModelSpec>,
+    /// The selection's findings in words (empty without a selection).
+    pub selection_findings: Vec<String>,
+    /// The selection's warnings.
+    pub selection_warnings: Vec<String>,
+    /// The data's warnings for the structure (none for the grey-box pump model, which has
+    /// no lags); `hint` of [`fit_records`] names the option that sets the sample time.
+    pub data_warnings: Vec<String>,
+}
+
+/// `rhonn fit` and Python's `rhonn.fit` on records already read: the structure (given, or
+/// selected), the data's warnings, and [`train_selected`] beside the selection's best
+/// ARX. `hint` names the door's sample-time option in the warnings (`--resample`, `dt`).
+/// A record shorter than the structure needs is an error naming it (its `source`).
+pub fn fit_records(
+    structure: FitStructure<'_>,
     records: &[Record],
     inputs: &[String],
     outputs: &[String],
-    opts: &super::select::SelectOptions,
+    hint: &str,
     progress: &(dyn Fn(&str) + Sync),
-) -> Result<(FittedModel, FitSummary)> {
-    let sel = super::select::select(records, inputs, outputs, opts, progress)?;
-    let spec = sel.chosen_spec().clone();
-    train_selected(std::slice::from_ref(&spec), Some(sel), records, inputs, outputs)
+) -> Result<FitRun> {
+    let needed = match &structure {
+        FitStructure::Given(specs) => specs.iter().map(|s| s.max_lag()).max().unwrap_or(0) + 2,
+        FitStructure::Select(opts) => super::select::min_samples(outputs.len(), opts),
+    };
+    if let Some(r) = records.iter().find(|r| r.len() < needed) {
+        return Err(crate::Error::Argument(format!(
+            "{} has {} samples; the model needs at least {needed}",
+            r.source,
+            r.len()
+        )));
+    }
+    let (specs, selection) = match structure {
+        FitStructure::Given(specs) => (specs, None),
+        FitStructure::Select(opts) => {
+            let sel = super::select::select(records, inputs, outputs, opts, progress)?;
+            (vec![sel.chosen_spec().clone()], Some(sel))
+        }
+    };
+    let (selection_findings, selection_warnings) = selection.as_ref().map_or((Vec::new(), Vec::new()), |s| {
+        (s.findings.clone(), s.warnings.clone())
+    });
+    let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
+    let sample_s = records.first().map_or(0.0, |r| r.sample_interval());
+    // A grey-box pump model has no lags: the lagged models' warnings do not apply.
+    let data_warnings = match specs.first().map(|s| s.kind) {
+        Some(super::Kind::Pump) => Vec::new(),
+        _ => super::data_warnings(records, inputs, outputs, max_lag, sample_s, hint),
+    };
+    let (fitted, summary) = train_selected(&specs, selection, records, inputs, outputs)?;
+    Ok(FitRun {
+        fitted,
+        summary,
+        specs,
+        selection_findings,
+        selection_warnings,
+        data_warnings,
+    })
 }
 
 /// [`train`] beside the ARX structure `baseline` (a structure selection's best ARX on the

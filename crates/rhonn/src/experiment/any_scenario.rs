@@ -1,0 +1,92 @@
+//! A scenario of either format as one thing to run: [`AnyScenario::run`] gives a
+//! [`ScenarioRun`] whose columns and summary are read the same way whatever the format,
+//! so the command line, Python and the report crate never ask which format it was. (The
+//! pump's own format and the plant format are two parsers of one run loop; this is the
+//! one place that tells them apart.)
+
+use super::bench::{bench, bench_plant, BenchFigures};
+use super::plant_run::{run_plant_scenario, PlantRunOutput};
+use super::preset::AnyScenario;
+use super::run::{run_full, RunOutput};
+use super::trace::Trace;
+use crate::error::Result;
+use std::time::Duration;
+
+/// What a scenario of either format produced.
+#[derive(Debug, Clone)]
+pub enum ScenarioRun {
+    /// A pump scenario: its samples and its output (summary, validation, model).
+    Pump {
+        /// The samples.
+        trace: Box<Trace>,
+        /// The summary, the validation runs and the trained model.
+        output: Box<RunOutput>,
+        /// The scenario's warnings (settings outside what was validated).
+        warnings: Vec<String>,
+    },
+    /// A plant scenario's columns and summary.
+    Plant(Box<PlantRunOutput>),
+}
+
+/// Columns as `(name, SI values)`.
+pub type NamedColumns = Vec<(String, Vec<f64>)>;
+
+impl AnyScenario {
+    /// Run it (a pump scenario is checked first).
+    pub fn run(&self) -> Result<ScenarioRun> {
+        match self {
+            AnyScenario::Pump(spec) => {
+                let sc = spec.check()?;
+                let mut trace = Trace::default();
+                let output = run_full(&sc, &mut trace)?;
+                Ok(ScenarioRun::Pump {
+                    trace: Box::new(trace),
+                    output: Box::new(output),
+                    warnings: sc.warnings,
+                })
+            }
+            AnyScenario::Plant(spec) => Ok(ScenarioRun::Plant(Box::new(run_plant_scenario(spec, None)?))),
+        }
+    }
+
+    /// Time its runs for about `budget` (`rhonn bench`).
+    pub fn bench(&self, budget: Duration) -> Result<BenchFigures> {
+        match self {
+            AnyScenario::Pump(spec) => bench(&spec.check()?, budget),
+            AnyScenario::Plant(spec) => bench_plant(spec, budget),
+        }
+    }
+
+    /// Its TOML as `rhonn show` prints it for a file: a pump scenario with every default
+    /// written out, a plant scenario as written (`file_text`).
+    pub fn shown(&self, file_text: &str) -> String {
+        match self {
+            AnyScenario::Pump(spec) => spec.to_toml(),
+            AnyScenario::Plant(_) => file_text.to_string(),
+        }
+    }
+}
+
+impl ScenarioRun {
+    /// The scenario's warnings (printed before the figures).
+    pub fn warnings(&self) -> &[String] {
+        match self {
+            ScenarioRun::Pump { warnings, .. } => warnings,
+            ScenarioRun::Plant(_) => &[],
+        }
+    }
+
+    /// The trajectory's columns, and the validation's when there is one (SI).
+    pub fn into_columns(self) -> (NamedColumns, Option<NamedColumns>) {
+        match self {
+            ScenarioRun::Pump { trace, output, .. } => {
+                let cols = |t: Trace| t.columns.into_iter().map(|c| (c.name, c.values)).collect();
+                (cols(*trace), output.validation.map(cols))
+            }
+            ScenarioRun::Plant(o) => {
+                let cols = |c: Vec<super::PlantColumn>| c.into_iter().map(|c| (c.name, c.values)).collect();
+                (cols(o.trajectory), o.validation.map(cols))
+            }
+        }
+    }
+}

@@ -1,0 +1,248 @@
+//! An online identification session for a user's own loop (Python's
+//! `rhonn.OnlineIdentifier`): one model given by the caller, or, without one, the bank
+//! choosing online (`bank::OnlineBank`) until it is frozen. Every argument is checked
+//! here, so a binding only converts.
+
+use super::bank::{default_candidates, BankSelection, BankSettings, OnlineBank};
+use super::{OnlineIdentifier, OnlineModel, OnlineSpec, Scaling};
+use crate::error::{Error, Result};
+use std::borrow::Cow;
+
+/// The caller's scaling of a given model: the identifier sees `(signal - offset) / scale`;
+/// `y_bounds` per output the range its estimate is held in. All None: the defaults (0, 1,
+/// no bounds). `samples`: the stream's length, for the bank (no model).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SessionOptions {
+    /// Per output.
+    pub y_offset: Option<Vec<f64>>,
+    /// Per output, > 0.
+    pub y_scale: Option<Vec<f64>>,
+    /// Per input.
+    pub u_offset: Option<Vec<f64>>,
+    /// Per input, > 0.
+    pub u_scale: Option<Vec<f64>>,
+    /// Per output, `[low, high]` with low < high.
+    pub y_bounds: Option<Vec<[f64; 2]>>,
+    /// The stream's length (at least 4), when known.
+    pub samples: Option<usize>,
+}
+
+/// One model given by the caller, or the bank choosing one online until `freeze`.
+#[derive(Debug, Clone)]
+enum Engine {
+    One {
+        inner: Box<OnlineIdentifier>,
+        spec: Box<OnlineSpec>,
+    },
+    Bank(Box<OnlineBank>),
+}
+
+/// Online identification of a sampled plant, one sample at a time.
+#[derive(Debug, Clone)]
+pub struct OnlineSession {
+    engine: Engine,
+    inputs: Vec<String>,
+    outputs: Vec<String>,
+    dt: f64,
+}
+
+fn argument(msg: impl Into<String>) -> Error {
+    Error::Argument(msg.into())
+}
+
+/// The bank's settings for a stream of `samples` samples (None: not known).
+fn bank_settings(samples: Option<usize>) -> Result<BankSettings> {
+    match samples {
+        Some(n) if n < 4 => Err(argument(format!(
+            "samples = {n} is not allowed: give the stream's length, at least 4 samples, or None"
+        ))),
+        Some(n) => Ok(BankSettings::for_stream(n)),
+        None => Ok(BankSettings::open_ended()),
+    }
+}
+
+/// A per-signal vector given by the caller, or `default` repeated.
+fn per_signal(name: &str, v: Option<Vec<f64>>, n: usize, default: f64, positive: bool) -> Result<Vec<f64>> {
+    let v = v.unwrap_or_else(|| vec![default; n]);
+    if v.len() != n {
+        return Err(argument(format!(
+            "{name} has {} values; {n} are needed (one per signal)",
+            v.len()
+        )));
+    }
+    if let Some((i, x)) = v
+        .iter()
+        .enumerate()
+        .find(|(_, x)| !x.is_finite() || (positive && **x <= 0.0))
+    {
+        let allowed = if positive { "finite and > 0" } else { "finite" };
+        return Err(argument(format!("{name}[{i}] = {x} is not allowed: {allowed}")));
+    }
+    Ok(v)
+}
+
+/// Per output, a range `[low, high]` the estimate is held in.
+fn check_bounds(b: Option<Vec<[f64; 2]>>, n: usize) -> Result<Option<Vec<[f64; 2]>>> {
+    let Some(b) = b else { return Ok(None) };
+    if b.len() != n {
+        return Err(argument(format!(
+            "y_bounds has {} ranges; {n} are needed (one per output)",
+            b.len()
+        )));
+    }
+    if let Some((i, r)) = b
+        .iter()
+        .enumerate()
+        .find(|(_, r)| !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]))
+    {
+        return Err(argument(format!(
+            "y_bounds[{i}] = [{}, {}] is not allowed: give finite [low, high] with low < high",
+            r[0], r[1]
+        )));
+    }
+    Ok(Some(b))
+}
+
+impl OnlineSession {
+    /// A session on signals `inputs` -> `outputs` sampled every `dt` s: `model` given
+    /// (with `opts`' scaling), or None for the online selection (with `opts.samples`).
+    pub fn new(
+        inputs: Vec<String>,
+        outputs: Vec<String>,
+        dt: f64,
+        model: Option<OnlineSpec>,
+        opts: SessionOptions,
+    ) -> Result<Self> {
+        if outputs.is_empty() {
+            return Err(argument("outputs is empty: name at least one output"));
+        }
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(argument(format!(
+                "dt = {dt} is not allowed: give the sample time in seconds, finite and > 0"
+            )));
+        }
+        let (ny, nu) = (outputs.len(), inputs.len());
+        let engine = match model {
+            None => {
+                let given = [
+                    ("y_offset", opts.y_offset.is_some()),
+                    ("y_scale", opts.y_scale.is_some()),
+                    ("u_offset", opts.u_offset.is_some()),
+                    ("u_scale", opts.u_scale.is_some()),
+                    ("y_bounds", opts.y_bounds.is_some()),
+                ];
+                if let Some((name, _)) = given.iter().find(|(_, g)| *g) {
+                    return Err(argument(format!(
+                        "{name} needs a model: without one the identifier picks its model online and normalises by its warm-up window (give model={{}} for the continuous-time neurons with your scaling)"
+                    )));
+                }
+                let settings = bank_settings(opts.samples)?;
+                let cands = default_candidates(ny, opts.samples.unwrap_or(usize::MAX));
+                Engine::Bank(Box::new(OnlineBank::new(cands, ny, nu, dt, settings)?))
+            }
+            Some(spec) => {
+                if opts.samples.is_some() {
+                    return Err(argument(
+                        "samples is for the online selection (no model): a given model does not use it",
+                    ));
+                }
+                let scaling = Scaling {
+                    y_offset: per_signal("y_offset", opts.y_offset, ny, 0.0, false)?,
+                    y_scale: per_signal("y_scale", opts.y_scale, ny, 1.0, true)?,
+                    u_offset: per_signal("u_offset", opts.u_offset, nu, 0.0, false)?,
+                    u_scale: per_signal("u_scale", opts.u_scale, nu, 1.0, true)?,
+                    y_bounds: check_bounds(opts.y_bounds, ny)?,
+                };
+                let inner = Box::new(OnlineIdentifier::new(&spec, ny, nu, dt, scaling)?);
+                Engine::One {
+                    inner,
+                    spec: Box::new(spec),
+                }
+            }
+        };
+        Ok(OnlineSession {
+            engine,
+            inputs,
+            outputs,
+            dt,
+        })
+    }
+
+    /// The input names, the output names and the sample time \[s\].
+    pub fn signals(&self) -> (&[String], &[String], f64) {
+        (&self.inputs, &self.outputs, self.dt)
+    }
+
+    /// Take the sample `(t, u, y)` (t in s, strictly after the last one); returns the
+    /// estimate of `y(t)` made before seeing `y` (the first sample returns `y`).
+    pub fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<&[f64]> {
+        match &mut self.engine {
+            Engine::One { inner, .. } => inner.update(t, u, y),
+            Engine::Bank(b) => b.update(t, u, y),
+        }
+    }
+
+    /// Stop adapting and return the frozen model; the session stays frozen until
+    /// `resume`. Choosing online: the winner so far becomes the identifier (the other
+    /// candidates are dropped).
+    pub fn freeze(&mut self) -> Result<OnlineModel> {
+        if let Engine::Bank(b) = &self.engine {
+            let (sel, id) = b.selection()?;
+            self.engine = Engine::One {
+                inner: Box::new(id),
+                spec: Box::new(sel.chosen_spec().clone()),
+            };
+        }
+        let Engine::One { inner, spec } = &mut self.engine else {
+            return Err(argument("no model to freeze"));
+        };
+        inner.freeze(true);
+        Ok(OnlineModel::of(
+            inner,
+            spec.as_ref().clone(),
+            &self.inputs,
+            &self.outputs,
+            self.dt,
+        ))
+    }
+
+    /// Adapt the weights again after `freeze`.
+    pub fn resume(&mut self) {
+        if let Engine::One { inner, .. } = &mut self.engine {
+            inner.freeze(false);
+        }
+    }
+
+    /// Forget the last sample (a new record starts); the weights stay.
+    pub fn reset(&mut self) {
+        match &mut self.engine {
+            Engine::One { inner, .. } => inner.reset(),
+            Engine::Bank(b) => b.reset(),
+        }
+    }
+
+    /// The identifier: the one given, or, choosing online, the leader so far.
+    pub fn current(&self) -> Result<Cow<'_, OnlineIdentifier>> {
+        match &self.engine {
+            Engine::One { inner, .. } => Ok(Cow::Borrowed(inner.as_ref())),
+            Engine::Bank(b) => Ok(Cow::Owned(b.selection()?.1)),
+        }
+    }
+
+    /// Choosing online: every candidate's prequential figures and the winner so far; None
+    /// with a given model.
+    pub fn selection(&self) -> Result<Option<BankSelection>> {
+        match &self.engine {
+            Engine::One { .. } => Ok(None),
+            Engine::Bank(b) => Ok(Some(b.selection()?.0)),
+        }
+    }
+
+    /// The given model's identifier (None while choosing online).
+    pub fn given(&self) -> Option<&OnlineIdentifier> {
+        match &self.engine {
+            Engine::One { inner, .. } => Some(inner),
+            Engine::Bank(_) => None,
+        }
+    }
+}
