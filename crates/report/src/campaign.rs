@@ -8,8 +8,8 @@
 
 pub use crate::campaign_options::{on_threads, CampaignOptions, CampaignOutcome, Progress};
 use crate::campaign_plots::{envelope_files, histograms};
+use crate::campaign_runner::{self, CampaignKind, Done};
 use crate::Error;
-use rayon::prelude::*;
 use rhonn::experiment::campaign::{
     envelope_grid, figure_names, run_one, statistics, Envelope, FigureStats, Plan, RunRow, RunTraces,
     Sampling, TOLERANCES,
@@ -17,8 +17,6 @@ use rhonn::experiment::campaign::{
 use rhonn::experiment::ScenarioSpec;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-use std::time::Instant;
 
 type Result<T, E = Error> = std::result::Result<T, E>;
 
@@ -44,24 +42,6 @@ trait Ctx<T> {
 impl<T, E: std::fmt::Display> Ctx<T> for std::result::Result<T, E> {
     fn ctx(self, what: impl FnOnce() -> String) -> Result<T> {
         self.map_err(|e| Error::Campaign(format!("{}: {e}", what())))
-    }
-}
-
-/// Context for an input/output error on a path: what was tried, and what the path is
-/// (missing, a directory, not writable), from [`rhonn::error::path_problem`].
-trait IoCtx<T> {
-    fn at(self, verb: &str, path: &Path) -> Result<T>;
-}
-
-impl<T> IoCtx<T> for std::io::Result<T> {
-    fn at(self, verb: &str, path: &Path) -> Result<T> {
-        self.map_err(|e| {
-            Error::Campaign(format!(
-                "cannot {verb} {}: {}",
-                path.display(),
-                rhonn::error::path_problem(path, &e)
-            ))
-        })
     }
 }
 
@@ -138,98 +118,30 @@ fn record(spec: &ScenarioSpec, r: &RunRow) -> Vec<String> {
 
 /// A run's row, its CSV fields, and its trace rows (kept as read, so that a merge or a
 /// resume writes the same bytes).
-pub(crate) type Row = (RunRow, Vec<String>, Vec<Vec<String>>);
+pub(crate) type Row = Done<RunRow>;
 
-/// Read the rows of a `runs.csv` or `runs.partial.csv` (the header must match).
-fn read_rows(path: &Path, spec: &ScenarioSpec, notes: &mut Vec<String>) -> Result<Vec<Row>> {
-    let mut rd = csv::ReaderBuilder::new()
-        .flexible(false)
-        .from_path(path)
-        .ctx(|| format!("cannot read {}", path.display()))?;
-    let want = header(spec);
-    let got: Vec<String> = rd
-        .headers()
-        .ctx(|| format!("cannot read {}", path.display()))?
-        .iter()
-        .map(String::from)
-        .collect();
-    if got != want {
-        bail!(
-            "{}: the header does not match this campaign's scenario",
-            path.display()
-        );
+/// The pump's reading of a `runs.csv` row: the drawn values, and the figures or the
+/// failure.
+fn parse_row(index: u64, rec: &[String]) -> std::result::Result<RunRow, String> {
+    let num = |s: &str| s.parse::<f64>().map_err(|e| e.to_string());
+    if rec.len() < 8 {
+        return Err(format!("{} fields, at least 8 expected", rec.len()));
     }
-    let mut rows = Vec::new();
-    for (line, rec) in rd.records().enumerate() {
-        let Ok(rec) = rec else {
-            // A row cut by an interruption: everything before it counts.
-            notes.push(format!(
-                "warning: {} line {}: an incomplete row is ignored",
-                path.display(),
-                line + 2
-            ));
-            break;
-        };
-        let num = |s: &str| s.parse::<f64>();
-        let index: u64 = rec[0]
-            .parse()
-            .ctx(|| format!("{} line {}", path.display(), line + 2))?;
-        let mut values = [0.0; 5];
-        for (j, vj) in values.iter_mut().enumerate() {
-            *vj = num(&rec[1 + j]).ctx(|| format!("{} line {}", path.display(), line + 2))?;
-        }
-        let outcome = match &rec[6] {
-            "ok" => Ok((8..rec.len())
-                .map(|k| num(&rec[k]))
-                .collect::<Result<Vec<_>, _>>()
-                .ctx(|| format!("{} line {}", path.display(), line + 2))?),
-            _ => Err(rec[7].to_string()),
-        };
-        rows.push((
-            RunRow {
-                index,
-                values,
-                outcome,
-            },
-            rec.iter().map(String::from).collect(),
-            Vec::new(),
-        ));
+    let mut values = [0.0; 5];
+    for (j, vj) in values.iter_mut().enumerate() {
+        *vj = num(&rec[1 + j])?;
     }
-    Ok(rows)
-}
-
-/// Attach the rows of a `traces.csv` or `traces.partial.csv` (if it exists) to their
-/// runs; rows of runs not in `rows` are dropped (a kill between the two files).
-fn attach_traces(path: &Path, spec: &ScenarioSpec, rows: &mut [Row]) -> Result<()> {
-    if !path.exists() {
-        return Ok(());
-    }
-    let mut rd = csv::ReaderBuilder::new()
-        .flexible(false)
-        .from_path(path)
-        .ctx(|| format!("cannot read {}", path.display()))?;
-    let got: Vec<String> = rd
-        .headers()
-        .ctx(|| format!("cannot read {}", path.display()))?
-        .iter()
-        .map(String::from)
-        .collect();
-    if got != traces_header(spec) {
-        bail!(
-            "{}: the header does not match this campaign's scenario",
-            path.display()
-        );
-    }
-    let at: std::collections::HashMap<u64, usize> =
-        rows.iter().enumerate().map(|(k, r)| (r.0.index, k)).collect();
-    for rec in rd.records() {
-        let Ok(rec) = rec else { break };
-        let Ok(index) = rec[0].parse::<u64>() else { break };
-        if let Some(&k) = at.get(&index) {
-            rows[k].2.push(rec.iter().map(String::from).collect());
-        }
-    }
-    Ok(())
+    let outcome = match rec[6].as_str() {
+        "ok" => Ok((8..rec.len())
+            .map(|k| num(&rec[k]))
+            .collect::<std::result::Result<Vec<_>, _>>()?),
+        _ => Err(rec[7].to_string()),
+    };
+    Ok(RunRow {
+        index,
+        values,
+        outcome,
+    })
 }
 
 /// The envelope of the kept traces, per series, from their CSV fields.
@@ -238,7 +150,7 @@ fn envelopes(rows: &[Row], points: usize) -> Vec<(String, Envelope, usize)> {
     for name in ["p_line", "p_line_pi"] {
         let traces: Vec<Vec<f64>> = rows
             .iter()
-            .flat_map(|r| r.2.iter())
+            .flat_map(|r| r.traces.iter())
             .filter(|t| t.get(1).map(String::as_str) == Some(name))
             .map(|t| t[2..].iter().map(|x| x.parse().unwrap_or(f64::NAN)).collect())
             .collect();
@@ -278,13 +190,13 @@ fn finish(
     mut rows: Vec<Row>,
     notes: Vec<String>,
 ) -> Result<CampaignOutcome> {
-    rows.sort_by_key(|r| r.0.index);
+    rows.sort_by_key(|r| r.index);
     let mut buf = Vec::new();
     {
         let mut w = csv::Writer::from_writer(&mut buf);
         w.write_record(header(spec))?;
-        for (_, rec, _) in &rows {
-            w.write_record(rec)?;
+        for r in &rows {
+            w.write_record(&r.fields)?;
         }
         w.flush().map_err(csv::Error::from)?;
     }
@@ -294,12 +206,12 @@ fn finish(
         spec,
         &file.scenario,
         traces_header(spec),
-        rows.iter().flat_map(|r| r.2.iter()),
+        rows.iter().flat_map(|r| r.traces.iter()),
         &grid,
         &env,
     )?;
     let envelope_runs = env.iter().map(|(n, _, k)| (n.clone(), *k)).collect();
-    let rows: Vec<RunRow> = rows.into_iter().map(|r| r.0).collect();
+    let rows: Vec<RunRow> = rows.into_iter().map(|r| r.row).collect();
     let names = figure_names(spec);
     let mut failures: Vec<(String, usize)> = Vec::new();
     for r in &rows {
@@ -382,56 +294,6 @@ pub fn parse_shard(s: &str) -> Result<[u64; 2]> {
     Ok([k, m])
 }
 
-/// Write the partial files afresh with the rows already done.
-fn rewrite_partial(
-    spec: &ScenarioSpec,
-    partial: &Path,
-    partial_tr: &Path,
-    done: &[Row],
-) -> std::result::Result<(), csv::Error> {
-    let mut w = csv::Writer::from_path(partial)?;
-    w.write_record(header(spec))?;
-    let mut wt = csv::Writer::from_path(partial_tr)?;
-    wt.write_record(traces_header(spec))?;
-    for (_, rec, tr) in done {
-        w.write_record(rec)?;
-        for t in tr {
-            wt.write_record(t)?;
-        }
-    }
-    w.flush().map_err(csv::Error::from)?;
-    wt.flush()?;
-    Ok(())
-}
-
-/// The partial files open for appending, and the runs counted so far.
-struct Appender {
-    w: csv::Writer<std::fs::File>,
-    wt: csv::Writer<std::fs::File>,
-    n: usize,
-    failed: usize,
-    err: Option<std::io::Error>,
-}
-
-impl Appender {
-    fn open(partial: &Path, partial_tr: &Path) -> Result<Self> {
-        let append = |p: &Path| -> Result<csv::Writer<std::fs::File>> {
-            let f = std::fs::OpenOptions::new()
-                .append(true)
-                .open(p)
-                .ctx(|| format!("cannot append to {}", p.display()))?;
-            Ok(csv::WriterBuilder::new().has_headers(false).from_writer(f))
-        };
-        Ok(Appender {
-            w: append(partial)?,
-            wt: append(partial_tr)?,
-            n: 0,
-            failed: 0,
-            err: None,
-        })
-    }
-}
-
 /// Run (or resume) the campaign `o` of the scenario `spec` in the folder `dir`:
 /// `campaign.json` first, each finished run appended to `runs.partial.csv` (and its
 /// traces to `traces.partial.csv`) and flushed, then `runs.csv`, `summary.json`,
@@ -446,11 +308,6 @@ pub fn run_campaign(
     let spec = spec.clone();
     spec.check()?;
     let plan = Plan::of(&spec)?;
-    let sampling = if o.corners {
-        Sampling::Corners
-    } else {
-        Sampling::Random
-    };
     let runs = if o.corners { plan.corner_runs() } else { o.runs };
     if runs == 0 || runs > 10_000_000 {
         bail!("--runs {runs} is not allowed: give a number in [1, 10000000]");
@@ -467,158 +324,99 @@ pub fn run_campaign(
         shard: o.shard,
         indices,
     };
-    std::fs::create_dir_all(dir).at("create the folder", dir)?;
-    let mut notes = Vec::new();
-    let meta = dir.join("campaign.json");
-    let partial = dir.join("runs.partial.csv");
-    let partial_tr = dir.join("traces.partial.csv");
-    let mut done: Vec<Row> = Vec::new();
-    let wants_traces = |r: &RunRow| r.index < o.envelope_runs && r.outcome.is_ok();
-    if meta.exists() {
-        let text = std::fs::read_to_string(&meta).at("read", &meta)?;
-        let old: CampaignFile =
-            serde_json::from_str(&text).ctx(|| format!("{} is not a campaign file", meta.display()))?;
-        if old != file {
-            bail!(
-                "{} holds another campaign (scenario, seed, runs, sampling, envelope runs or shard differ): give another --out",
-                dir.display()
-            );
-        }
-        if partial.exists() {
-            done = read_rows(&partial, &spec, &mut notes)?;
-            attach_traces(&partial_tr, &spec, &mut done)?;
-            // A run whose traces were lost is run again.
-            done.retain(|r| !wants_traces(&r.0) || !r.2.is_empty());
-            notes.push(format!("resuming: {} runs already done", done.len()));
-        } else if dir.join("runs.csv").exists() {
-            return Ok(CampaignOutcome {
-                scenario: spec.name.clone(),
-                dir: dir.to_path_buf(),
-                runs: 0,
-                failed: 0,
-                already_complete: true,
-                notes,
-            });
-        }
-    } else {
-        let text = serde_json::to_string_pretty(&file).ctx(|| "campaign.json".into())?;
-        let tmp = dir.join(".campaign.json.tmp");
-        std::fs::write(&tmp, text + "\n").at("write", &tmp)?;
-        std::fs::rename(&tmp, &meta).ctx(|| format!("cannot write {}", meta.display()))?;
+    let c = PumpCampaign {
+        sampling: if o.corners {
+            Sampling::Corners
+        } else {
+            Sampling::Random
+        },
+        spec,
+        plan,
+        file,
+    };
+    campaign_runner::run(&c, indices, dir, progress)
+}
+
+/// A campaign of a scenario in the pump's format.
+struct PumpCampaign {
+    spec: ScenarioSpec,
+    plan: Plan,
+    file: CampaignFile,
+    sampling: Sampling,
+}
+
+impl CampaignKind for PumpCampaign {
+    type Row = RunRow;
+    type File = CampaignFile;
+    const FILE_IS: &'static str = "a campaign file";
+    fn file(&self) -> &CampaignFile {
+        &self.file
     }
-    let finished: std::collections::HashSet<u64> = done.iter().map(|r| r.0.index).collect();
-    let todo: Vec<u64> = (indices[0]..indices[1])
-        .filter(|i| !finished.contains(i))
-        .collect();
-    // Rewrite the partial files from their complete rows (a row cut by a kill is
-    // dropped), then append each finished run, its traces first, and flush.
-    rewrite_partial(&spec, &partial, &partial_tr, &done)
-        .ctx(|| format!("cannot write {}", partial.display()))?;
-    let start = Instant::now();
-    let total = todo.len();
-    let state = Mutex::new(Appender::open(&partial, &partial_tr)?);
-    let new_rows: Vec<Row> = todo
-        .par_iter()
-        .map(|&i| {
-            let (row, tr) = run_one(&spec, &plan, o.seed, i, sampling, i < o.envelope_runs);
-            let rec = record(&spec, &row);
-            let trs = tr.map(|t| trace_records(i, &t)).unwrap_or_default();
-            let mut guard = state.lock().expect("no panic while holding the lock");
-            let p = &mut *guard;
-            let mut res = Ok(());
-            for t in &trs {
-                res = res.and(p.wt.write_record(t).map_err(std::io::Error::other));
-            }
-            res = res
-                .and_then(|_| p.wt.flush())
-                .and_then(|_| p.w.write_record(&rec).map_err(std::io::Error::other))
-                .and_then(|_| p.w.flush());
-            if let Err(e) = res {
-                p.err.get_or_insert(e);
-            }
-            p.n += 1;
-            p.failed += row.outcome.is_err() as usize;
-            progress(Progress {
-                scenario: &spec.name,
-                done: p.n,
-                total,
-                failed: p.failed,
-                elapsed_s: start.elapsed().as_secs_f64(),
-            });
-            (row, rec, trs)
+    fn whole(f: &CampaignFile) -> CampaignFile {
+        CampaignFile {
+            shard: [1, 1],
+            indices: [0, f.runs],
+            ..f.clone()
+        }
+    }
+    fn runs(f: &CampaignFile) -> u64 {
+        f.runs
+    }
+    fn from_file(f: &CampaignFile) -> Result<Self> {
+        let spec = ScenarioSpec::from_toml(&f.scenario_toml, "campaign.json")?;
+        Ok(PumpCampaign {
+            plan: Plan::of(&spec)?,
+            spec,
+            file: f.clone(),
+            sampling: if f.sampling == "corners" {
+                Sampling::Corners
+            } else {
+                Sampling::Random
+            },
         })
-        .collect();
-    let p = state.into_inner().expect("no panic while holding the lock");
-    if let Some(e) = p.err {
-        return Err(e).ctx(|| format!("cannot append to {}", partial.display()));
     }
-    done.extend(new_rows);
-    finish(dir, &file, &spec, done, notes)
+    fn scenario(&self) -> &str {
+        &self.spec.name
+    }
+    fn header(&self) -> Vec<String> {
+        header(&self.spec)
+    }
+    fn traces_header(&self) -> Option<Vec<String>> {
+        Some(traces_header(&self.spec))
+    }
+    fn parse(&self, index: u64, fields: &[String]) -> std::result::Result<(RunRow, bool), String> {
+        let row = parse_row(index, fields)?;
+        let failed = row.outcome.is_err();
+        Ok((row, failed))
+    }
+    fn wants_traces(&self, d: &Row) -> bool {
+        d.index < self.file.envelope_runs && !d.failed
+    }
+    fn run(&self, i: u64) -> Row {
+        let keep = i < self.file.envelope_runs;
+        let (row, tr) = run_one(&self.spec, &self.plan, self.file.seed, i, self.sampling, keep);
+        Done {
+            index: i,
+            fields: record(&self.spec, &row),
+            traces: tr.map(|t| trace_records(i, &t)).unwrap_or_default(),
+            failed: row.outcome.is_err(),
+            row,
+        }
+    }
+    fn finish(&self, dir: &Path, rows: Vec<Row>, notes: Vec<String>) -> Result<CampaignOutcome> {
+        finish(dir, &self.file, &self.spec, rows, notes)
+    }
 }
 
 /// Combine finished shard folders of one campaign into the folder `out` (`rhonn merge`).
 pub fn merge_campaigns(dirs: &[PathBuf], out: &Path) -> Result<CampaignOutcome> {
-    if dirs.is_empty() {
-        bail!("give at least one campaign folder to merge");
-    }
-    if crate::plant_campaign::is_plant_campaign(&dirs[0]) {
+    if dirs
+        .first()
+        .is_some_and(|d| crate::plant_campaign::is_plant_campaign(d))
+    {
         return crate::plant_campaign::merge_plant_campaigns(dirs, out);
     }
-    let mut files = Vec::new();
-    for d in dirs {
-        let meta = d.join("campaign.json");
-        let f: CampaignFile = serde_json::from_str(&std::fs::read_to_string(&meta).at("read", &meta)?)
-            .ctx(|| format!("{} is not a campaign file", meta.display()))?;
-        if !d.join("runs.csv").exists() {
-            bail!("{} is not finished (no runs.csv): resume it first", d.display());
-        }
-        files.push(f);
-    }
-    let first = &files[0];
-    for (d, f) in dirs.iter().zip(&files) {
-        if (&f.scenario_toml, f.seed, f.runs, &f.sampling, f.envelope_runs)
-            != (
-                &first.scenario_toml,
-                first.seed,
-                first.runs,
-                &first.sampling,
-                first.envelope_runs,
-            )
-        {
-            bail!(
-                "{} is a different campaign from {}",
-                d.display(),
-                dirs[0].display()
-            );
-        }
-    }
-    let spec = ScenarioSpec::from_toml(&first.scenario_toml, "campaign.json")?;
-    let mut rows = Vec::new();
-    let mut notes = Vec::new();
-    for d in dirs {
-        let mut r = read_rows(&d.join("runs.csv"), &spec, &mut notes)?;
-        attach_traces(&d.join("traces.csv"), &spec, &mut r)?;
-        rows.extend(r);
-    }
-    rows.sort_by_key(|r| r.0.index);
-    for w in rows.windows(2) {
-        if w[0].0.index == w[1].0.index {
-            bail!("run {} appears twice among the shards", w[0].0.index);
-        }
-    }
-    if rows.len() as u64 != first.runs {
-        bail!(
-            "the shards hold {} of the campaign's {} runs: some shard is missing",
-            rows.len(),
-            first.runs
-        );
-    }
-    let file = CampaignFile {
-        shard: [1, 1],
-        indices: [0, first.runs],
-        ..first.clone()
-    };
-    finish(out, &file, &spec, rows, notes)
+    campaign_runner::merge::<PumpCampaign>(dirs, out)
 }
 
 #[cfg(test)]

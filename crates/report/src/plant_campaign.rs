@@ -11,15 +11,13 @@
 
 use crate::atomic::OutputSet;
 use crate::campaign_options::{CampaignOptions, CampaignOutcome, Progress};
+use crate::campaign_runner::{self, CampaignKind, Done};
 use crate::{write_json, Error};
-use rayon::prelude::*;
 use rhonn::experiment::campaign::{draw_parameters, quantile_sorted, FigureStats};
 use rhonn::experiment::{nominal_plant_parameters, run_plant_scenario, PlantScenarioSpec};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::Path;
-use std::sync::Mutex;
-use std::time::Instant;
 
 type Result<T, E = Error> = std::result::Result<T, E>;
 
@@ -91,10 +89,10 @@ pub fn run_plant_campaign(
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<CampaignOutcome> {
     let (params, base, tol) = drawn_parameters(spec)?;
-    let nominal = run_plant_scenario(spec, None)?;
-    let fig_names: Vec<String> = nominal.summary.figures().into_iter().map(|(n, _)| n).collect();
     let varying = tol.iter().filter(|t| **t > 0.0).count() as u32;
     let runs = if o.corners { 1u64 << varying } else { o.runs };
+    let nominal = run_plant_scenario(spec, None)?;
+    let fig_names: Vec<String> = nominal.summary.figures().into_iter().map(|(n, _)| n).collect();
     if runs == 0 || runs > 10_000_000 {
         return Err(err(format!(
             "--runs {runs} is not allowed: give a number in [1, 10000000]"
@@ -113,165 +111,106 @@ pub fn run_plant_campaign(
         indices,
         envelope_runs: o.envelope_runs,
     };
-    let io = |what: &str, p: &Path, e: std::io::Error| {
-        err(format!(
-            "cannot {what} {}: {}",
-            p.display(),
-            rhonn::error::path_problem(p, &e)
-        ))
+    let c = PlantCampaign {
+        spec: spec.clone(),
+        n_params: params.len(),
+        base,
+        tol,
+        fig_names,
+        file,
     };
-    std::fs::create_dir_all(dir).map_err(|e| io("create the folder", dir, e))?;
-    let meta = dir.join("campaign.json");
-    let partial = dir.join("runs.partial.csv");
-    let mut header = vec!["run".to_string(), "status".to_string()];
-    header.extend(params.iter().map(|p| p.name.to_string()));
-    header.extend(fig_names.iter().cloned());
-    let mut notes = Vec::new();
-    let mut done: Vec<(u64, Vec<String>)> = Vec::new();
-    if meta.exists() {
-        let text = std::fs::read_to_string(&meta).map_err(|e| io("read", &meta, e))?;
-        let old: PlantCampaignFile = serde_json::from_str(&text).map_err(|e| {
-            err(format!(
-                "{} is not a campaign file of a plant scenario: {e}",
-                meta.display()
-            ))
-        })?;
-        if old != file {
-            return Err(err(format!(
-                "{} holds another campaign (scenario, seed, runs, sampling or shard differ): give another --out",
-                dir.display()
-            )));
-        }
-        if partial.exists() {
-            let mut rd = csv::ReaderBuilder::new()
-                .flexible(true)
-                .from_path(&partial)
-                .map_err(|e| err(format!("cannot read {}: {e}", partial.display())))?;
-            for rec in rd.records() {
-                // A row cut by an interruption (wrong length, or unreadable) is run again.
-                let Ok(rec) = rec else { continue };
-                let fields: Vec<String> = rec.iter().map(String::from).collect();
-                if fields.len() == header.len() {
-                    if let Ok(i) = fields[0].parse::<u64>() {
-                        done.push((i, fields));
-                    }
-                }
-            }
-            notes.push(format!("resuming: {} runs already done", done.len()));
-        } else if dir.join("runs.csv").exists() {
-            return Ok(CampaignOutcome {
-                scenario: spec.name.clone(),
-                dir: dir.to_path_buf(),
-                runs: 0,
-                failed: 0,
-                already_complete: true,
-                notes,
-            });
-        }
-    } else {
-        let text = serde_json::to_string_pretty(&file).map_err(|e| err(e.to_string()))?;
-        let tmp = dir.join(".campaign.json.tmp");
-        std::fs::write(&tmp, text + "\n").map_err(|e| io("write", &tmp, e))?;
-        std::fs::rename(&tmp, &meta).map_err(|e| io("write", &meta, e))?;
-    }
-    // Rewrite the partial file with the rows kept (drops a cut row), then append.
-    {
-        let mut w = csv::Writer::from_path(&partial)
-            .map_err(|e| err(format!("cannot write {}: {e}", partial.display())))?;
-        w.write_record(&header).map_err(|e| err(e.to_string()))?;
-        for (_, r) in &done {
-            w.write_record(r).map_err(|e| err(e.to_string()))?;
-        }
-        w.flush().map_err(|e| io("write", &partial, e))?;
-    }
-    let job = Job {
-        spec,
-        o,
-        base: &base,
-        tol: &tol,
-        n_fig: fig_names.len(),
-        partial: &partial,
-    };
-    run_missing(&job, indices, &mut done, progress)?;
-    done.sort_by_key(|(i, _)| *i);
-    finish(&job, dir, &header, &done, &fig_names, notes)
+    campaign_runner::run(&c, indices, dir, progress)
 }
 
-/// What every run of a campaign shares.
-struct Job<'a> {
-    spec: &'a PlantScenarioSpec,
-    o: &'a CampaignOptions,
-    base: &'a [f64],
-    tol: &'a [f64],
-    n_fig: usize,
-    partial: &'a Path,
+/// A campaign of a plant scenario: what every run shares.
+struct PlantCampaign {
+    spec: PlantScenarioSpec,
+    file: PlantCampaignFile,
+    n_params: usize,
+    base: Vec<f64>,
+    tol: Vec<f64>,
+    fig_names: Vec<String>,
 }
 
-/// Run every index of `indices` not in `done`, in parallel, appending each finished row
-/// to the partial file (flushed), and add the rows to `done`.
-fn run_missing(
-    job: &Job,
-    indices: [u64; 2],
-    done: &mut Vec<(u64, Vec<String>)>,
-    progress: &(dyn Fn(Progress) + Sync),
-) -> Result<()> {
-    let io = |what: &str, p: &Path, e: std::io::Error| {
-        err(format!(
-            "cannot {what} {}: {}",
-            p.display(),
-            rhonn::error::path_problem(p, &e)
-        ))
-    };
-    let f = std::fs::OpenOptions::new()
-        .append(true)
-        .open(job.partial)
-        .map_err(|e| io("write", job.partial, e))?;
-    let writer = Mutex::new(csv::Writer::from_writer(f));
-    let have: std::collections::HashSet<u64> = done.iter().map(|(i, _)| *i).collect();
-    let todo: Vec<u64> = (indices[0]..indices[1]).filter(|i| !have.contains(i)).collect();
-    let counter = Mutex::new((0usize, 0usize));
-    let start = Instant::now();
-    let new_rows: Vec<Result<(u64, Vec<String>)>> = todo
-        .par_iter()
-        .map(|&i| {
-            let values = draw_parameters(job.base, job.tol, job.o.seed, i, job.o.corners);
-            let outcome = run_plant_scenario(job.spec, Some(&values))
-                .map(|out| {
-                    out.summary
-                        .figures()
-                        .into_iter()
-                        .map(|(_, v)| v)
-                        .collect::<Vec<f64>>()
-                })
-                .map_err(|e| e.to_string());
-            let r = row(i, &values, &outcome, job.n_fig);
-            {
-                let mut w = writer.lock().map_err(|_| err("a worker panicked".into()))?;
-                w.write_record(&r)
-                    .map_err(|e| err(format!("cannot write {}: {e}", job.partial.display())))?;
-                w.flush().map_err(|e| io("write", job.partial, e))?;
-            }
-            let (d, fl) = {
-                let mut c = counter.lock().map_err(|_| err("a worker panicked".into()))?;
-                c.0 += 1;
-                c.1 += usize::from(outcome.is_err());
-                *c
-            };
-            progress(Progress {
-                scenario: &job.spec.name,
-                done: d,
-                total: todo.len(),
-                failed: fl,
-                elapsed_s: start.elapsed().as_secs_f64(),
-            });
-            Ok((i, r))
+impl CampaignKind for PlantCampaign {
+    type Row = ();
+    type File = PlantCampaignFile;
+    const FILE_IS: &'static str = "a campaign file of a plant scenario";
+    fn file(&self) -> &PlantCampaignFile {
+        &self.file
+    }
+    fn whole(f: &PlantCampaignFile) -> PlantCampaignFile {
+        PlantCampaignFile {
+            shard: [1, 1],
+            indices: [0, f.runs],
+            ..f.clone()
+        }
+    }
+    fn runs(f: &PlantCampaignFile) -> u64 {
+        f.runs
+    }
+    fn from_file(f: &PlantCampaignFile) -> Result<Self> {
+        let spec = PlantScenarioSpec::from_toml(&f.scenario_toml, "campaign.json")?;
+        let (params, base, tol) = drawn_parameters(&spec)?;
+        let nominal = run_plant_scenario(&spec, None)?;
+        Ok(PlantCampaign {
+            fig_names: nominal.summary.figures().into_iter().map(|(n, _)| n).collect(),
+            n_params: params.len(),
+            spec,
+            file: f.clone(),
+            base,
+            tol,
         })
-        .collect();
-    drop(writer);
-    for r in new_rows {
-        done.push(r?);
     }
-    Ok(())
+    fn scenario(&self) -> &str {
+        &self.spec.name
+    }
+    fn header(&self) -> Vec<String> {
+        let mut header = vec!["run".to_string(), "status".to_string()];
+        if let Ok(params) = nominal_plant_parameters(&self.spec.plant.kind) {
+            header.extend(params.iter().map(|p| p.name.to_string()));
+        }
+        header.extend(self.fig_names.iter().cloned());
+        header
+    }
+    fn traces_header(&self) -> Option<Vec<String>> {
+        None
+    }
+    fn parse(&self, _index: u64, fields: &[String]) -> std::result::Result<((), bool), String> {
+        match fields.get(1) {
+            Some(status) => Ok(((), status != "ok")),
+            None => Err("no status".into()),
+        }
+    }
+    fn run(&self, i: u64) -> Done<()> {
+        let values = draw_parameters(
+            &self.base,
+            &self.tol,
+            self.file.seed,
+            i,
+            self.file.sampling == "corners",
+        );
+        let outcome = run_plant_scenario(&self.spec, Some(&values))
+            .map(|out| {
+                out.summary
+                    .figures()
+                    .into_iter()
+                    .map(|(_, v)| v)
+                    .collect::<Vec<f64>>()
+            })
+            .map_err(|e| e.to_string());
+        Done {
+            row: (),
+            index: i,
+            fields: row(i, &values, &outcome, self.fig_names.len()),
+            traces: Vec::new(),
+            failed: outcome.is_err(),
+        }
+    }
+    fn finish(&self, dir: &Path, rows: Vec<Done<()>>, notes: Vec<String>) -> Result<CampaignOutcome> {
+        let rows: Vec<(u64, Vec<String>)> = rows.into_iter().map(|d| (d.index, d.fields)).collect();
+        finish(self, dir, &self.header(), &rows, &self.fig_names, notes)
+    }
 }
 
 /// Each figure's finite values over the runs that finished (read once), and their
@@ -316,14 +255,14 @@ fn figure_statistics(
 }
 
 fn finish(
-    job: &Job,
+    job: &PlantCampaign,
     dir: &Path,
     header: &[String],
     rows: &[(u64, Vec<String>)],
     fig_names: &[String],
     notes: Vec<String>,
 ) -> Result<CampaignOutcome> {
-    let (spec, n_params, envelope_runs) = (job.spec, job.base.len(), job.o.envelope_runs);
+    let (spec, n_params, envelope_runs) = (&job.spec, job.n_params, job.file.envelope_runs);
     let failed = rows.iter().filter(|(_, r)| r[1] != "ok").count();
     let (values, stats) = figure_statistics(rows, fig_names, n_params);
     #[derive(Serialize)]
@@ -446,143 +385,8 @@ pub fn is_plant_campaign(dir: &Path) -> bool {
         .is_some_and(|v| v.get("plant").is_some())
 }
 
-/// Each shard's `campaign.json`, the shared header of their `runs.csv` and every row.
-#[allow(clippy::type_complexity)]
-fn read_shards(
-    dirs: &[std::path::PathBuf],
-) -> Result<(
-    Vec<PlantCampaignFile>,
-    Option<Vec<String>>,
-    Vec<(u64, Vec<String>)>,
-)> {
-    let mut files = Vec::new();
-    let mut rows: Vec<(u64, Vec<String>)> = Vec::new();
-    let mut header: Option<Vec<String>> = None;
-    for d in dirs {
-        let meta = d.join("campaign.json");
-        let text = std::fs::read_to_string(&meta).map_err(|e| {
-            err(format!(
-                "cannot read {}: {}",
-                meta.display(),
-                rhonn::error::path_problem(&meta, &e)
-            ))
-        })?;
-        let f: PlantCampaignFile = serde_json::from_str(&text).map_err(|e| {
-            err(format!(
-                "{} is not a campaign file of a plant scenario: {e}",
-                meta.display()
-            ))
-        })?;
-        let runs_csv = d.join("runs.csv");
-        if !runs_csv.exists() {
-            return Err(err(format!(
-                "{} is not finished (no runs.csv): resume it first",
-                d.display()
-            )));
-        }
-        let mut rd = csv::Reader::from_path(&runs_csv)
-            .map_err(|e| err(format!("cannot read {}: {e}", runs_csv.display())))?;
-        let h: Vec<String> = rd
-            .headers()
-            .map_err(|e| err(format!("cannot read {}: {e}", runs_csv.display())))?
-            .iter()
-            .map(String::from)
-            .collect();
-        if header.as_ref().is_some_and(|first| *first != h) {
-            return Err(err(format!(
-                "{} has other columns than {}",
-                runs_csv.display(),
-                dirs[0].display()
-            )));
-        }
-        for (line, rec) in rd.records().enumerate() {
-            let rec = rec.map_err(|e| err(format!("{} line {}: {e}", runs_csv.display(), line + 2)))?;
-            let fields: Vec<String> = rec.iter().map(String::from).collect();
-            let i = fields[0].parse::<u64>().map_err(|_| {
-                err(format!(
-                    "{} line {}: run `{}` is not an index",
-                    runs_csv.display(),
-                    line + 2,
-                    fields[0]
-                ))
-            })?;
-            rows.push((i, fields));
-        }
-        header.get_or_insert(h);
-        files.push(f);
-    }
-    Ok((files, header, rows))
-}
-
 /// Combine the finished shard folders of one plant campaign into `out` (`rhonn merge`):
 /// the same `runs.csv`, `summary.json`, plots and worst runs as the unsharded campaign.
 pub fn merge_plant_campaigns(dirs: &[std::path::PathBuf], out: &Path) -> Result<CampaignOutcome> {
-    let (files, header, mut rows) = read_shards(dirs)?;
-    let Some(first) = files.first().cloned() else {
-        return Err(err("give at least one campaign folder to merge".into()));
-    };
-    for (d, f) in dirs.iter().zip(&files) {
-        let same = (&f.scenario_toml, f.seed, f.runs, &f.sampling, f.envelope_runs)
-            == (
-                &first.scenario_toml,
-                first.seed,
-                first.runs,
-                &first.sampling,
-                first.envelope_runs,
-            );
-        if !same {
-            return Err(err(format!(
-                "{} is a different campaign from {}",
-                d.display(),
-                dirs[0].display()
-            )));
-        }
-    }
-    rows.sort_by_key(|(i, _)| *i);
-    if let Some(w) = rows.windows(2).find(|w| w[0].0 == w[1].0) {
-        return Err(err(format!("run {} appears twice among the shards", w[0].0)));
-    }
-    if rows.len() as u64 != first.runs {
-        return Err(err(format!(
-            "the shards hold {} of the campaign's {} runs: some shard is missing",
-            rows.len(),
-            first.runs
-        )));
-    }
-    let spec = PlantScenarioSpec::from_toml(&first.scenario_toml, "campaign.json")?;
-    let (params, base, tol) = drawn_parameters(&spec)?;
-    let header = header.unwrap_or_default();
-    let fig_names: Vec<String> = header.iter().skip(2 + params.len()).cloned().collect();
-    let o = CampaignOptions {
-        runs: first.runs,
-        seed: first.seed,
-        shard: [1, 1],
-        corners: first.sampling == "corners",
-        envelope_runs: first.envelope_runs,
-    };
-    std::fs::create_dir_all(out).map_err(|e| {
-        err(format!(
-            "cannot create {}: {}",
-            out.display(),
-            rhonn::error::path_problem(out, &e)
-        ))
-    })?;
-    let file = PlantCampaignFile {
-        shard: [1, 1],
-        indices: [0, first.runs],
-        ..first
-    };
-    let text = serde_json::to_string_pretty(&file).map_err(|e| err(e.to_string()))?;
-    let mut set = OutputSet::new(out)?;
-    set.write("campaign.json", |w| w.write_all((text + "\n").as_bytes()))?;
-    set.commit()?;
-    let job = Job {
-        spec: &spec,
-        o: &o,
-        base: &base,
-        tol: &tol,
-        n_fig: fig_names.len(),
-        partial: &out.join("runs.partial.csv"),
-    };
-    finish(&job, out, &header, &rows, &fig_names, Vec::new())
+    campaign_runner::merge::<PlantCampaign>(dirs, out)
 }
