@@ -298,7 +298,8 @@ fn path_errors_name_the_path_and_say_what_it_is() {
 
 /// "The README says every `rhonn-adaptive` setting is optional but leaving out
 /// `setpoint_mpa` is an error." The README now marks `setpoint_mpa` required: a
-/// controller section with `kind` and `setpoint_mpa` alone runs, with the same figures
+/// controller section with `kind` and `setpoint_mpa` alone (and the preset's
+/// `second_baseline`, a comparison rather than a setting) runs, with the same figures
 /// as the preset (whose other settings are the defaults written out), and without
 /// `setpoint_mpa` the error names it.
 #[test]
@@ -309,8 +310,11 @@ fn the_adaptive_controller_needs_only_its_set_point() {
     let (head, tail) = short.split_once("[controller]").unwrap();
     let (_, rest) = tail.split_once("[demand_dm3_s]").unwrap();
     let setpoint = tail.lines().find(|l| l.starts_with("setpoint_mpa")).unwrap();
-    let minimal =
-        format!("{head}[controller]\nkind = \"rhonn-adaptive\"\n{setpoint}\n\n[demand_dm3_s]{rest}");
+    // The second baseline is a comparison the preset asks for, not a setting with a default.
+    let second = tail.lines().find(|l| l.starts_with("second_baseline")).unwrap();
+    let minimal = format!(
+        "{head}[controller]\nkind = \"rhonn-adaptive\"\n{setpoint}\n{second}\n\n[demand_dm3_s]{rest}"
+    );
     let d = tempfile::tempdir().unwrap();
     std::fs::write(
         d.path().join("full.toml"),

@@ -57,6 +57,7 @@ mod tests {
                 hat_parallel: [None, None],
                 control: None,
                 baseline: None,
+                second_baseline: None,
             });
         }
         let mut out = Vec::new();

@@ -567,6 +567,22 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
         // Drawn first, so that the adaptive controller's line lies on top.
         p_series.insert(0, Series::solid(format!("p_line ({base})"), p));
     }
+    // A second baseline (a named cascade PI tuning), its own colour, drawn under the
+    // adaptive controller's line.
+    let second = summary
+        .control
+        .as_ref()
+        .and_then(|c| c.second_baseline.as_ref())
+        .map(|b| {
+            format!(
+                "second baseline: cascade PI, {} tuning",
+                b.tuning.unwrap_or("other")
+            )
+        });
+    if let (Some(label), Some(p)) = (&second, col("p_line_pi2", PA_PER_MPA)) {
+        let at = p_series.len() - 1;
+        p_series.insert(at, Series::solid(format!("p_line ({label})"), p));
+    }
     if let Some(r) = col("p_ref", PA_PER_MPA) {
         p_series.push(Series::dashed("set-point", r));
     }
@@ -594,6 +610,9 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
     if let Some(i) = col("current_pi", 1.0) {
         i_series.push(Series::solid(format!("current ({base})"), i));
     }
+    if let (Some(label), Some(i)) = (&second, col("current_pi2", 1.0)) {
+        i_series.insert(0, Series::solid(format!("current ({label})"), i));
+    }
     let current = TimePlot {
         title: format!("{name}: solenoid current"),
         y_label: "current [A]".into(),
@@ -609,9 +628,11 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
         col("stroke", M_PER_MM).unwrap_or_default(),
     )];
     let stroke_base = format!("stroke ({base})");
+    let stroke_second = format!("stroke ({})", second.as_deref().unwrap_or(""));
     for (c, label) in [
         ("stroke_ref", "stroke reference x_d"),
         ("stroke_pi", stroke_base.as_str()),
+        ("stroke_pi2", stroke_second.as_str()),
     ] {
         if let Some(y) = col(c, M_PER_MM) {
             x_series.push(Series {

@@ -66,8 +66,13 @@ fn pump_lines(output: &RunOutput) -> Vec<String> {
     }
     if let Some(c) = &summary.control {
         l.push(format!(
-            "  RHONN adaptive vs the baseline {} on an identical plant:",
-            c.baseline.describe()
+            "  RHONN adaptive vs the baseline {}{} on an identical plant:",
+            c.baseline.describe(),
+            c.second_baseline.as_ref().map_or(String::new(), |b| format!(
+                " and the second baseline {}, its {} tuning",
+                b.describe(),
+                b.tuning.unwrap_or("second")
+            ))
         ));
         l.extend(c.findings.iter().map(|line| format!("    {line}")));
         l.push(format!(

@@ -21,9 +21,14 @@ pub const REFERENCE: RGBColor = RGBColor(40, 40, 40);
 /// Limits (P_min, a bound): vermillion, always dashed.
 pub const LIMIT: RGBColor = RGBColor(213, 94, 0);
 
+/// A second baseline (another tuning of the same classical controller): bluish green.
+pub const SECOND_BASELINE: RGBColor = RGBColor(0, 158, 115);
+
 /// The role a series' label says it has.
 fn role_color(label: &str) -> Option<RGBColor> {
-    if label.contains("baseline") {
+    if label.contains("second baseline") {
+        Some(SECOND_BASELINE)
+    } else if label.contains("baseline") {
         Some(BASELINE)
     } else if label.contains("set-point") || label.contains("reference") {
         Some(REFERENCE)
@@ -121,6 +126,17 @@ mod tests {
         assert_eq!((pressure[2], pressure[3]), (REFERENCE, LIMIT));
         let p = colors(["y", "y_hat (free run)", "ARX baseline"]);
         assert!(p[0] != p[1] && p[2] == BASELINE);
+        // A second baseline has its own colour, drawn before the adaptive controller,
+        // which keeps the first plain colour.
+        let three = colors([
+            "p_line (cascade PI baseline)",
+            "p_line (second baseline: cascade PI, nominal-optimal tuning)",
+            "p_line (RHONN adaptive)",
+        ]);
+        assert_eq!(
+            (three[0], three[1], three[2]),
+            (BASELINE, SECOND_BASELINE, pressure[1])
+        );
     }
 
     #[test]

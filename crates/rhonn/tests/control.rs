@@ -349,8 +349,7 @@ fn the_tuning_search_picks_both_shipped_cascade_pi_tunings() {
 /// lag and the delay, and within 1 % of the set-point at least 60 % of the nominal run.
 #[test]
 fn adaptive_has_lower_iae_than_both_cascade_pi_tunings_where_the_goals_say() {
-    use rhonn::experiment::tuning::{robustness_cases, with_cascade_pi};
-    use rhonn::experiment::NOMINAL_OPTIMAL;
+    use rhonn::experiment::tuning::robustness_cases;
     let cases = robustness_cases(&preset::load("control-adaptive").unwrap()).unwrap();
     assert_eq!(cases.len(), 37);
     let mut corners_won = 0;
@@ -360,15 +359,13 @@ fn adaptive_has_lower_iae_than_both_cascade_pi_tunings_where_the_goals_say() {
         let c = out.summary.control.as_ref().unwrap();
         assert_eq!(c.baseline.controller, "cascade-pi");
         let robust = c.baseline.figures.regulation.clone().unwrap();
-        let opt = run_full(
-            &with_cascade_pi(spec, NOMINAL_OPTIMAL).check().unwrap(),
-            &mut NoRecorder,
-        )
-        .unwrap()
-        .summary
-        .figures
-        .regulation
-        .unwrap();
+        // The second baseline of the same run: the nominal-optimal tuning.
+        let second = c
+            .second_baseline
+            .as_ref()
+            .expect("the shipped scenario's second baseline");
+        assert_eq!(second.tuning, Some("nominal-optimal"));
+        let opt = second.figures.regulation.clone().unwrap();
         if name == "nominal" {
             assert!(
                 ra.iae_mpa_s < opt.iae_mpa_s,
@@ -509,4 +506,57 @@ fn every_shipped_adaptive_setting_beats_the_cascade_front() {
         })
         .count();
     assert_eq!(wins, 37, "{wins} of 37");
+}
+
+/// `control-adaptive` runs the adaptive controller against both cascade PI tunings in the
+/// same run, on identical plants: the second baseline's figures are those of the
+/// nominal-optimal cascade run on its own; `trajectory.csv` has all three controllers'
+/// pressure and current; the findings compare the adaptive controller with each.
+#[test]
+fn control_adaptive_compares_with_both_cascade_tunings_in_one_run() {
+    use rhonn::experiment::tuning::with_cascade_pi;
+    use rhonn::experiment::{Trace, NOMINAL_OPTIMAL};
+    let spec = preset::load("control-adaptive").unwrap();
+    let mut trace = Trace::default();
+    let out = run_full(&spec.check().unwrap(), &mut trace).unwrap();
+    let c = out.summary.control.as_ref().unwrap();
+    let second = c.second_baseline.as_ref().unwrap();
+    assert_eq!(
+        (second.controller, second.tuning),
+        ("cascade-pi", Some("nominal-optimal"))
+    );
+    let alone = run_full(
+        &with_cascade_pi(&spec, NOMINAL_OPTIMAL).check().unwrap(),
+        &mut NoRecorder,
+    )
+    .unwrap();
+    let (r2, ra) = (
+        second.figures.regulation.clone().unwrap(),
+        alone.summary.figures.regulation.unwrap(),
+    );
+    assert_eq!(
+        (r2.iae_mpa_s, r2.current_total_variation_a),
+        (ra.iae_mpa_s, ra.current_total_variation_a)
+    );
+    for col in [
+        "p_line",
+        "p_line_pi",
+        "p_line_pi2",
+        "current",
+        "current_pi",
+        "current_pi2",
+    ] {
+        let v = trace.column(col).unwrap_or_else(|| panic!("no column {col}"));
+        assert_eq!(v.len(), trace.column("t").unwrap().len());
+    }
+    let adaptive = out.summary.figures.regulation.as_ref().unwrap();
+    let robust = c.baseline.figures.regulation.as_ref().unwrap();
+    // Nominal plant: the adaptive's IAE is below both tunings', at less current activity
+    // than the nominal-optimal one's.
+    assert!(adaptive.iae_mpa_s < r2.iae_mpa_s && adaptive.iae_mpa_s < robust.iae_mpa_s);
+    assert!(adaptive.current_total_variation_a < r2.current_total_variation_a);
+    assert!(c
+        .findings
+        .iter()
+        .any(|f| f.starts_with("IAE") && f.contains("cascade-pi-nominal-optimal")));
 }

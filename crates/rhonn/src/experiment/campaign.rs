@@ -88,6 +88,13 @@ pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
             .map(String::from),
         );
     }
+    if let Some(super::scenario::ControllerSpec::RhonnAdaptive {
+        second_baseline: Some(_),
+        ..
+    }) = &spec.controller
+    {
+        v.extend(SECOND_BASELINE_FIGURES.map(String::from));
+    }
     if let Some(id) = &spec.identifier {
         for s in &id.states {
             v.push(format!("{s}_training_fit_percent"));
@@ -96,6 +103,14 @@ pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
     }
     v
 }
+
+/// The second baseline's figures a campaign records.
+const SECOND_BASELINE_FIGURES: [&str; 4] = [
+    "second_baseline_ise_mpa2_s",
+    "second_baseline_iae_mpa_s",
+    "second_baseline_within_1pct_percent",
+    "second_baseline_current_total_variation_a",
+];
 
 /// The figures of a run, in [`figure_names`] order.
 pub fn figure_values(summary: &Summary) -> Vec<f64> {
@@ -130,6 +145,15 @@ pub fn figure_values(summary: &Summary) -> Vec<f64> {
             c.adaptive.w_norm_max,
             c.adaptive.w1_distance_max,
         ]);
+        if let Some(b) = &c.second_baseline {
+            let r = b.figures.regulation.as_ref();
+            v.extend([
+                r.map_or(f64::NAN, |r| r.ise_mpa2_s),
+                r.map_or(f64::NAN, |r| r.iae_mpa_s),
+                r.map_or(f64::NAN, |r| r.within_1pct_percent),
+                r.map_or(f64::NAN, |r| r.current_total_variation_a),
+            ]);
+        }
     }
     if let Some(id) = &summary.identification {
         for s in &id.training {

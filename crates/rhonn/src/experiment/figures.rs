@@ -144,6 +144,9 @@ pub(super) fn regulation_findings(controller: &str, r: &Regulation) -> Vec<Strin
 pub struct BaselineReport {
     /// Its kind (`cascade-pi` or `pi`).
     pub controller: &'static str,
+    /// Its tuning's name (`nominal-optimal`, `robust`), for a second baseline.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tuning: Option<&'static str>,
     /// The PI's proportional gain \[A/MPa\].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kp_a_per_mpa: Option<f64>,
@@ -167,6 +170,7 @@ impl BaselineReport {
     pub fn of(b: &super::Baseline, figures: Figures) -> Self {
         let mut r = BaselineReport {
             controller: b.name(),
+            tuning: None,
             kp_a_per_mpa: None,
             kp_mm_per_mpa: None,
             ti_s: 0.0,
@@ -213,6 +217,9 @@ pub struct ControlReport {
     pub adaptive: AdaptiveReport,
     /// The baseline.
     pub baseline: BaselineReport,
+    /// The second baseline (`second_baseline`), when run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub second_baseline: Option<BaselineReport>,
     /// One line per figure: which controller did better, with both numbers.
     pub findings: Vec<String>,
 }

@@ -224,6 +224,27 @@ pub(super) fn check_baseline(k: BaselineKeys, setpoint: &Signal, params: &PumpPa
     }
 }
 
+/// The cascade PI with a named tuning (`nominal-optimal` or `robust`): a second baseline.
+pub(super) fn check_named_cascade_pi(
+    name: &str,
+    setpoint: &Signal,
+    params: &PumpParams,
+) -> Result<(&'static str, Baseline)> {
+    let (name, g) = match name {
+        "nominal-optimal" => ("nominal-optimal", NOMINAL_OPTIMAL),
+        "robust" => ("robust", ROBUST),
+        other => {
+            return Err(invalid(
+                "controller.second_baseline",
+                format!("\"{other}\""),
+                "\"nominal-optimal\" or \"robust\" (a tuning of the cascade PI)",
+            ))
+        }
+    };
+    let s = check_cascade_pi(g, setpoint.clone(), params, "controller.second_baseline.")?;
+    Ok((name, Baseline::CascadePi(s)))
+}
+
 /// A checked PI controller (SI).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PiSettings {

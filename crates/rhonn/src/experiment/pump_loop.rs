@@ -343,6 +343,7 @@ impl<S: Integrated<Plant = PumpSystem>, R: Recorder> Hooks<S> for PumpHooks<'_, 
                 hat_parallel: [hat_parallel[P_LINE], hat_parallel[STROKE]],
                 control: self.ctl_state,
                 baseline: None,
+                second_baseline: None,
             });
         }
         Ok(())

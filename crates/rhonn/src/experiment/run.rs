@@ -49,6 +49,7 @@ fn report(sc: &Scenario, st: Stats, figures: Figures, identification: Option<Ide
 struct WithBaseline<'a, R: Recorder> {
     inner: &'a mut R,
     base: &'a [super::trace::BaselineSample],
+    second: &'a [super::trace::BaselineSample],
     k: usize,
 }
 
@@ -56,6 +57,7 @@ impl<R: Recorder> Recorder for WithBaseline<'_, R> {
     fn record(&mut self, s: &Sample) {
         let mut s = *s;
         s.baseline = self.base.get(self.k).copied();
+        s.second_baseline = self.second.get(self.k).copied();
         self.k += 1;
         self.inner.record(&s);
     }
@@ -93,28 +95,17 @@ impl Recorder for BaselineCollector {
 /// An adaptive run: the PI baseline on an identical plant (same set-point, demand,
 /// noise), then the adaptive cascade, its samples carrying the baseline's.
 fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) -> Result<RunOutput> {
-    let mut base_sc = sc.clone();
-    base_sc.drive = match &a.baseline {
-        Baseline::Pi(s) => Drive::Pi(s.clone()),
-        Baseline::CascadePi(s) => Drive::CascadePi(s.clone()),
-    };
-    let mut base = BaselineCollector {
-        wants: rec.wants_samples(),
-        stride: rec.stride(),
-        samples: Vec::new(),
-    };
-    let (st_b, fig_b, _, _, _) = simulate(
-        &base_sc,
-        pump_alone(&base_sc),
-        plant_initial(&base_sc),
-        &mut base,
-        &mut [],
-        Ctl::of(&base_sc),
-        true,
-    )?;
+    let (wants, stride) = (rec.wants_samples(), rec.stride());
+    let (st_b, fig_b, base) = run_baseline(sc, &a.baseline, wants, stride)?;
+    let second = a
+        .second_baseline
+        .as_ref()
+        .map(|(name, b)| run_baseline(sc, b, wants, stride).map(|r| (*name, b, r)))
+        .transpose()?;
     let mut inj = WithBaseline {
         inner: rec,
-        base: &base.samples,
+        base: &base,
+        second: second.as_ref().map_or(&[][..], |(_, _, (_, _, s))| s),
         k: 0,
     };
     let (st, fig, _, _, adaptive) = simulate(
@@ -129,10 +120,20 @@ fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) ->
     let adaptive = adaptive.expect("an adaptive run reports its weights");
     let mut total = st;
     add_stats(&mut total, st_b);
-    let findings = super::figures::comparison(&fig, &fig_b, a.baseline.name());
+    let mut findings = super::figures::comparison(&fig, &fig_b, a.baseline.name());
+    let second_baseline = second.map(|(name, b, (st2, fig2, _))| {
+        add_stats(&mut total, st2);
+        let label = format!("{}-{name}", b.name());
+        findings.extend(super::figures::comparison(&fig, &fig2, &label));
+        BaselineReport {
+            tuning: Some(name),
+            ..BaselineReport::of(b, fig2)
+        }
+    });
     let control = ControlReport {
         adaptive,
         baseline: BaselineReport::of(&a.baseline, fig_b),
+        second_baseline,
         findings,
     };
     let mut summary = report(sc, total, fig, None);
@@ -142,6 +143,36 @@ fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) ->
         validation: None,
         model: None,
     })
+}
+
+/// A baseline on an identical plant (same set-point, demand, noise): its solver
+/// statistics, figures and samples.
+fn run_baseline(
+    sc: &Scenario,
+    b: &Baseline,
+    wants: bool,
+    stride: u64,
+) -> Result<(Stats, Figures, Vec<super::trace::BaselineSample>)> {
+    let mut base_sc = sc.clone();
+    base_sc.drive = match b {
+        Baseline::Pi(s) => Drive::Pi(s.clone()),
+        Baseline::CascadePi(s) => Drive::CascadePi(s.clone()),
+    };
+    let mut base = BaselineCollector {
+        wants,
+        stride,
+        samples: Vec::new(),
+    };
+    let (st_b, fig_b, _, _, _) = simulate(
+        &base_sc,
+        pump_alone(&base_sc),
+        plant_initial(&base_sc),
+        &mut base,
+        &mut [],
+        Ctl::of(&base_sc),
+        true,
+    )?;
+    Ok((st_b, fig_b, base.samples))
 }
 
 /// The plant's initial state: pressure, stroke, and the solenoid carrying the current

@@ -3,8 +3,8 @@
 //! what is allowed; unknown keys are errors.
 
 use super::pump_controllers::{
-    check_baseline, check_cascade_pi, check_pi, Baseline, BaselineKeys, CascadePiGainsMpa, CascadePiSettings,
-    PiSettings, ROBUST,
+    check_baseline, check_cascade_pi, check_named_cascade_pi, check_pi, Baseline, BaselineKeys,
+    CascadePiGainsMpa, CascadePiSettings, PiSettings, ROBUST,
 };
 use crate::control::CascadeSettings;
 use crate::error::{invalid, Error, Result};
@@ -159,6 +159,10 @@ pub enum ControllerSpec {
         /// The cascade PI baseline's stroke gain (the robust tuning).
         #[serde(default)]
         baseline_stroke_gain: Option<f64>,
+        /// A second cascade PI run beside it, by its tuning's name: `nominal-optimal` or
+        /// `robust` (none by default).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        second_baseline: Option<String>,
     },
     /// Cascade PI (`rhonn::control::CascadePi`): an outer PI on the measured pressure
     /// with set-point weighting gives a stroke reference; an inner proportional loop on
@@ -242,6 +246,8 @@ pub struct AdaptiveSettings {
     pub cascade: CascadeSettings,
     /// The baseline run beside it on an identical plant (same set-point).
     pub baseline: Baseline,
+    /// A second baseline (a named cascade PI tuning) run beside it too.
+    pub second_baseline: Option<(&'static str, Baseline)>,
 }
 
 /// How the current is produced.
@@ -588,6 +594,7 @@ impl ScenarioSpec {
             baseline_kp_mm_per_mpa,
             baseline_setpoint_weight,
             baseline_stroke_gain,
+            second_baseline,
         } = spec
         else {
             return Err(invalid("controller.kind", "another kind", "rhonn-adaptive"));
@@ -642,10 +649,15 @@ impl ScenarioSpec {
             &setpoint,
             params,
         )?;
+        let second_baseline = match second_baseline.as_deref() {
+            None => None,
+            Some(name) => Some(check_named_cascade_pi(name, &setpoint, params)?),
+        };
         Ok(Drive::Adaptive(Box::new(AdaptiveSettings {
             setpoint,
             cascade,
             baseline,
+            second_baseline,
         })))
     }
 

@@ -27,6 +27,8 @@ pub struct Sample {
     pub control: Option<crate::control::CascadeState>,
     /// The PI baseline's plant at the same instant (adaptive runs).
     pub baseline: Option<BaselineSample>,
+    /// The second baseline's plant (adaptive runs with a `second_baseline`).
+    pub second_baseline: Option<BaselineSample>,
 }
 
 /// The baseline's plant in an adaptive run (SI).
@@ -145,6 +147,9 @@ impl Recorder for Trace {
             if s.baseline.is_some() {
                 cols.extend([("p_line_pi", "Pa"), ("stroke_pi", "m"), ("current_pi", "A")]);
             }
+            if s.second_baseline.is_some() {
+                cols.extend([("p_line_pi2", "Pa"), ("stroke_pi2", "m"), ("current_pi2", "A")]);
+            }
             self.columns = cols
                 .into_iter()
                 .map(|(name, unit)| Column {
@@ -173,6 +178,9 @@ impl Recorder for Trace {
             s.baseline.map(|b| b.p_line),
             s.baseline.map(|b| b.stroke),
             s.baseline.map(|b| b.current),
+            s.second_baseline.map(|b| b.p_line),
+            s.second_baseline.map(|b| b.stroke),
+            s.second_baseline.map(|b| b.current),
         ];
         for (col, v) in self.columns.iter_mut().zip(vals.into_iter().flatten()) {
             col.values.push(v);
