@@ -4,102 +4,14 @@
 use crate::{write_json, OutputSet, Result, Series, TimePlot};
 use rhonn::data::Record;
 use rhonn::experiment::{Column, Trace};
-use rhonn::ident::{OnlineModel, OnlineRun, OnlineSpec};
-use rhonn::metrics;
+pub use rhonn::ident::identification::{
+    online_prediction_figures, validation_figures, IdentifySummary, ValidationFigures,
+};
+use rhonn::ident::identification::{OnlinePredictionFigures, Validation};
+use rhonn::ident::{OnlineModel, OnlineRun};
 use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-/// Frozen-weight predictions on validation records.
-#[derive(Debug, Clone)]
-pub struct Validation {
-    /// The records.
-    pub records: Vec<Record>,
-    /// Free run, per record and sample, per output.
-    pub free_run: Vec<Vec<Vec<f64>>>,
-    /// K samples ahead, when asked.
-    pub ahead: Option<(usize, Vec<Vec<Vec<f64>>>)>,
-}
-
-/// Figures of a validation, per output.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ValidationFigures {
-    /// Output.
-    pub output: String,
-    /// Free run: RMS error (output units) and fit \[%\] over every validation record.
-    pub free_run_rms_error: f64,
-    /// Free-run fit \[%\]; left out for a constant output (undefined).
-    #[serde(skip_serializing_if = "rhonn::metrics::undefined")]
-    pub free_run_fit_percent: f64,
-    /// K.
-    pub horizon: Option<usize>,
-    /// K samples ahead: RMS error, from sample K of each record on.
-    pub ahead_rms_error: Option<f64>,
-    /// K-step fit \[%\].
-    pub ahead_fit_percent: Option<f64>,
-}
-
-/// `summary.json`.
-#[derive(Debug, Clone, Serialize)]
-pub struct IdentifySummary {
-    /// The model's settings as used.
-    pub model: OnlineSpec,
-    /// Records identified on.
-    pub records: Vec<String>,
-    /// Sample time \[s\].
-    pub sample_time_s: f64,
-    /// Terms per neuron.
-    pub terms_per_neuron: usize,
-    /// The terms, in the order of each neuron's weights (weights.csv's `w_<output>_<k>`,
-    /// model.json's `weights`).
-    pub terms: Vec<String>,
-    /// Online figures over the final pass.
-    pub online: Vec<rhonn::ident::OnlineFigures>,
-    /// Final weight norm per neuron.
-    pub final_weight_norms: Vec<f64>,
-    /// Largest weight norm per neuron in each pass.
-    pub max_weight_norm_per_pass: Vec<Vec<f64>>,
-    /// Frozen-weight validation.
-    pub validation: Vec<ValidationFigures>,
-    /// Findings in words.
-    pub findings: Vec<String>,
-    /// Without `--model`: the online selection (every candidate's prequential figures).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub selection: Option<rhonn::ident::bank::BankSelection>,
-    /// With validation records: the offline ARX (lags by cross-validation on the training
-    /// records) beside the frozen online model, per record and output.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub baseline_arx: Option<rhonn::ident::compare::ArxBaseline>,
-    /// `--units`: the columns' units (the figures are in them).
-    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
-    pub units: std::collections::BTreeMap<String, String>,
-}
-
-/// Figures of validation predictions.
-pub fn validation_figures(v: &Validation, outputs: &[String]) -> Vec<ValidationFigures> {
-    (0..outputs.len())
-        .map(|j| {
-            let gather = |p: &[Vec<Vec<f64>>], from: usize| {
-                let (mut y, mut yh) = (Vec::new(), Vec::new());
-                for (r, pr) in v.records.iter().zip(p) {
-                    y.extend_from_slice(&r.outputs[j][from.min(r.len())..]);
-                    yh.extend(pr[from.min(r.len())..].iter().map(|e| e[j]));
-                }
-                (metrics::rms_error(&y, &yh), metrics::fit_percent(&y, &yh))
-            };
-            let (fr, ff) = gather(&v.free_run, 0);
-            let ahead = v.ahead.as_ref().map(|(k, p)| (*k, gather(p, *k)));
-            ValidationFigures {
-                output: outputs[j].clone(),
-                free_run_rms_error: fr,
-                free_run_fit_percent: ff,
-                horizon: ahead.map(|a| a.0),
-                ahead_rms_error: ahead.map(|a| a.1 .0),
-                ahead_fit_percent: ahead.map(|a| a.1 .1),
-            }
-        })
-        .collect()
-}
 
 /// Write everything of an identification into `dir`.
 #[allow(clippy::too_many_arguments)]
@@ -388,42 +300,6 @@ fn validation_plot(
         })
         .collect();
     TimePlot::render(&panels, 900, 380)
-}
-
-/// Per output, a prediction's figures (`rhonn predict` on an online model).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct OnlinePredictionFigures {
-    /// Output.
-    pub output: String,
-    /// RMS error (output units), from sample K on (K steps ahead) or over all samples.
-    pub rms_error: f64,
-    /// Fit \[%\]; left out for a constant output (undefined).
-    #[serde(skip_serializing_if = "rhonn::metrics::undefined")]
-    pub fit_percent: f64,
-    /// Normalised RMS error (by the output's range); left out for a constant output.
-    #[serde(skip_serializing_if = "rhonn::metrics::undefined")]
-    pub nrmse: f64,
-}
-
-/// Figures of `pred` against `record`'s outputs, from sample `first` on.
-pub fn online_prediction_figures(
-    record: &Record,
-    pred: &[Vec<f64>],
-    outputs: &[String],
-    first: usize,
-) -> Vec<OnlinePredictionFigures> {
-    (0..outputs.len())
-        .map(|j| {
-            let y = &record.outputs[j][first.min(record.len())..];
-            let yh: Vec<f64> = pred[first.min(record.len())..].iter().map(|e| e[j]).collect();
-            OnlinePredictionFigures {
-                output: outputs[j].clone(),
-                rms_error: metrics::rms_error(y, &yh),
-                fit_percent: metrics::fit_percent(y, &yh),
-                nrmse: metrics::nrmse(y, &yh),
-            }
-        })
-        .collect()
 }
 
 /// `rhonn predict` on an online model: prediction.csv (t, per output `<name>` and

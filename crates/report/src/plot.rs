@@ -536,6 +536,40 @@ fn weight_plots(trace: &Trace, name: &str, t: &[f64]) -> Vec<TimePlot> {
     out
 }
 
+/// The stroke panel's series: the stroke (the adaptive controller's), its reference, and
+/// the baselines' strokes.
+fn stroke_series(
+    col: &dyn Fn(&str, f64) -> Option<Vec<f64>>,
+    adaptive: bool,
+    base: &str,
+    second: Option<&str>,
+) -> Vec<Series> {
+    let mut x_series = vec![Series::solid(
+        if adaptive {
+            "stroke (RHONN adaptive)"
+        } else {
+            "stroke"
+        },
+        col("stroke", M_PER_MM).unwrap_or_default(),
+    )];
+    let stroke_base = format!("stroke ({base})");
+    let stroke_second = format!("stroke ({})", second.unwrap_or(""));
+    for (c, label) in [
+        ("stroke_ref", "stroke reference x_d"),
+        ("stroke_pi", stroke_base.as_str()),
+        ("stroke_pi2", stroke_second.as_str()),
+    ] {
+        if let Some(y) = col(c, M_PER_MM) {
+            x_series.push(Series {
+                label: label.into(),
+                y,
+                dashed: c == "stroke_ref",
+            });
+        }
+    }
+    x_series
+}
+
 /// The plots of a run: `pressure.svg` (line pressure, set-point, P_min), `stroke.svg`,
 /// `inputs.svg` (current and demand); adaptive runs show the baseline beside the
 /// adaptive controller in each, the stroke reference, and `weights.svg` (the adaptive
@@ -619,29 +653,7 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
         t: t.clone(),
         series: i_series,
     };
-    let mut x_series = vec![Series::solid(
-        if adaptive {
-            "stroke (RHONN adaptive)"
-        } else {
-            "stroke"
-        },
-        col("stroke", M_PER_MM).unwrap_or_default(),
-    )];
-    let stroke_base = format!("stroke ({base})");
-    let stroke_second = format!("stroke ({})", second.as_deref().unwrap_or(""));
-    for (c, label) in [
-        ("stroke_ref", "stroke reference x_d"),
-        ("stroke_pi", stroke_base.as_str()),
-        ("stroke_pi2", stroke_second.as_str()),
-    ] {
-        if let Some(y) = col(c, M_PER_MM) {
-            x_series.push(Series {
-                label: label.into(),
-                y,
-                dashed: c == "stroke_ref",
-            });
-        }
-    }
+    let x_series = stroke_series(&col, adaptive, base, second.as_deref());
     let weights = weight_plots(trace, name, &t);
     let demand = TimePlot {
         title: format!("{name}: demanded flow"),

@@ -2,7 +2,7 @@
 //! its model.
 
 use super::{context, read_text, Outcome};
-use crate::identify::{validation_figures, write_identify, IdentifySummary, Validation};
+use crate::identify::{write_identify, IdentifySummary};
 use crate::{Error, Result};
 use rhonn::ident::{predict_records, OnlineModel, OnlineSpec};
 use std::path::{Path, PathBuf};
@@ -82,6 +82,7 @@ fn identification_error(e: rhonn::Error, a: &IdentifyRequest) -> Error {
 }
 
 fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
+    use rhonn::ident::identification::{identify, IdentifyError, IdentifyPlan};
     let given = a.model.as_deref().map(read_spec).transpose()?;
     let units = super::parse_units(&a.units, &a.inputs, &a.outputs)?;
     if a.steps_ahead == Some(0) {
@@ -90,61 +91,35 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
         ));
     }
     let records = read_all(a, &a.data)?;
-    let (mut spec, bank) = choose_spec(a, given, &records)?;
-    if let Some(e) = a.epochs {
-        spec.epochs = e;
-    }
-    let warmup = bank.as_ref().map(|b| b.warmup);
-    let run = rhonn::ident::identify_records_scaled(&spec, &records, &a.outputs, warmup)
-        .map_err(|e| identification_error(e, a))?;
-    let validation = validate(a, &run, &records)?;
-    let dt = rhonn::ident::sample_time(&records)?;
-    let weights = run.identifier.weights();
-    let final_norms: Vec<f64> = weights
-        .iter()
-        .map(|w| w.iter().map(|x| x * x).sum::<f64>().sqrt())
-        .collect();
-    let vfig = validation
-        .as_ref()
-        .map(|v| validation_figures(v, &a.outputs))
-        .unwrap_or_default();
-    let baseline = arx_baseline(a, &records, validation.as_ref())?;
-    let summary = IdentifySummary {
-        model: spec.clone(),
-        records: records.iter().map(|r| r.source.clone()).collect(),
-        sample_time_s: dt,
-        terms_per_neuron: run.identifier.n_terms(),
-        terms: run.identifier.term_names(&a.outputs, &a.inputs),
-        online: run.figures.clone(),
-        final_weight_norms: final_norms,
-        max_weight_norm_per_pass: run.max_norm_per_pass.clone(),
-        findings: bank
-            .iter()
-            .flat_map(|b| b.findings())
-            .chain(findings(&run, &vfig))
-            .chain(baseline.iter().flat_map(|b| b.findings()))
-            .collect(),
-        selection: bank,
-        baseline_arx: baseline,
-        validation: vfig,
+    let vrec = read_all(a, &a.validate)?;
+    let plan = IdentifyPlan {
+        inputs: a.inputs.clone(),
+        outputs: a.outputs.clone(),
+        given,
+        epochs: a.epochs,
+        steps_ahead: a.steps_ahead,
         units,
     };
-    let model = OnlineModel::of(&run.identifier, spec, &a.inputs, &a.outputs, dt);
+    let id = identify(&records, &vrec, &plan).map_err(|e| match e {
+        IdentifyError::Online(e) => identification_error(e, a),
+        IdentifyError::Validation(e) => e.into(),
+        IdentifyError::Baseline(e) => context("the ARX baseline")(e.into()),
+    })?;
     let files = write_identify(
         &a.out,
-        &run,
+        &id.run,
         &records,
         &a.outputs,
-        &model,
-        &summary,
-        validation.as_ref(),
+        &id.model,
+        &id.summary,
+        id.validation.as_ref(),
     )?;
     let mut o = Outcome {
         files,
         ..Outcome::default()
     };
     o.files.push(crate::write_report(&a.out)?);
-    o.lines = console_lines(&summary);
+    o.lines = console_lines(&id.summary);
     Ok(o)
 }
 
@@ -154,80 +129,6 @@ fn read_all(a: &IdentifyRequest, paths: &[PathBuf]) -> Result<Vec<rhonn::data::R
         .iter()
         .map(|p| crate::read_record(p, &a.inputs, &a.outputs, 2).map_err(Error::from))
         .collect()
-}
-
-/// The spec given, or, without one, the winner of the bank of candidates run online over
-/// the records (`rhonn::ident::bank`), with the bank's figures.
-fn choose_spec(
-    a: &IdentifyRequest,
-    given: Option<OnlineSpec>,
-    records: &[rhonn::data::Record],
-) -> Result<(OnlineSpec, Option<rhonn::ident::bank::BankSelection>)> {
-    match given {
-        Some(s) => Ok((s, None)),
-        None => {
-            let total = records.iter().map(|r| r.len()).sum();
-            let cands = rhonn::ident::bank::default_candidates(a.outputs.len(), total);
-            let sel = rhonn::ident::bank::select(cands, records, &a.outputs)
-                .map_err(|e| identification_error(e, a))?;
-            Ok((sel.chosen_spec().clone(), Some(sel)))
-        }
-    }
-}
-
-/// The frozen model run free (and K samples ahead) on the --validate records, which must
-/// be sampled as the training records are.
-fn validate(
-    a: &IdentifyRequest,
-    run: &rhonn::ident::OnlineRun,
-    records: &[rhonn::data::Record],
-) -> Result<Option<Validation>> {
-    if a.validate.is_empty() {
-        return Ok(None);
-    }
-    let vrec = read_all(a, &a.validate)?;
-    let (vdt, dt) = (
-        rhonn::ident::sample_time(&vrec)?,
-        rhonn::ident::sample_time(records)?,
-    );
-    if (vdt - dt).abs() > 0.01 * dt {
-        return Err(Error::Input(format!(
-            "{} samples every {} s, but the training records ({}) every {} s: give validation records with the same sample time (is one `t` column in milliseconds?)",
-            list(&a.validate),
-            rhonn::metrics::sig(vdt, 6),
-            list(&a.data),
-            rhonn::metrics::sig(dt, 6)
-        )));
-    }
-    let mut id = run.identifier.clone();
-    let free_run = predict_records(&mut id, &vrec, None)?;
-    let ahead = match a.steps_ahead {
-        Some(k) => Some((k, predict_records(&mut id, &vrec, Some(k))?)),
-        None => None,
-    };
-    Ok(Some(Validation {
-        records: vrec,
-        free_run,
-        ahead,
-    }))
-}
-
-/// The offline ARX (lags by cross-validation on the records) beside the frozen model on
-/// each validation record.
-fn arx_baseline(
-    a: &IdentifyRequest,
-    records: &[rhonn::data::Record],
-    validation: Option<&Validation>,
-) -> Result<Option<rhonn::ident::compare::ArxBaseline>> {
-    let Some(v) = validation else { return Ok(None) };
-    let (arx, _) = rhonn::sysid::best_arx(records, &a.inputs, &a.outputs)
-        .map_err(|e| context("the ARX baseline")(e.into()))?;
-    Ok(Some(rhonn::ident::compare::compare_with_arx(
-        &v.records,
-        &v.free_run,
-        &arx,
-        &a.outputs,
-    )?))
 }
 
 /// The figures for the console: the online fit, then per validation record and output
@@ -272,41 +173,6 @@ fn console_lines(summary: &IdentifySummary) -> Vec<String> {
         }
     }
     lines
-}
-
-/// What the numbers mean, in words.
-fn findings(run: &rhonn::ident::OnlineRun, v: &[crate::identify::ValidationFigures]) -> Vec<String> {
-    let mut out = Vec::new();
-    for f in &run.figures {
-        out.push(match f.converged_s {
-            Some(t) => format!(
-                "{}: the online error stays within +-{} (twice its final RMS) from {} s of the final pass on (a band of the tracking error, not a claim that the system is learnt: the validation below says how the frozen model runs free)",
-                f.output,
-                rhonn::metrics::sig(f.band, 4),
-                rhonn::metrics::sig(t, 6)
-            ),
-            None => format!(
-                "{}: the online error leaves the band +-{} until the end of the final pass",
-                f.output,
-                rhonn::metrics::sig(f.band, 4)
-            ),
-        });
-    }
-    let passes = &run.max_norm_per_pass;
-    if passes.len() > 1 {
-        let (first, last) = (&passes[0], &passes[passes.len() - 1]);
-        for (i, (a, b)) in first.iter().zip(last).enumerate() {
-            out.push(format!(
-                "neuron {i}: largest weight norm {a:.3} in the first pass, {b:.3} in the last"
-            ));
-        }
-    }
-    for f in v {
-        if f.free_run_fit_percent < 0.0 {
-            out.push(format!("{}: the frozen model's free run is worse than the validation mean (fit {:.1} %): use K-step prediction or more passes", f.output, f.free_run_fit_percent));
-        }
-    }
-    out
 }
 
 /// `rhonn predict` with a `model.json` written by `rhonn identify`.

@@ -437,6 +437,7 @@ impl DiscreteIdentifier {
 pub mod bank;
 mod cascade_online;
 pub mod compare;
+pub mod identification;
 mod lagged;
 pub use lagged::first_prediction;
 mod online;
