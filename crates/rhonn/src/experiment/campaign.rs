@@ -105,8 +105,9 @@ pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
 }
 
 /// The second baseline's figures a campaign records.
-const SECOND_BASELINE_FIGURES: [&str; 4] = [
+const SECOND_BASELINE_FIGURES: [&str; 5] = [
     "second_baseline_ise_mpa2_s",
+    "second_baseline_time_below_p_min_after_1s_s",
     "second_baseline_iae_mpa_s",
     "second_baseline_within_1pct_percent",
     "second_baseline_current_total_variation_a",
@@ -149,6 +150,7 @@ pub fn figure_values(summary: &Summary) -> Vec<f64> {
             let r = b.figures.regulation.as_ref();
             v.extend([
                 r.map_or(f64::NAN, |r| r.ise_mpa2_s),
+                b.figures.time_below_p_min_after_1s_s,
                 r.map_or(f64::NAN, |r| r.iae_mpa_s),
                 r.map_or(f64::NAN, |r| r.within_1pct_percent),
                 r.map_or(f64::NAN, |r| r.current_total_variation_a),
