@@ -1,7 +1,8 @@
 //! What users read, checked: the README is a front door (at most 400 lines, prerequisites
 //! and the two commands first); every link in the README, CHANGELOG and docs/ resolves;
 //! the README's shell blocks run as written (from a folder holding the shipped data) and
-//! print the lines its `text` blocks quote; every file a guide's shell block names ships;
+//! print the lines its `text` blocks quote; the guides' shell blocks run (campaigns cut
+//! short) and every file they name ships;
 //! the scenario reference's TOML blocks are scenarios `rhonn run` accepts. (The guides' Rust
 //! blocks are doctests of `rhonn-report` and `rhonn-core`.)
 
@@ -200,8 +201,8 @@ fn the_readme_shell_blocks_run_and_print_what_it_quotes() {
     }
 }
 
-/// Every repository path a guide's shell block names ships (the blocks themselves run
-/// longer jobs than a test should: campaigns of 1,000 runs, Slurm).
+/// Every repository path a guide's shell block names ships (the lines
+/// `the_guides_shell_blocks_run` does not run included: Slurm, Python, the firmware).
 #[test]
 fn every_file_a_guides_shell_block_names_ships() {
     let root = root();
@@ -232,6 +233,63 @@ fn every_file_a_guides_shell_block_names_ships() {
         }
     }
     assert!(named > 15, "only {named} files named: the scan is broken");
+}
+
+/// The guides' shell blocks run as written, in order, from a folder holding the shipped
+/// data (each guide in its own): every `rhonn` line, with campaigns cut to 4 runs and the
+/// shards of a merge made first. Not run, and why: lines with placeholders (`[...]`,
+/// `SPEC.toml`, your own `run1.csv`), `cargo` (building, examples, the 77 s benchmark),
+/// Python, Slurm and the firmware (their own tests: `python/test.sh`, `embedded/run-qemu.sh`).
+#[test]
+fn the_guides_shell_blocks_run() {
+    let skip = |c: &str| {
+        !(c.starts_with("rhonn ") || c.starts_with("for "))
+            || c.contains('[')
+            || c.contains("SPEC")
+            || c.contains("run1.csv")
+    };
+    let mut ran = Vec::new();
+    for (name, text) in user_docs(&root()) {
+        if !name.starts_with("docs/guides/") {
+            continue;
+        }
+        let d = sandbox();
+        let path = format!(
+            "{}:{}",
+            d.path().join("bin").display(),
+            std::env::var("PATH").unwrap_or_default()
+        );
+        for block in blocks(&text, "sh") {
+            for cmd in commands(&block) {
+                if skip(&cmd) {
+                    continue;
+                }
+                let mut cmd = cmd
+                    .replace("--runs 1000", "--runs 4")
+                    .replace("--runs 100000", "--runs 4");
+                if cmd.starts_with("rhonn merge s1 s2 s3 s4") {
+                    // The guide shows one shard's command; the merge needs all four.
+                    let shards: Vec<String> = (1..=4)
+                        .map(|k| {
+                            format!(
+                                "rhonn campaign control-adaptive --runs 4 --seed 1 --shard {k}/4 --out s{k}"
+                            )
+                        })
+                        .collect();
+                    cmd = format!("{} && {cmd}", shards.join(" && "));
+                }
+                let o = std::process::Command::new("bash")
+                    .args(["-ec", &cmd])
+                    .current_dir(d.path())
+                    .env("PATH", &path)
+                    .output()
+                    .unwrap();
+                assert!(o.status.success(), "{name}: `{cmd}`: {}", stderr(&o));
+                ran.push(format!("{name}: {cmd}"));
+            }
+        }
+    }
+    assert!(ran.len() >= 15, "only {} commands ran: {ran:#?}", ran.len());
 }
 
 /// The scenario reference (docs/reference/scenarios.md): its first block is an open-loop
