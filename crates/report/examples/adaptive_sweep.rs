@@ -44,7 +44,10 @@ fn main() {
     let cases = robustness_cases(&spec).unwrap();
     let no = points(
         "cascade-pi",
-        cases.iter().map(|(n, s)| (n.clone(), with_cascade_pi(s, NOMINAL_OPTIMAL))).collect(),
+        cases
+            .iter()
+            .map(|(n, s)| (n.clone(), with_cascade_pi(s, NOMINAL_OPTIMAL)))
+            .collect(),
     );
     let n: usize = std::env::args().nth(1).map_or(200, |a| a.parse().unwrap());
     let seed: u64 = std::env::args().nth(2).map_or(1, |a| a.parse().unwrap());
@@ -73,11 +76,16 @@ fn main() {
     let res: Vec<String> = grid
         .par_iter()
         .map(|k| {
-            let a = points("rhonn-adaptive", cases.iter().map(|(n, s)| (n.clone(), set(s, k))).collect());
+            let a = points(
+                "rhonn-adaptive",
+                cases.iter().map(|(n, s)| (n.clone(), set(s, k))).collect(),
+            );
             let wins = a
                 .iter()
                 .zip(&no)
-                .filter(|(a, n)| a.iae_mpa_s < n.iae_mpa_s && a.current_total_variation_a <= n.current_total_variation_a)
+                .filter(|(a, n)| {
+                    a.iae_mpa_s < n.iae_mpa_s && a.current_total_variation_a <= n.current_total_variation_a
+                })
                 .count();
             format!(
                 "{wins} lag20 {:.1} nominal {:.2} tv {:.0} within {:.1} k {:?}",

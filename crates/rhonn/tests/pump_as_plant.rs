@@ -166,3 +166,116 @@ fn the_pumps_parameters_are_its_plant_parameters() {
     let e = run_plant_scenario(&bad, None).unwrap_err().to_string();
     assert!(e.contains("plant.mu_1") && e.contains("> 0"), "{e}");
 }
+
+/// `control-adaptive` written as a plant scenario: the pump's adaptive cascade and its
+/// robust cascade PI as loop kinds (`pump-rhonn-adaptive`, `pump-cascade-pi`) of the one
+/// format, on the same demand and set-points (no noise, 20 s); they follow the pump's own
+/// format's runs to a few pascals.
+fn adaptive_scenario(bias_a: f64) -> String {
+    format!(
+        r#"
+name = "pump-adaptive"
+duration_s = 20.0
+[plant]
+kind = "pump"
+initial = [2.0, 0.0, {bias_a}]
+[input]
+demand = {{ kind = "trapezoids", slew_per_s = 2.0, pulses = [{{ start_s = 3.0, peak = 1.0, hold_s = 3.0 }}, {{ start_s = 8.0, peak = 1.8, hold_s = 3.0 }}, {{ start_s = 17.0, peak = 1.2, hold_s = 3.0 }}] }}
+[control]
+input = "current"
+input_range = [0.0, 0.8]
+output = "p_line"
+period_s = 0.005
+setpoint = {{ kind = "steps", initial = 10.0, steps = [[15.0, 5.0]] }}
+controller = {{ kind = "pump-rhonn-adaptive", state = "p_line" }}
+baseline = {{ kind = "pump-cascade-pi", state = "p_line", kp_mm_per_mpa = 0.15, ti_s = 0.07, setpoint_weight = 0.8, stroke_gain = 8.0 }}
+"#
+    )
+}
+
+#[test]
+fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_format() {
+    let p = PumpParams::default();
+    let bias = p.k_a * p.q_0 / (p.k_l * p.omega * p.phi);
+    let spec: PlantScenarioSpec = toml::from_str(&adaptive_scenario(bias)).unwrap();
+    let out = run_plant_scenario(&spec, None).unwrap();
+    let col = |name: &str| {
+        out.trajectory
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap()
+            .values
+            .clone()
+    };
+    // The pump's own format on the same settings, without noise, at tight tolerances.
+    let mut own = preset::load("control-adaptive").unwrap();
+    own.duration_s = 20.0;
+    own.measurement.noise_std_mpa = 0.0;
+    own.solver.rtol = Some(1e-8);
+    own.solver.atol_p_line_pa = Some(1e-2);
+    if let Some(rhonn::experiment::ControllerSpec::RhonnAdaptive {
+        setpoint_mpa,
+        second_baseline,
+        ..
+    }) = own.controller.as_mut()
+    {
+        *setpoint_mpa =
+            toml::from_str::<toml::Value>("s = { kind = \"steps\", initial = 10.0, steps = [[15.0, 5.0]] }")
+                .unwrap()["s"]
+                .clone()
+                .try_into()
+                .unwrap();
+        *second_baseline = None;
+    }
+    if let Some(rhonn::signal::SignalSpec::Trapezoids { pulses, .. }) = own.demand_dm3_s.as_mut() {
+        pulses.truncate(3);
+    }
+    let mut trace = Trace::default();
+    let own_out = run(&own.check().unwrap(), &mut trace).unwrap();
+    let (t, p_adaptive, p_pi) = (col("t"), col("p_line"), col("p_line_baseline"));
+    let (p_own, p_own_pi) = (
+        trace.column("p_line").unwrap(),
+        trace.column("p_line_pi").unwrap(),
+    );
+    let mut worst = [0.0f64; 2];
+    for (k, tk) in t.iter().enumerate() {
+        let j = k; // output every 5 ms there: the control instants
+        assert!((trace.column("t").unwrap()[j] - tk).abs() < 1e-12);
+        worst[0] = worst[0].max((p_own[j] - p_adaptive[k]).abs());
+        worst[1] = worst[1].max((p_own_pi[j] - p_pi[k]).abs());
+    }
+    eprintln!(
+        "largest differences: adaptive {:.3e} MPa, cascade PI {:.3e} MPa",
+        worst[0] * 1e-6,
+        worst[1] * 1e-6
+    );
+    let [a, b] = out.summary.control.clone().unwrap();
+    assert_eq!((a.controller, b.controller), ("rhonn-adaptive", "cascade-pi"));
+    let own_iae = own_out.figures.regulation.unwrap().iae_mpa_s;
+    eprintln!(
+        "adaptive IAE: {} MPa s here, {own_iae} MPa s in the pump's format",
+        a.iae
+    );
+    // 7.5 Pa and 0.07 Pa here: the same loops, to the solvers' tolerances. (The IAE differs
+    // by 0.7 %: the pump's format integrates the error on the dense output, the plant format
+    // by the rectangle rule at the control instants.)
+    assert!(worst[0] < 100.0 && worst[1] < 100.0, "{worst:?} Pa");
+    assert!((a.iae / own_iae - 1.0).abs() < 0.02, "{} vs {own_iae}", a.iae);
+    // The kinds refuse a plant that is not the pump, naming the field.
+    let tanks = adaptive_scenario(bias)
+        .replace("kind = \"pump\"\ninitial = [2.0, 0.0, {bias_a}]", "")
+        .replace(
+            &format!("kind = \"pump\"\ninitial = [2.0, 0.0, {bias}]"),
+            "kind = \"tanks\"",
+        )
+        .replace("output = \"p_line\"", "output = \"h2\"")
+        .replace("input = \"current\"", "input = \"voltage\"")
+        .replace("state = \"p_line\"", "state = \"h2\"")
+        .replace("demand = ", "voltage = ");
+    let spec: PlantScenarioSpec = toml::from_str(&tanks).unwrap();
+    let e = run_plant_scenario(&spec, None).unwrap_err().to_string();
+    assert!(
+        e.contains("control.controller.state") && e.contains("stroke"),
+        "{e}"
+    );
+}

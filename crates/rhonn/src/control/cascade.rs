@@ -147,6 +147,7 @@ impl LoopSettings for CascadeLoop {
         let o = self.outer.build(&outer_cx)?;
         let inner_cx = LoopContext {
             field: format!("{field}.inner"),
+            setpoint0: f64::NAN,
             ..cx.clone()
         };
         let n = self.inner.build(&inner_cx)?;

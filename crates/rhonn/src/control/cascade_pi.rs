@@ -17,7 +17,10 @@
 //! stroke reference or the current is saturated and the error pushes further into
 //! saturation.
 
-use super::Controller;
+use super::{Controller, LoopContext, LoopSettings};
+use crate::error::{invalid, Result};
+use crate::plant::{PumpParams, P_LINE, STROKE};
+use serde::{Deserialize, Serialize};
 
 /// Gains of a [`CascadePi`] (SI).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -123,6 +126,71 @@ impl Controller for CascadePi {
     }
     fn inner_reference(&self) -> Option<f64> {
         Some(self.x_d)
+    }
+}
+
+/// `kind = "pump-cascade-pi"` in a plant scenario of the pump (`[plant] kind = "pump"`):
+/// the cascade PI with the adaptive controller's sensors, built from the nominal table as
+/// in the pump's own scenarios (its gains in the units of those: the robust tuning is kp
+/// 0.15 mm/MPa, ti 0.07 s, b 0.8, g 8; the nominal-optimal 0.75, 0.05, 0.2, 4).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PumpCascadePiLoop {
+    /// The regulated state: `p_line`.
+    pub state: String,
+    /// Outer proportional gain \[mm/MPa\].
+    pub kp_mm_per_mpa: f64,
+    /// Outer integral time \[s\].
+    pub ti_s: f64,
+    /// Set-point weight b, in [0, 1].
+    pub setpoint_weight: f64,
+    /// Inner stroke gain g.
+    pub stroke_gain: f64,
+}
+
+impl LoopSettings for PumpCascadePiLoop {
+    fn state(&self) -> &str {
+        &self.state
+    }
+    fn name(&self) -> &'static str {
+        "cascade-pi"
+    }
+    fn build(&self, cx: &LoopContext) -> Result<Box<dyn Controller>> {
+        super::adaptive::pump_states(cx, &self.state)?;
+        let field = |k: &str| format!("{}.{k}", cx.field);
+        for (k, v) in [
+            ("kp_mm_per_mpa", self.kp_mm_per_mpa),
+            ("stroke_gain", self.stroke_gain),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(invalid(field(k), v, "a finite number >= 0"));
+            }
+        }
+        let ti = cx.positive("ti_s", self.ti_s)?;
+        if !(0.0..=1.0).contains(&self.setpoint_weight) {
+            return Err(invalid(
+                field("setpoint_weight"),
+                self.setpoint_weight,
+                "a number in [0, 1]",
+            ));
+        }
+        let n = PumpParams::default();
+        let gains = CascadePiGains {
+            kp: self.kp_mm_per_mpa * 1e-3 / 1e6,
+            ti_s: ti,
+            setpoint_weight: self.setpoint_weight,
+            stroke_gain: self.stroke_gain,
+        };
+        let mut c = CascadePi::new(
+            gains,
+            n.k_a / n.phi,
+            n.q_0 / (n.k_l * n.omega),
+            n.x_max,
+            cx.range.1,
+            cx.period_s,
+        );
+        c.measured = [P_LINE, STROKE];
+        Ok(Box::new(c))
     }
 }
 

@@ -24,6 +24,9 @@ pub struct LoopContext<'a> {
     pub range: (f64, f64),
     /// Control period \[s\].
     pub period_s: f64,
+    /// The loop's set-point at t = 0 (SI; NaN for a cascade's inner loop, whose set-point
+    /// the outer loop makes).
+    pub setpoint0: f64,
     /// The plant's initial state, SI.
     pub x0: &'a [f64],
 }

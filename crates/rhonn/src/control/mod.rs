@@ -11,9 +11,11 @@ mod pi;
 mod rhonn_indirect;
 #[cfg(test)]
 mod test_bang_bang;
-pub use adaptive::{AffineNeuron, CascadeSettings, CascadeState, RhonnCascade};
+pub use adaptive::{
+    pump_cascade, AdaptiveKnobs, AffineNeuron, CascadeSettings, CascadeState, PumpAdaptiveLoop, RhonnCascade,
+};
 pub use cascade::{Cascade, CascadeLoop};
-pub use cascade_pi::{CascadePi, CascadePiGains};
+pub use cascade_pi::{CascadePi, CascadePiGains, PumpCascadePiLoop};
 pub use loop_spec::{LoopContext, LoopSettings};
 pub use pi::{Pi, PiLoop};
 pub use rhonn_indirect::{IndirectLoop, IndirectSettings, RhonnIndirect};
@@ -51,6 +53,8 @@ loop_kinds! {
     Pi(PiLoop),
     RhonnIndirect(IndirectLoop),
     Cascade(CascadeLoop),
+    PumpRhonnAdaptive(PumpAdaptiveLoop),
+    PumpCascadePi(PumpCascadePiLoop),
     #[cfg(test)]
     TestBangBang(test_bang_bang::BangBangLoop),
 }

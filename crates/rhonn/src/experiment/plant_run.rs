@@ -411,6 +411,7 @@ fn run_control<P: Plant>(
             output: qu,
             range,
             period_s: c.period_s,
+            setpoint0: sp.eval(0.0),
             x0,
         };
         let mut ctl = l.build(&cx)?;

@@ -61,23 +61,18 @@ impl Ctl {
     }
 }
 
-/// The adaptive cascade of a scenario, its gain weights starting from the nominal
-/// table's `beta k_l omega / V_l` at the initial set-point (MPa/(s mm)).
+/// The adaptive cascade of a scenario (`control::pump_cascade`), from its set-point at
+/// t = 0 (P_min without one).
 fn cascade_for(sc: &Scenario, settings: &crate::control::CascadeSettings) -> RhonnCascade {
-    // The controller knows the nominal table only, never the plant's overrides.
-    let nominal = crate::plant::PumpParams::default();
-    let p_ref0 = sc.drive.setpoint().map_or(nominal.p_min, |s| s.eval(0.0));
-    let gain =
-        nominal.beta * nominal.k_l * nominal.omega / (nominal.v_l0 * (1.0 + nominal.alpha_v * p_ref0)) * 1e-9; // Pa/(s m) -> MPa/(s mm)
-    RhonnCascade::new(
+    let p_ref0 = sc
+        .drive
+        .setpoint()
+        .map_or(crate::plant::PumpParams::default().p_min, |s| s.eval(0.0));
+    crate::control::pump_cascade(
         settings.clone(),
-        nominal.k_a,
-        nominal.phi,
-        sc.params.i_max,
-        sc.params.x_max,
-        sc.params.p_max,
+        (sc.params.i_max, sc.params.x_max, sc.params.p_max),
         sc.params.t_control,
-        gain,
+        p_ref0,
         sc.initial[P_LINE],
     )
 }

@@ -600,43 +600,19 @@ impl ScenarioSpec {
             return Err(invalid("controller.kind", "another kind", "rhonn-adaptive"));
         };
         let setpoint = self.check_setpoint(setpoint_mpa, params)?;
-        let d = CascadeSettings::default();
-        let pos = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
-            let v = v.unwrap_or(default);
-            if v.is_finite() && v > 0.0 {
-                Ok(v)
-            } else {
-                Err(invalid(format!("controller.{name}"), v, "a finite number > 0"))
-            }
-        };
-        let non_neg = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
-            let v = v.unwrap_or(default);
-            if v.is_finite() && v >= 0.0 {
-                Ok(v)
-            } else {
-                Err(invalid(format!("controller.{name}"), v, "a finite number >= 0"))
-            }
-        };
-        let cascade = CascadeSettings {
-            lambda_per_s: pos("lambda_per_s", *lambda_per_s, d.lambda_per_s)?,
-            lambda_ident_per_s: pos("lambda_ident_per_s", *lambda_ident_per_s, d.lambda_ident_per_s)?,
-            identification_s: non_neg("identification_s", *identification_s, d.identification_s)?,
-            stroke_gain: non_neg("stroke_gain", *stroke_gain, d.stroke_gain)?,
-            lead_s: non_neg("lead_s", *lead_s, d.lead_s)?,
-            observer_pole_per_s: pos("observer_pole_per_s", *observer_pole_per_s, d.observer_pole_per_s)?,
-            gamma_w: non_neg("gamma_w", *gamma_w, d.gamma_w)?,
-            gamma_w1: non_neg("gamma_w1", *gamma_w1, d.gamma_w1)?,
-            ball_fraction: ball_fraction.unwrap_or(d.ball_fraction),
-            p_scale_mpa: d.p_scale_mpa,
-            integral_per_s2: non_neg("integral_per_s2", *integral_per_s2, d.integral_per_s2)?,
-        };
-        if !(cascade.ball_fraction > 0.0 && cascade.ball_fraction < 1.0) {
-            return Err(invalid(
-                "controller.ball_fraction",
-                cascade.ball_fraction,
-                "a number in (0, 1) (1 would let W_1 S' reach zero)",
-            ));
+        let cascade = crate::control::AdaptiveKnobs {
+            lambda_per_s: *lambda_per_s,
+            lambda_ident_per_s: *lambda_ident_per_s,
+            identification_s: *identification_s,
+            stroke_gain: *stroke_gain,
+            lead_s: *lead_s,
+            observer_pole_per_s: *observer_pole_per_s,
+            gamma_w: *gamma_w,
+            gamma_w1: *gamma_w1,
+            ball_fraction: *ball_fraction,
+            integral_per_s2: *integral_per_s2,
         }
+        .check("controller")?;
         let baseline = check_baseline(
             BaselineKeys {
                 kind: baseline_kind.as_deref(),
