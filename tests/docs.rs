@@ -154,15 +154,25 @@ fn sandbox() -> tempfile::TempDir {
     d
 }
 
-#[test]
-fn the_readme_shell_blocks_run_and_print_what_it_quotes() {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let d = sandbox();
+/// `cmd` run by bash in the sandbox `d`, its `rhonn` first on the PATH.
+fn run_sh(d: &tempfile::TempDir, cmd: &str) -> std::process::Output {
     let path = format!(
         "{}:{}",
         d.path().join("bin").display(),
         std::env::var("PATH").unwrap_or_default()
     );
+    std::process::Command::new("bash")
+        .args(["-ec", cmd])
+        .current_dir(d.path())
+        .env("PATH", &path)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn the_readme_shell_blocks_run_and_print_what_it_quotes() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let d = sandbox();
     let mut printed = String::new();
     let mut ran = 0;
     for block in blocks(&readme, "sh").iter().skip(1) {
@@ -171,12 +181,7 @@ fn the_readme_shell_blocks_run_and_print_what_it_quotes() {
             if cmd.starts_with("cargo ") {
                 continue;
             }
-            let o = std::process::Command::new("bash")
-                .args(["-ec", &cmd])
-                .current_dir(d.path())
-                .env("PATH", &path)
-                .output()
-                .unwrap();
+            let o = run_sh(&d, &cmd);
             assert!(o.status.success(), "`{cmd}`: {}", stderr(&o));
             printed.push_str(&String::from_utf8_lossy(&o.stdout));
             ran += 1;
@@ -254,11 +259,6 @@ fn the_guides_shell_blocks_run() {
             continue;
         }
         let d = sandbox();
-        let path = format!(
-            "{}:{}",
-            d.path().join("bin").display(),
-            std::env::var("PATH").unwrap_or_default()
-        );
         for block in blocks(&text, "sh") {
             for cmd in commands(&block) {
                 if skip(&cmd) {
@@ -278,12 +278,7 @@ fn the_guides_shell_blocks_run() {
                         .collect();
                     cmd = format!("{} && {cmd}", shards.join(" && "));
                 }
-                let o = std::process::Command::new("bash")
-                    .args(["-ec", &cmd])
-                    .current_dir(d.path())
-                    .env("PATH", &path)
-                    .output()
-                    .unwrap();
+                let o = run_sh(&d, &cmd);
                 assert!(o.status.success(), "{name}: `{cmd}`: {}", stderr(&o));
                 ran.push(format!("{name}: {cmd}"));
             }

@@ -247,9 +247,8 @@ fn run_missing<C: CampaignKind>(
     Ok(rows)
 }
 
-/// The rows of a `runs.csv` or `runs.partial.csv` (its header must be the campaign's); a
-/// row cut by an interruption ends the reading, with a warning.
-fn read_rows<C: CampaignKind>(c: &C, path: &Path, notes: &mut Vec<String>) -> Result<Vec<Done<C::Row>>> {
+/// A reader of the CSV file `path`, whose header must be `want`.
+fn reader(path: &Path, want: &[String]) -> Result<csv::Reader<std::fs::File>> {
     let mut rd = csv::ReaderBuilder::new()
         .flexible(false)
         .from_path(path)
@@ -260,12 +259,19 @@ fn read_rows<C: CampaignKind>(c: &C, path: &Path, notes: &mut Vec<String>) -> Re
         .iter()
         .map(String::from)
         .collect();
-    if got != c.header() {
+    if got != want {
         return Err(err(format!(
             "{}: the header does not match this campaign's scenario",
             path.display()
         )));
     }
+    Ok(rd)
+}
+
+/// The rows of a `runs.csv` or `runs.partial.csv` (its header must be the campaign's); a
+/// row cut by an interruption ends the reading, with a warning.
+fn read_rows<C: CampaignKind>(c: &C, path: &Path, notes: &mut Vec<String>) -> Result<Vec<Done<C::Row>>> {
+    let mut rd = reader(path, &c.header())?;
     let mut rows = Vec::new();
     for (line, rec) in rd.records().enumerate() {
         let Ok(rec) = rec else {
@@ -303,22 +309,7 @@ fn attach_traces<C: CampaignKind>(c: &C, path: &Path, rows: &mut [Done<C::Row>])
     if !path.exists() {
         return Ok(());
     }
-    let mut rd = csv::ReaderBuilder::new()
-        .flexible(false)
-        .from_path(path)
-        .map_err(|e| err(format!("cannot read {}: {e}", path.display())))?;
-    let got: Vec<String> = rd
-        .headers()
-        .map_err(|e| err(format!("cannot read {}: {e}", path.display())))?
-        .iter()
-        .map(String::from)
-        .collect();
-    if got != header {
-        return Err(err(format!(
-            "{}: the header does not match this campaign's scenario",
-            path.display()
-        )));
-    }
+    let mut rd = reader(path, &header)?;
     let at: std::collections::HashMap<u64, usize> =
         rows.iter().enumerate().map(|(k, r)| (r.index, k)).collect();
     for rec in rd.records() {
