@@ -158,6 +158,10 @@ fn fit_terms(
         super::pump_grey::fit(spec, records, &mut model)?;
         return Ok(model);
     }
+    if spec.kind == Kind::WienerHammerstein {
+        super::wiener_hammerstein::fit(spec, records, &mut model)?;
+        return Ok(model);
+    }
     let (ni, no) = (inputs.len(), outputs.len());
     check_regressor_count(spec, ni, no)?;
     model.terms = match given_terms {

@@ -33,6 +33,7 @@ mod predict;
 pub mod pump_grey;
 pub mod select;
 mod train;
+mod wiener_hammerstein;
 use checks::ensure_finite_model;
 pub use checks::{data_warnings, decorrelation_lag, ensure_finite_figures, free_run_at_bound};
 pub use estimate::fit;
@@ -67,6 +68,9 @@ pub enum Kind {
     /// The pump's own equations with unknown parameters and a state estimator (see the
     /// `pump_grey` module).
     Pump,
+    /// A linear filter, a static polynomial and a linear filter, from the best linear
+    /// approximation (see the `wiener_hammerstein` module).
+    WienerHammerstein,
 }
 
 impl Kind {
@@ -78,6 +82,7 @@ impl Kind {
             Kind::Rhonn => "a RHONN",
             Kind::Cascade => "a cascade",
             Kind::Pump => "the pump's grey-box",
+            Kind::WienerHammerstein => "a Wiener-Hammerstein",
         }
     }
 }
@@ -300,6 +305,20 @@ impl ModelSpec {
             int_in("settle", self.settle, 1, 1000)?;
             self.pump.check(self.law)?;
         }
+        if self.kind == Kind::WienerHammerstein {
+            int_in("degree", self.degree, 1, wiener_hammerstein::MAX_DEGREE)?;
+            int_in("settle", self.settle, 1, 1000)?;
+            if matches!(
+                self.law,
+                Estimator::Rls | Estimator::Gradient | Estimator::MultiStep
+            ) {
+                return Err(invalid(
+                    "model.law",
+                    format!("{:?}", self.law).to_lowercase(),
+                    "simulation-error (a `wiener-hammerstein` model is always trained on its free-run error)",
+                ));
+            }
+        }
         if !(self.ridge.is_finite() && self.ridge >= 0.0) {
             return Err(invalid("model.ridge", self.ridge, "a number >= 0"));
         }
@@ -334,7 +353,7 @@ impl ModelSpec {
 
     /// Largest lag: samples needed before the first prediction.
     pub fn max_lag(&self) -> usize {
-        if matches!(self.kind, Kind::Cascade | Kind::Pump) {
+        if matches!(self.kind, Kind::Cascade | Kind::Pump | Kind::WienerHammerstein) {
             return self.settle;
         }
         (self.output_lag_start + self.na - 1)
@@ -356,7 +375,7 @@ pub const MAX_REGRESSORS: usize = 128;
 /// read from a hand-edited `model.json`.
 pub(crate) fn check_regressor_count(spec: &ModelSpec, ni: usize, no: usize) -> Result<()> {
     let nphi = n_phi(spec, ni, no);
-    if !matches!(spec.kind, Kind::Cascade | Kind::Pump) && nphi > MAX_REGRESSORS {
+    if !matches!(spec.kind, Kind::Cascade | Kind::Pump | Kind::WienerHammerstein) && nphi > MAX_REGRESSORS {
         return Err(invalid(
             "model.na",
             spec.na,
@@ -500,6 +519,21 @@ impl Model {
         if self.spec.kind == Kind::Pump {
             return pump_grey::validate(self);
         }
+        if self.spec.kind == Kind::WienerHammerstein {
+            if self.ni() != 1 || self.no() != 1 || self.weights.len() != 1 {
+                return Err(invalid(
+                    "model.weights",
+                    format!(
+                        "{} inputs, {} outputs, {} vectors",
+                        self.ni(),
+                        self.no(),
+                        self.weights.len()
+                    ),
+                    "one input, one output and one vector of parameters",
+                ));
+            }
+            return wiener_hammerstein::Params::from_stored(self.spec.degree, &self.weights[0]).map(|_| ());
+        }
         if self.spec.kind == Kind::Cascade {
             if self.no() != 1 || self.weights.len() != 1 || self.weights[0].len() != self.n_features() {
                 return Err(invalid(
@@ -538,6 +572,9 @@ impl Model {
     pub fn n_features(&self) -> usize {
         if self.spec.kind == Kind::Pump {
             return pump_grey::n_params();
+        }
+        if self.spec.kind == Kind::WienerHammerstein {
+            return wiener_hammerstein::n_params(self);
         }
         if self.spec.kind == Kind::Cascade {
             return cascade::n_params(self.spec.neurons, self.ni());
@@ -601,6 +638,9 @@ impl Model {
         }
         if self.spec.kind == Kind::Pump {
             return pump_grey::predict(self, r, steps_ahead);
+        }
+        if self.spec.kind == Kind::WienerHammerstein {
+            return wiener_hammerstein::predict(self, r, steps_ahead);
         }
         let (un, yn) = self.normalise(r);
         let n = r.len();
