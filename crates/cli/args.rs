@@ -93,7 +93,7 @@ pub enum Command {
         /// with the errors and kept in model.json for `rhonn predict`.
         #[arg(long, value_delimiter = ',', value_name = "COLUMN=UNIT")]
         units: Vec<String>,
-        /// Model structure (TOML: kind = rhonn, arx, cascade or pump; na, nb, nk, degree,
+        /// Model structure (TOML: kind = rhonn, arx, cascade, wiener-hammerstein or pump; na, nb, nk, degree,
         /// max_factors, law, ridge, epochs, gain, output_margin, ...; models/ has examples). An ensemble: [[members]] tables, each a
         /// structure; it predicts the mean of its members' predictions. Without it the
         /// structure is selected (--select auto).
@@ -101,9 +101,11 @@ pub enum Command {
         model: Option<PathBuf>,
         /// How to choose the structure when no --model is given: `auto` (default):
         /// 3-fold cross-validation over contiguous thirds of the training records, over
-        /// ARX, lagged RHONN (least squares and free-run trained) and, for one output,
-        /// continuous-time cascade structures; the choice is never worse than the best
-        /// ARX on the folds, and summary.json's `selection` says by how much. `none`:
+        /// ARX, lagged RHONN (least squares and free-run trained, sigmoid or polynomial
+        /// terms), for one input and one output Wiener-Hammerstein block structures and,
+        /// for one output, continuous-time cascade structures; the choice is never worse
+        /// than the best ARX on the folds, and summary.json's `selection` says by how
+        /// much. `none`:
         /// a RHONN with na = nb = 2, nk = 1, degree 2, batch least squares.
         #[arg(long, value_name = "auto|none")]
         select: Option<SelectMode>,

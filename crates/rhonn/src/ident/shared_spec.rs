@@ -31,6 +31,7 @@ const FIT_TO_ONLINE: &[(&str, Option<&str>)] = &[
     ("gain", None),
     ("horizon", None),
     ("max_terms", None),
+    ("activation", None),
     ("pump", None),
 ];
 

@@ -106,6 +106,25 @@ pub enum Estimator {
     MultiStep,
 }
 
+/// What the high-order terms of a lagged `rhonn` model take of each lagged output.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Activation {
+    /// Its tanh, the thesis's sigmoid (default): bounded terms.
+    #[default]
+    Tanh,
+    /// The normalised output itself: the terms are monomials of the lagged outputs and
+    /// inputs, a polynomial NARX, which extrapolates a polynomial law (a cubic spring)
+    /// beyond the training range where a sigmoid saturates.
+    Identity,
+}
+
+impl Activation {
+    fn is_tanh(&self) -> bool {
+        *self == Activation::Tanh
+    }
+}
+
 /// A model structure as `--model SPEC.toml` writes it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -122,6 +141,10 @@ pub struct ModelSpec {
     pub degree: usize,
     /// Most distinct factors per term (rhonn; default 2).
     pub max_factors: usize,
+    /// What the high-order terms take of each lagged output (rhonn): `tanh` (default) or
+    /// `identity` (a polynomial NARX).
+    #[serde(skip_serializing_if = "Activation::is_tanh")]
+    pub activation: Activation,
     /// Training law.
     pub law: Estimator,
     /// Ridge weight of batch least squares, relative to the mean diagonal (default 1e-6).
@@ -177,6 +200,7 @@ impl Default for ModelSpec {
             nk: 1,
             degree: 2,
             max_factors: 2,
+            activation: Activation::Tanh,
             law: Estimator::BatchLs,
             ridge: 1e-6,
             epochs: 20,
@@ -450,12 +474,17 @@ impl Model {
         }
         let nphi = c;
         if s.kind == Kind::Rhonn {
-            // y = [tanh of the output lags, input lags]
+            // y = [tanh of the output lags (or the lags themselves), input lags]
             let ny = nphi;
             let mut y = [0.0; MAX_REGRESSORS];
             let n_out_lags = self.no() * s.na;
+            let squash = s.activation == Activation::Tanh;
             for q in 0..ny {
-                y[q] = if q < n_out_lags { feat[q].tanh() } else { feat[q] };
+                y[q] = if q < n_out_lags && squash {
+                    feat[q].tanh()
+                } else {
+                    feat[q]
+                };
             }
             let l = terms.len();
             terms.eval(&y[..ny], &mut feat[nphi..nphi + l]);

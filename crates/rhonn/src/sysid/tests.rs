@@ -411,3 +411,70 @@ fn recursive_laws_approach_batch_least_squares() {
         assert!((w_ls[0][k] - w_g[0][k]).abs() < 2e-2, "{w_ls:?} {w_g:?}");
     }
 }
+
+/// A discretised Duffing oscillator (a hardening cubic spring, Silverbox's law) driven by
+/// seeded noise held 3 samples, of amplitude `amp`.
+fn duffing(seed: u64, n: usize, amp: f64) -> Record {
+    let mut s = seed;
+    let mut next = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((s >> 33) as f64 / (1u64 << 31) as f64) - 0.5
+    };
+    let mut u = vec![0.0; n];
+    let mut level = 0.0;
+    for (k, uk) in u.iter_mut().enumerate() {
+        if k % 3 == 0 {
+            level = 2.0 * amp * next();
+        }
+        *uk = level;
+    }
+    let mut y = vec![0.0; n];
+    for k in 2..n {
+        y[k] = 1.6 * y[k - 1] - 0.8 * y[k - 2] + 0.1 * u[k - 1] - 0.5 * y[k - 1].powi(3);
+    }
+    Record {
+        source: format!("duffing{seed}"),
+        t: (0..n).map(|k| k as f64 * 0.01).collect(),
+        inputs: vec![u],
+        outputs: vec![y],
+    }
+}
+
+#[test]
+fn a_polynomial_rhonn_extrapolates_a_cubic_spring_where_the_sigmoid_saturates() {
+    let (i, o) = names();
+    let train = duffing(1, 3000, 1.0);
+    // A larger input than in training: the spring goes further into its cubic range.
+    let test = duffing(2, 2000, 1.6);
+    let spec = |activation| ModelSpec {
+        na: 2,
+        nb: 1,
+        degree: 3,
+        max_factors: 3,
+        activation,
+        law: Estimator::SimulationError,
+        epochs: 30,
+        ..Default::default()
+    };
+    let err = |m: &Model| {
+        let (p, first) = m.predict(&test, None).unwrap();
+        metrics::rms_error(&test.outputs[0][first..], &p[0][first..])
+    };
+    let sd = {
+        let y = &test.outputs[0];
+        let mean = y.iter().sum::<f64>() / y.len() as f64;
+        (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / y.len() as f64).sqrt()
+    };
+    let poly = fit(&spec(Activation::Identity), std::slice::from_ref(&train), &i, &o).unwrap();
+    let sig = fit(&spec(Activation::Tanh), std::slice::from_ref(&train), &i, &o).unwrap();
+    let (ep, es) = (err(&poly), err(&sig));
+    // The polynomial holds the law itself (y^3 is one of its terms).
+    assert!(ep < 0.01 * sd, "polynomial {ep}, output deviation {sd}");
+    assert!(ep < 0.2 * es, "polynomial {ep}, tanh {es}");
+    // The file says `activation` only when it is not the default.
+    let text = serde_json::to_string(&poly).unwrap();
+    assert!(text.contains("\"activation\":\"identity\""), "{text}");
+    assert!(!serde_json::to_string(&sig).unwrap().contains("activation"));
+}
