@@ -201,6 +201,23 @@ pub fn candidates(no: usize, cascade: bool) -> Vec<(String, ModelSpec)> {
             ));
         }
     }
+    // The lagged RHONN the online bank found on Bouc-Wen (na = nb = 8, degree 3 on the
+    // newest 3 lags), trained on its free run: the slowest lagged candidate (a minute on
+    // Silverbox's folds), so after the others, where the time budget skips it when they
+    // took long.
+    c.push((
+        "rhonn na 8 nb 8 degree 3 on the first 3 lags, trained on its free run".into(),
+        ModelSpec {
+            na: 8,
+            nb: 8,
+            degree: 3,
+            max_factors: 3,
+            nonlinear_lags: Some(3),
+            law: Estimator::SimulationError,
+            epochs: 15,
+            ..Default::default()
+        },
+    ));
     if no == 1 && cascade {
         c.push((
             "cascade, 2 neurons (one hidden), 16 starts".into(),
