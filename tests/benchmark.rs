@@ -268,6 +268,43 @@ fn head_of(gz_path: &Path, n: usize) -> String {
         .join("\n")
 }
 
+/// `rhonn fit --model SPEC` on `train.csv` (input u_V, output y_V) in `dir`, then `rhonn
+/// predict` on `test.csv`: the model's and the ARX baseline's free-run RMS errors, and the
+/// summary as text.
+fn fit_then_predict(dir: &Path, spec: &str) -> (f64, f64, String) {
+    let fit = [
+        "fit",
+        "--data",
+        "train.csv",
+        "--inputs",
+        "u_V",
+        "--outputs",
+        "y_V",
+        "--model",
+        spec,
+        "--out",
+        "m",
+    ];
+    let o = rhonn(dir, &fit);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let predict = [
+        "predict",
+        "--model",
+        "m/model.json",
+        "--data",
+        "test.csv",
+        "--out",
+        "p",
+    ];
+    let o = rhonn(dir, &predict);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = json(&dir.join("p/summary.json"));
+    let text = s.to_string();
+    let model = s["outputs"][0]["rms_error"].as_f64().expect(&text);
+    let arx = s["baseline_arx"][0]["rms_error"].as_f64().expect(&text);
+    (model, arx, text)
+}
+
 #[test]
 fn the_wiener_hammerstein_block_structure_runs_free_on_the_benchmarks_test_below_the_gru() {
     // A fifth of the Wiener-Hammerstein 2009 records (train and test), so that it runs in
@@ -289,38 +326,7 @@ fn the_wiener_hammerstein_block_structure_runs_free_on_the_benchmarks_test_below
         "kind = \"wiener-hammerstein\"\nna = 6\nnb = 7\nnk = 0\ndegree = 12\nepochs = 30\n",
     )
     .unwrap();
-    let fit = [
-        "fit",
-        "--data",
-        "train.csv",
-        "--inputs",
-        "u_V",
-        "--outputs",
-        "y_V",
-        "--model",
-        "wh.toml",
-        "--out",
-        "m",
-    ];
-    let o = rhonn(d.path(), &fit);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let o = rhonn(
-        d.path(),
-        &[
-            "predict",
-            "--model",
-            "m/model.json",
-            "--data",
-            "test.csv",
-            "--out",
-            "p",
-        ],
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
-    let s = json(&d.path().join("p/summary.json"));
-    let text = s.to_string();
-    let model = s["outputs"][0]["rms_error"].as_f64().expect(&text);
-    let arx = s["baseline_arx"][0]["rms_error"].as_f64().expect(&text);
+    let (model, arx, text) = fit_then_predict(d.path(), "wh.toml");
     // The GRU's published 3.97 mV (arXiv 2405.10779) on the whole test record; the ARX of
     // the same orders is ten times further.
     assert!(model < 3.97e-3, "{model} V; {text}");
@@ -349,38 +355,7 @@ fn a_polynomial_rhonn_runs_free_on_silverbox_below_the_published_best() {
          nonlinear_lags = 2\nlaw = \"simulation-error\"\nepochs = 15\n",
     )
     .unwrap();
-    let fit = [
-        "fit",
-        "--data",
-        "train.csv",
-        "--inputs",
-        "u_V",
-        "--outputs",
-        "y_V",
-        "--model",
-        "poly.toml",
-        "--out",
-        "m",
-    ];
-    let o = rhonn(d.path(), &fit);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let o = rhonn(
-        d.path(),
-        &[
-            "predict",
-            "--model",
-            "m/model.json",
-            "--data",
-            "test.csv",
-            "--out",
-            "p",
-        ],
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
-    let s = json(&d.path().join("p/summary.json"));
-    let text = s.to_string();
-    let model = s["outputs"][0]["rms_error"].as_f64().expect(&text);
-    let arx = s["baseline_arx"][0]["rms_error"].as_f64().expect(&text);
+    let (model, arx, text) = fit_then_predict(d.path(), "poly.toml");
     // The GRU's published 1.49 mV on the whole multisine record (arXiv 2405.10779); the ARX
     // of the same lags is ten times further.
     assert!(model < 1.49e-3, "{model} V; {text}");

@@ -19,8 +19,8 @@ fn a_gram_matrix_without_a_factorisation_is_an_error_naming_the_ridge() {
     assert!((w[0][0] + w[0][1] - 2.0).abs() < 1e-3, "{:?}", w[0]);
 }
 
-/// A record of y(k) = 0.5 y(k-1) + 0.3 u(k-1) + 0.2 y(k-1)^2-ish nonlinear system.
-fn record(seed: u64, n: usize, nonlinear: bool) -> Record {
+/// `n` samples of seeded uniform noise in [-amp, amp), each value held `hold` samples.
+fn held_noise(seed: u64, n: usize, hold: usize, amp: f64) -> Vec<f64> {
     let mut s = seed;
     let mut next = || {
         s = s
@@ -28,14 +28,20 @@ fn record(seed: u64, n: usize, nonlinear: bool) -> Record {
             .wrapping_add(1442695040888963407);
         ((s >> 33) as f64 / (1u64 << 31) as f64) - 0.5
     };
-    let mut u = vec![0.0; n];
     let mut level = 0.0;
-    for k in 0..n {
-        if k % 7 == 0 {
-            level = 2.0 * next();
-        }
-        u[k] = level;
-    }
+    (0..n)
+        .map(|k| {
+            if k % hold == 0 {
+                level = 2.0 * amp * next();
+            }
+            level
+        })
+        .collect()
+}
+
+/// A record of y(k) = 0.5 y(k-1) + 0.3 u(k-1) + 0.2 y(k-1)^2-ish nonlinear system.
+fn record(seed: u64, n: usize, nonlinear: bool) -> Record {
+    let u = held_noise(seed, n, 7, 1.0);
     let mut y = vec![0.0; n];
     for k in 1..n {
         let lin = 0.5 * y[k - 1] + 0.3 * u[k - 1];
@@ -415,21 +421,7 @@ fn recursive_laws_approach_batch_least_squares() {
 /// A discretised Duffing oscillator (a hardening cubic spring, Silverbox's law) driven by
 /// seeded noise held 3 samples, of amplitude `amp`.
 fn duffing(seed: u64, n: usize, amp: f64) -> Record {
-    let mut s = seed;
-    let mut next = || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((s >> 33) as f64 / (1u64 << 31) as f64) - 0.5
-    };
-    let mut u = vec![0.0; n];
-    let mut level = 0.0;
-    for (k, uk) in u.iter_mut().enumerate() {
-        if k % 3 == 0 {
-            level = 2.0 * amp * next();
-        }
-        *uk = level;
-    }
+    let u = held_noise(seed, n, 3, amp);
     let mut y = vec![0.0; n];
     for k in 2..n {
         y[k] = 1.6 * y[k - 1] - 0.8 * y[k - 2] + 0.1 * u[k - 1] - 0.5 * y[k - 1].powi(3);
