@@ -46,7 +46,7 @@ pub(crate) const EXPONENT_RANGE: (f64, f64) = (0.2, 1.5);
 /// the answer, and fails (a training start then avoids it).
 const MAX_STEPS_PER_SAMPLE: u64 = 200;
 /// Starts trained before the rest: when none of them ends valid, the fit stops.
-const EARLY_STARTS: usize = 8;
+pub(crate) const EARLY_STARTS: usize = 8;
 /// Exponent when they are not learned (Torricelli).
 const FIXED_EXPONENT: f64 = 0.5;
 /// Relative and absolute tolerance of the simulations (normalised units): tight, so
@@ -575,8 +575,10 @@ fn staged_starts<E>(
     ends
 }
 
-/// Train a cascade model: `m` arrives with its names and normalisation set.
-pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()> {
+/// Train a cascade model: `m` arrives with its names and normalisation set. Returns the
+/// training cost of the start it kept (the sum of squared normalised free-run residuals
+/// that Levenberg-Marquardt minimised).
+pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<f64> {
     let n = spec.neurons;
     let co = Coords {
         n,
@@ -636,8 +638,11 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
     }
     // The best start whose parameters are a valid cascade: a start can drive a rate or a
     // bound to zero (its logarithm to minus infinity) when the data do not need it.
-    let valid = ends.iter().find(|e| is_valid(e)).map(|e| co.params(&e.2[..nm]));
-    let Some(p) = valid else {
+    let valid = ends
+        .iter()
+        .find(|e| is_valid(e))
+        .map(|e| (co.params(&e.2[..nm]), e.0));
+    let Some((p, cost)) = valid else {
         let why = co
             .params(&ends[0].2[..nm])
             .check()
@@ -662,7 +667,7 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
         ));
     };
     m.weights = vec![p.stored()];
-    Ok(())
+    Ok(cost)
 }
 
 #[cfg(test)]

@@ -116,6 +116,20 @@ pub fn fit(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[S
     Ok(model)
 }
 
+/// [`fit`] of a cascade (`spec.kind` = cascade), with the training cost of the start it
+/// kept: the selection merges two halves of a cascade's starts by it (`select_cascade`).
+pub(crate) fn fit_cascade(
+    spec: &ModelSpec,
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<(Model, f64)> {
+    let mut model = blank_model(spec, records, inputs, outputs)?;
+    let cost = cascade::fit(spec, records, &mut model)?;
+    ensure_finite_model(&model, records)?;
+    Ok((model, cost))
+}
+
 fn fit_pruned(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[String]) -> Result<Model> {
     let full = fit_terms(spec, records, inputs, outputs, None)?;
     match spec.max_terms {

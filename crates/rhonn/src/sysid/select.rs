@@ -10,16 +10,18 @@
 //! is its RMS error on the held-out parts, divided by each output's standard deviation in
 //! the training data and averaged over outputs and folds (so outputs in different units
 //! weigh alike). A candidate that fails (its fit or its prediction) is dropped with the
-//! reason. Candidates run cheapest first, every fold of a candidate in parallel; when the
-//! time budget is spent, the candidates not yet run are listed as skipped. ARX structures
+//! reason. Candidates run cheapest first, their folds on every thread (`fold_queue`: the
+//! (candidate, fold) jobs in order); when the time budget is spent, the candidates not yet
+//! started are listed as skipped. ARX structures
 //! are always among the candidates and run first, so the choice is never worse than the
 //! best ARX on the folds, and the selection says by how much it is better.
 
+use super::fold_queue::{self, Outcome};
+use super::folds::{folds, held_out_error};
+use super::select_cascade;
 use super::{fit, Activation, Estimator, Kind, ModelSpec};
 use crate::data::Record;
 use crate::error::{invalid, Result};
-use crate::metrics;
-use rayon::prelude::*;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -61,6 +63,10 @@ pub struct CandidateScore {
     /// Why it has no score: the error, or "skipped: time budget".
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
+    /// How it was judged when not in full: the cascade stopped after its first half of
+    /// starts (`select_cascade`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
 }
 
 /// The fewest samples a record needs for a selection with `opts` among the candidates
@@ -232,28 +238,6 @@ pub fn candidates(no: usize, cascade: bool) -> Vec<(String, ModelSpec)> {
     c
 }
 
-/// The folds: (training parts, held-out parts) for each fold.
-fn folds(records: &[Record], k: usize) -> Vec<(Vec<Record>, Vec<Record>)> {
-    (0..k)
-        .map(|f| {
-            let mut train = Vec::new();
-            let mut test = Vec::new();
-            for r in records {
-                let n = r.len();
-                for g in 0..k {
-                    let p = r.slice(g * n / k, (g + 1) * n / k);
-                    if g == f {
-                        test.push(p);
-                    } else {
-                        train.push(p);
-                    }
-                }
-            }
-            (train, test)
-        })
-        .collect()
-}
-
 /// One candidate on one fold: its normalised RMS error on the held-out parts.
 fn score_fold(
     spec: &ModelSpec,
@@ -264,30 +248,7 @@ fn score_fold(
     steps: Option<usize>,
 ) -> Result<f64> {
     let m = fit(spec, train, inputs, outputs)?;
-    let mut total = 0.0;
-    let mut count = 0.0;
-    for r in test {
-        if r.len() < spec.max_lag() + steps.unwrap_or(1) + 2 {
-            continue;
-        }
-        let (pred, first) = m.predict(r, steps)?;
-        for (j, (y, yh)) in r.outputs.iter().zip(&pred).enumerate() {
-            let e = metrics::rms_error(&y[first..], &yh[first..]) / m.output_norm[j].1;
-            if !e.is_finite() {
-                return Err(invalid("prediction", e, "a finite error"));
-            }
-            total += e;
-            count += 1.0;
-        }
-    }
-    if count == 0.0 {
-        return Err(invalid(
-            "folds",
-            "too short",
-            "held-out parts longer than the model's lags",
-        ));
-    }
-    Ok(total / count)
+    held_out_error(&m, test, steps)
 }
 
 /// Select a structure for `outputs` from `inputs` on `records` (see the module's docs);
@@ -328,69 +289,133 @@ pub(super) fn select_from(
     let start = Instant::now();
     let parts = folds(records, opts.folds);
     let total = list.len();
-    let mut scores = Vec::new();
     let samples: usize = records.iter().map(Record::len).sum();
-    for (i, (name, spec)) in list.into_iter().enumerate() {
-        let elapsed = start.elapsed().as_secs_f64();
-        let is_arx = spec.kind == Kind::Arx;
-        if spec.kind == Kind::Cascade && samples > MAX_CASCADE_SAMPLES {
-            scores.push(CandidateScore {
-                name,
-                model: spec,
-                fold_scores: vec![],
-                score: None,
-                failed: Some(format!(
-                    "skipped: {samples} samples, more than the {MAX_CASCADE_SAMPLES} a cascade trains on in seconds \
-                     (fit one with --model and kind = \"cascade\", or resample)"
-                )),
-            });
-            continue;
-        }
-        if elapsed > opts.time_budget_s && !is_arx {
-            scores.push(CandidateScore {
-                name,
-                model: spec,
-                fold_scores: vec![],
-                score: None,
-                failed: Some(format!(
-                    "skipped: the time budget of {} s was spent",
-                    opts.time_budget_s
-                )),
-            });
-            continue;
-        }
-        // Said before it runs, so that a slow candidate is not shown as the one before it.
-        progress(&format!("candidate {}/{total}, {name}: running", i + 1));
-        let t0 = Instant::now();
-        let results: Vec<Result<f64>> = parts
-            .par_iter()
-            .map(|(train, test)| score_fold(&spec, train, test, inputs, outputs, opts.steps_ahead))
-            .collect();
-        let (fold_scores, score, failed) = match results.into_iter().collect::<Result<Vec<f64>>>() {
-            Ok(f) => {
-                let mean = f.iter().sum::<f64>() / f.len() as f64;
-                (f, Some(mean), None)
-            }
-            Err(e) => (vec![], None, Some(e.to_string())),
+    let too_long = |spec: &ModelSpec| spec.kind == Kind::Cascade && samples > MAX_CASCADE_SAMPLES;
+    let may_start = |c: usize| {
+        let spec = &list[c].1;
+        !too_long(spec) && (spec.kind == Kind::Arx || start.elapsed().as_secs_f64() <= opts.time_budget_s)
+    };
+    // Said before it runs, so that a slow candidate is not shown as the one before it.
+    let on_start = |c: usize| progress(&format!("candidate {}/{total}, {}: running", c + 1, list[c].0));
+    let said = |c: usize, seconds: f64, r: &Judged| {
+        let what = match (&r.score, &r.failed) {
+            (Some(s), _) => format!("{s:.4} (normalised RMS error on the folds)"),
+            (None, f) => f.clone().unwrap_or_default(),
         };
+        let note = r.note.as_ref().map_or(String::new(), |n| format!("; {n}"));
         progress(&format!(
-            "candidate {}/{total}, {name} ({:.1} s): {}",
-            i + 1,
-            t0.elapsed().as_secs_f64(),
-            score.map_or_else(
-                || failed.clone().unwrap_or_default(),
-                |s| format!("{s:.4} (normalised RMS error on the folds)")
-            )
+            "candidate {}/{total}, {} ({seconds:.1} s): {what}{note}",
+            c + 1,
+            list[c].0
         ));
-        scores.push(CandidateScore {
-            name,
-            model: spec,
-            fold_scores,
-            score,
-            failed,
-        });
+    };
+    // Every candidate but the cascade through the queue, in order; then the cascade, in two
+    // halves of its starts against the best bounded score so far (`select_cascade`).
+    let queued: Vec<usize> = (0..total).filter(|&c| list[c].1.kind != Kind::Cascade).collect();
+    let job = |q: usize, f: usize| {
+        let (train, test) = &parts[f];
+        score_fold(&list[queued[q]].1, train, test, inputs, outputs, opts.steps_ahead)
+    };
+    let on_done =
+        |q: usize, results: &[Result<f64>], seconds: f64| said(queued[q], seconds, &Judged::of(results));
+    let outcomes = fold_queue::run(
+        queued.len(),
+        parts.len(),
+        &|q| may_start(queued[q]),
+        &|q| on_start(queued[q]),
+        &job,
+        &on_done,
+    );
+    let mut judged: Vec<Option<Judged>> = (0..total).map(|_| None).collect();
+    for (&c, outcome) in queued.iter().zip(outcomes) {
+        if let Outcome::Ran(results) = outcome {
+            judged[c] = Some(Judged::of(&results));
+        }
     }
+    for c in (0..total).filter(|c| !queued.contains(c)) {
+        if !may_start(c) {
+            continue;
+        }
+        on_start(c);
+        let t0 = Instant::now();
+        let best_bounded = judged
+            .iter()
+            .zip(&list)
+            .filter(|(_, (_, s))| s.activation != Activation::Identity)
+            .filter_map(|(j, _)| j.as_ref().and_then(|j| j.score))
+            .min_by(f64::total_cmp);
+        let spec = &list[c].1;
+        let j = match select_cascade::score(spec, &parts, inputs, outputs, opts.steps_ahead, best_bounded) {
+            Ok(cs) => Judged {
+                fold_scores: cs.fold_scores,
+                score: Some(cs.score),
+                failed: None,
+                note: cs.note,
+            },
+            Err(e) => Judged {
+                failed: Some(e.to_string()),
+                ..Judged::default()
+            },
+        };
+        said(c, t0.elapsed().as_secs_f64(), &j);
+        judged[c] = Some(j);
+    }
+    let scores = list
+        .into_iter()
+        .zip(judged)
+        .map(|((name, spec), j)| {
+            let j = j.unwrap_or_else(|| Judged {
+                failed: Some(if too_long(&spec) {
+                    format!(
+                        "skipped: {samples} samples, more than the {MAX_CASCADE_SAMPLES} a cascade trains on in seconds \
+                         (fit one with --model and kind = \"cascade\", or resample)"
+                    )
+                } else {
+                    format!("skipped: the time budget of {} s was spent", opts.time_budget_s)
+                }),
+                ..Judged::default()
+            });
+            CandidateScore {
+                name,
+                model: spec,
+                fold_scores: j.fold_scores,
+                score: j.score,
+                failed: j.failed,
+                note: j.note,
+            }
+        })
+        .collect();
     finish(scores, opts, start.elapsed().as_secs_f64())
+}
+
+/// What the folds said of one candidate.
+#[derive(Default)]
+struct Judged {
+    fold_scores: Vec<f64>,
+    score: Option<f64>,
+    failed: Option<String>,
+    note: Option<String>,
+}
+
+impl Judged {
+    /// The fold scores and their mean, or the first fold's error.
+    fn of(results: &[Result<f64>]) -> Judged {
+        match results
+            .iter()
+            .map(|r| r.as_ref().copied())
+            .collect::<std::result::Result<Vec<f64>, _>>()
+        {
+            Ok(f) => Judged {
+                score: Some(f.iter().sum::<f64>() / f.len() as f64),
+                fold_scores: f,
+                ..Judged::default()
+            },
+            Err(e) => Judged {
+                failed: Some(e.to_string()),
+                ..Judged::default()
+            },
+        }
+    }
 }
 
 /// Pick the best candidate and say what was found.
@@ -564,16 +589,24 @@ mod tests {
         let lines = lines.into_inner().unwrap();
         let n = sel.candidates.len();
         assert_eq!(lines.len(), 2 * n, "{lines:?}");
-        for (k, pair) in lines.chunks(2).enumerate() {
-            let head = format!("candidate {}/{n}, ", k + 1);
-            assert!(
-                pair[0].starts_with(&head) && pair[0].ends_with(": running"),
-                "{pair:?}"
-            );
-            assert!(
-                pair[1].starts_with(&head) && !pair[1].ends_with(": running"),
-                "{pair:?}"
-            );
+        // The folds of two candidates may run at once (sysid::fold_queue), so their lines
+        // interleave; each candidate says it runs, in candidate order, and later says its
+        // score, once each.
+        let running: Vec<usize> = lines
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.ends_with(": running"))
+            .map(|(at, _)| at)
+            .collect();
+        assert_eq!(running.len(), n, "{lines:?}");
+        for (k, &at) in running.iter().enumerate() {
+            let head = format!("candidate {}/{n}, {}", k + 1, sel.candidates[k].name);
+            assert!(lines[at].starts_with(&head), "{lines:?}");
+            let done: Vec<usize> = (0..lines.len())
+                .filter(|&j| lines[j].starts_with(&format!("{head} (")) && !lines[j].ends_with(": running"))
+                .collect();
+            assert_eq!(done.len(), 1, "{head}: {lines:?}");
+            assert!(done[0] > at, "{lines:?}");
         }
     }
 
@@ -660,6 +693,7 @@ mod tests {
             fold_scores: vec![score; 3],
             score: Some(score),
             failed: None,
+            note: None,
         };
         let list = |poly: f64| {
             vec![
