@@ -160,6 +160,12 @@ fn lagged_settings_are_checked() {
         ..OnlineSpec::default()
     });
     assert!(e.contains("model.lags"), "{e}");
+    // The polynomial terms (`activation = "identity"`) are the lagged structure's only.
+    let e = err(OnlineSpec {
+        activation: rhonn::sysid::Activation::Identity,
+        ..OnlineSpec::default()
+    });
+    assert!(e.contains("model.activation") && e.contains("lagged"), "{e}");
     let e = err(OnlineSpec {
         law: Some(rhonn::law::LawSpec::FilteredError { gamma: vec![] }),
         ..lagged(LagSpec::default())

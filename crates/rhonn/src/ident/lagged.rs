@@ -88,6 +88,7 @@ pub(super) fn model_spec(spec: &OnlineSpec, lags: &LagSpec) -> ModelSpec {
         nonlinear_lags: lags.nonlinear_lags,
         degree: spec.degree,
         max_factors: spec.max_factors,
+        activation: spec.activation,
         input_filters_s: spec.filters_s.clone(),
         // The online identifier holds its estimate within `scaling.y_bounds` itself.
         output_margin: 0.0,

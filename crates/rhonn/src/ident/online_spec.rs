@@ -3,6 +3,7 @@
 
 use crate::error::{invalid, Result};
 use crate::law::LawSpec;
+use crate::sysid::Activation;
 use serde::{Deserialize, Serialize};
 
 /// How inputs move between two samples (`hold` or `linear`): the core's.
@@ -33,6 +34,11 @@ pub struct OnlineSpec {
     pub degree: usize,
     /// Most distinct factors per term (default 2).
     pub max_factors: usize,
+    /// What the high-order terms of the `lagged` structure take of each lagged output
+    /// (default `tanh`; `identity`: the lags themselves, a polynomial NARX), as `rhonn
+    /// fit`'s `activation`.
+    #[serde(skip_serializing_if = "Activation::is_tanh")]
+    pub activation: Activation,
     /// Neuron pole a \[1/s\] (default 1 / (10 T)).
     pub a_per_s: Option<f64>,
     /// Time constants \[s\] of the input filters standing in for unmeasured states
@@ -65,6 +71,7 @@ impl Default for OnlineSpec {
             gain: 0.5,
             degree: 2,
             max_factors: 2,
+            activation: Activation::Tanh,
             a_per_s: None,
             filters_s: Vec::new(),
             inputs: InputHold::Hold,
@@ -290,6 +297,13 @@ pub(super) fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64,
     }
     if !(1..=4).contains(&spec.degree) {
         return Err(invalid("model.degree", spec.degree, "an integer in [1, 4]"));
+    }
+    if spec.activation != Activation::Tanh && spec.structure != OnlineStructure::Lagged {
+        return Err(invalid(
+            "model.activation",
+            "identity",
+            "tanh, or identity with structure = \"lagged\"",
+        ));
     }
     if !(1..=spec.degree).contains(&spec.max_factors) {
         return Err(invalid(

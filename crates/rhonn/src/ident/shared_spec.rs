@@ -18,6 +18,7 @@ const FIT_TO_ONLINE: &[(&str, Option<&str>)] = &[
     ("nonlinear_lags", Some("lags.nonlinear_lags")),
     ("degree", Some("degree")),
     ("max_factors", Some("max_factors")),
+    ("activation", Some("activation")),
     ("input_filters_s", Some("filters_s")),
     ("epochs", Some("epochs")),
     ("output_margin", Some("output_margin")),
@@ -31,7 +32,6 @@ const FIT_TO_ONLINE: &[(&str, Option<&str>)] = &[
     ("gain", None),
     ("horizon", None),
     ("max_terms", None),
-    ("activation", None),
     ("pump", None),
 ];
 

@@ -123,7 +123,7 @@ pub enum Activation {
 }
 
 impl Activation {
-    fn is_tanh(&self) -> bool {
+    pub(crate) fn is_tanh(&self) -> bool {
         *self == Activation::Tanh
     }
 }
