@@ -268,6 +268,24 @@ fn head_of(gz_path: &Path, n: usize) -> String {
         .join("\n")
 }
 
+/// A folder with a third of Silverbox's training file (`train.csv`) and half of its
+/// multisine test file (`test.csv`), so that a check runs in seconds.
+fn silverbox_third() -> tempfile::TempDir {
+    let d = tempfile::tempdir().unwrap();
+    let sb = repo().join("data/benchmarks/silverbox");
+    std::fs::write(
+        d.path().join("train.csv"),
+        head_of(&sb.join("train.csv.gz"), 20_000),
+    )
+    .unwrap();
+    std::fs::write(
+        d.path().join("test.csv"),
+        head_of(&sb.join("test_multisine.csv.gz"), 10_000),
+    )
+    .unwrap();
+    d
+}
+
 /// `rhonn fit --model SPEC` on `train.csv` (input u_V, output y_V) in `dir`, then `rhonn
 /// predict` on `test.csv`: the model's and the ARX baseline's free-run RMS errors, and the
 /// summary as text.
@@ -340,18 +358,7 @@ fn the_wiener_hammerstein_block_structure_runs_free_on_the_benchmarks_test_below
 fn default_identify_chooses_the_recursive_polynomial_narx_on_silverbox() {
     // A third of Silverbox's training file and half of its multisine test file; `rhonn
     // benchmark silverbox` on the whole gives 0.278 mV there.
-    let d = tempfile::tempdir().unwrap();
-    let sb = repo().join("data/benchmarks/silverbox");
-    std::fs::write(
-        d.path().join("train.csv"),
-        head_of(&sb.join("train.csv.gz"), 20_000),
-    )
-    .unwrap();
-    std::fs::write(
-        d.path().join("test.csv"),
-        head_of(&sb.join("test_multisine.csv.gz"), 10_000),
-    )
-    .unwrap();
+    let d = silverbox_third();
     let args = [
         "identify",
         "--data",
@@ -391,18 +398,7 @@ fn default_identify_chooses_the_recursive_polynomial_narx_on_silverbox() {
 fn a_polynomial_rhonn_runs_free_on_silverbox_below_the_published_best() {
     // A third of Silverbox's training file and half of its multisine test file, so that it
     // runs in seconds; `rhonn benchmark silverbox` on the whole gives 0.229 mV there.
-    let d = tempfile::tempdir().unwrap();
-    let sb = repo().join("data/benchmarks/silverbox");
-    std::fs::write(
-        d.path().join("train.csv"),
-        head_of(&sb.join("train.csv.gz"), 20_000),
-    )
-    .unwrap();
-    std::fs::write(
-        d.path().join("test.csv"),
-        head_of(&sb.join("test_multisine.csv.gz"), 10_000),
-    )
-    .unwrap();
+    let d = silverbox_third();
     std::fs::write(
         d.path().join("poly.toml"),
         "kind = \"rhonn\"\nactivation = \"identity\"\nna = 4\nnb = 4\nnk = 0\ndegree = 3\nmax_factors = 3\n\
