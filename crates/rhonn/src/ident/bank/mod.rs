@@ -218,7 +218,7 @@ pub const MAX_CASCADE_SAMPLES: usize = 5_000;
 /// The default bank for `ny` outputs and a stream of `samples` samples: recursive ARX at
 /// three orders, the lagged RHONN by recursive least squares at three orders of degree 2
 /// and two of degree 3 (the high-order terms on the first lags only at the longer orders), the thesis's continuous-time neurons, for one output a polynomial NARX
-/// ([`polynomial`]) and, for one output and a stream of at most [`MAX_CASCADE_SAMPLES`],
+/// (`polynomial`) and, for one output and a stream of at most [`MAX_CASCADE_SAMPLES`],
 /// the cascade with a hidden neuron.
 pub fn default_candidates(ny: usize, samples: usize) -> Vec<Candidate> {
     let mut c = vec![
