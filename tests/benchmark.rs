@@ -268,22 +268,32 @@ fn head_of(gz_path: &Path, n: usize) -> String {
         .join("\n")
 }
 
-/// A folder with a third of Silverbox's training file (`train.csv`) and half of its
-/// multisine test file (`test.csv`), so that a check runs in seconds.
-fn silverbox_third() -> tempfile::TempDir {
+/// A folder with the first `n_train` rows of benchmark `name`'s `train_file` as
+/// `train.csv` and the first `n_test` of its `test_file` as `test.csv`, so that a check
+/// runs in seconds.
+fn benchmark_head(
+    name: &str,
+    train_file: &str,
+    n_train: usize,
+    test_file: &str,
+    n_test: usize,
+) -> tempfile::TempDir {
     let d = tempfile::tempdir().unwrap();
-    let sb = repo().join("data/benchmarks/silverbox");
-    std::fs::write(
-        d.path().join("train.csv"),
-        head_of(&sb.join("train.csv.gz"), 20_000),
-    )
-    .unwrap();
-    std::fs::write(
-        d.path().join("test.csv"),
-        head_of(&sb.join("test_multisine.csv.gz"), 10_000),
-    )
-    .unwrap();
+    let b = repo().join("data/benchmarks").join(name);
+    std::fs::write(d.path().join("train.csv"), head_of(&b.join(train_file), n_train)).unwrap();
+    std::fs::write(d.path().join("test.csv"), head_of(&b.join(test_file), n_test)).unwrap();
     d
+}
+
+/// A third of Silverbox's training file and half of its multisine test file.
+fn silverbox_third() -> tempfile::TempDir {
+    benchmark_head(
+        "silverbox",
+        "train.csv.gz",
+        20_000,
+        "test_multisine.csv.gz",
+        10_000,
+    )
 }
 
 /// `rhonn fit --model SPEC` on `train.csv` (input u_V, output y_V) in `dir`, then `rhonn
@@ -327,18 +337,13 @@ fn fit_then_predict(dir: &Path, spec: &str) -> (f64, f64, String) {
 fn the_wiener_hammerstein_block_structure_runs_free_on_the_benchmarks_test_below_the_gru() {
     // A fifth of the Wiener-Hammerstein 2009 records (train and test), so that it runs in
     // seconds; `rhonn benchmark wiener-hammerstein-2009` on the whole gives 1.36 mV.
-    let d = tempfile::tempdir().unwrap();
-    let wh = repo().join("data/benchmarks/wiener-hammerstein-2009");
-    std::fs::write(
-        d.path().join("train.csv"),
-        head_of(&wh.join("train.csv.gz"), 20_000),
-    )
-    .unwrap();
-    std::fs::write(
-        d.path().join("test.csv"),
-        head_of(&wh.join("test.csv.gz"), 20_000),
-    )
-    .unwrap();
+    let d = benchmark_head(
+        "wiener-hammerstein-2009",
+        "train.csv.gz",
+        20_000,
+        "test.csv.gz",
+        20_000,
+    );
     std::fs::write(
         d.path().join("wh.toml"),
         "kind = \"wiener-hammerstein\"\nna = 6\nnb = 7\nnk = 0\ndegree = 12\nepochs = 30\n",
