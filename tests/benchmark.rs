@@ -362,7 +362,7 @@ fn the_wiener_hammerstein_block_structure_runs_free_on_the_benchmarks_test_below
 #[test]
 fn default_identify_chooses_the_recursive_polynomial_narx_on_silverbox() {
     // A third of Silverbox's training file and half of its multisine test file; `rhonn
-    // benchmark silverbox` on the whole gives 0.278 mV there.
+    // benchmark silverbox` on the whole gives 0.259 mV there.
     let d = silverbox_third();
     let args = [
         "identify",
@@ -389,6 +389,21 @@ fn default_identify_chooses_the_recursive_polynomial_narx_on_silverbox() {
             .starts_with("recursive polynomial NARX"),
         "{chosen}"
     );
+    // Of its two priors, the one with a ridge (P(0) = 10 I) ran free better in the windows.
+    assert!(chosen["name"].as_str().unwrap().ends_with("p0 10"), "{chosen}");
+    let poly: Vec<f64> = sel["candidates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| {
+            c["name"]
+                .as_str()
+                .unwrap()
+                .starts_with("recursive polynomial NARX")
+        })
+        .map(|c| c["free_run_nrmse"].as_f64().unwrap())
+        .collect();
+    assert_eq!(poly.len(), 2, "{sel}");
     let r = &s["baseline_arx"]["records"][0];
     let (online, arx) = (
         r["online_rms_error"].as_f64().unwrap(),

@@ -366,7 +366,7 @@ fn bench_online_bank(c: &mut Criterion) {
     let mut g = c.benchmark_group("online selection");
     g.sample_size(10);
     g.bench_function(
-        "the default bank (11 candidates), one pass over 20,000 samples, 1 in 1 out",
+        "the default bank (12 candidates), one pass over 20,000 samples, 1 in 1 out",
         |bch| {
             bch.iter(|| {
                 select(default_candidates(1, n), black_box(&rec), &outputs)
@@ -375,10 +375,10 @@ fn bench_online_bank(c: &mut Criterion) {
             })
         },
     );
-    // Beside it, the bank without the polynomial NARX it gained for one output: that
+    // Beside it, the bank without the two polynomial NARXs it gained for one output: that
     // candidate's cost, in the same run.
     g.bench_function(
-        "the default bank without its polynomial NARX (10 candidates), one pass over 20,000 samples",
+        "the default bank without its two polynomial NARXs (10 candidates), one pass over 20,000 samples",
         |bch| {
             bch.iter(|| {
                 let without = default_candidates(1, n)
