@@ -258,3 +258,44 @@ fn every_registered_controller_kind_is_one_file_and_listed_in_the_architecture()
     }
     assert!(kinds >= 4, "{kinds} kinds read from the registry");
 }
+
+/// Every model kind of `rhonn fit` registered in `sysid::model_kind`
+/// (`crates/rhonn/src/sysid/mod.rs`) is one implementation of `ModelKind` in its own file
+/// of `sysid/`, and docs/ARCHITECTURE.md names that file.
+#[test]
+fn every_registered_model_kind_is_one_file_and_listed_in_the_architecture() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let sysid = root.join("crates/rhonn/src/sysid");
+    let text = std::fs::read_to_string(sysid.join("mod.rs")).unwrap();
+    let start = text.find("fn model_kind(kind: Kind)").expect("the registry");
+    let block = &text[start..start + text[start..].find("\n    }").unwrap()];
+    let arch = std::fs::read_to_string(root.join("docs/ARCHITECTURE.md")).unwrap();
+    let mut kinds = 0;
+    for line in block.lines().skip(2) {
+        // `Kind::A | Kind::B => &FILE::TYPE,`
+        let Some((_, target)) = line.split_once("=> &") else {
+            continue;
+        };
+        let (module, ty) = target.trim_end_matches(',').split_once("::").unwrap();
+        let file = [
+            sysid.join(format!("{module}.rs")),
+            sysid.join(module).join("mod.rs"),
+        ]
+        .into_iter()
+        .find(|f| f.exists())
+        .unwrap_or_else(|| panic!("{ty}: no sysid/{module}.rs or sysid/{module}/mod.rs"));
+        let src = std::fs::read_to_string(&file).unwrap();
+        assert!(
+            src.contains(&format!("impl super::kinds::ModelKind for {ty} {{"))
+                || src.contains(&format!("impl ModelKind for {ty} {{")),
+            "{ty}: {} does not implement ModelKind",
+            file.display()
+        );
+        assert!(
+            arch.contains(&format!("`{module}")),
+            "docs/ARCHITECTURE.md does not name `{module}`"
+        );
+        kinds += 1;
+    }
+    assert!(kinds >= 4, "{kinds} kinds read from the registry");
+}

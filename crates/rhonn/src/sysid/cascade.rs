@@ -670,6 +670,79 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
     Ok(cost)
 }
 
+/// `kind = "cascade"`.
+pub(crate) struct Cascade;
+
+impl super::kinds::ModelKind for Cascade {
+    fn check_spec(&self, spec: &ModelSpec) -> Result<()> {
+        use super::{int_in, Estimator};
+        int_in("neurons", spec.neurons, 1, 4)?;
+        int_in("starts", spec.starts, 1, 10_000)?;
+        int_in("settle", spec.settle, 2, 1000)?;
+        if matches!(
+            spec.law,
+            Estimator::Rls | Estimator::Gradient | Estimator::MultiStep
+        ) {
+            return Err(invalid(
+                "model.law",
+                match spec.law {
+                    Estimator::Rls => "rls",
+                    Estimator::Gradient => "gradient",
+                    _ => "multi-step",
+                },
+                "simulation-error (a `cascade` model is always trained on its free-run error)",
+            ));
+        }
+        if !spec.input_filters_s.is_empty() {
+            return Err(invalid(
+                "model.input_filters_s",
+                format!("{:?}", spec.input_filters_s),
+                "none for a `cascade` model (its hidden neurons are the filters)",
+            ));
+        }
+        Ok(())
+    }
+
+    fn check_outputs(&self, outputs: &[String]) -> Result<()> {
+        if outputs.len() != 1 {
+            return Err(invalid(
+                "--outputs",
+                outputs.join(","),
+                "exactly one output for a `cascade` model (its last neuron)",
+            ));
+        }
+        Ok(())
+    }
+
+    fn fit(&self, spec: &ModelSpec, records: &[Record], mut m: Model) -> Result<Model> {
+        fit(spec, records, &mut m)?;
+        Ok(m)
+    }
+
+    fn predict(&self, m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
+        predict(m, r, steps_ahead)
+    }
+
+    fn validate(&self, m: &Model) -> Result<()> {
+        if m.no() != 1 || m.weights.len() != 1 || m.weights[0].len() != m.n_features() {
+            return Err(invalid(
+                "model.weights",
+                format!("{} vectors", m.weights.len()),
+                format!("one output and one vector of {} parameters", m.n_features()),
+            ));
+        }
+        Params::from_stored(m.spec.neurons, m.ni(), &m.weights[0]).check()
+    }
+
+    fn n_params(&self, m: &Model) -> usize {
+        n_params(m.spec.neurons, m.inputs.len())
+    }
+
+    fn holds_outputs_in_range(&self) -> bool {
+        false
+    }
+}
+
 #[cfg(test)]
 #[path = "cascade_tests.rs"]
 mod tests;

@@ -3,7 +3,7 @@
 //! sample time far below the system's time constants (the lags then see almost none of
 //! the dynamics). Each is a warning in words with what to do.
 
-use super::{Kind, Model, OutputFigures};
+use super::{Model, OutputFigures};
 use crate::data::Record;
 use crate::error::{Error, Result};
 
@@ -208,7 +208,7 @@ pub fn ensure_finite_figures(figures: &[OutputFigures], source: &str) -> Result<
 /// training range widened by `output_margin`), which a stable model that fits the data
 /// never reaches: (output name, time \[s\]) of the first such sample.
 pub fn free_run_at_bound(m: &Model, r: &Record, pred: &[Vec<f64>], first: usize) -> Option<(String, f64)> {
-    if matches!(m.spec.kind, Kind::Cascade | Kind::Pump) {
+    if !super::model_kind(m.spec.kind).holds_outputs_in_range() {
         return None;
     }
     for (j, ((lo, hi), col)) in m.output_range.iter().zip(pred).enumerate() {

@@ -164,25 +164,15 @@ fn fit_terms(
     given_terms: Option<Vec<Vec<[usize; 2]>>>,
 ) -> Result<Model> {
     let mut model = blank_model(spec, records, inputs, outputs)?;
-    if spec.kind == Kind::Cascade {
-        cascade::fit(spec, records, &mut model)?;
-        return Ok(model);
+    match given_terms {
+        // A RHONN refitted on the terms its first fit kept (`max_terms`).
+        Some(t) if spec.kind == Kind::Rhonn => {
+            check_regressor_count(spec, inputs.len(), outputs.len())?;
+            model.terms = t;
+            fit_weights(model, records)
+        }
+        _ => super::model_kind(spec.kind).fit(spec, records, model),
     }
-    if spec.kind == Kind::Pump {
-        super::pump_grey::fit(spec, records, &mut model)?;
-        return Ok(model);
-    }
-    if spec.kind == Kind::WienerHammerstein {
-        super::wiener_hammerstein::fit(spec, records, &mut model)?;
-        return Ok(model);
-    }
-    let (ni, no) = (inputs.len(), outputs.len());
-    check_regressor_count(spec, ni, no)?;
-    model.terms = match given_terms {
-        Some(t) if spec.kind == Kind::Rhonn => t,
-        _ => lagged_terms(spec, ni, no),
-    };
-    fit_weights(model, records)
 }
 
 /// The high-order terms of a lagged structure (`rhonn`: every monomial of its
@@ -202,13 +192,7 @@ pub(crate) fn lagged_terms(spec: &ModelSpec, ni: usize, no: usize) -> Vec<Vec<[u
 /// normalisation and output ranges.
 fn blank_model(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: &[String]) -> Result<Model> {
     spec.check()?;
-    if spec.kind == Kind::Cascade && outputs.len() != 1 {
-        return Err(invalid(
-            "--outputs",
-            outputs.join(","),
-            "exactly one output for a `cascade` model (its last neuron)",
-        ));
-    }
+    super::model_kind(spec.kind).check_outputs(outputs)?;
     if records.is_empty() {
         return Err(invalid("--data", "no files", "at least one CSV file"));
     }
@@ -268,7 +252,7 @@ fn blank_model(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs:
 }
 
 /// Train the weights of a lagged model (`arx` or `rhonn`) whose terms are set.
-fn fit_weights(mut model: Model, records: &[Record]) -> Result<Model> {
+pub(super) fn fit_weights(mut model: Model, records: &[Record]) -> Result<Model> {
     let spec = model.spec.clone();
     let spec = &spec;
     let no = model.no();

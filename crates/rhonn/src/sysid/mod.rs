@@ -30,6 +30,8 @@ mod estimate;
 mod fitted;
 mod fold_queue;
 mod folds;
+mod kinds;
+mod lagged;
 mod lm;
 mod predict;
 pub mod pump_grey;
@@ -87,6 +89,17 @@ impl Kind {
             Kind::Pump => "the pump's grey-box",
             Kind::WienerHammerstein => "a Wiener-Hammerstein",
         }
+    }
+}
+
+/// The implementation of `kind` (see the `kinds` module): the registry of model kinds,
+/// one line per kind.
+pub(crate) fn model_kind(kind: Kind) -> &'static dyn kinds::ModelKind {
+    match kind {
+        Kind::Arx | Kind::Rhonn => &lagged::Lagged,
+        Kind::Cascade => &cascade::Cascade,
+        Kind::Pump => &pump_grey::PumpGrey,
+        Kind::WienerHammerstein => &wiener_hammerstein::WienerHammerstein,
     }
 }
 
@@ -272,27 +285,25 @@ pub struct OutputFigures {
     pub samples: usize,
 }
 
+/// `model.NAME` = `v` within `[lo, hi]`, or the error that names it.
+pub(crate) fn int_in(name: &str, v: usize, lo: usize, hi: usize) -> Result<()> {
+    if (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(invalid(
+            format!("model.{name}"),
+            v,
+            format!("an integer in [{lo}, {hi}]"),
+        ))
+    }
+}
+
 impl ModelSpec {
     /// Validate.
     pub fn check(&self) -> Result<()> {
-        let int_in = |name: &str, v: usize, lo: usize, hi: usize| {
-            if (lo..=hi).contains(&v) {
-                Ok(())
-            } else {
-                Err(invalid(
-                    format!("model.{name}"),
-                    v,
-                    format!("an integer in [{lo}, {hi}]"),
-                ))
-            }
-        };
         int_in("na", self.na, 1, 50)?;
         int_in("nb", self.nb, 0, 50)?;
         int_in("nk", self.nk, 0, 50)?;
-        if self.kind == Kind::Rhonn {
-            int_in("degree", self.degree, 1, 5)?;
-            int_in("max_factors", self.max_factors, 1, self.degree)?;
-        }
         int_in("epochs", self.epochs, 1, 100_000)?;
         int_in("horizon", self.horizon, 1, 10_000)?;
         int_in("output_lag_start", self.output_lag_start, 1, 1000)?;
@@ -302,50 +313,7 @@ impl ModelSpec {
         if let Some(m) = self.nonlinear_lags {
             int_in("nonlinear_lags", m, 1, 50)?;
         }
-        if self.kind == Kind::Cascade {
-            int_in("neurons", self.neurons, 1, 4)?;
-            int_in("starts", self.starts, 1, 10_000)?;
-            int_in("settle", self.settle, 2, 1000)?;
-            if matches!(
-                self.law,
-                Estimator::Rls | Estimator::Gradient | Estimator::MultiStep
-            ) {
-                return Err(invalid(
-                    "model.law",
-                    match self.law {
-                        Estimator::Rls => "rls",
-                        Estimator::Gradient => "gradient",
-                        _ => "multi-step",
-                    },
-                    "simulation-error (a `cascade` model is always trained on its free-run error)",
-                ));
-            }
-            if !self.input_filters_s.is_empty() {
-                return Err(invalid(
-                    "model.input_filters_s",
-                    format!("{:?}", self.input_filters_s),
-                    "none for a `cascade` model (its hidden neurons are the filters)",
-                ));
-            }
-        }
-        if self.kind == Kind::Pump {
-            int_in("settle", self.settle, 1, 1000)?;
-            self.pump.check(self.law)?;
-        }
-        if self.kind == Kind::WienerHammerstein {
-            int_in("degree", self.degree, 1, wiener_hammerstein::MAX_DEGREE)?;
-            int_in("settle", self.settle, 1, 1000)?;
-            if matches!(
-                self.law,
-                Estimator::Rls | Estimator::Gradient | Estimator::MultiStep
-            ) {
-                return Err(invalid(
-                    "model.law",
-                    format!("{:?}", self.law).to_lowercase(),
-                    "simulation-error (a `wiener-hammerstein` model is always trained on its free-run error)",
-                ));
-            }
-        }
+        model_kind(self.kind).check_spec(self)?;
         if !(self.ridge.is_finite() && self.ridge >= 0.0) {
             return Err(invalid("model.ridge", self.ridge, "a number >= 0"));
         }
@@ -380,12 +348,7 @@ impl ModelSpec {
 
     /// Largest lag: samples needed before the first prediction.
     pub fn max_lag(&self) -> usize {
-        if matches!(self.kind, Kind::Cascade | Kind::Pump | Kind::WienerHammerstein) {
-            return self.settle;
-        }
-        (self.output_lag_start + self.na - 1)
-            .max(if self.nb > 0 { self.nk + self.nb - 1 } else { 0 })
-            .max(self.nk)
+        model_kind(self.kind).max_lag(self)
     }
 
     /// The lags in words, e.g. `na 4 nb 4 nk 1`.
@@ -402,7 +365,7 @@ pub const MAX_REGRESSORS: usize = 128;
 /// read from a hand-edited `model.json`.
 pub(crate) fn check_regressor_count(spec: &ModelSpec, ni: usize, no: usize) -> Result<()> {
     let nphi = n_phi(spec, ni, no);
-    if !matches!(spec.kind, Kind::Cascade | Kind::Pump | Kind::WienerHammerstein) && nphi > MAX_REGRESSORS {
+    if matches!(spec.kind, Kind::Arx | Kind::Rhonn) && nphi > MAX_REGRESSORS {
         return Err(invalid(
             "model.na",
             spec.na,
@@ -548,70 +511,12 @@ impl Model {
                 "a finite number > 0",
             ));
         }
-        if self.spec.kind == Kind::Pump {
-            return pump_grey::validate(self);
-        }
-        if self.spec.kind == Kind::WienerHammerstein {
-            if self.ni() != 1 || self.no() != 1 || self.weights.len() != 1 {
-                return Err(invalid(
-                    "model.weights",
-                    format!(
-                        "{} inputs, {} outputs, {} vectors",
-                        self.ni(),
-                        self.no(),
-                        self.weights.len()
-                    ),
-                    "one input, one output and one vector of parameters",
-                ));
-            }
-            return wiener_hammerstein::Params::from_stored(self.spec.degree, &self.weights[0]).map(|_| ());
-        }
-        if self.spec.kind == Kind::Cascade {
-            if self.no() != 1 || self.weights.len() != 1 || self.weights[0].len() != self.n_features() {
-                return Err(invalid(
-                    "model.weights",
-                    format!("{} vectors", self.weights.len()),
-                    format!("one output and one vector of {} parameters", self.n_features()),
-                ));
-            }
-            return cascade::Params::from_stored(self.spec.neurons, self.ni(), &self.weights[0]).check();
-        }
-        check_regressor_count(&self.spec, self.ni(), self.no())?;
-        if !self.terms.is_empty() {
-            Terms::from_lists(
-                &self.terms,
-                n_phi(&self.spec, self.ni(), self.no()),
-                "model.terms",
-            )?;
-        }
-        let nf = self.n_features();
-        if self.weights.len() != self.no()
-            || self
-                .weights
-                .iter()
-                .any(|w| w.len() != nf || w.iter().any(|v| !v.is_finite()))
-        {
-            return Err(invalid(
-                "model.weights",
-                format!("{} vectors", self.weights.len()),
-                format!("one vector of {nf} finite weights per output"),
-            ));
-        }
-        Ok(())
+        model_kind(self.spec.kind).validate(self)
     }
 
     /// Number of features (regressors, terms, bias).
     pub fn n_features(&self) -> usize {
-        if self.spec.kind == Kind::Pump {
-            return pump_grey::n_params();
-        }
-        if self.spec.kind == Kind::WienerHammerstein {
-            return wiener_hammerstein::n_params(self);
-        }
-        if self.spec.kind == Kind::Cascade {
-            return cascade::n_params(self.spec.neurons, self.ni());
-        }
-        n_phi(&self.spec, self.ni(), self.no()) + self.terms.len() + 1
+        model_kind(self.spec.kind).n_params(self)
     }
 
     pub(crate) fn terms(&self) -> Terms {
@@ -665,79 +570,7 @@ impl Model {
     /// prediction's start (see [`cascade`]); its simulation reports a solver failure
     /// with the time and the levels.
     pub fn predict(&self, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
-        if self.spec.kind == Kind::Cascade {
-            return cascade::predict(self, r, steps_ahead);
-        }
-        if self.spec.kind == Kind::Pump {
-            return pump_grey::predict(self, r, steps_ahead);
-        }
-        if self.spec.kind == Kind::WienerHammerstein {
-            return wiener_hammerstein::predict(self, r, steps_ahead);
-        }
-        let (un, yn) = self.normalise(r);
-        let n = r.len();
-        let lag = self.spec.max_lag();
-        let terms = self.terms();
-        let nf = self.n_features();
-        let mut feat = vec![0.0; nf];
-        let no = self.no();
-        let bounds: Vec<(f64, f64)> = self
-            .output_range
-            .iter()
-            .zip(&self.output_norm)
-            .map(|((lo, hi), (m, s))| {
-                let w = (hi - lo) * self.spec.output_margin;
-                ((lo - w - m) / s, (hi + w - m) / s)
-            })
-            .collect();
-        let mut pred = yn.clone();
-        let first;
-        match steps_ahead {
-            None => {
-                first = lag;
-                for k in lag..n {
-                    {
-                        let p = &pred;
-                        self.features(&|j, i| p[j][i], &un, k, &terms, &mut feat);
-                    }
-                    for j in 0..no {
-                        let v: f64 = self.weights[j].iter().zip(&feat).map(|(w, f)| w * f).sum();
-                        pred[j][k] = hold(v, bounds[j]);
-                    }
-                }
-            }
-            Some(kk) => {
-                let kk = kk.max(1);
-                first = lag + kk - 1;
-                // A window of the last lag + K values: measured, then predicted.
-                let mut hist = vec![vec![0.0; n]; no];
-                for end in first..n {
-                    let start = end + 1 - kk;
-                    for j in 0..no {
-                        hist[j][start - lag..start].copy_from_slice(&yn[j][start - lag..start]);
-                    }
-                    for k in start..=end {
-                        {
-                            let h = &hist;
-                            self.features(&|j, i| h[j][i], &un, k, &terms, &mut feat);
-                        }
-                        for j in 0..no {
-                            let v: f64 = self.weights[j].iter().zip(&feat).map(|(w, f)| w * f).sum();
-                            hist[j][k] = hold(v, bounds[j]);
-                        }
-                    }
-                    for j in 0..no {
-                        pred[j][end] = hist[j][end];
-                    }
-                }
-            }
-        }
-        let out = pred
-            .iter()
-            .zip(&self.output_norm)
-            .map(|(c, (m, s))| c.iter().map(|v| v * s + m).collect())
-            .collect();
-        Ok((out, first))
+        model_kind(self.spec.kind).predict(self, r, steps_ahead)
     }
 
     /// Figures per output of predictions against the record, from `first` on.

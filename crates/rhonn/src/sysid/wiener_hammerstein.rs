@@ -623,6 +623,57 @@ fn with_polynomial(
     Some((r.norm_squared() / target.len().max(1) as f64, p))
 }
 
+/// `kind = "wiener-hammerstein"`.
+pub(crate) struct WienerHammerstein;
+
+impl super::kinds::ModelKind for WienerHammerstein {
+    fn check_spec(&self, spec: &ModelSpec) -> Result<()> {
+        use super::{int_in, Estimator};
+        int_in("degree", spec.degree, 1, MAX_DEGREE)?;
+        int_in("settle", spec.settle, 1, 1000)?;
+        if matches!(
+            spec.law,
+            Estimator::Rls | Estimator::Gradient | Estimator::MultiStep
+        ) {
+            return Err(invalid(
+                "model.law",
+                format!("{:?}", spec.law).to_lowercase(),
+                "simulation-error (a `wiener-hammerstein` model is always trained on its free-run error)",
+            ));
+        }
+        Ok(())
+    }
+
+    fn fit(&self, spec: &ModelSpec, records: &[Record], mut m: Model) -> Result<Model> {
+        fit(spec, records, &mut m)?;
+        Ok(m)
+    }
+
+    fn predict(&self, m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
+        predict(m, r, steps_ahead)
+    }
+
+    fn validate(&self, m: &Model) -> Result<()> {
+        if m.ni() != 1 || m.no() != 1 || m.weights.len() != 1 {
+            return Err(invalid(
+                "model.weights",
+                format!(
+                    "{} inputs, {} outputs, {} vectors",
+                    m.ni(),
+                    m.no(),
+                    m.weights.len()
+                ),
+                "one input, one output and one vector of parameters",
+            ));
+        }
+        Params::from_stored(m.spec.degree, &m.weights[0]).map(|_| ())
+    }
+
+    fn n_params(&self, m: &Model) -> usize {
+        n_params(m)
+    }
+}
+
 #[cfg(test)]
 #[path = "wiener_hammerstein_tests.rs"]
 mod tests;

@@ -542,3 +542,34 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
     m.weights = vec![values(&theta)];
     check_values(&m.weights[0], "the fitted pump parameters")
 }
+
+/// `kind = "pump"`.
+pub(crate) struct PumpGrey;
+
+impl super::kinds::ModelKind for PumpGrey {
+    fn check_spec(&self, spec: &ModelSpec) -> Result<()> {
+        super::int_in("settle", spec.settle, 1, 1000)?;
+        spec.pump.check(spec.law)
+    }
+
+    fn fit(&self, spec: &ModelSpec, records: &[Record], mut m: Model) -> Result<Model> {
+        fit(spec, records, &mut m)?;
+        Ok(m)
+    }
+
+    fn predict(&self, m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
+        predict(m, r, steps_ahead)
+    }
+
+    fn validate(&self, m: &Model) -> Result<()> {
+        validate(m)
+    }
+
+    fn n_params(&self, _m: &Model) -> usize {
+        n_params()
+    }
+
+    fn holds_outputs_in_range(&self) -> bool {
+        false
+    }
+}
