@@ -39,6 +39,18 @@ pub(crate) trait ModelKind: Sync {
     /// Number of stored parameters (per output for a lagged model).
     fn n_params(&self, m: &Model) -> usize;
 
+    /// Whether the data checks of a model of lagged samples (`data_warnings`: sampling,
+    /// lags, suspicious columns) apply to this kind.
+    fn data_warnings_apply(&self) -> bool {
+        true
+    }
+
+    /// The trained parameters by name, for a kind whose parameters mean something on
+    /// their own (`summary.json`'s `parameters`); None otherwise.
+    fn named_parameters(&self, _m: &Model) -> Option<std::collections::BTreeMap<String, f64>> {
+        None
+    }
+
     /// Whether a free run is held within the outputs' widened training range, so that
     /// reaching that bound tells of an unstable model ([`super::free_run_at_bound`]).
     fn holds_outputs_in_range(&self) -> bool {

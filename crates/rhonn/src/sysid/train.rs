@@ -195,9 +195,8 @@ pub fn fit_records(
     });
     let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
     let sample_s = records.first().map_or(0.0, |r| r.sample_interval());
-    // A grey-box pump model has no lags: the lagged models' warnings do not apply.
-    let data_warnings = match specs.first().map(|s| s.kind) {
-        Some(super::Kind::Pump) => Vec::new(),
+    let data_warnings = match specs.first().map(|s| super::model_kind(s.kind)) {
+        Some(k) if !k.data_warnings_apply() => Vec::new(),
         _ => super::data_warnings(records, inputs, outputs, max_lag, sample_s, hint),
     };
     let (fitted, summary) = train_selected(&specs, selection, records, inputs, outputs)?;
@@ -257,13 +256,7 @@ pub fn train_beside(
             }),
             None => None,
         },
-        parameters: (m.spec.kind == super::Kind::Pump).then(|| {
-            super::pump_grey::PARAM_NAMES
-                .iter()
-                .zip(&m.weights[0])
-                .map(|(n, v)| (n.to_string(), *v))
-                .collect()
-        }),
+        parameters: super::model_kind(m.spec.kind).named_parameters(m),
         selection: None,
     };
     Ok((fitted, summary))

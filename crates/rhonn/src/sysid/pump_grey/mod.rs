@@ -572,4 +572,19 @@ impl super::kinds::ModelKind for PumpGrey {
     fn holds_outputs_in_range(&self) -> bool {
         false
     }
+
+    /// A grey-box pump model has no lags: the lagged models' warnings do not apply.
+    fn data_warnings_apply(&self) -> bool {
+        false
+    }
+
+    fn named_parameters(&self, m: &Model) -> Option<std::collections::BTreeMap<String, f64>> {
+        Some(
+            PARAM_NAMES
+                .iter()
+                .zip(&m.weights[0])
+                .map(|(n, v)| (n.to_string(), *v))
+                .collect(),
+        )
+    }
 }
