@@ -25,6 +25,7 @@
 //! the frozen model are those of the filter whose free run has followed the
 //! measurements best this pass. A filter whose numbers stop being finite drops out.
 
+use super::engine::{EngineState, OnlineEngine};
 use super::online_spec::{CascadeOnlineSpec, OnlineSpec, Scaling};
 use crate::error::{invalid, Error, Result};
 use crate::sysid::cascade::{n_params, random_start, Coords, Params};
@@ -516,5 +517,61 @@ impl Member {
                 self.alive = false;
             }
         }
+    }
+}
+
+impl OnlineEngine for CascadeOnline {
+    fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<&[f64]> {
+        CascadeOnline::update(self, t, u, y)
+    }
+    fn estimate(&self) -> &[f64] {
+        &self.out
+    }
+    fn freeze(&mut self, frozen: bool) {
+        self.frozen = frozen;
+    }
+    fn set_free_run(&mut self, free: bool) {
+        self.free_run = free;
+    }
+    fn reset(&mut self) {
+        CascadeOnline::reset(self)
+    }
+    fn new_pass(&mut self) {
+        CascadeOnline::new_pass(self)
+    }
+    fn set_estimate(&mut self, y: &[f64]) {
+        CascadeOnline::set_estimate(self, y)
+    }
+    fn weights(&self) -> Vec<Vec<f64>> {
+        CascadeOnline::weights(self)
+    }
+    fn set_weights(&mut self, w: &[Vec<f64>]) {
+        CascadeOnline::set_weights(self, w)
+    }
+    fn term_names(&self, _outputs: &[String], inputs: &[String]) -> Vec<String> {
+        CascadeOnline::term_names(self, inputs)
+    }
+    fn n_terms(&self) -> usize {
+        CascadeOnline::n_terms(self)
+    }
+    fn scaling(&self) -> &Scaling {
+        &self.scaling
+    }
+    fn set_y_bounds(&mut self, b: Vec<[f64; 2]>) {
+        self.scaling.y_bounds = Some(b);
+    }
+    fn snapshot(&self) -> Box<dyn EngineState> {
+        Box::new(CascadeOnline::snapshot(self))
+    }
+    fn restore(&mut self, s: &dyn EngineState) {
+        if let Some(s) = s.as_any().downcast_ref::<CascadeSnapshot>() {
+            CascadeOnline::restore(self, s);
+        }
+    }
+    fn check_weights(&self, w: &[Vec<f64>]) -> Result<()> {
+        CascadeOnline::check_weights(self, w)
+    }
+    fn box_clone(&self) -> Box<dyn OnlineEngine> {
+        Box::new(self.clone())
     }
 }

@@ -1,0 +1,78 @@
+//! The engines of the online identifier behind one trait: each structure of
+//! [`OnlineSpec`](super::OnlineSpec) (`structure = ...`) is one file with one
+//! implementation of [`OnlineEngine`]: the thesis's continuous-time neurons
+//! (`continuous.rs`), the lagged structure (`lagged.rs`) and the cascade (`cascade_online.rs`).
+//! [`OnlineIdentifier`](super::OnlineIdentifier) holds one and calls through it;
+//! `OnlineIdentifier::new` is the one place that maps a structure to its engine, so a new
+//! online structure is its file, a variant of `OnlineStructure` and one line there.
+
+use super::online_spec::Scaling;
+use crate::error::Result;
+use std::any::Any;
+use std::fmt::Debug;
+
+/// What an engine saves around a K-step-ahead prediction: a type of its own.
+pub(crate) trait EngineState: Debug + Send + Sync {
+    /// A copy in a box.
+    fn clone_box(&self) -> Box<dyn EngineState>;
+    /// For the engine to find its own type again.
+    fn as_any(&self) -> &dyn Any;
+}
+
+impl<T: Debug + Clone + Send + Sync + 'static> EngineState for T {
+    fn clone_box(&self) -> Box<dyn EngineState> {
+        Box::new(self.clone())
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// One online structure, one sample at a time (see `OnlineIdentifier`'s methods of the
+/// same names).
+pub(crate) trait OnlineEngine: Debug + Send + Sync {
+    /// Take the sample `(t, u, y)`: the estimate of `y(t)` made before seeing `y`, then
+    /// learn from it.
+    fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<&[f64]>;
+    /// The last estimate (output units).
+    fn estimate(&self) -> &[f64];
+    /// Stop (`true`) or resume adapting.
+    fn freeze(&mut self, frozen: bool);
+    /// Run on its own outputs (`true`), or series-parallel.
+    fn set_free_run(&mut self, free: bool);
+    /// Forget the last sample (a new record starts).
+    fn reset(&mut self);
+    /// A new pass over recordings starts (nothing by default).
+    fn new_pass(&mut self) {}
+    /// Put the estimate at `y` (output units).
+    fn set_estimate(&mut self, y: &[f64]);
+    /// Weights, one vector per output's neuron (normalised units).
+    fn weights(&self) -> Vec<Vec<f64>>;
+    /// Set the weights.
+    fn set_weights(&mut self, w: &[Vec<f64>]);
+    /// Each term's name, in weight order.
+    fn term_names(&self, outputs: &[String], inputs: &[String]) -> Vec<String>;
+    /// Number of terms (weights) per neuron.
+    fn n_terms(&self) -> usize;
+    /// The scaling.
+    fn scaling(&self) -> &Scaling;
+    /// Hold the estimate within `b` (output units, per output).
+    fn set_y_bounds(&mut self, b: Vec<[f64; 2]>);
+    /// Everything that changes with a sample.
+    fn snapshot(&self) -> Box<dyn EngineState>;
+    /// Restore a snapshot of this engine (one of another engine is ignored).
+    fn restore(&mut self, s: &dyn EngineState);
+    /// Refuse stored weights the structure cannot run (each is finite and of the right
+    /// length already).
+    fn check_weights(&self, _w: &[Vec<f64>]) -> Result<()> {
+        Ok(())
+    }
+    /// A copy in a box.
+    fn box_clone(&self) -> Box<dyn OnlineEngine>;
+}
+
+impl Clone for Box<dyn OnlineEngine> {
+    fn clone(&self) -> Self {
+        self.box_clone()
+    }
+}
