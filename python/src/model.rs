@@ -1,6 +1,6 @@
 //! `rhonn.Model`: a model of `rhonn fit` or a frozen online RHONN (`rhonn identify`,
 //! `OnlineIdentifier.freeze()`), in the same `model.json` as the command line:
-//! `rhonn_report::any_model::AnyModel`, converted.
+//! `rhonn::any_model::AnyModel` through `rhonn_report::any_model`, converted.
 
 use crate::arrays::record;
 use crate::errors::{report_err, value_error};
@@ -8,7 +8,7 @@ use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use rhonn::ident::OnlineModel;
 use rhonn::sysid::FittedModel;
-use rhonn_report::any_model::AnyModel;
+use rhonn_report::any_model::{self, AnyModel};
 use std::path::PathBuf;
 
 /// A model: `predict`, `save`, its `summary`.
@@ -52,7 +52,7 @@ impl Model {
     ) -> PyResult<(Vec<Vec<f64>>, String)> {
         let (inputs, outputs, dt) = self.model.signals();
         let rec = record("the data", dt, u, y, inputs, outputs)?;
-        py.detach(|| self.model.predict(&rec, steps_ahead, baseline))
+        py.detach(|| any_model::predict(&self.model, &rec, steps_ahead, baseline))
             .map_err(report_err)
     }
 }
@@ -60,7 +60,7 @@ impl Model {
 /// Read a model.json written by `rhonn fit`, `rhonn identify` or `Model.save`.
 #[pyfunction]
 pub fn load(path: PathBuf) -> PyResult<Model> {
-    AnyModel::load(&path).map(Model::loaded).map_err(report_err)
+    any_model::load(&path).map(Model::loaded).map_err(report_err)
 }
 
 #[pymethods]
@@ -99,18 +99,18 @@ impl Model {
 
     /// Write the model as `model.json` (the format `rhonn predict` and `rhonn.load` read).
     fn save(&self, path: PathBuf) -> PyResult<()> {
-        self.model.save(&path).map_err(report_err)
+        any_model::save(&self.model, &path).map_err(report_err)
     }
 
     /// The model as model.json's text.
     fn to_json(&self) -> PyResult<String> {
-        self.model.to_json().map_err(report_err)
+        any_model::to_json(&self.model).map_err(report_err)
     }
 
     /// Read a model from model.json's text.
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Model> {
-        AnyModel::from_json(text, "the model text")
+        any_model::from_json(text, "the model text")
             .map(Model::loaded)
             .map_err(report_err)
     }

@@ -31,6 +31,7 @@ All quantities are SI inside ([`units`] converts); people read MPa, mm and dm^3/
 #![allow(clippy::needless_range_loop)]
 
 pub mod activity;
+pub mod any_model;
 pub mod benchmark;
 pub mod control;
 pub mod data;

@@ -2,8 +2,9 @@
 
 use super::{context, read_text, unit_of, Outcome};
 use crate::{Error, Result};
+use rhonn::any_model::{AnyModel, AnyPrediction, ModelFileError};
 use rhonn::data::Record;
-use rhonn::sysid::{parse_spec_file, FittedModel, ModelSpec, RecordFigures};
+use rhonn::sysid::{parse_spec_file, ModelSpec, RecordFigures};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -370,21 +371,23 @@ fn predict_into(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> 
         ));
     }
     // A file that is no JSON at all is named with the line and column where it breaks,
-    // before its kind is asked.
-    let value = serde_json::from_str::<serde_json::Value>(&text)
-        .map_err(|e| Error::Input(format!("{} is not JSON: {e}", model.display())))?;
-    let kind = value.get("kind").and_then(|k| k.as_str()).map(str::to_string);
-    if kind.as_deref() == Some(rhonn::ident::OnlineModel::KIND) {
-        return super::identify::predict_online(model, &text, data, out, steps);
-    }
-    let fitted: FittedModel = super::parse_json(&text, model, "a model written by `rhonn fit`")?;
-    fitted
-        .validate()
-        .map_err(|e| context(format!("{} is not a valid model", model.display()))(e.into()))?;
+    // before its kind is asked; a refused check is the context of what refused it.
+    let any = AnyModel::parse(&text, &model.display().to_string()).map_err(|e| match e {
+        ModelFileError::Invalid { source_name, source } => {
+            context(format!("{source_name} is not a valid model"))(source.into())
+        }
+        other => Error::Input(other.to_string()),
+    })?;
+    let fitted = match &any {
+        AnyModel::Online(m) => return super::identify::predict_online(model, &any, m, data, out, steps),
+        AnyModel::Fitted(f) => f,
+    };
     let m = &fitted.model;
-    let needed = rhonn::sysid::samples_needed(&fitted, steps);
+    let needed = any.samples_needed(steps);
     let (recs, regridded) = read_data_regridded(&[data.to_path_buf()], &m.inputs, &m.outputs, needed, None)?;
-    let p = rhonn::sysid::predict(&fitted, &recs[0], steps)?;
+    let AnyPrediction::Fitted(p) = any.predict(&recs[0], steps)? else {
+        unreachable!("a fitted model's prediction")
+    };
     let mut o = Outcome::default();
     for g in &regridded {
         o.notes.push(format!("note: {g}"));
@@ -400,7 +403,7 @@ fn predict_into(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> 
             p.record.len()
         ));
     }
-    o.files = crate::write_prediction(out, &fitted, &p, &model.display().to_string())?;
+    o.files = crate::write_prediction(out, fitted, &p, &model.display().to_string())?;
     o.files.push(crate::write_report(out)?);
     let mode = p.mode();
     for (j, f) in p.figures.iter().enumerate() {

@@ -4,7 +4,8 @@
 use super::{context, read_text, Outcome};
 use crate::identify::{write_identify, IdentifySummary};
 use crate::{Error, Result};
-use rhonn::ident::{predict_records, OnlineModel, OnlineSpec};
+use rhonn::any_model::{AnyModel, AnyPrediction};
+use rhonn::ident::{OnlineModel, OnlineSpec};
 use std::path::{Path, PathBuf};
 
 /// What `rhonn identify` takes.
@@ -178,31 +179,27 @@ fn console_lines(summary: &IdentifySummary) -> Vec<String> {
 /// `rhonn predict` with a `model.json` written by `rhonn identify`.
 pub(super) fn predict_online(
     model_path: &Path,
-    text: &str,
+    any: &AnyModel,
+    m: &OnlineModel,
     data: &Path,
     out: &Path,
     steps: Option<usize>,
 ) -> Result<Outcome> {
-    let m: OnlineModel = super::parse_json(text, model_path, "a valid online model")?;
-    let mut id = m
-        .identifier()
-        .map_err(|e| context(format!("{} is not a valid model", model_path.display()))(e.into()))?;
-    let rec = crate::read_record(data, &m.inputs, &m.outputs, 2)?;
-    let recs = std::slice::from_ref(&rec);
-    rhonn::ident::sample_time(recs)?;
-    let pred = predict_records(&mut id, recs, steps)
-        .map_err(|e| {
-            context(format!(
-                "predicting {} with the model {}",
-                data.display(),
-                model_path.display()
-            ))(e.into())
-        })?
-        .remove(0);
-    let figures = crate::identify::online_prediction_figures(&rec, &pred, &m.outputs, steps.unwrap_or(0));
+    let rec = crate::read_record(data, &m.inputs, &m.outputs, any.samples_needed(steps))?;
+    rhonn::ident::sample_time(std::slice::from_ref(&rec))?;
+    let AnyPrediction::Online { rows: pred, figures } = any.predict(&rec, steps).map_err(|e| {
+        context(format!(
+            "predicting {} with the model {}",
+            data.display(),
+            model_path.display()
+        ))(e.into())
+    })?
+    else {
+        unreachable!("an online model's prediction")
+    };
     let files = crate::identify::write_online_prediction(
         out,
-        &m,
+        m,
         &model_path.display().to_string(),
         &rec,
         &pred,

@@ -140,21 +140,6 @@ pub(crate) fn ratio(v: f64) -> String {
     }
 }
 
-/// `text` (the file `path`) as a `T`; an error names the file, the field's path in it
-/// (`model.weights[0][4]`), the line and the column.
-pub(crate) fn parse_json<T: serde::de::DeserializeOwned>(
-    text: &str,
-    path: &Path,
-    what: &str,
-) -> crate::Result<T> {
-    let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let at = e.path().to_string();
-        let inner = e.into_inner();
-        crate::Error::Input(format!("{} is not {what}: field `{at}`: {inner}", path.display()))
-    })
-}
-
 /// A file's text, or an error naming the file and what the system said.
 pub(crate) fn read_text(p: &Path) -> crate::Result<String> {
     std::fs::read_to_string(p).map_err(|e| {
