@@ -20,7 +20,13 @@ import time
 
 import numpy as np
 
-import rhonn
+# Run as `python python/bench.py`, the script's own folder comes first on the path, and
+# its `rhonn/` (the sources, without the compiled extension) would shadow the installed
+# package: it failed to import `_rhonn`.
+_HERE = pathlib.Path(__file__).resolve().parent
+sys.path = [p for p in sys.path if pathlib.Path(p or ".").resolve() != _HERE]
+
+import rhonn  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 

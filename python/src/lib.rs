@@ -140,21 +140,8 @@ fn campaign(
 #[pyfunction]
 fn _rust_run_seconds(py: Python<'_>, name: &str, repeats: usize) -> PyResult<f64> {
     let sc = scenario(name, None)?;
-    let mut times = py
-        .detach(|| {
-            (0..repeats.max(1))
-                .map(|_| {
-                    let start = std::time::Instant::now();
-                    sc.run().map(|r| {
-                        std::hint::black_box(r);
-                        start.elapsed().as_secs_f64()
-                    })
-                })
-                .collect::<Result<Vec<f64>, _>>()
-        })
-        .map_err(rhonn_err)?;
-    times.sort_by(f64::total_cmp);
-    Ok(times[times.len() / 2])
+    py.detach(|| rhonn::experiment::median_run_seconds(&sc, repeats))
+        .map_err(rhonn_err)
 }
 
 /// The shipped scenarios: (name, description).

@@ -130,24 +130,10 @@ impl OnlineIdentifier {
         u: numpy::PyReadonlyArray2<'_, f64>,
         y: numpy::PyReadonlyArray2<'_, f64>,
     ) -> PyResult<f64> {
-        let t = t.as_array();
+        let t: Vec<f64> = t.as_array().iter().copied().collect();
         let u = crate::arrays::columns("u", &u, self.u.len())?;
         let y = crate::arrays::columns("y", &y, self.y.len())?;
-        if u.iter().chain(&y).any(|c| c.len() != t.len()) {
-            return Err(value_error("t, u and y need one row per sample"));
-        }
-        let Some(given) = self.session.given() else {
-            return Err(value_error("the bench times a given model (give model=...)"));
-        };
-        let mut id = given.clone();
-        let (mut uk, mut yk) = (self.u.clone(), self.y.clone());
-        let start = std::time::Instant::now();
-        for (k, tk) in t.iter().enumerate() {
-            uk.iter_mut().zip(&u).for_each(|(v, c)| *v = c[k]);
-            yk.iter_mut().zip(&y).for_each(|(v, c)| *v = c[k]);
-            std::hint::black_box(id.update(*tk, &uk, &yk).map_err(rhonn_err)?);
-        }
-        Ok(start.elapsed().as_secs_f64() / t.len().max(1) as f64)
+        self.session.seconds_per_update(&t, &u, &y).map_err(rhonn_err)
     }
 
     fn __repr__(&self) -> String {

@@ -146,3 +146,20 @@ def test_choosing_online_refuses_a_scaling_it_would_not_use():
     ident.update(0.0, 1.0, 2.0)
     with pytest.raises(ValueError, match="at least 2 samples"):
         ident.freeze()
+
+
+def test_the_benchs_rust_timings_are_library_calls(tanks):
+    """python/bench.py's Rust side: the same updates on a copy (the identifier stays as it
+    was), and the median of runs of a scenario; errors as for any call."""
+    est, _ = tanks
+    t, u, y = est["t"][:50], est["u"][:50].reshape(-1, 1), est["y"][:50].reshape(-1, 1)
+    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0, model={}, y_offset=[5.0], y_scale=[2.0], u_offset=[5.0], u_scale=[2.0])
+    w = ident.weights.copy()
+    s = ident._rust_seconds_per_update(t, u, y)
+    assert 0 < s < 1
+    np.testing.assert_array_equal(ident.weights, w)
+    with pytest.raises(ValueError, match="one row per sample"):
+        ident._rust_seconds_per_update(t[:10], u, y)
+    with pytest.raises(ValueError, match="a given model"):
+        rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0)._rust_seconds_per_update(t, u, y)
+    assert rhonn._rhonn._rust_run_seconds("thesis-ch5", 1) > 0

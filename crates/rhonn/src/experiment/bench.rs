@@ -4,6 +4,7 @@
 
 use super::plant_run::run_plant_scenario;
 use super::plant_scenario::PlantScenarioSpec;
+use super::preset::AnyScenario;
 use super::run::run;
 use super::scenario::Scenario;
 use super::trace::NoRecorder;
@@ -78,4 +79,21 @@ fn timed(
         threads,
         samples: times.len(),
     })
+}
+
+/// The median wall time \[s\] of `repeats` runs of `sc` (at least one), each made as
+/// `AnyScenario::run` makes it: Python's bench (`python/bench.py`) compares it with the
+/// same run called from Python.
+pub fn median_run_seconds(sc: &AnyScenario, repeats: usize) -> Result<f64> {
+    let mut times = (0..repeats.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            sc.run().map(|r| {
+                std::hint::black_box(r);
+                start.elapsed().as_secs_f64()
+            })
+        })
+        .collect::<Result<Vec<f64>>>()?;
+    times.sort_by(f64::total_cmp);
+    Ok(times[times.len() / 2])
 }

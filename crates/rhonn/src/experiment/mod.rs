@@ -22,7 +22,7 @@ mod trace;
 pub mod tuning;
 
 pub use any_scenario::{NamedColumns, ScenarioRun};
-pub use bench::{bench, bench_plant, BenchFigures};
+pub use bench::{bench, bench_plant, median_run_seconds, BenchFigures};
 pub use loop_conditions::LoopConditions;
 pub use plant_run::{
     nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on, IdentStateFigures, LoopFigures,

@@ -245,4 +245,35 @@ impl OnlineSession {
             Engine::Bank(_) => None,
         }
     }
+
+    /// For Python's bench (`python/bench.py`): the seconds per update of the updates
+    /// [`OnlineSession::update`] would make on the samples `t`, `u` (one column per input)
+    /// and `y` (one per output), made on a copy of the given model's identifier (this
+    /// session stays as it was).
+    pub fn seconds_per_update(&self, t: &[f64], u: &[Vec<f64>], y: &[Vec<f64>]) -> Result<f64> {
+        let Some(given) = self.given() else {
+            return Err(Error::Argument(
+                "the bench times a given model (give model=...)".into(),
+            ));
+        };
+        if u.len() != self.inputs.len()
+            || y.len() != self.outputs.len()
+            || u.iter().chain(y).any(|c| c.len() != t.len())
+        {
+            return Err(Error::Argument(format!(
+                "t, u and y need one row per sample and {} inputs and {} outputs",
+                self.inputs.len(),
+                self.outputs.len()
+            )));
+        }
+        let mut id = given.clone();
+        let (mut uk, mut yk) = (vec![0.0; u.len()], vec![0.0; y.len()]);
+        let start = std::time::Instant::now();
+        for (k, tk) in t.iter().enumerate() {
+            uk.iter_mut().zip(u).for_each(|(v, c)| *v = c[k]);
+            yk.iter_mut().zip(y).for_each(|(v, c)| *v = c[k]);
+            std::hint::black_box(id.update(*tk, &uk, &yk)?);
+        }
+        Ok(start.elapsed().as_secs_f64() / t.len().max(1) as f64)
+    }
 }
