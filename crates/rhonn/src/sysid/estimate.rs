@@ -169,10 +169,11 @@ fn fit_terms(
         Some(t) if spec.kind == Kind::Rhonn => {
             check_regressor_count(spec, inputs.len(), outputs.len())?;
             model.terms = t;
-            fit_weights(model, records)
+            fit_weights(&mut model, records)?;
         }
-        _ => super::model_kind(spec.kind).fit(spec, records, model),
+        _ => super::model_kind(spec.kind).fit(spec, records, &mut model)?,
     }
+    Ok(model)
 }
 
 /// The high-order terms of a lagged structure (`rhonn`: every monomial of its
@@ -252,7 +253,7 @@ fn blank_model(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs:
 }
 
 /// Train the weights of a lagged model (`arx` or `rhonn`) whose terms are set.
-pub(super) fn fit_weights(mut model: Model, records: &[Record]) -> Result<Model> {
+pub(super) fn fit_weights(model: &mut Model, records: &[Record]) -> Result<()> {
     let spec = model.spec.clone();
     let spec = &spec;
     let no = model.no();
@@ -293,9 +294,9 @@ pub(super) fn fit_weights(mut model: Model, records: &[Record]) -> Result<Model>
     };
     model.weights = weights;
     match spec.law {
-        Estimator::SimulationError => simulation_error(&mut model, records, None),
-        Estimator::MultiStep => simulation_error(&mut model, records, Some(spec.horizon)),
+        Estimator::SimulationError => simulation_error(model, records, None),
+        Estimator::MultiStep => simulation_error(model, records, Some(spec.horizon)),
         _ => {}
     }
-    Ok(model)
+    Ok(())
 }

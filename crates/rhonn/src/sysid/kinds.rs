@@ -28,7 +28,7 @@ pub(crate) trait ModelKind: Sync {
 
     /// Train the blank model `m` (names, sample time, scaling and output ranges set) on
     /// `records`.
-    fn fit(&self, spec: &ModelSpec, records: &[Record], m: Model) -> Result<Model>;
+    fn fit(&self, spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()>;
 
     /// Predict `r` (see [`Model::predict`]).
     fn predict(&self, m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)>;

@@ -26,7 +26,7 @@ impl ModelKind for Lagged {
             .max(spec.nk)
     }
 
-    fn fit(&self, spec: &ModelSpec, records: &[Record], mut m: Model) -> Result<Model> {
+    fn fit(&self, spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()> {
         let (ni, no) = (m.ni(), m.no());
         check_regressor_count(spec, ni, no)?;
         m.terms = super::lagged_terms(spec, ni, no);

@@ -644,9 +644,8 @@ impl super::kinds::ModelKind for WienerHammerstein {
         Ok(())
     }
 
-    fn fit(&self, spec: &ModelSpec, records: &[Record], mut m: Model) -> Result<Model> {
-        fit(spec, records, &mut m)?;
-        Ok(m)
+    fn fit(&self, spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()> {
+        fit(spec, records, m)
     }
 
     fn predict(&self, m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
