@@ -155,11 +155,13 @@ def test_the_benchs_rust_timings_are_library_calls(tanks):
     t, u, y = est["t"][:50], est["u"][:50].reshape(-1, 1), est["y"][:50].reshape(-1, 1)
     ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0, model={}, y_offset=[5.0], y_scale=[2.0], u_offset=[5.0], u_scale=[2.0])
     w = ident.weights.copy()
+    # A duration: only that it is one (speed belongs in python/bench.py).
     s = ident._rust_seconds_per_update(t, u, y)
-    assert 0 < s < 1
+    assert np.isfinite(s) and s > 0
     np.testing.assert_array_equal(ident.weights, w)
     with pytest.raises(ValueError, match="one row per sample"):
         ident._rust_seconds_per_update(t[:10], u, y)
     with pytest.raises(ValueError, match="a given model"):
         rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0)._rust_seconds_per_update(t, u, y)
-    assert rhonn._rhonn._rust_run_seconds("thesis-ch5", 1) > 0
+    r = rhonn._rhonn._rust_run_seconds("thesis-ch5", 1)
+    assert np.isfinite(r) and r > 0
