@@ -1,11 +1,10 @@
 //! PI pressure regulator with anti-windup: the baseline every adaptive controller is
 //! compared with. The law is `rhonn_core::pi::AntiWindupPi` (the same on a
-//! microcontroller); here it becomes a [`Controller`] with a measured state and an
-//! optional dither.
+//! microcontroller); here it becomes a [`Controller`] with a measured state (a dither
+//! is the loop's, `experiment::LoopConditions`, not the controller's).
 
 use super::{Controller, LoopContext, LoopSettings};
 use crate::error::{invalid, Result};
-use crate::signal::Signal;
 pub use rhonn_core::pi::AntiWindupPi;
 use serde::{Deserialize, Serialize};
 
@@ -20,8 +19,6 @@ pub struct Pi {
     pub law: AntiWindupPi,
     /// The plant state it measures (default 0).
     pub measured: [usize; 1],
-    /// A signal added to the output (an identification dither), then clipped again.
-    pub dither: Option<Signal>,
 }
 
 impl Pi {
@@ -31,7 +28,6 @@ impl Pi {
         Pi {
             law: AntiWindupPi::new(kp, ti_s, period_s, bias, u_min, u_max),
             measured: [0],
-            dither: None,
         }
     }
 
@@ -53,12 +49,8 @@ impl Controller for Pi {
     fn measurements(&self) -> &[usize] {
         &self.measured
     }
-    fn control(&mut self, t: f64, measured: &[f64], setpoint: f64) -> f64 {
-        let u = self.update(setpoint, measured[0]);
-        match &self.dither {
-            Some(d) => (u + d.eval(t)).clamp(self.law.u_min, self.law.u_max),
-            None => u,
-        }
+    fn control(&mut self, _t: f64, measured: &[f64], setpoint: f64) -> f64 {
+        self.update(setpoint, measured[0])
     }
 }
 

@@ -2,8 +2,9 @@
 //! noise on the states it measures (one seeded stream per state, so that noise on one
 //! sensor never changes another's), an excitation (dither) added to its command, and a
 //! transport delay of whole control periods before the command reaches the plant.
-//! `any_plant::closed_loop_with` applies them at each control instant; a plant
-//! scenario's `[measurement]` and `[control]` sections set them.
+//! `any_plant::closed_loop_with` and the pump's run (`pump_loop`) apply them at each
+//! control instant; a plant scenario's `[measurement]` and `[control]` sections set
+//! them, and the pump's `[measurement]`, `dither_a` and `delay_periods`.
 
 use crate::signal::Signal;
 use rand::SeedableRng;
@@ -13,25 +14,50 @@ use std::collections::VecDeque;
 /// The conditions of one closed loop (all SI); the default is a clean loop.
 #[derive(Debug, Clone, Default)]
 pub struct LoopConditions {
-    /// Per plant state (by index): the standard deviation of the noise on its
-    /// measurement, SI. States not listed are measured exactly.
-    pub noise_std: Vec<(usize, f64)>,
-    /// Seed of the noise streams.
-    pub seed: u64,
+    /// The noisy sensors, one per plant state listed; states not listed are measured
+    /// exactly.
+    pub noise: Vec<SensorNoise>,
     /// An excitation added to the controller's command (SI, the input's unit); the sum
     /// is clipped to `input_range`.
     pub dither: Option<Signal>,
     /// The command reaches the plant this many control periods late; until the first
-    /// one arrives, the plant holds the controller's first command.
+    /// one arrives, the plant holds `held_input`, or without one the controller's first
+    /// command.
     pub delay_periods: u32,
+    /// What the plant holds while the delay line fills (SI; the pump: its initial current).
+    pub held_input: Option<f64>,
     /// The input's allowed range (SI), for the dithered command.
     pub input_range: (f64, f64),
+}
+
+/// White Gaussian noise on one plant state's measurement, from its own seeded stream.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SensorNoise {
+    /// The plant state (index).
+    pub state: usize,
+    /// Standard deviation, SI.
+    pub std: f64,
+    /// Seed of this sensor's stream.
+    pub seed: u64,
+}
+
+impl SensorNoise {
+    /// Noise of standard deviation `std` on state `state`, its stream seeded by `seed`
+    /// and the state's index (a plant scenario's `[measurement]`): a state's noise
+    /// depends on nothing else.
+    pub fn per_state(state: usize, std: f64, seed: u64) -> Self {
+        SensorNoise {
+            state,
+            std,
+            seed: seed ^ (state as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15),
+        }
+    }
 }
 
 impl LoopConditions {
     /// Whether any state is measured with noise.
     pub fn noisy(&self) -> bool {
-        !self.noise_std.is_empty()
+        !self.noise.is_empty()
     }
 }
 
@@ -41,21 +67,17 @@ pub(crate) struct Sensors {
 }
 
 impl Sensors {
-    /// Streams for `c`'s noisy states, each seeded by the seed and the state's index: a
-    /// state's noise depends on nothing else.
+    /// A stream for each of `c`'s noisy states (a standard deviation of 0 is none).
     pub(crate) fn new(c: &LoopConditions) -> Self {
         let streams = c
-            .noise_std
+            .noise
             .iter()
-            .filter(|(_, std)| *std > 0.0)
-            .map(|&(i, std)| {
-                let rng = rand_chacha::ChaCha8Rng::seed_from_u64(
-                    c.seed ^ (i as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15),
-                );
+            .filter(|n| n.std > 0.0)
+            .map(|n| {
                 (
-                    i,
-                    Normal::new(0.0, std).expect("a checked standard deviation"),
-                    rng,
+                    n.state,
+                    Normal::new(0.0, n.std).expect("a checked standard deviation"),
+                    rand_chacha::ChaCha8Rng::seed_from_u64(n.seed),
                 )
             })
             .collect();
@@ -76,6 +98,7 @@ pub(crate) struct Actuator {
     dither: Option<Signal>,
     range: (f64, f64),
     delay: usize,
+    held: Option<f64>,
     queue: VecDeque<f64>,
 }
 
@@ -85,6 +108,7 @@ impl Actuator {
             dither: c.dither.clone(),
             range: c.input_range,
             delay: c.delay_periods as usize,
+            held: c.held_input,
             queue: VecDeque::new(),
         }
     }
@@ -100,11 +124,60 @@ impl Actuator {
             return u;
         }
         if self.queue.is_empty() {
-            self.queue.extend(std::iter::repeat(u).take(self.delay));
+            let held = self.held.take().unwrap_or(u);
+            self.queue.extend(std::iter::repeat(held).take(self.delay));
         }
         self.queue.push_back(u);
         self.queue
             .pop_front()
             .expect("the delay line holds at least this command")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_delay_line_holds_the_given_input_or_else_the_first_command() {
+        let delayed = |held| LoopConditions {
+            delay_periods: 2,
+            held_input: held,
+            input_range: (0.0, 10.0),
+            ..LoopConditions::default()
+        };
+        let run = |c: &LoopConditions| {
+            let mut a = Actuator::new(c);
+            [1.0, 2.0, 3.0, 4.0]
+                .iter()
+                .enumerate()
+                .map(|(k, &u)| a.apply(k as f64, u))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(run(&delayed(Some(0.7))), [0.7, 0.7, 1.0, 2.0]);
+        assert_eq!(run(&delayed(None)), [1.0, 1.0, 1.0, 2.0]);
+        assert_eq!(run(&LoopConditions::default()), [1.0, 2.0, 3.0, 4.0]);
+    }
+
+    #[test]
+    fn each_sensor_draws_from_its_own_stream() {
+        let noisy = |noise| LoopConditions {
+            noise,
+            ..LoopConditions::default()
+        };
+        let a = SensorNoise::per_state(0, 1.0, 3);
+        let b = SensorNoise::per_state(1, 1.0, 3);
+        assert_ne!(a.seed, b.seed);
+        let mut one = Sensors::new(&noisy(vec![a]));
+        let mut both = Sensors::new(&noisy(vec![a, b]));
+        for _ in 0..5 {
+            // Measuring state 1 in between changes nothing of state 0's noise.
+            let x = one.measure(0, 2.0);
+            assert_ne!(both.measure(1, 2.0), 2.0);
+            assert_eq!(both.measure(0, 2.0), x);
+            assert_ne!(x, 2.0);
+        }
+        // No stream: exact.
+        assert_eq!(one.measure(1, 2.0), 2.0);
     }
 }

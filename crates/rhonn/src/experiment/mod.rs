@@ -23,7 +23,7 @@ pub mod tuning;
 
 pub use any_scenario::{NamedColumns, ScenarioRun};
 pub use bench::{bench, bench_plant, median_run_seconds, BenchFigures};
-pub use loop_conditions::LoopConditions;
+pub use loop_conditions::{LoopConditions, SensorNoise};
 pub use plant_run::{
     nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on, IdentStateFigures, LoopFigures,
     PlantColumn, PlantRunOutput, PlantSummary, WEIGHT_QUANTITIES,

@@ -4,7 +4,7 @@
 //! are in the display units of the quantity they belong to (mm for a tank's level, V for
 //! the pump voltage); times in seconds.
 
-use super::loop_conditions::LoopConditions;
+use super::loop_conditions::{LoopConditions, SensorNoise};
 pub use crate::control::LoopSpec;
 use crate::error::{invalid, Error, Result};
 use crate::ident::IdentifierSpec;
@@ -307,7 +307,6 @@ pub(crate) fn loop_conditions<P: Plant>(
         c.dither = Some(signal(d, "control.dither", qu, (-1e150, 1e150))?);
     }
     if let Some(m) = &spec.measurement {
-        c.seed = m.seed;
         for (name, std) in &m.noise_std {
             let field = format!("measurement.noise_std.{name}");
             let i = state_index(plant, &field, name)?;
@@ -320,9 +319,9 @@ pub(crate) fn loop_conditions<P: Plant>(
                     format!("a standard deviation >= 0 in {}", plant.states()[i].display_unit),
                 ));
             }
-            c.noise_std.push((i, si));
+            c.noise.push(SensorNoise::per_state(i, si, m.seed));
         }
-        c.noise_std.sort_by_key(|(i, _)| *i);
+        c.noise.sort_by_key(|n| n.state);
     }
     Ok(c)
 }

@@ -6,6 +6,7 @@
 use super::figures::{Accumulator, AdaptiveReport, Figures};
 use super::ident_figures::IdentAcc;
 use super::integrated::Integrated;
+use super::loop_conditions::{Actuator, LoopConditions, SensorNoise, Sensors};
 use super::scenario::{Drive, ProfileSpec, Scenario, SolverSettings};
 use super::sim::{describe, drive, start, Hooks, Instants};
 use super::trace::{Recorder, Sample};
@@ -16,7 +17,6 @@ use crate::signal::Signal;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use rhonn_ode::{Dopri5, Options, Profile, State, Stats, System};
-use std::collections::VecDeque;
 
 /// Solver options of a scenario for a state of `dim` components (the pump's two
 /// first; identifier states get the relative tolerance and an absolute 1e-9).
@@ -52,7 +52,6 @@ impl Ctl {
             Drive::Pi(s) => {
                 let mut pi = Pi::new(s.kp, s.ti_s, p.t_control, s.bias, 0.0, p.i_max);
                 pi.measured = [P_LINE];
-                pi.dither = s.dither.clone();
                 Ctl::Closed(Box::new(pi))
             }
             Drive::Adaptive(a) => Ctl::Closed(Box::new(cascade_for(sc, &a.cascade))),
@@ -77,47 +76,54 @@ fn cascade_for(sc: &Scenario, settings: &crate::control::CascadeSettings) -> Rho
     )
 }
 
-/// The sensors of a pump run: pressure and stroke noise, each with its own seeded
-/// stream, and a third stream for recorded (not fed back) pressures, so that what is
-/// recorded never changes what the controller sees.
-pub(super) struct Sensors {
-    rng: rand_chacha::ChaCha8Rng,
-    rng_x: rand_chacha::ChaCha8Rng,
-    rng_out: rand_chacha::ChaCha8Rng,
-    noise: Option<Normal<f64>>,
-    x_noise: Option<Normal<f64>>,
+/// The loop conditions of a pump run (`loop_conditions`, as any plant's): pressure and
+/// stroke noise, each from its own seeded stream; a PI's dither; the transport delay,
+/// holding the initial current `i0` until the first command arrives.
+fn conditions(sc: &Scenario, i0: f64) -> LoopConditions {
+    let p = &sc.params;
+    let seed = sc.spec.seed;
+    LoopConditions {
+        noise: vec![
+            SensorNoise {
+                state: P_LINE,
+                std: sc.noise_std_pa,
+                seed,
+            },
+            SensorNoise {
+                state: STROKE,
+                std: sc.stroke_noise_std_m,
+                seed: seed ^ 0x5851_f42d_4c95_7f2d,
+            },
+        ],
+        dither: match &sc.drive {
+            Drive::Pi(s) => s.dither.clone(),
+            _ => None,
+        },
+        delay_periods: p.delay_periods,
+        held_input: Some(i0),
+        input_range: (0.0, p.i_max),
+    }
 }
 
-impl Sensors {
-    pub(super) fn new(sc: &Scenario) -> Self {
-        let normal =
-            |std: f64| (std > 0.0).then(|| Normal::new(0.0, std).expect("checked standard deviation"));
-        Sensors {
-            rng: rand_chacha::ChaCha8Rng::seed_from_u64(sc.spec.seed),
-            rng_x: rand_chacha::ChaCha8Rng::seed_from_u64(sc.spec.seed ^ 0x5851_f42d_4c95_7f2d),
-            rng_out: rand_chacha::ChaCha8Rng::seed_from_u64(sc.spec.seed ^ 0x9e37_79b9_7f4a_7c15),
-            noise: normal(sc.noise_std_pa),
-            x_noise: normal(sc.stroke_noise_std_m),
+/// The noise of an open-loop run's recorded (not fed back) pressure: a third stream, so
+/// that what is recorded never changes what a controller sees.
+struct RecordedNoise {
+    rng: rand_chacha::ChaCha8Rng,
+    noise: Option<Normal<f64>>,
+}
+
+impl RecordedNoise {
+    fn new(sc: &Scenario) -> Self {
+        RecordedNoise {
+            rng: rand_chacha::ChaCha8Rng::seed_from_u64(sc.spec.seed ^ 0x9e37_79b9_7f4a_7c15),
+            noise: (sc.noise_std_pa > 0.0)
+                .then(|| Normal::new(0.0, sc.noise_std_pa).expect("checked standard deviation")),
         }
     }
 
-    pub(super) fn noisy(&self) -> bool {
-        self.noise.is_some()
-    }
-
-    /// The pressure the controller measures.
-    pub(super) fn pressure(&mut self, p: f64) -> f64 {
-        self.noise.map_or(p, |n| p + n.sample(&mut self.rng))
-    }
-
-    /// The stroke the controller measures.
-    pub(super) fn stroke(&mut self, x: f64) -> f64 {
-        self.x_noise.map_or(x, |n| x + n.sample(&mut self.rng_x))
-    }
-
     /// A recorded pressure of an open-loop run.
-    pub(super) fn recorded_pressure(&mut self, p: f64) -> f64 {
-        self.noise.map_or(p, |n| p + n.sample(&mut self.rng_out))
+    fn pressure(&mut self, p: f64) -> Option<f64> {
+        self.noise.map(|n| p + n.sample(&mut self.rng))
     }
 }
 
@@ -167,20 +173,20 @@ impl OutputClock {
     }
 }
 
-/// One control instant: measure, compute, send through the delay line; returns the
-/// measured pressure and an adaptive controller's state.
+/// One control instant: measure, compute, send through the dither and the delay line;
+/// returns the measured pressure, an adaptive controller's state and what reached the
+/// solenoid.
 #[inline]
 fn act<S: Integrated<Plant = PumpSystem>>(
     solver: &mut Dopri5<S>,
     ctl: &mut Ctl,
-    sensors: &mut Sensors,
+    (sensors, actuator): (&mut Sensors, &mut Actuator),
     sp: &Signal,
     adaptive: &mut Option<AdaptiveReport>,
-    queue: &mut VecDeque<f64>,
 ) -> Result<(f64, Option<CascadeState>, Option<f64>)> {
     let t = solver.t();
-    let y = sensors.pressure(solver.state()[P_LINE]);
-    let xm = sensors.stroke(solver.state()[STROKE]);
+    let y = sensors.measure(P_LINE, solver.state()[P_LINE]);
+    let xm = sensors.measure(STROKE, solver.state()[STROKE]);
     let Ctl::Closed(c) = ctl else {
         return Ok((y, None, None));
     };
@@ -202,10 +208,7 @@ fn act<S: Integrated<Plant = PumpSystem>>(
             rep,
         )?);
     }
-    queue.push_back(u);
-    let applied = queue
-        .pop_front()
-        .expect("the delay line holds at least this output");
+    let applied = actuator.apply(t, u);
     solver.system_mut().plant_mut().set_current(applied);
     Ok((y, cs, Some(applied)))
 }
@@ -266,9 +269,9 @@ struct PumpHooks<'a, R: Recorder> {
     /// The applied current's activity at the control instants.
     activity: crate::activity::ActivityCounter,
     sensors: Sensors,
-    /// Transport delay: what the controller outputs reaches the solenoid this many
-    /// periods later; until then the initial current holds.
-    queue: VecDeque<f64>,
+    /// Dither and transport delay between the controller and the solenoid.
+    actuator: Actuator,
+    recorded_noise: RecordedNoise,
     adaptive: Option<AdaptiveReport>,
     ctl_state: Option<CascadeState>,
     last_meas: Option<f64>,
@@ -286,10 +289,9 @@ impl<S: Integrated<Plant = PumpSystem>, R: Recorder> Hooks<S> for PumpHooks<'_, 
             let (y, cs, applied) = act(
                 solver,
                 &mut self.ctl,
-                &mut self.sensors,
+                (&mut self.sensors, &mut self.actuator),
                 sp,
                 &mut self.adaptive,
-                &mut self.queue,
             )?;
             if let Some(u) = applied {
                 self.activity.add(u);
@@ -329,10 +331,8 @@ impl<S: Integrated<Plant = PumpSystem>, R: Recorder> Hooks<S> for PumpHooks<'_, 
                 p_ref: self.setpoint.map(|sp| sp.eval(t)),
                 p_meas: if self.regulated {
                     self.last_meas
-                } else if self.sensors.noisy() {
-                    Some(self.sensors.recorded_pressure(p_line))
                 } else {
-                    None
+                    self.recorded_noise.pressure(p_line)
                 },
                 hat: [hat[P_LINE], hat[STROKE]],
                 hat_parallel: [hat_parallel[P_LINE], hat_parallel[STROKE]],
@@ -363,7 +363,7 @@ pub(super) fn simulate<S: Integrated<Plant = PumpSystem>>(
     let dim = sys.dim();
     let setpoint = sc.drive.setpoint();
     let opts = solver_options::<S::State>(&sc.solver, dim);
-    let i0 = sys.plant().current_at(0.0);
+    let conds = conditions(sc, sys.plant().current_at(0.0));
     let mut solver = start(sys, x0, opts)?;
     let adaptive = match &ctl {
         Ctl::Closed(c) => c.adaptive(0.0).map(|_| AdaptiveReport::default()),
@@ -380,8 +380,9 @@ pub(super) fn simulate<S: Integrated<Plant = PumpSystem>>(
         ident_acc,
         acc,
         plant_figures,
-        sensors: Sensors::new(sc),
-        queue: VecDeque::from(vec![i0; p.delay_periods as usize]),
+        sensors: Sensors::new(&conds),
+        actuator: Actuator::new(&conds),
+        recorded_noise: RecordedNoise::new(sc),
         adaptive,
         ctl_state: None,
         last_meas: None,
