@@ -222,8 +222,8 @@ pub fn closed_loop_with<P: Plant>(
     (setpoint, period_s, duration_s): (&Signal, f64, f64),
     conditions: &LoopConditions,
 ) -> Result<LoopRun> {
-    let meas_idx = ctl.measurements().to_vec();
-    let y_idx = *meas_idx.first().ok_or_else(|| {
+    let n_meas = ctl.measurements().len();
+    let y_idx = *ctl.measurements().first().ok_or_else(|| {
         crate::error::invalid("controller.measurements", "[]", "at least the controlled state")
     })?;
     plant.hold_input(input, 0.0);
@@ -246,8 +246,7 @@ pub fn closed_loop_with<P: Plant>(
         sensors: Sensors::new(conditions),
         actuator: Actuator::new(conditions),
         noisy: conditions.noisy(),
-        meas: vec![0.0; meas_idx.len()],
-        meas_idx,
+        meas: Vec::with_capacity(n_meas),
         y_idx,
         ctl,
         input,
@@ -263,7 +262,6 @@ pub fn closed_loop_with<P: Plant>(
 /// A controller on a plant's input at each instant, and the run's samples.
 struct Regulate<'a> {
     run: LoopRun,
-    meas_idx: Vec<usize>,
     meas: Vec<f64>,
     y_idx: usize,
     ctl: &'a mut dyn Controller,
@@ -278,9 +276,7 @@ struct Regulate<'a> {
 impl<P: Plant> Hooks<Alone<P>> for Regulate<'_> {
     fn instant(&mut self, s: &mut Dopri5<Alone<P>>) -> Result<()> {
         let t = s.t();
-        for (m, &i) in self.meas.iter_mut().zip(&self.meas_idx) {
-            *m = self.sensors.measure(i, s.state()[i]);
-        }
+        self.sensors.read_for(&*self.ctl, s.state(), &mut self.meas);
         let r = self.setpoint.eval(t);
         let ctl = &mut *self.ctl;
         let u = ctl.control(t, &self.meas, r);

@@ -6,6 +6,7 @@
 //! control instant; a plant scenario's `[measurement]` and `[control]` sections set
 //! them, and the pump's `[measurement]`, `dither_a` and `delay_periods`.
 
+use crate::control::Controller;
 use crate::signal::Signal;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
@@ -89,6 +90,16 @@ impl Sensors {
         match self.streams.iter_mut().find(|(j, ..)| *j == i) {
             Some((_, n, rng)) => x + n.sample(rng),
             None => x,
+        }
+    }
+
+    /// What `ctl` sees of the plant's states `x` at a control instant: each state it
+    /// declares (`Controller::measurements`, the controlled one first), in its order,
+    /// into `meas`.
+    pub(crate) fn read_for(&mut self, ctl: &dyn Controller, x: &[f64], meas: &mut Vec<f64>) {
+        meas.clear();
+        for &i in ctl.measurements() {
+            meas.push(self.measure(i, x[i]));
         }
     }
 }

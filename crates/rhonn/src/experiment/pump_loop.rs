@@ -180,23 +180,18 @@ impl OutputClock {
 fn act<S: Integrated<Plant = PumpSystem>>(
     solver: &mut Dopri5<S>,
     ctl: &mut Ctl,
-    (sensors, actuator): (&mut Sensors, &mut Actuator),
+    (sensors, actuator, meas): (&mut Sensors, &mut Actuator, &mut Vec<f64>),
     sp: &Signal,
     adaptive: &mut Option<AdaptiveReport>,
 ) -> Result<(f64, Option<CascadeState>, Option<f64>)> {
     let t = solver.t();
-    let y = sensors.measure(P_LINE, solver.state()[P_LINE]);
-    let xm = sensors.measure(STROKE, solver.state()[STROKE]);
     let Ctl::Closed(c) = ctl else {
-        return Ok((y, None, None));
+        return Ok((sensors.measure(P_LINE, solver.state()[P_LINE]), None, None));
     };
-    // What the sensors give, by plant state; the controller reads what it declares.
-    let sensors = [y, xm];
-    let mut meas = [0.0; 2];
-    for (m, &i) in meas.iter_mut().zip(c.measurements()) {
-        *m = sensors[i];
-    }
-    let u = c.control(t, &meas[..c.measurements().len()], sp.eval(t));
+    // Every pump controller measures the pressure first (what `p_meas` records).
+    sensors.read_for(c.as_ref(), solver.state(), meas);
+    let y = meas[0];
+    let u = c.control(t, meas, sp.eval(t));
     let mut cs = None;
     if let (Some(v), Some(rep)) = (c.adaptive(t), adaptive.as_mut()) {
         cs = Some(adaptive_state(
@@ -271,6 +266,8 @@ struct PumpHooks<'a, R: Recorder> {
     sensors: Sensors,
     /// Dither and transport delay between the controller and the solenoid.
     actuator: Actuator,
+    /// What the controller measured at the last instant.
+    meas: Vec<f64>,
     recorded_noise: RecordedNoise,
     adaptive: Option<AdaptiveReport>,
     ctl_state: Option<CascadeState>,
@@ -289,7 +286,7 @@ impl<S: Integrated<Plant = PumpSystem>, R: Recorder> Hooks<S> for PumpHooks<'_, 
             let (y, cs, applied) = act(
                 solver,
                 &mut self.ctl,
-                (&mut self.sensors, &mut self.actuator),
+                (&mut self.sensors, &mut self.actuator, &mut self.meas),
                 sp,
                 &mut self.adaptive,
             )?;
@@ -382,6 +379,7 @@ pub(super) fn simulate<S: Integrated<Plant = PumpSystem>>(
         plant_figures,
         sensors: Sensors::new(&conds),
         actuator: Actuator::new(&conds),
+        meas: Vec::with_capacity(PLANT_DIM),
         recorded_noise: RecordedNoise::new(sc),
         adaptive,
         ctl_state: None,
