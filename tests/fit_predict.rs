@@ -746,3 +746,76 @@ fn pump_filter_estimates_follow_the_true_state() {
     let e = rhonn::sysid::pump_grey::estimate_states(&a.model, &r).unwrap_err();
     assert!(e.to_string().contains("a `pump` model"), "{e}");
 }
+
+/// `rhonn predict --init-window N`: a model of 6 lags run free seeing only the first 3
+/// measured outputs; what the file holds after them changes nothing; scored from sample 3
+/// on (said in summary.json); a window with K steps ahead, or of 0, is refused.
+#[test]
+fn a_free_run_from_a_state_initialisation_window_sees_only_its_outputs() {
+    let d = tempfile::tempdir().unwrap();
+    write_record(&d.path().join("train.csv"), 1, 400);
+    write_record(&d.path().join("test.csv"), 2, 120);
+    std::fs::write(d.path().join("arx.toml"), "kind = \"arx\"\nna = 6\nnb = 6\n").unwrap();
+    let fit = [
+        "fit",
+        "--data",
+        "train.csv",
+        "--inputs",
+        "u",
+        "--outputs",
+        "y",
+        "--model",
+        "arx.toml",
+        "--out",
+        "m",
+    ];
+    assert!(rhonn(d.path(), &fit).status.success());
+    let predict = |data: &str, out: &str, extra: &[&str]| {
+        let mut a = vec!["predict", "--model", "m/model.json", "--data", data, "--out", out];
+        a.extend_from_slice(extra);
+        rhonn(d.path(), &a)
+    };
+    let o = predict("test.csv", "p", &["--init-window", "3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("p/summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["init_window"], 3);
+    assert_eq!(summary["outputs"][0]["samples"], 117);
+    // Outputs 3..6 of the file, which the model's lags reach without a window, changed.
+    let text = std::fs::read_to_string(d.path().join("test.csv")).unwrap();
+    let changed: String = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| match i {
+            4..=6 => format!("{},9.0\n", l.rsplit_once(',').unwrap().0),
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(d.path().join("changed.csv"), changed).unwrap();
+    let o = predict("changed.csv", "q", &["--init-window", "3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let hat = |dir: &str| -> Vec<String> {
+        let t = std::fs::read_to_string(d.path().join(dir).join("prediction.csv")).unwrap();
+        t.lines()
+            .skip(7)
+            .map(|l| l.split(',').nth(2).unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(hat("p"), hat("q"));
+    // Without the window the model measures them: its free run differs.
+    let o = predict("changed.csv", "r", &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ne!(hat("p"), hat("r"));
+    for (extra, says) in [
+        (
+            &["--init-window", "3", "--steps-ahead", "2"][..],
+            "leave out --steps-ahead",
+        ),
+        (&["--init-window", "0"][..], "--init-window 0 is not allowed"),
+    ] {
+        let o = predict("test.csv", "x", extra);
+        assert_eq!(o.status.code(), Some(2));
+        assert!(stderr(&o).contains(says), "{}", stderr(&o));
+        assert!(!d.path().join("x").exists());
+    }
+}

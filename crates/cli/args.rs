@@ -213,6 +213,12 @@ pub enum Command {
         /// Predict K samples ahead instead of a free run.
         #[arg(long, value_name = "K")]
         steps_ahead: Option<usize>,
+        /// Free run seeing only the first N measured outputs (a benchmark's
+        /// state-initialisation window, e.g. 4 for the coupled drives): a model that needs
+        /// more past outputs gets the first sample held before the data; the model and its
+        /// baseline are scored from sample N on.
+        #[arg(long, value_name = "N")]
+        init_window: Option<usize>,
     },
     /// The field's standard benchmarks under their published protocol, beside the
     /// published figures.

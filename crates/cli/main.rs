@@ -67,9 +67,10 @@ fn dispatch(cli: Cli) -> Result<()> {
             data,
             out,
             steps_ahead,
+            init_window,
         } => {
             let busy = progress::Busy::start(format!("predicting {}", data.display()));
-            let o = commands::predict(&model, &data, &out, steps_ahead);
+            let o = commands::predict(&model, &data, &out, steps_ahead, init_window);
             drop(busy);
             o?.print();
         }

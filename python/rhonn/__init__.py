@@ -260,6 +260,16 @@ def fit(
     return Model(_rhonn.fit(us, ys, float(dt), ins, outs, text, source, select == "auto", k, time_budget_s))
 
 
+def _window(init_window) -> Optional[int]:
+    if init_window is None:
+        return None
+    if isinstance(init_window, bool) or not isinstance(init_window, (int, np.integer)):
+        raise TypeError(f"init_window must be an int N >= 1 or None, not {type(init_window).__name__}")
+    if init_window < 1:
+        raise ValueError(f"init_window = {init_window} is not allowed: give N >= 1 measured outputs, or None")
+    return int(init_window)
+
+
 def _steps(steps_ahead) -> Optional[int]:
     if steps_ahead is None:
         return None
@@ -298,9 +308,9 @@ class Model:
 
     Methods
     -------
-    predict(u, y, steps_ahead=None, baseline=False)
+    predict(u, y, steps_ahead=None, baseline=False, init_window=None)
         Free run or K steps ahead; ``baseline=True``: the ARX baseline's.
-    score(u, y, steps_ahead=None, baseline=False)
+    score(u, y, steps_ahead=None, baseline=False, init_window=None)
         The figures ``rhonn predict`` gives.
     save(path), to_json()
         The command's ``model.json``.
@@ -312,7 +322,12 @@ class Model:
         self._inner = inner
 
     def predict(
-        self, u: ArrayLike, y: ArrayLike, steps_ahead: Optional[int] = None, baseline: bool = False
+        self,
+        u: ArrayLike,
+        y: ArrayLike,
+        steps_ahead: Optional[int] = None,
+        baseline: bool = False,
+        init_window: Optional[int] = None,
     ) -> np.ndarray:
         """Predict the outputs: free run (``steps_ahead=None``) or K steps ahead.
 
@@ -328,16 +343,27 @@ class Model:
             True: the prediction of the model's ARX baseline instead (``rhonn predict``'s
             ``<y>_hat_arx`` column; the selection's best ARX on the folds, or the ARX with
             the same lags). A model without one (online) raises ``ValueError``.
+        init_window : int, optional
+            N >= 1: a free run that sees only the first N rows of ``y`` (a benchmark's
+            state-initialisation window, ``rhonn predict --init-window N``); a model that
+            needs more past outputs gets the first row held before the data.
 
         Returns
         -------
         numpy.ndarray of shape (n, p)
             Samples before the first prediction repeat ``y``.
         """
-        return self._inner.predict(_matrix("u", u), _matrix("y", y), _steps(steps_ahead), bool(baseline))
+        return self._inner.predict(
+            _matrix("u", u), _matrix("y", y), _steps(steps_ahead), bool(baseline), _window(init_window)
+        )
 
     def score(
-        self, u: ArrayLike, y: ArrayLike, steps_ahead: Optional[int] = None, baseline: bool = False
+        self,
+        u: ArrayLike,
+        y: ArrayLike,
+        steps_ahead: Optional[int] = None,
+        baseline: bool = False,
+        init_window: Optional[int] = None,
     ) -> List[Dict[str, Any]]:
         """The figures ``rhonn predict`` gives for the same data and horizon (``baseline=True``:
         its ARX baseline's figures).
@@ -347,10 +373,12 @@ class Model:
         list of dict
             Per output: ``output``, ``rms_error`` (output units), ``fit_percent``
             (100 (1 - |y - y_hat| / |y - mean y|)), ``nrmse``, ``samples`` (those scored:
-            from the first predicted sample on).
+            from the first predicted sample on; with ``init_window`` N, from row N on).
         """
         return json.loads(
-            self._inner.score_json(_matrix("u", u), _matrix("y", y), _steps(steps_ahead), bool(baseline))
+            self._inner.score_json(
+                _matrix("u", u), _matrix("y", y), _steps(steps_ahead), bool(baseline), _window(init_window)
+            )
         )
 
     def save(self, path: PathLike) -> None:

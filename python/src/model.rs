@@ -47,12 +47,11 @@ impl Model {
         py: Python<'_>,
         u: &PyReadonlyArray2<'_, f64>,
         y: &PyReadonlyArray2<'_, f64>,
-        steps_ahead: Option<usize>,
-        baseline: bool,
+        (steps_ahead, baseline, init_window): (Option<usize>, bool, Option<usize>),
     ) -> PyResult<(Vec<Vec<f64>>, String)> {
         let (inputs, outputs, dt) = self.model.signals();
         let rec = record("the data", dt, u, y, inputs, outputs)?;
-        py.detach(|| any_model::predict(&self.model, &rec, steps_ahead, baseline))
+        py.detach(|| any_model::predict(&self.model, &rec, (steps_ahead, init_window), baseline))
             .map_err(report_err)
     }
 }
@@ -67,8 +66,9 @@ pub fn load(path: PathBuf) -> PyResult<Model> {
 impl Model {
     /// Predict the outputs from inputs `u` (n, m) and measured outputs `y` (n, p):
     /// free run (`steps_ahead` None: only the first samples of `y` are used) or K steps
-    /// ahead. Returns (n, p); samples before the first prediction repeat `y`.
-    #[pyo3(signature = (u, y, steps_ahead=None, baseline=false))]
+    /// ahead (`init_window` N: a free run seeing only `y`'s first N rows). Returns (n, p);
+    /// samples before the first prediction repeat `y`.
+    #[pyo3(signature = (u, y, steps_ahead=None, baseline=false, init_window=None))]
     fn predict<'py>(
         &self,
         py: Python<'py>,
@@ -76,8 +76,9 @@ impl Model {
         y: PyReadonlyArray2<'py, f64>,
         steps_ahead: Option<usize>,
         baseline: bool,
+        init_window: Option<usize>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let (cols, _) = self.prediction(py, &u, &y, steps_ahead, baseline)?;
+        let (cols, _) = self.prediction(py, &u, &y, (steps_ahead, baseline, init_window))?;
         let n = cols.first().map_or(0, Vec::len);
         let rows: Vec<Vec<f64>> = (0..n).map(|k| cols.iter().map(|c| c[k]).collect()).collect();
         PyArray2::from_vec2(py, &rows).map_err(|e| value_error(e.to_string()))
@@ -85,7 +86,7 @@ impl Model {
 
     /// The figures `rhonn predict` prints and writes for the same data (JSON text: one
     /// object per output with `rms_error`, `fit_percent`, `nrmse`, `samples`).
-    #[pyo3(signature = (u, y, steps_ahead=None, baseline=false))]
+    #[pyo3(signature = (u, y, steps_ahead=None, baseline=false, init_window=None))]
     fn score_json<'py>(
         &self,
         py: Python<'py>,
@@ -93,8 +94,11 @@ impl Model {
         y: PyReadonlyArray2<'py, f64>,
         steps_ahead: Option<usize>,
         baseline: bool,
+        init_window: Option<usize>,
     ) -> PyResult<String> {
-        Ok(self.prediction(py, &u, &y, steps_ahead, baseline)?.1)
+        Ok(self
+            .prediction(py, &u, &y, (steps_ahead, baseline, init_window))?
+            .1)
     }
 
     /// Write the model as `model.json` (the format `rhonn predict` and `rhonn.load` read).

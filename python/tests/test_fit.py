@@ -27,6 +27,8 @@ def command_prediction(tmp_path_factory, root, rhonn_bin):
     run("predict", "--model", d / "fit/model.json", "--data", data / "validation.csv", "--out", d / "pred")
     run("predict", "--model", d / "fit/model.json", "--data", data / "validation.csv", "--out", d / "pred10",
         "--steps-ahead", "10")
+    run("predict", "--model", d / "fit/model.json", "--data", data / "validation.csv", "--out", d / "pred_w2",
+        "--init-window", "2")
     return d
 
 
@@ -55,6 +57,25 @@ def test_tanks_free_run_equals_the_command(tanks, tanks_model, command_predictio
     cli_base = json.loads((command_prediction / "pred/summary.json").read_text())["baseline_arx"][0]
     assert abs(tanks_model.score(val["u"], val["y"], baseline=True)[0]["rms_error"] - cli_base["rms_error"]) < 1e-9
     assert not np.allclose(base, pred)
+
+
+def test_a_state_initialisation_window_equals_the_command(tanks, tanks_model, command_prediction):
+    _, val = tanks
+    # The cascade settles on 5 measured outputs; a window of 2 holds the first before them.
+    pred = tanks_model.predict(val["u"], val["y"], init_window=2)
+    csv = read_csv(command_prediction / "pred_w2/prediction.csv")
+    np.testing.assert_allclose(pred[:, 0], csv["y_hat"], rtol=0, atol=1e-9)
+    cli = json.loads((command_prediction / "pred_w2/summary.json").read_text())
+    assert cli["init_window"] == 2
+    score = tanks_model.score(val["u"], val["y"], init_window=2)[0]
+    assert score["samples"] == len(val["t"]) - 2 == cli["outputs"][0]["samples"]
+    assert abs(score["rms_error"] - cli["outputs"][0]["rms_error"]) < 1e-9
+    assert not np.allclose(pred, tanks_model.predict(val["u"], val["y"]))
+    for bad, err in ((0, ValueError), (True, TypeError), (2.0, TypeError)):
+        with pytest.raises(err, match="init_window"):
+            tanks_model.predict(val["u"], val["y"], init_window=bad)
+    with pytest.raises(ValueError, match="init_window"):
+        tanks_model.predict(val["u"], val["y"], steps_ahead=3, init_window=2)
 
 
 def test_the_commands_model_loads_and_predicts_the_same(tanks, tanks_model, command_prediction):

@@ -60,13 +60,14 @@ pub fn save(model: &AnyModel, path: &Path) -> Result<()> {
     std::fs::rename(&tmp, path).map_err(io)
 }
 
-/// Predict `rec`'s outputs: free run (`steps_ahead` None) or K steps ahead; with
-/// `baseline`, the ARX baseline's prediction and figures instead (prediction.csv's
-/// `<y>_hat_arx` and summary.json's baseline).
+/// Predict `rec`'s outputs: free run (`steps_ahead` None; seeing only the first
+/// `init_window` outputs when given) or K steps ahead; with `baseline`, the ARX
+/// baseline's prediction and figures instead (prediction.csv's `<y>_hat_arx` and
+/// summary.json's baseline).
 pub fn predict(
     model: &AnyModel,
     rec: &Record,
-    steps_ahead: Option<usize>,
+    (steps_ahead, init_window): (Option<usize>, Option<usize>),
     baseline: bool,
 ) -> Result<Prediction> {
     if baseline && !matches!(model, AnyModel::Fitted(f) if f.baseline.is_some()) {
@@ -87,7 +88,7 @@ pub fn predict(
             rec.len()
         )));
     }
-    match model.predict(rec, steps_ahead)? {
+    match model.predict_with(rec, steps_ahead, init_window)? {
         AnyPrediction::Fitted(p) => match (baseline, p.baseline) {
             (true, Some((cols, figures))) => Ok((cols, json(&figures)?)),
             _ => Ok((p.outputs, json(&p.figures)?)),

@@ -310,7 +310,7 @@ pub fn write_online_prediction(
     model_path: &str,
     record: &Record,
     pred: &[Vec<f64>],
-    steps_ahead: Option<usize>,
+    (steps_ahead, init_window): (Option<usize>, Option<usize>),
     figures: &[OnlinePredictionFigures],
 ) -> Result<Vec<PathBuf>> {
     #[derive(Serialize)]
@@ -319,6 +319,8 @@ pub fn write_online_prediction(
         kind: &'a str,
         data: &'a str,
         mode: String,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        init_window: Option<usize>,
         figures: &'a [OnlinePredictionFigures],
         findings: Vec<String>,
     }
@@ -337,6 +339,7 @@ pub fn write_online_prediction(
         kind: &model.kind,
         data: &record.source,
         mode: mode.clone(),
+        init_window,
         figures,
         findings: figures
             .iter()

@@ -38,6 +38,7 @@ fn fit_then_predict_as_library_calls() {
         &tanks("validation.csv"),
         &dir.path().join("pred"),
         Some(10),
+        None,
     )
     .unwrap();
     assert!(
@@ -90,6 +91,7 @@ fn bad_arguments_are_input_errors_naming_the_argument() {
         &dir.path().join("none.json"),
         &tanks("validation.csv"),
         dir.path(),
+        None,
         None,
     );
     assert!(matches!(e, Err(Error::Input(m)) if m.contains("none.json")));

@@ -3,7 +3,7 @@
 //! (checked), written, and asked for a prediction with its figures. `rhonn predict` and
 //! Python's `rhonn.Model` both call these, so the two read and predict a model alike.
 
-use crate::data::Record;
+use crate::data::{within_window, Record};
 use crate::ident::identification::{online_prediction_figures, OnlinePredictionFigures};
 use crate::ident::{predict_records, OnlineModel};
 use crate::sysid::{FittedModel, Prediction};
@@ -143,20 +143,52 @@ impl AnyModel {
     /// figures `rhonn predict` prints (a fitted model's on its own grid, its ARX
     /// baseline's beside).
     pub fn predict(&self, rec: &Record, steps_ahead: Option<usize>) -> crate::Result<AnyPrediction> {
+        self.predict_with(rec, steps_ahead, None)
+    }
+
+    /// [`AnyModel::predict`], and with `init_window` = N a free run that sees only the
+    /// record's first N outputs, scored from sample N on (`rhonn predict --init-window`:
+    /// [`crate::sysid::predict_with`], [`crate::data::within_window`]).
+    pub fn predict_with(
+        &self,
+        rec: &Record,
+        steps_ahead: Option<usize>,
+        init_window: Option<usize>,
+    ) -> crate::Result<AnyPrediction> {
         match self {
-            AnyModel::Fitted(f) => Ok(AnyPrediction::Fitted(Box::new(crate::sysid::predict(
+            AnyModel::Fitted(f) => Ok(AnyPrediction::Fitted(Box::new(crate::sysid::predict_with(
                 f,
                 rec,
                 steps_ahead,
+                init_window,
             )?))),
             AnyModel::Online(m) => {
+                crate::sysid::check_window(init_window, steps_ahead, rec.len())?;
                 let mut id = m.identifier()?;
-                let rows = predict_records(&mut id, std::slice::from_ref(rec), steps_ahead)?.remove(0);
-                let figures = online_prediction_figures(rec, &rows, &m.outputs, steps_ahead.unwrap_or(0));
+                let mut run = |r: &Record| predict_records(&mut id, std::slice::from_ref(r), steps_ahead);
+                let (rows, from) = match init_window {
+                    None => (run(rec)?.remove(0), steps_ahead.unwrap_or(0)),
+                    Some(w) => {
+                        let lag = crate::ident::first_prediction(&m.model);
+                        let (cols, _) =
+                            within_window(rec, w, |r| Ok((rows_to_columns(run(r)?.remove(0)), lag)))?;
+                        let rows = (0..rec.len())
+                            .map(|k| cols.iter().map(|c| c[k]).collect())
+                            .collect();
+                        (rows, w)
+                    }
+                };
+                let figures = online_prediction_figures(rec, &rows, &m.outputs, from);
                 Ok(AnyPrediction::Online { rows, figures })
             }
         }
     }
+}
+
+/// Per-sample rows (one value per output) as one column per output.
+fn rows_to_columns(rows: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
+    let n = rows.first().map_or(0, Vec::len);
+    (0..n).map(|j| rows.iter().map(|r| r[j]).collect()).collect()
 }
 
 #[cfg(test)]

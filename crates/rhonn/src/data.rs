@@ -72,6 +72,30 @@ impl Record {
         }
     }
 
+    /// This record with `n` samples before it that hold its first one (its first inputs
+    /// and outputs, times one sampling interval apart): the history a model that needs
+    /// more past outputs than it may see is given ([`within_window`]).
+    pub fn held_before(&self, n: usize) -> Record {
+        let dt = self.sample_interval();
+        let t0 = self.t.first().copied().unwrap_or(0.0);
+        let held = |c: &Vec<f64>| {
+            let first = c.first().copied().unwrap_or(0.0);
+            std::iter::repeat(first)
+                .take(n)
+                .chain(c.iter().copied())
+                .collect()
+        };
+        Record {
+            source: self.source.clone(),
+            t: (0..n)
+                .map(|k| t0 - (n - k) as f64 * dt)
+                .chain(self.t.iter().copied())
+                .collect(),
+            inputs: self.inputs.iter().map(held).collect(),
+            outputs: self.outputs.iter().map(held).collect(),
+        }
+    }
+
     /// The median sampling interval \[s\].
     pub fn median_interval(&self) -> f64 {
         let mut d: Vec<f64> = self.t.windows(2).map(|w| w[1] - w[0]).collect();
@@ -246,6 +270,33 @@ impl Record {
     }
 }
 
+/// A free run of `r` by a model that sees only its first `window` outputs (a benchmark's
+/// state-initialisation window, `rhonn predict --init-window`). `free_run` runs the model on
+/// a record, measuring the outputs before its first prediction, and returns one column per
+/// output and that first prediction's index. A model whose first prediction comes after
+/// the window is run on `r` held before its start ([`Record::held_before`]) by as many
+/// samples as it lacks, so that its measured outputs are the window's and its predictions
+/// start at sample `window`. Returns the columns, aligned with `r` (its samples before the
+/// model's first prediction are the measurements), and the first predicted sample.
+pub fn within_window(
+    r: &Record,
+    window: usize,
+    mut free_run: impl FnMut(&Record) -> Result<(Vec<Vec<f64>>, usize)>,
+) -> Result<(Vec<Vec<f64>>, usize)> {
+    let (cols, first) = free_run(r)?;
+    if first <= window {
+        return Ok((cols, first));
+    }
+    let lacking = first - window;
+    let (cols, shifted) = free_run(&r.held_before(lacking))?;
+    debug_assert_eq!(
+        shifted, first,
+        "a model's first prediction does not move with the record"
+    );
+    let cols = cols.into_iter().map(|c| c[lacking..].to_vec()).collect();
+    Ok((cols, window))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -286,5 +337,33 @@ mod tests {
         assert_eq!(u.t, vec![0.0, 1.0, 2.0, 3.0]);
         assert_eq!(u.inputs[0], vec![1.0, 2.0, 2.0, 3.0]);
         assert_eq!(u.outputs[0], vec![0.0, 10.0, 20.0, 30.0]);
+    }
+
+    #[test]
+    fn a_model_that_needs_more_outputs_than_the_window_sees_only_the_window() {
+        let r = Record {
+            source: "r".into(),
+            t: vec![1.0, 1.5, 2.0, 2.5, 3.0, 3.5],
+            inputs: vec![vec![0.1, 0.2, 0.3, 0.4, 0.5, 0.6]],
+            outputs: vec![vec![10.0, 11.0, 12.0, 13.0, 14.0, 15.0]],
+        };
+        let h = r.held_before(2);
+        assert_eq!(h.t, [0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5]);
+        assert_eq!(h.inputs[0][..3], [0.1, 0.1, 0.1]);
+        assert_eq!(h.outputs[0][..4], [10.0, 10.0, 10.0, 11.0]);
+        // A "model" that measures its first 4 outputs and then predicts the sum of what
+        // it measured: with a window of 2 it may only have seen 10 and 11.
+        let model = |r: &Record| -> Result<(Vec<Vec<f64>>, usize)> {
+            let y = &r.outputs[0];
+            let seen: f64 = y[..4].iter().sum();
+            let col = (0..r.len()).map(|k| if k < 4 { y[k] } else { seen }).collect();
+            Ok((vec![col], 4))
+        };
+        let (cols, first) = within_window(&r, 2, model).unwrap();
+        assert_eq!(first, 2);
+        assert_eq!(cols[0], [10.0, 11.0, 41.0, 41.0, 41.0, 41.0]);
+        // A window as long as the model needs changes nothing.
+        let (cols, first) = within_window(&r, 4, model).unwrap();
+        assert_eq!((first, &cols[0][4..]), (4, &[46.0, 46.0][..]));
     }
 }

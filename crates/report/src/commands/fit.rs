@@ -358,17 +358,44 @@ fn training_lines(o: &mut Outcome, figures: &[RecordFigures], label: &str, units
 }
 
 /// `rhonn predict`: predict a recording with a `model.json` of `rhonn fit` or of
-/// `rhonn identify`, free run or `steps` ahead, and write the prediction into `out`.
-pub fn predict(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> Result<Outcome> {
-    super::in_folder(out, || predict_into(model, data, out, steps))
+/// `rhonn identify`, free run (seeing only the first `window` outputs when given) or
+/// `steps` ahead, and write the prediction into `out`.
+pub fn predict(
+    model: &Path,
+    data: &Path,
+    out: &Path,
+    steps: Option<usize>,
+    window: Option<usize>,
+) -> Result<Outcome> {
+    super::in_folder(out, || predict_into(model, data, out, steps, window))
 }
 
-fn predict_into(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> Result<Outcome> {
+fn predict_into(
+    model: &Path,
+    data: &Path,
+    out: &Path,
+    steps: Option<usize>,
+    window: Option<usize>,
+) -> Result<Outcome> {
     let text = read_text(model)?;
     if steps == Some(0) {
         return Err(Error::Input(
             "--steps-ahead 0 is not allowed: give K >= 1, or leave it out for a free run".into(),
         ));
+    }
+    match window {
+        Some(_) if steps.is_some() => {
+            return Err(Error::Input(
+                "--init-window is a free run's: leave out --steps-ahead (K steps ahead measures every output up to each start)"
+                    .into(),
+            ))
+        }
+        Some(0) => {
+            return Err(Error::Input(
+                "--init-window 0 is not allowed: give N >= 1 measured outputs".into(),
+            ))
+        }
+        _ => {}
     }
     // A file that is no JSON at all is named with the line and column where it breaks,
     // before its kind is asked; a refused check is the context of what refused it.
@@ -379,13 +406,15 @@ fn predict_into(model: &Path, data: &Path, out: &Path, steps: Option<usize>) -> 
         other => Error::Input(other.to_string()),
     })?;
     let fitted = match &any {
-        AnyModel::Online(m) => return super::identify::predict_online(model, &any, m, data, out, steps),
+        AnyModel::Online(m) => {
+            return super::identify::predict_online(model, &any, m, data, out, (steps, window))
+        }
         AnyModel::Fitted(f) => f,
     };
     let m = &fitted.model;
-    let needed = any.samples_needed(steps);
+    let needed = any.samples_needed(steps).max(window.map_or(0, |w| w + 1));
     let (recs, regridded) = read_data_regridded(&[data.to_path_buf()], &m.inputs, &m.outputs, needed, None)?;
-    let AnyPrediction::Fitted(p) = any.predict(&recs[0], steps)? else {
+    let AnyPrediction::Fitted(p) = any.predict_with(&recs[0], steps, window)? else {
         unreachable!("a fitted model's prediction")
     };
     let mut o = Outcome::default();

@@ -183,17 +183,19 @@ pub(super) fn predict_online(
     m: &OnlineModel,
     data: &Path,
     out: &Path,
-    steps: Option<usize>,
+    (steps, window): (Option<usize>, Option<usize>),
 ) -> Result<Outcome> {
-    let rec = crate::read_record(data, &m.inputs, &m.outputs, any.samples_needed(steps))?;
+    let needed = any.samples_needed(steps).max(window.map_or(0, |w| w + 1));
+    let rec = crate::read_record(data, &m.inputs, &m.outputs, needed)?;
     rhonn::ident::sample_time(std::slice::from_ref(&rec))?;
-    let AnyPrediction::Online { rows: pred, figures } = any.predict(&rec, steps).map_err(|e| {
-        context(format!(
-            "predicting {} with the model {}",
-            data.display(),
-            model_path.display()
-        ))(e.into())
-    })?
+    let AnyPrediction::Online { rows: pred, figures } =
+        any.predict_with(&rec, steps, window).map_err(|e| {
+            context(format!(
+                "predicting {} with the model {}",
+                data.display(),
+                model_path.display()
+            ))(e.into())
+        })?
     else {
         unreachable!("an online model's prediction")
     };
@@ -203,7 +205,7 @@ pub(super) fn predict_online(
         &model_path.display().to_string(),
         &rec,
         &pred,
-        steps,
+        (steps, window),
         &figures,
     )?;
     let mut o = Outcome {

@@ -1,10 +1,12 @@
 //! The three models of a benchmark row, each trained on train only and run free on every
 //! test set: rhonn's default fit, rhonn's default online identifier, the ARX of lags by
-//! cross-validation. All three are scored on the same samples of each test set: after the
-//! start-up window and after every model's first genuine prediction.
+//! cross-validation. All three are scored on the same samples of each test set: from the end
+//! of its start-up window, which is all a model sees of its outputs (a model that needs
+//! more past outputs is given the window's first sample held before it:
+//! `data::within_window`); without a window, from every model's first genuine prediction.
 
 use super::{Benchmark, Published};
-use crate::data::Record;
+use crate::data::{within_window, Record};
 use crate::error::Result;
 use crate::ident::bank::{default_candidates, select, BankSelection};
 use crate::ident::{identify_records_scaled, predict_records, OnlineModel};
@@ -51,8 +53,9 @@ pub struct BenchmarkOutcome {
     pub outputs: Vec<String>,
     /// Units of the columns.
     pub units: std::collections::BTreeMap<String, String>,
-    /// Per test set: its label, the first sample scored (the start-up window, or a
-    /// model's first prediction if later) and the published figures.
+    /// Per test set: its label, the first sample scored (the end of the start-up window;
+    /// without one, the latest first prediction of the three models) and the published
+    /// figures.
     pub test_sets: Vec<TestSet>,
     /// The three models.
     pub methods: Vec<MethodResult>,
@@ -92,6 +95,11 @@ fn rmse_from(r: &Record, pred: &[Vec<f64>], from: usize) -> Vec<f64> {
         .zip(pred)
         .map(|(y, p)| crate::metrics::rms_error(&y[from..], &p[from..]))
         .collect()
+}
+
+/// A fitted model's free run: its columns and its first prediction.
+fn fitted_run(m: &FittedModel) -> impl Fn(&Record) -> Result<(Vec<Vec<f64>>, usize)> + '_ {
+    move |r: &Record| sysid::predict(m, r, None).map(|p| (p.outputs, p.first))
 }
 
 /// rhonn fit's default: the structure selected by cross-validation on train, trained
@@ -166,23 +174,37 @@ pub fn run(b: &Benchmark, progress: &(dyn Fn(&str) + Sync)) -> Result<BenchmarkO
     let lag = crate::ident::first_prediction(&online.model);
     let mut runs: [Vec<Vec<Vec<f64>>>; 3] = Default::default();
     let mut test_sets = Vec::new();
+    // A start-up window (skip > 0) is a state-initialisation window: each model sees only
+    // its outputs, and all are scored from its end. Without one, each model measures what
+    // it needs and all are scored from the latest first prediction.
+    let window = (b.spec.skip > 0).then_some(b.spec.skip);
     for (t, r) in b.spec.test.iter().zip(&b.tests) {
-        let f = sysid::predict(&fitted, r, None)?;
-        let a = sysid::predict(&arx, r, None)?;
-        let o = predict_records(&mut id, std::slice::from_ref(r), None)?.remove(0);
-        let o: Vec<Vec<f64>> = (0..outs.len())
-            .map(|j| o.iter().map(|s| s[j]).collect())
-            .collect();
-        let from = b.spec.skip.max(f.first).max(a.first).max(lag);
+        let mut online_run = |r: &Record| -> Result<(Vec<Vec<f64>>, usize)> {
+            let o = predict_records(&mut id, std::slice::from_ref(r), None)?.remove(0);
+            let cols = (0..outs.len())
+                .map(|j| o.iter().map(|s| s[j]).collect())
+                .collect();
+            Ok((cols, lag))
+        };
+        let (f, a, o) = match window {
+            Some(w) => (
+                within_window(r, w, fitted_run(&fitted))?,
+                within_window(r, w, fitted_run(&arx))?,
+                within_window(r, w, online_run)?,
+            ),
+            None => (fitted_run(&fitted)(r)?, fitted_run(&arx)(r)?, online_run(r)?),
+        };
+        let ((f, f_first), (a, a_first), (o, o_first)) = (f, a, o);
+        let from = b.spec.skip.max(f_first).max(a_first).max(o_first);
         test_sets.push(TestSet {
             label: t.label.clone(),
             scored_from: from,
             samples: r.len().saturating_sub(from),
             published: t.published.clone(),
         });
-        runs[0].push(f.outputs);
+        runs[0].push(f);
         runs[1].push(o);
-        runs[2].push(a.outputs);
+        runs[2].push(a);
     }
     let names = [
         ("rhonn fit (default)", fit_structure, fit_s),

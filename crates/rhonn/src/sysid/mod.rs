@@ -45,7 +45,8 @@ pub use estimate::fit;
 pub(crate) use estimate::lagged_terms;
 pub use fitted::{fit_ensemble, fit_with_baseline, parse_spec_file, FittedModel};
 use lm::lm;
-pub use predict::{predict, samples_needed, PredictSummary, Prediction};
+pub(crate) use predict::check_window;
+pub use predict::{predict, predict_with, samples_needed, PredictSummary, Prediction};
 pub use train::{
     best_arx, fit_records, train, train_beside, train_selected, BaselineSummary, FitRun, FitStructure,
     FitSummary, MemberSummary, RecordFigures, TrainingFigures,

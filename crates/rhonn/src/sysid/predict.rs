@@ -2,7 +2,7 @@
 //! record, free run or K steps ahead, with the figures.
 
 use super::{ensure_finite_figures, FittedModel, OutputFigures};
-use crate::data::Record;
+use crate::data::{within_window, Record};
 use crate::error::{invalid, Result};
 use serde::Serialize;
 
@@ -15,9 +15,13 @@ pub struct Prediction {
     pub resampled_from_s: Option<f64>,
     /// None: free run; K: K steps ahead.
     pub steps_ahead: Option<usize>,
+    /// A free run's state-initialisation window: the outputs it saw (None: what the model
+    /// needs).
+    pub init_window: Option<usize>,
     /// One column per output (the measurement repeated before `first`).
     pub outputs: Vec<Vec<f64>>,
-    /// The first predicted sample.
+    /// The first predicted sample (with a state-initialisation window: the window's end,
+    /// the first sample scored).
     pub first: usize,
     /// The model's figures per output.
     pub figures: Vec<OutputFigures>,
@@ -38,6 +42,9 @@ pub struct PredictSummary<'a> {
     pub mode: String,
     /// None: free run.
     pub steps_ahead: Option<usize>,
+    /// A free run's state-initialisation window (outputs seen; absent: what the model needs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub init_window: Option<usize>,
     /// The model's figures.
     pub outputs: &'a [OutputFigures],
     /// The baseline's figures.
@@ -97,6 +104,7 @@ impl Prediction {
             data: &self.record.source,
             mode: self.mode(),
             steps_ahead: self.steps_ahead,
+            init_window: self.init_window,
             outputs: &self.figures,
             baseline_arx: self.baseline.as_ref().map(|(_, f)| f.as_slice()),
             findings: findings(
@@ -117,6 +125,36 @@ pub fn samples_needed(fitted: &FittedModel, steps_ahead: Option<usize>) -> usize
 /// steps ahead. A record sampled at another interval than the model's is put on the
 /// model's grid first (inputs held, outputs interpolated: [`Record::uniform`]).
 pub fn predict(fitted: &FittedModel, record: &Record, steps_ahead: Option<usize>) -> Result<Prediction> {
+    predict_with(fitted, record, steps_ahead, None)
+}
+
+/// Check a state-initialisation window against a prediction's mode and a record.
+pub(crate) fn check_window(init_window: Option<usize>, steps_ahead: Option<usize>, len: usize) -> Result<()> {
+    match init_window {
+        Some(w) if steps_ahead.is_some() => Err(invalid(
+            "init_window",
+            w,
+            "a free run's window (K steps ahead measures every output up to each start)",
+        )),
+        Some(w) if w == 0 || w >= len => Err(invalid(
+            "init_window",
+            w,
+            format!("at least 1 sample and fewer than the record's {len}"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// [`predict`], and with `init_window` = N a free run that sees only the record's first
+/// N outputs (a benchmark's state-initialisation window; a model that needs more past
+/// outputs gets the first sample held before the record: [`crate::data::within_window`]);
+/// the model and its baseline are then both scored from sample N on.
+pub fn predict_with(
+    fitted: &FittedModel,
+    record: &Record,
+    steps_ahead: Option<usize>,
+    init_window: Option<usize>,
+) -> Result<Prediction> {
     if steps_ahead == Some(0) {
         return Err(invalid(
             "steps_ahead",
@@ -142,12 +180,18 @@ pub fn predict(fitted: &FittedModel, record: &Record, steps_ahead: Option<usize>
             format!("at least {need} samples for this model"),
         ));
     }
-    let (outputs, first) = fitted.predict(&record, steps_ahead)?;
+    check_window(init_window, steps_ahead, record.len())?;
+    type Run<'a> = &'a dyn Fn(&Record) -> Result<(Vec<Vec<f64>>, usize)>;
+    let run = |predict: Run| match init_window {
+        Some(w) => within_window(&record, w, predict).map(|(p, _)| (p, w)),
+        None => predict(&record),
+    };
+    let (outputs, first) = run(&|r| fitted.predict(r, steps_ahead))?;
     let figures = m.figures(&record, &outputs, first);
     ensure_finite_figures(&figures, &record.source)?;
     let baseline = match &fitted.baseline {
         Some(b) => {
-            let (pb, fb) = b.predict(&record, steps_ahead)?;
+            let (pb, fb) = run(&|r| b.predict(r, steps_ahead))?;
             let f = b.figures(&record, &pb, fb);
             ensure_finite_figures(&f, &format!("{} (ARX baseline)", record.source))?;
             Some((pb, f))
@@ -158,6 +202,7 @@ pub fn predict(fitted: &FittedModel, record: &Record, steps_ahead: Option<usize>
         record,
         resampled_from_s,
         steps_ahead,
+        init_window,
         outputs,
         first,
         figures,
