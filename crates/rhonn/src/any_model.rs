@@ -169,7 +169,7 @@ impl AnyModel {
                 let (rows, from) = match init_window {
                     None => (run(rec)?.remove(0), steps_ahead.unwrap_or(0)),
                     Some(w) => {
-                        let lag = crate::ident::first_prediction(&m.model);
+                        let lag = crate::ident::outputs_read_in_free_run(&m.model);
                         let (cols, _) =
                             within_window(rec, w, |r| Ok((rows_to_columns(run(r)?.remove(0)), lag)))?;
                         let rows = (0..rec.len())

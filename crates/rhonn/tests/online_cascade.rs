@@ -90,6 +90,24 @@ fn a_chain_of_tanks_is_identified_online_and_runs_free_on_another_record() {
     let err0 = rms(&est0[5..], &test.outputs[0][5..]);
     eprintln!("before learning: RMS {err0:.4} V");
     assert!(err0 > 3.0 * err, "untrained {err0}, trained {err}");
+    // Its free run reads the first `settle` measured outputs, and no other: what a
+    // state-initialisation window must hold (`outputs_read_in_free_run`).
+    let read = rhonn::ident::outputs_read_in_free_run(&spec);
+    assert_eq!(read, CascadeOnlineSpec::default().settle);
+    let free_run = |r: &Record| -> Vec<f64> {
+        let mut id = run.identifier.clone();
+        predict_records(&mut id, std::slice::from_ref(r), None).unwrap()[0]
+            .iter()
+            .map(|v| v[0])
+            .collect()
+    };
+    let changed = |k: usize| {
+        let mut r = test.clone();
+        r.outputs[0][k] += 1.0;
+        free_run(&r)
+    };
+    assert_eq!(changed(read)[read + 1..], est[read + 1..]);
+    assert_ne!(changed(read - 1)[read + 1..], est[read + 1..]);
 }
 
 /// Over ten passes of a noisy record every parameter stays a valid chain (finite,

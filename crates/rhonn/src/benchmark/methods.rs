@@ -171,7 +171,7 @@ pub fn run(b: &Benchmark, progress: &(dyn Fn(&str) + Sync)) -> Result<BenchmarkO
     let (arx, arx_sel) = sysid::best_arx(&b.train, ins, outs)?;
     let arx_s = start.elapsed().as_secs_f64();
     let mut id = online.identifier()?;
-    let lag = crate::ident::first_prediction(&online.model);
+    let lag = crate::ident::outputs_read_in_free_run(&online.model);
     let mut runs: [Vec<Vec<Vec<f64>>>; 3] = Default::default();
     let mut test_sets = Vec::new();
     // A start-up window (skip > 0) is a state-initialisation window: each model sees only

@@ -76,6 +76,18 @@ pub fn first_prediction(spec: &OnlineSpec) -> usize {
     }
 }
 
+/// The measured outputs a frozen model of `spec` reads in a free run before it runs on its
+/// own: a lagged structure's largest lag, the cascade's `settle` samples (its filters
+/// settle the hidden levels on them, though it predicts from the second sample on), one
+/// for continuous-time neurons. A state-initialisation window must hold them
+/// (`data::within_window`).
+pub fn outputs_read_in_free_run(spec: &OnlineSpec) -> usize {
+    match spec.structure {
+        super::OnlineStructure::Cascade => spec.cascade.clone().unwrap_or_default().settle.max(1),
+        _ => first_prediction(spec),
+    }
+}
+
 /// The `rhonn fit` structure a lagged online spec stands for.
 pub(super) fn model_spec(spec: &OnlineSpec, lags: &LagSpec) -> ModelSpec {
     ModelSpec {

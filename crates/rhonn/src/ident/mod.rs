@@ -441,7 +441,7 @@ mod continuous;
 mod engine;
 pub mod identification;
 mod lagged;
-pub use lagged::first_prediction;
+pub use lagged::{first_prediction, outputs_read_in_free_run};
 mod online;
 mod online_spec;
 mod recordings;
