@@ -749,7 +749,8 @@ fn pump_filter_estimates_follow_the_true_state() {
 
 /// `rhonn predict --init-window N`: a model of 6 lags run free seeing only the first 3
 /// measured outputs; what the file holds after them changes nothing; scored from sample 3
-/// on (said in summary.json); a window with K steps ahead, or of 0, is refused.
+/// on (said in summary.json); a window with K steps ahead, of 0 or of the whole record is
+/// refused.
 #[test]
 fn a_free_run_from_a_state_initialisation_window_sees_only_its_outputs() {
     let d = tempfile::tempdir().unwrap();
@@ -812,6 +813,10 @@ fn a_free_run_from_a_state_initialisation_window_sees_only_its_outputs() {
             "leave out --steps-ahead",
         ),
         (&["--init-window", "0"][..], "--init-window 0 is not allowed"),
+        (
+            &["--init-window", "120"][..],
+            "`init_window for test.csv` = 120 is not allowed",
+        ),
     ] {
         let o = predict("test.csv", "x", extra);
         assert_eq!(o.status.code(), Some(2));

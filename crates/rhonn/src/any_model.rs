@@ -163,7 +163,7 @@ impl AnyModel {
                 init_window,
             )?))),
             AnyModel::Online(m) => {
-                crate::sysid::check_window(init_window, steps_ahead, rec.len())?;
+                crate::sysid::check_window(init_window, steps_ahead, rec)?;
                 let mut id = m.identifier()?;
                 let mut run = |r: &Record| predict_records(&mut id, std::slice::from_ref(r), steps_ahead);
                 let (rows, from) = match init_window {

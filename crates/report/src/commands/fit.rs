@@ -412,7 +412,7 @@ fn predict_into(
         AnyModel::Fitted(f) => f,
     };
     let m = &fitted.model;
-    let needed = any.samples_needed(steps).max(window.map_or(0, |w| w + 1));
+    let needed = any.samples_needed(steps);
     let (recs, regridded) = read_data_regridded(&[data.to_path_buf()], &m.inputs, &m.outputs, needed, None)?;
     let AnyPrediction::Fitted(p) = any.predict_with(&recs[0], steps, window)? else {
         unreachable!("a fitted model's prediction")

@@ -185,7 +185,7 @@ pub(super) fn predict_online(
     out: &Path,
     (steps, window): (Option<usize>, Option<usize>),
 ) -> Result<Outcome> {
-    let needed = any.samples_needed(steps).max(window.map_or(0, |w| w + 1));
+    let needed = any.samples_needed(steps);
     let rec = crate::read_record(data, &m.inputs, &m.outputs, needed)?;
     rhonn::ident::sample_time(std::slice::from_ref(&rec))?;
     let AnyPrediction::Online { rows: pred, figures } =

@@ -129,17 +129,17 @@ pub fn predict(fitted: &FittedModel, record: &Record, steps_ahead: Option<usize>
 }
 
 /// Check a state-initialisation window against a prediction's mode and a record.
-pub(crate) fn check_window(init_window: Option<usize>, steps_ahead: Option<usize>, len: usize) -> Result<()> {
+pub(crate) fn check_window(init_window: Option<usize>, steps_ahead: Option<usize>, r: &Record) -> Result<()> {
     match init_window {
         Some(w) if steps_ahead.is_some() => Err(invalid(
             "init_window",
             w,
             "a free run's window (K steps ahead measures every output up to each start)",
         )),
-        Some(w) if w == 0 || w >= len => Err(invalid(
-            "init_window",
+        Some(w) if w == 0 || w >= r.len() => Err(invalid(
+            format!("init_window for {}", r.source),
             w,
-            format!("at least 1 sample and fewer than the record's {len}"),
+            format!("at least 1 sample and fewer than its {}", r.len()),
         )),
         _ => Ok(()),
     }
@@ -180,7 +180,7 @@ pub fn predict_with(
             format!("at least {need} samples for this model"),
         ));
     }
-    check_window(init_window, steps_ahead, record.len())?;
+    check_window(init_window, steps_ahead, &record)?;
     type Run<'a> = &'a dyn Fn(&Record) -> Result<(Vec<Vec<f64>>, usize)>;
     let run = |predict: Run| match init_window {
         Some(w) => within_window(&record, w, predict).map(|(p, _)| (p, w)),
