@@ -41,11 +41,14 @@ pub struct ArxBaseline {
     pub records: Vec<RecordComparison>,
 }
 
-/// Compare the online model's free runs `online` (per record, sample, output) with the
-/// ARX `arx` run free on the same `validation` records.
+/// Compare the online model's free runs `online` (per record, sample, output), which read
+/// the first `online_reads` measured outputs of each record, with the ARX `arx` run free
+/// on the same `validation` records: both scored from the later of the ARX's first
+/// prediction and `online_reads`, so that neither is scored where it still read
+/// measurements.
 pub fn compare_with_arx(
     validation: &[Record],
-    online: &[Vec<Vec<f64>>],
+    (online, online_reads): (&[Vec<Vec<f64>>], usize),
     arx: &FittedModel,
     outputs: &[String],
 ) -> Result<ArxBaseline> {
@@ -54,7 +57,7 @@ pub fn compare_with_arx(
         let p = crate::sysid::predict(arx, r, None)?;
         // The ARX predicts on its own grid: the same as the online model's for a uniform
         // record (identify refuses any other).
-        let from = p.first.min(r.len());
+        let from = p.first.max(online_reads).min(r.len());
         for (j, name) in outputs.iter().enumerate() {
             let y = &r.outputs[j][from..];
             let on: Vec<f64> = pred[from..].iter().map(|e| e[j]).collect();

@@ -220,7 +220,8 @@ pub fn identify(
         None => None,
         Some(v) => {
             let (arx, _) = crate::sysid::best_arx(records, &plan.inputs, outputs).map_err(E::Baseline)?;
-            Some(compare_with_arx(&v.records, &v.free_run, &arx, outputs).map_err(E::Validation)?)
+            let reads = super::outputs_read_in_free_run(&spec);
+            Some(compare_with_arx(&v.records, (&v.free_run, reads), &arx, outputs).map_err(E::Validation)?)
         }
     };
     let summary = IdentifySummary {
