@@ -170,7 +170,10 @@ pub fn benchmark(req: &BenchmarkRequest, progress: &(dyn Fn(&str) + Sync)) -> Re
 /// The console table: one line per benchmark, test set and output.
 fn table_lines(rows: &[Row]) -> Vec<String> {
     let mut lines = vec![
-        "free-run RMS error on test (trained on train only); the best of each row in *stars*".to_string(),
+        "free-run RMS error on test (trained on train only; every model sees only the start-up window's outputs \
+         and is scored from its end, or without a window from the latest first prediction: scored_from in \
+         benchmark.csv); the best of each row in *stars*"
+            .to_string(),
         "benchmark | test | output | rhonn fit (default) | rhonn identify (default) | ARX (lags by CV) | published best | training time fit / online / ARX".to_string(),
     ];
     for r in rows {
