@@ -110,9 +110,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 corners,
                 envelope_runs,
             };
-            campaign::on_threads(threads, "--threads 0 is not allowed: give 1 or more", || {
-                cmd_campaign(&scenario, &opts, out)
-            })?
+            cmd_campaign(&scenario, &opts, out, threads)?
         }
         Command::Merge { dirs, out } => {
             commands::campaign_report(&campaign::merge_campaigns(&dirs, &out)?)?.print()
@@ -157,14 +155,20 @@ fn bench(
 }
 
 /// `rhonn campaign`: the pump's campaigns (envelopes, merge) or another plant's.
-fn cmd_campaign(scenario: &str, opts: &campaign::CampaignOptions, out: Option<PathBuf>) -> Result<()> {
+fn cmd_campaign(
+    scenario: &str,
+    opts: &campaign::CampaignOptions,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+) -> Result<()> {
     let sc = preset::load_any(scenario)?;
     let name = sc.name().to_string();
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("campaign-{name}")));
     let reporter = progress::Reporter::new(&name);
-    let outcome = rhonn_report::scenario_run::run_scenario_campaign(&sc, opts, &dir, &|p| reporter.update(p));
+    let zero = "--threads 0 is not allowed: give 1 or more";
+    let outcome = commands::campaign(&sc, opts, &dir, (threads, zero), &|p| reporter.update(p));
     reporter.finish();
-    commands::campaign_report(&outcome?)?.print();
+    outcome?.print();
     Ok(())
 }
 

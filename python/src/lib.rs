@@ -126,12 +126,10 @@ fn campaign(
         corners,
         envelope_runs,
     };
-    let go = || rhonn_report::scenario_run::run_scenario_campaign(&sc, &opts, &out, &|_| {});
     let zero = "threads = 0 is not allowed: give 1 or more, or None for every core";
-    let outcome = py.detach(|| rhonn_report::campaign::on_threads(threads, zero, go));
-    let dir = outcome.map_err(report_err)?.dir;
-    rhonn_report::write_report(&dir).map_err(report_err)?;
-    Ok(dir.display().to_string())
+    py.detach(|| rhonn_report::commands::campaign(&sc, &opts, &out, (threads, zero), &|_| {}))
+        .map_err(report_err)?;
+    Ok(out.display().to_string())
 }
 
 /// For the bench (`python/bench.py`): the median seconds of `repeats` runs of a

@@ -49,6 +49,23 @@ impl Outcome {
     }
 }
 
+/// `rhonn campaign` and Python's `rhonn.campaign`: `sc`'s Monte Carlo campaign into `dir`
+/// (resuming a folder an interrupted one left) on `threads` worker threads (None: every
+/// core; 0 is refused with the door's own words `zero`), then its `report.html`; what to
+/// tell the user.
+pub fn campaign(
+    sc: &rhonn::experiment::preset::AnyScenario,
+    opts: &crate::campaign::CampaignOptions,
+    dir: &Path,
+    (threads, zero): (Option<usize>, &str),
+    progress: &(dyn Fn(crate::campaign::Progress) + Sync),
+) -> crate::Result<Outcome> {
+    let outcome = crate::campaign::on_threads(threads, zero, || {
+        crate::scenario_run::run_scenario_campaign(sc, opts, dir, progress)
+    })?;
+    campaign_report(&outcome)
+}
+
 /// What a campaign (run, resumed or merged) tells its user, after writing its
 /// `report.html`.
 pub fn campaign_report(o: &CampaignOutcome) -> crate::Result<Outcome> {
