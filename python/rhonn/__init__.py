@@ -100,7 +100,9 @@ def run(scenario: Union[str, "os.PathLike[str]", Mapping[str, Any]], *, out: Opt
         A shipped scenario's name (``rhonn.scenarios()``), a path to a TOML file, or a dict
         of the TOML's tables (as ``tomllib.loads(rhonn.show(name))`` gives).
     out : str or path, optional
-        Also write the run's folder (CSV, JSON, SVG) there, as the command does.
+        Also write the run's folder there, as ``rhonn run --out`` does (the same writer:
+        CSV, JSON, SVG and report.html, all or nothing; a folder it may not write is refused
+        before the run; an earlier run's files this run does not write are removed).
 
     Returns
     -------

@@ -42,9 +42,12 @@ type RunResult = (Py<PyAny>, Option<Py<PyAny>>, String);
 #[pyo3(signature = (name, toml_text=None, out=None))]
 fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>) -> PyResult<RunResult> {
     let sc = scenario(name, toml_text)?;
+    if let Some(dir) = &out {
+        rhonn_report::folder::check_writable(dir).map_err(report_err)?;
+    }
     let run = py.detach(|| sc.run()).map_err(rhonn_err)?;
     if let Some(dir) = out {
-        py.detach(|| rhonn_report::write_scenario_run(&dir, &run))
+        py.detach(|| rhonn_report::commands::save_scenario_run(&dir, sc.name(), &run))
             .map_err(report_err)?;
     }
     let summary = rhonn_report::scenario_run::summary_json(&run).map_err(report_err)?;

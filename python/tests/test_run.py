@@ -44,6 +44,10 @@ def test_run_writes_the_same_folder_as_the_command(tmp_path, rhonn_bin):
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
     cli = json.loads((tmp_path / "cli" / "summary.json").read_text())
     assert r.summary["figures"] == cli["figures"]
+    # The same files, report.html included (the command's folder writer).
+    files = lambda d: sorted(p.name for p in d.iterdir())
+    assert files(tmp_path / "py") == files(tmp_path / "cli")
+    assert "report.html" in files(tmp_path / "py")
 
 
 def test_a_scenario_as_a_dict_and_another_plant():

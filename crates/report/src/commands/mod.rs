@@ -11,7 +11,7 @@ mod run;
 pub use benchmark::{benchmark, figure, BenchmarkRequest, Row};
 pub use fit::{fit, fit_with_progress, model_specs, parse_units, predict, read_data, FitRequest};
 pub use identify::{identify, online_spec, IdentifyRequest};
-pub use run::{bench, run, save_plant_run, show, REPRODUCED};
+pub use run::{bench, run, save_plant_run, save_scenario_run, show, REPRODUCED};
 
 use crate::campaign::CampaignOutcome;
 use std::path::{Path, PathBuf};

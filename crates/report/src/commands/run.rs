@@ -24,13 +24,21 @@ fn run_named(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(sc.name()));
     crate::folder::check_writable(&dir)?;
     let run = sc.run()?;
+    save_scenario_run(&dir, sc.name(), &run)
+}
+
+/// Write a scenario run's folder as `rhonn run` does (`rhonn run` and Python's
+/// `rhonn.run(..., out=DIR)`; the caller checks `crate::folder::check_writable` before it
+/// runs): its files all or nothing, `report.html`, an earlier run's files this run does not
+/// write removed (a note each); the scenario's warnings and the figures `rhonn run` prints.
+pub fn save_scenario_run(dir: &Path, name: &str, run: &rhonn::experiment::ScenarioRun) -> Result<Outcome> {
     let mut o = Outcome::default();
     o.notes
         .extend(run.warnings().iter().map(|w| format!("warning: {w}")));
-    o.files = crate::write_scenario_run(&dir, &run).map_err(written(sc.name()))?;
-    o.files.push(crate::write_report(&dir)?);
-    o.lines = crate::scenario_run::run_lines(&run);
-    super::finish_folder(&dir, &mut o)?;
+    o.files = crate::write_scenario_run(dir, run).map_err(written(name))?;
+    o.files.push(crate::write_report(dir)?);
+    o.lines = crate::scenario_run::run_lines(run);
+    super::finish_folder(dir, &mut o)?;
     Ok(o)
 }
 
