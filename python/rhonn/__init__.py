@@ -262,24 +262,23 @@ def fit(
     return Model(_rhonn.fit(us, ys, float(dt), ins, outs, text, source, select == "auto", k, time_budget_s))
 
 
-def _window(init_window) -> Optional[int]:
-    if init_window is None:
+def _optional_at_least_one(value, arg: str, letter: str, or_none: str) -> Optional[int]:
+    """An int >= 1 or None (`arg`'s value; messages name it and `letter`, the count's symbol)."""
+    if value is None:
         return None
-    if isinstance(init_window, bool) or not isinstance(init_window, (int, np.integer)):
-        raise TypeError(f"init_window must be an int N >= 1 or None, not {type(init_window).__name__}")
-    if init_window < 1:
-        raise ValueError(f"init_window = {init_window} is not allowed: give N >= 1 measured outputs, or None")
-    return int(init_window)
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{arg} must be an int {letter} >= 1 or None, not {type(value).__name__}")
+    if value < 1:
+        raise ValueError(f"{arg} = {value} is not allowed: give {letter} >= 1{or_none}")
+    return int(value)
+
+
+def _window(init_window) -> Optional[int]:
+    return _optional_at_least_one(init_window, "init_window", "N", " measured outputs, or None")
 
 
 def _steps(steps_ahead) -> Optional[int]:
-    if steps_ahead is None:
-        return None
-    if isinstance(steps_ahead, bool) or not isinstance(steps_ahead, (int, np.integer)):
-        raise TypeError(f"steps_ahead must be an int K >= 1 or None, not {type(steps_ahead).__name__}")
-    if steps_ahead < 1:
-        raise ValueError(f"steps_ahead = {steps_ahead} is not allowed: give K >= 1, or None for a free run")
-    return int(steps_ahead)
+    return _optional_at_least_one(steps_ahead, "steps_ahead", "K", ", or None for a free run")
 
 
 def _count(n, arg: str) -> int:
