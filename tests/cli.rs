@@ -80,27 +80,27 @@ fn bad_scenario_files_name_the_field_value_and_range() {
     let cases = [
         (
             text.replace("duration_s = 40.0", "duration_s = -1.0"),
-            "`duration_s` = -1 is not allowed: a number in (0, 1e6] s",
+            "`duration_s` = -1 is not allowed: finite and > 0",
         ),
         (
-            text.replace("[initial]", "[initial]\nbeta_mpa = 3"),
-            "unknown field `beta_mpa`",
+            text.replace("kind = \"pump\"", "kind = \"pump\"\nbeta = 3"),
+            "`plant.beta` = 3 is not allowed: a parameter of the pump: kind, initial, ",
         ),
         (
-            text.replace("p_line_mpa = 2.0", "p_line_mpa = 30.0"),
-            "`initial.p_line_mpa` = 30 is not allowed: a pressure in [0, 25] MPa",
+            text.replace("initial = [2.0, 0.0]", "initial = [30.0, 0.0]"),
+            "`plant.initial[0] (p_line, MPa)` = 30 is not allowed: a pressure in [0, 25] MPa",
         ),
         (
             text.replace("[25.0, 0.8]", "[5.0, 0.8]"),
-            "`current_a.points[2][0]` = 5",
+            "`input.current.points[2][0]` = 5",
         ),
         (
             text.replace("duration_s = 40.0", "duration_s = \"forty\""),
             "invalid type",
         ),
         (
-            format!("{text}\n[demand_dm3_s]\nkind = \"trapezoids\"\nslew_per_s = 3.0\npulses = []\n"),
-            "`demand_dm3_s.slew_per_s` = 3 is not allowed: at most 2",
+            format!("{text}\n[input.demand]\nkind = \"trapezoids\"\nslew_per_s = 3.0\npulses = []\n"),
+            "`input.demand.slew_per_s` = 3 is not allowed: at most 2",
         ),
     ];
     assert_bad_scenarios(d.path(), &cases);
@@ -283,38 +283,35 @@ fn bad_adaptive_controller_settings_are_clear_errors() {
     let cases = [
         (
             shipped.replace("ball_fraction = 0.5", "ball_fraction = 1.0"),
-            "`controller.ball_fraction` = 1 is not allowed: a number in (0, 1)",
+            "`control.controller.ball_fraction` = 1 is not allowed: a number in (0, 1)",
         ),
         (
             shipped.replace("lambda_per_s = 100.0", "lambda_per_s = -1.0"),
-            "`controller.lambda_per_s` = -1 is not allowed: a finite number > 0",
+            "`control.controller.lambda_per_s` = -1 is not allowed: a finite number > 0",
         ),
         (
-            shipped.replace("baseline_ti_s = 0.07", "baseline_ti_s = 0.0"),
-            "`controller.baseline_ti_s` = 0 is not allowed: a number > 0",
+            shipped.replace("ti_s = 0.07", "ti_s = 0.0"),
+            "`control.baseline.ti_s` = 0 is not allowed: a number > 0",
         ),
         (
-            shipped.replace("baseline = \"cascade-pi\"", "baseline = \"pid\""),
-            "`controller.baseline` = \"pid\" is not allowed: \"cascade-pi\" (the same sensors) or \"pi\"",
+            shipped.replace("kind = \"pump-cascade-pi\"", "kind = \"pid\""),
+            "unknown variant `pid`, expected one of `pi`, `rhonn-indirect`, `cascade`, `pump-rhonn-adaptive`, `pump-cascade-pi`",
         ),
         (
-            shipped.replace("baseline_setpoint_weight = 0.8", "baseline_setpoint_weight = 1.5"),
-            "`controller.baseline_setpoint_weight` = 1.5 is not allowed: a number in [0, 1]",
+            shipped.replace("setpoint_weight = 0.8", "setpoint_weight = 1.5"),
+            "`control.baseline.setpoint_weight` = 1.5 is not allowed: a number in [0, 1]",
         ),
         (
-            shipped.replace("baseline_ti_s = 0.07", "baseline_ti_s = 0.07\nbaseline_kp_a_per_mpa = 0.15"),
-            "`controller.baseline_kp_a_per_mpa` = a value is not allowed: absent with baseline = \"cascade-pi\"",
+            shipped.replace("stroke_gain = 8.0", "stroke_gain = 8.0\nkp = 0.15"),
+            "unknown field `kp`, expected one of `state`, `kp_mm_per_mpa`",
         ),
         (
             shipped.replace("integral_per_s2 = 1000.0", "integral_per_s2 = -1.0"),
-            "`controller.integral_per_s2` = -1 is not allowed: a finite number >= 0",
+            "`control.controller.integral_per_s2` = -1 is not allowed: a finite number >= 0",
         ),
         (
-            shipped.replace(
-                "[measurement]",
-                "[plant]\ntransport_delay_periods = 5000\n\n[measurement]",
-            ),
-            "`plant.transport_delay_periods` = 5000 is not allowed: an integer in [0, 1000]",
+            shipped.replace("period_s = 0.005", "period_s = 0.005\ndelay_periods = 5000"),
+            "`control.delay_periods` = 5000 is not allowed: an integer in [0, 1000]",
         ),
     ];
     for (k, (text, expected)) in cases.iter().enumerate() {

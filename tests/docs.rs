@@ -287,11 +287,11 @@ fn the_guides_shell_blocks_run() {
     assert!(ran.len() >= 15, "only {} commands ran: {ran:#?}", ran.len());
 }
 
-/// The scenario reference (docs/reference/scenarios.md): its first block is an open-loop
-/// scenario; each later block, in place of `[current_a]` (a controller) or added to it (an
+/// The scenario reference (docs/reference/scenarios.md): its first block is a scenario of
+/// the tanks with sensor noise, a delay and a dither; the second an open-loop scenario of the
+/// pump; each later block, in place of `[input.current]` (a controller) or added to it (an
 /// identifier), is one too; every key shown commented out but `degree` and `max_factors`
-/// (the alternative to `terms`) is accepted when uncommented. The fifth is a plant
-/// scenario with sensor noise, a delay and a dither.
+/// (the alternative to `terms`) is accepted when uncommented.
 #[test]
 fn the_scenario_reference_blocks_are_scenarios_rhonn_runs() {
     let text = std::fs::read_to_string(root().join("docs/reference/scenarios.md")).unwrap();
@@ -316,22 +316,22 @@ fn the_scenario_reference_blocks_are_scenarios_rhonn_runs() {
             .collect::<Vec<_>>()
             .join("\n")
     };
-    let base = uncomment(&toml[0]);
+    let base = uncomment(&toml[1]);
     let open_loop = |s: &str| -> String {
-        let start = s.find("[current_a]").unwrap();
+        let start = s.find("[input.current]").unwrap();
         let end = start + s[start..].find("\n\n").unwrap();
         format!("{}{}", &s[..start], &s[end..])
     };
     let cases = [
         ("open loop", base.clone()),
-        ("pi", format!("{}\n{}", open_loop(&base), uncomment(&toml[1]))),
+        ("pi", format!("{}\n{}", open_loop(&base), uncomment(&toml[2]))),
         (
             "adaptive",
-            format!("{}\n{}", open_loop(&base), uncomment(&toml[2])),
+            format!("{}\n{}", open_loop(&base), uncomment(&toml[3])),
         ),
-        ("identifier", format!("{base}\n{}", uncomment(&toml[3]))),
-        // A plant scenario with its noise, delay and dither.
-        ("plant", uncomment(&toml[4])),
+        ("identifier", format!("{base}\n{}", uncomment(&toml[4]))),
+        // The tanks with their noise, delay and dither.
+        ("plant", uncomment(&toml[0])),
     ];
     let d = tempfile::tempdir().unwrap();
     for (name, scenario) in cases {

@@ -257,12 +257,12 @@ fn a_constant_output_is_predicted_with_its_fit_left_undefined() {
 fn a_pump_noise_beyond_reason_is_refused_by_name() {
     let d = tempfile::tempdir().unwrap();
     let o = rhonn(d.path(), &["show", "regulated-pi"]);
-    let text = String::from_utf8_lossy(&o.stdout).replace("noise_std_mpa = 0.0", "noise_std_mpa = 1e308");
+    let text = String::from_utf8_lossy(&o.stdout).replace("p_line = 0.0", "p_line = 1e308");
     std::fs::write(d.path().join("noisy.toml"), text).unwrap();
     let o = rhonn(d.path(), &["run", "noisy.toml", "--out", "r"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("noisy.toml") && stderr(&o).contains("measurement.noise_std_mpa"),
+        stderr(&o).contains("noisy.toml") && stderr(&o).contains("measurement.noise_std.p_line"),
         "{}",
         stderr(&o)
     );

@@ -297,23 +297,22 @@ fn path_errors_name_the_path_and_say_what_it_is() {
 }
 
 /// "The README says every `rhonn-adaptive` setting is optional but leaving out
-/// `setpoint_mpa` is an error." The README now marks `setpoint_mpa` required: a
-/// controller section with `kind` and `setpoint_mpa` alone (and the preset's
-/// `second_baseline`, a comparison rather than a setting) runs, with the same figures
-/// as the preset (whose other settings are the defaults written out), and without
-/// `setpoint_mpa` the error names it.
+/// `setpoint_mpa` is an error." The reference marks the set-point required: a
+/// `[control.controller]` with `kind` and `state` alone and no `[control.baseline]` (the
+/// preset's `second_baseline`, a comparison rather than a setting, kept) runs, with the
+/// same figures as the preset (whose other settings are the defaults written out), and
+/// without `[control] setpoint` the error names it.
 #[test]
 fn the_adaptive_controller_needs_only_its_set_point() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let preset = std::fs::read_to_string(root.join("scenarios/control-adaptive.toml")).unwrap();
     let short = preset.replace("duration_s = 60.0", "duration_s = 3.0");
-    let (head, tail) = short.split_once("[controller]").unwrap();
-    let (_, rest) = tail.split_once("[demand_dm3_s]").unwrap();
-    let setpoint = tail.lines().find(|l| l.starts_with("setpoint_mpa")).unwrap();
-    // The second baseline is a comparison the preset asks for, not a setting with a default.
-    let second = tail.lines().find(|l| l.starts_with("second_baseline")).unwrap();
+    let (head, tail) = short.split_once("[control.controller]").unwrap();
+    let (_, rest) = tail.split_once("[measurement]").unwrap();
+    let setpoint = head.lines().find(|l| l.starts_with("setpoint = ")).unwrap();
+    assert!(head.contains("second_baseline = \"nominal-optimal\""));
     let minimal = format!(
-        "{head}[controller]\nkind = \"rhonn-adaptive\"\n{setpoint}\n{second}\n\n[demand_dm3_s]{rest}"
+        "{head}[control.controller]\nkind = \"pump-rhonn-adaptive\"\nstate = \"p_line\"\n\n[measurement]{rest}"
     );
     let d = tempfile::tempdir().unwrap();
     std::fs::write(
@@ -340,7 +339,7 @@ fn the_adaptive_controller_needs_only_its_set_point() {
     std::fs::write(d.path().join("none.toml"), none).unwrap();
     let o = rhonn(d.path(), &["run", "none.toml"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("setpoint_mpa"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("missing field `setpoint`"), "{}", stderr(&o));
 }
 
 /// "Plots: the PI and RHONN colours swap between `pressure.svg` and `inputs.svg` of the

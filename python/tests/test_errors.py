@@ -65,8 +65,11 @@ def test_run_and_campaign_refuse(tmp_path):
     with pytest.raises(ValueError, match="threads = 0"):
         rhonn.campaign("tanks-control", runs=2, threads=0)
     with pytest.raises(ValueError, match="duration"):
-        spec = {"name": "bad", "duration_s": -1.0}
+        spec = {"name": "bad", "duration_s": -1.0, "plant": {"kind": "pump"}}
         rhonn.run(spec)
+    # A scenario names its plant; the pump's former format is refused with the way out.
+    with pytest.raises(ValueError, match="no `kind` in a \\[plant\\] section.*scenarios.md"):
+        rhonn.run({"name": "old", "duration_s": 1.0, "output_interval_ms": 1.0})
 
 
 def test_load_refuses(tmp_path):

@@ -337,7 +337,7 @@ pub fn run_campaign(
     campaign_runner::run(&c, indices, dir, progress)
 }
 
-/// A campaign of a scenario in the pump's format.
+/// A campaign of a pump scenario (its own runner).
 struct PumpCampaign {
     spec: ScenarioSpec,
     plan: Plan,

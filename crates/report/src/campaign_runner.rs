@@ -1,10 +1,10 @@
-//! The one campaign runner, for both scenario formats: `campaign.json` written first (or
+//! The one campaign runner, for every scenario: `campaign.json` written first (or
 //! checked, when the folder holds a campaign already), the partial files rewritten from
 //! their complete rows, every missing run made in parallel and appended to
 //! `runs.partial.csv` (its traces first to `traces.partial.csv`) and flushed, so that an
 //! interrupted campaign resumes where it stopped; and `rhonn merge`'s reading of finished
 //! shards. What a run is, what its row holds and how the folder is finished is the
-//! [`CampaignKind`]'s: `campaign.rs` (the pump's format) and `plant_campaign.rs`.
+//! [`CampaignKind`]'s: `campaign.rs` (the pump's runner) and `plant_campaign.rs`.
 
 use crate::campaign_options::{CampaignOutcome, Progress};
 use crate::Error;

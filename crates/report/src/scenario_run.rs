@@ -1,6 +1,6 @@
-//! A scenario's run of either format (`rhonn::experiment::ScenarioRun`) written, printed
+//! A scenario's run on either runner (`rhonn::experiment::ScenarioRun`) written, printed
 //! and given to Python the same way: the one place of this crate that tells the pump's
-//! format from the plant format.
+//! runner from the generic one.
 
 use crate::Result;
 use rhonn::experiment::{PlantRunOutput, RunOutput, ScenarioRun};

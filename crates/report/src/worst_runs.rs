@@ -141,7 +141,7 @@ pub fn describe(spec: &ScenarioSpec, names: &[String], rows: &[RunRow]) -> Resul
         let mut run_spec = apply(spec, &values);
         run_spec.name = format!("{}-run-{}", spec.name, c.index);
         run_spec.description = description;
-        toml::to_string(&run_spec)
+        toml::to_string(&rhonn::experiment::pump_scenario::raise(&run_spec))
     })?;
     Ok((key.map(|(_, k)| k), listed))
 }

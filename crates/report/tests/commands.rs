@@ -127,6 +127,6 @@ fn run_and_show_a_shipped_scenario() {
     let o = commands::run("tanks-identify", Some(dir.path().join("t"))).unwrap();
     assert!(o.lines[0].starts_with("tanks-identify:"), "{:?}", o.lines);
     assert!(dir.path().join("t/summary.json").exists());
-    assert!(commands::show("thesis-ch3").unwrap().contains("[current_a]"));
+    assert!(commands::show("thesis-ch3").unwrap().contains("[input.current]"));
     assert!(commands::show("no-such-scenario").is_err());
 }

@@ -129,11 +129,10 @@ pub fn bench(
 
 /// `rhonn show`: a scenario's TOML (a shipped one as shipped).
 pub fn show(scenario: &str) -> Result<String> {
-    let spec = preset::load_any(scenario)?;
-    Ok(
-        match (preset::SHIPPED.iter().find(|(n, _)| *n == scenario), spec) {
-            (Some((_, text)), _) => text.to_string(),
-            (None, spec) => spec.shown(&super::read_text(Path::new(scenario))?),
-        },
-    )
+    // Read (and checked) first: a file that is not a scenario is an error here too.
+    preset::load_any(scenario)?;
+    Ok(match preset::SHIPPED.iter().find(|(n, _)| *n == scenario) {
+        Some((_, text)) => text.to_string(),
+        None => super::read_text(Path::new(scenario))?,
+    })
 }

@@ -64,9 +64,10 @@ pub struct PiLoop {
     pub kp: f64,
     /// Integral time \[s\].
     pub ti_s: f64,
-    /// Output offset (display units; default 0).
-    #[serde(default)]
-    pub bias: f64,
+    /// Output offset (display units; default 0; for the pump's pressure, the current
+    /// whose steady stroke balances the lubricating flow).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bias: Option<f64>,
 }
 
 impl LoopSettings for PiLoop {
@@ -80,7 +81,7 @@ impl LoopSettings for PiLoop {
         let field = &cx.field;
         let i = cx.state_index("state", &self.state)?;
         let q = &cx.states[i];
-        let (kp, bias, out) = (self.kp, self.bias, cx.output);
+        let (kp, bias, out) = (self.kp, self.bias.unwrap_or(0.0), cx.output);
         if !kp.is_finite() {
             return Err(invalid(format!("{field}.kp"), kp, "a finite number"));
         }

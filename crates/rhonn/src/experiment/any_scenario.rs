@@ -1,8 +1,8 @@
-//! A scenario of either format as one thing to run: [`AnyScenario::run`] gives a
-//! [`ScenarioRun`] whose columns and summary are read the same way whatever the format,
-//! so the command line, Python and the report crate never ask which format it was. (The
-//! pump's own format and the plant format are two parsers of one run loop; this is the
-//! one place that tells them apart.)
+//! A scenario as one thing to run: [`AnyScenario::run`] gives a [`ScenarioRun`] whose
+//! columns and summary are read the same way whatever the plant, so the command line,
+//! Python and the report crate never ask which runner it was. (The pump's scenarios,
+//! written in the one format, run on the pump's own runner, every other plant's on the
+//! generic one; this is the one place that tells them apart.)
 
 use super::bench::{bench, bench_plant, BenchFigures};
 use super::plant_run::{run_plant_scenario, PlantRunOutput};
@@ -54,15 +54,6 @@ impl AnyScenario {
         match self {
             AnyScenario::Pump(spec) => bench(&spec.check()?, budget),
             AnyScenario::Plant(spec) => bench_plant(spec, budget),
-        }
-    }
-
-    /// Its TOML as `rhonn show` prints it for a file: a pump scenario with every default
-    /// written out, a plant scenario as written (`file_text`).
-    pub fn shown(&self, file_text: &str) -> String {
-        match self {
-            AnyScenario::Pump(spec) => spec.to_toml(),
-            AnyScenario::Plant(_) => file_text.to_string(),
         }
     }
 }

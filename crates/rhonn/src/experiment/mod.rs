@@ -15,6 +15,7 @@ mod plant_scenario;
 pub mod preset;
 mod pump_controllers;
 mod pump_loop;
+pub mod pump_scenario;
 mod run;
 mod scenario;
 pub mod sim;

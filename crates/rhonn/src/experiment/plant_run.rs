@@ -392,10 +392,17 @@ fn run_control<P: Plant>(
     // Bounded so that the error's integrals (IAE, ISE) stay finite.
     let sp = signal(&c.setpoint, "control.setpoint", &qy, (-1e150, 1e150))?;
     let conditions = loop_conditions(&plant, spec, c, qu, range)?;
+    let baseline = c.baseline.as_ref().ok_or_else(|| {
+        invalid(
+            "control.baseline",
+            "missing",
+            "the controller the one under test is compared with, run on an identical plant",
+        )
+    })?;
     let mut runs = Vec::new();
     for (field, l) in [
         ("control.controller", &c.controller),
-        ("control.baseline", &c.baseline),
+        ("control.baseline", baseline),
     ] {
         if l.state() != c.output {
             return Err(invalid(
@@ -458,7 +465,7 @@ fn run_control<P: Plant>(
     }
     summary.regulated = Some((qy.name, qy.display_unit));
     summary.control = Some([a, b]);
-    let inner = [&c.controller, &c.baseline].map(|l| {
+    let inner = [&c.controller, baseline].map(|l| {
         let s = l.inner_state()?;
         plant.states().iter().find(|q| q.name == s).copied()
     });

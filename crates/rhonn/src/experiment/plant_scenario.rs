@@ -4,7 +4,9 @@
 //! are in the display units of the quantity they belong to (mm for a tank's level, V for
 //! the pump voltage); times in seconds.
 
+use super::campaign_plan::CampaignSpec;
 use super::loop_conditions::{LoopConditions, SensorNoise};
+use super::scenario::SolverSpec;
 pub use crate::control::LoopSpec;
 use crate::error::{invalid, Error, Result};
 use crate::ident::IdentifierSpec;
@@ -44,6 +46,13 @@ pub struct PlantScenarioSpec {
     /// Noisy sensors of a control run's states.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub measurement: Option<SensorNoiseSpec>,
+    /// The pump's solver settings (the pump only: other plants run at fixed tolerances).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver: Option<SolverSpec>,
+    /// `rhonn campaign`'s distributions of the pump's uncertain parameters (the pump
+    /// only; default: uniform within the thesis's tolerances).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub campaign: Option<CampaignSpec>,
 }
 
 /// `[measurement]`: white Gaussian noise on what a control run's controllers measure
@@ -102,8 +111,14 @@ pub struct ControlSpec {
     pub period_s: f64,
     /// The controller under test.
     pub controller: LoopSpec,
-    /// The controller it is compared with.
-    pub baseline: LoopSpec,
+    /// The controller it is compared with (required but for the pump, whose controller
+    /// may run alone).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub baseline: Option<LoopSpec>,
+    /// The pump's adaptive controller only: a second cascade PI run beside it, by its
+    /// tuning's name (`nominal-optimal` or `robust`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub second_baseline: Option<String>,
     /// Transport delay: the command reaches the plant this many control periods late
     /// (default 0; both loops).
     #[serde(default, skip_serializing_if = "is_zero")]
@@ -227,8 +242,29 @@ impl PlantScenarioSpec {
         toml::to_string(self).unwrap_or_else(|e| format!("# cannot be written as TOML: {e}"))
     }
 
-    /// The checks that need no plant: name, times, one experiment.
+    /// The checks that need no plant: name, times, one experiment, none of the sections
+    /// only the pump's own runner reads.
     pub fn check_common(&self) -> Result<()> {
+        self.check_times()?;
+        let second = self.control.as_ref().and_then(|c| c.second_baseline.as_ref());
+        for (field, given) in [
+            ("solver", self.solver.is_some()),
+            ("campaign", self.campaign.is_some()),
+            ("control.second_baseline", second.is_some()),
+        ] {
+            if given {
+                return Err(invalid(
+                    field,
+                    format!("given for the {}", self.plant.kind),
+                    "only for the pump ([plant] kind = \"pump\"), whose scenarios its own runner runs (`rhonn run`, `preset::load_any`)",
+                ));
+            }
+        }
+        self.check_experiment()
+    }
+
+    /// Name, duration and output interval.
+    pub(crate) fn check_times(&self) -> Result<()> {
         super::scenario::check_folder_name("name", &self.name)?;
         if !(self.duration_s.is_finite() && self.duration_s > 0.0) {
             return Err(invalid("duration_s", self.duration_s, "finite and > 0"));
@@ -247,6 +283,11 @@ impl PlantScenarioSpec {
                 "at most 10,000,000 output samples (duration_s / output_interval_s): a shorter duration_s or a longer output_interval_s",
             ));
         }
+        Ok(())
+    }
+
+    /// One experiment: an identifier or a control loop.
+    fn check_experiment(&self) -> Result<()> {
         match (&self.identifier, &self.control) {
             (Some(_), Some(_)) | (None, None) => Err(invalid(
                 "identifier, control",

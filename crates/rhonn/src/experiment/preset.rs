@@ -50,12 +50,13 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ),
 ];
 
-/// A scenario in the pump's own format, or a plant scenario of any plant of the library.
+/// A scenario of the one format: the pump's lowered to its own runner's settings, any
+/// other plant's as written.
 #[derive(Debug, Clone, PartialEq)]
 pub enum AnyScenario {
-    /// The pump's (no `kind` in `[plant]`).
+    /// The pump's (`[plant] kind = "pump"`), lowered.
     Pump(Box<ScenarioSpec>),
-    /// A plant scenario (`[plant] kind = "tanks"` or `"pump"`).
+    /// Any other plant's (`[plant] kind = "tanks"`, ...).
     Plant(Box<PlantScenarioSpec>),
 }
 
@@ -74,12 +75,21 @@ impl AnyScenario {
             AnyScenario::Plant(s) => &s.description,
         }
     }
-    /// A scenario of either kind from its TOML text; `source` names it in errors.
+    /// A scenario from its TOML text; `source` names it in errors. The pump's
+    /// (`[plant] kind = "pump"`) is lowered to its own runner's settings and checked.
     pub fn parse(text: &str, source: &str) -> Result<Self> {
-        if is_plant_scenario(text) {
-            PlantScenarioSpec::from_toml(text, source).map(|s| AnyScenario::Plant(Box::new(s)))
+        if toml::from_str::<toml::Table>(text).is_ok() && !is_plant_scenario(text) {
+            return Err(Error::Parse {
+                source_name: source.to_string(),
+                message: "no `kind` in a [plant] section: every scenario names its plant (`[plant] kind = \"pump\"`, \"tanks\" or a registered kind). The pump's former format (`output_interval_ms`, `[controller]`, `[current_a]`) is now written in the one format: see docs/reference/scenarios.md, \"The pump\"".into(),
+            });
+        }
+        let spec = PlantScenarioSpec::from_toml(text, source)?;
+        if spec.plant.kind == "pump" {
+            let lowered = super::pump_scenario::lower_checked(&spec)?;
+            Ok(AnyScenario::Pump(Box::new(lowered)))
         } else {
-            ScenarioSpec::from_toml(text, source).map(|s| AnyScenario::Pump(Box::new(s)))
+            Ok(AnyScenario::Plant(Box::new(spec)))
         }
     }
 }
@@ -173,7 +183,10 @@ mod tests {
     #[test]
     fn unknown_keys_are_errors() {
         let text = SHIPPED[0].1.replace("duration_s", "duration_s = 1.0\ndurtion_s");
-        let e = ScenarioSpec::from_toml(&text, "x.toml").unwrap_err().to_string();
-        assert!(e.contains("unknown field `durtion_s`"), "{e}");
+        let e = AnyScenario::parse(&text, "x.toml").unwrap_err().to_string();
+        assert!(
+            e.contains("x.toml") && e.contains("unknown field `durtion_s`"),
+            "{e}"
+        );
     }
 }

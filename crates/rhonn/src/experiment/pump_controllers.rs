@@ -164,6 +164,9 @@ pub(super) struct BaselineKeys<'a> {
     pub stroke_gain: Option<f64>,
 }
 
+/// The pressure-only PI baseline's defaults: gain \[A/MPa\] and integral time \[s\].
+pub const PI_BASELINE: [f64; 2] = [0.15, 0.15];
+
 /// The baseline an adaptive run compares with: `cascade-pi` (the default, robust tuning
 /// for unset gains) or `pi` (the default when `baseline_kp_a_per_mpa` is given); a key of
 /// the other kind is an error.
@@ -185,7 +188,10 @@ pub(super) fn check_baseline(k: BaselineKeys, setpoint: &Signal, params: &PumpPa
                     "absent with baseline = \"pi\" (it belongs to the cascade PI)",
                 ));
             }
-            let (kp, ti) = (k.kp_a_per_mpa.unwrap_or(0.15), k.ti_s.unwrap_or(0.15));
+            let (kp, ti) = (
+                k.kp_a_per_mpa.unwrap_or(PI_BASELINE[0]),
+                k.ti_s.unwrap_or(PI_BASELINE[1]),
+            );
             Ok(Baseline::Pi(check_pi(
                 kp,
                 ti,

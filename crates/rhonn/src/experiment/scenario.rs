@@ -1,6 +1,7 @@
-//! Scenario files: the raw TOML form ([`ScenarioSpec`]), checked once into a
-//! [`Scenario`] that the runner accepts. Every failure names the field, the value and
-//! what is allowed; unknown keys are errors.
+//! The pump runner's settings ([`ScenarioSpec`]: what a `[plant] kind = "pump"` scenario
+//! file lowers to, `pump_scenario::lower`), checked once into a [`Scenario`] that the runner
+//! accepts. Every failure names the field, the value and what is allowed (in the file's
+//! keys, see `pump_scenario::lower_checked`); unknown keys are errors.
 
 use super::pump_controllers::{
     check_baseline, check_cascade_pi, check_named_cascade_pi, check_pi, Baseline, BaselineKeys,
@@ -186,7 +187,8 @@ pub enum ControllerSpec {
     },
 }
 
-/// A scenario as written in a TOML file (display units, see each field).
+/// The pump runner's settings, in display units (see each field): a scenario file of the
+/// pump lowered (`pump_scenario::lower`); a campaign records them in `campaign.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ScenarioSpec {
