@@ -315,7 +315,7 @@ pub fn run_campaign(
     let [k, m] = o.shard;
     let indices = [runs * (k - 1) / m, runs * k / m];
     let file = CampaignFile {
-        scenario_toml: spec.to_toml(),
+        scenario_toml: rhonn::experiment::pump_scenario::raise(&spec).to_toml(),
         scenario: spec.name.clone(),
         seed: o.seed,
         runs,
@@ -363,7 +363,8 @@ impl CampaignKind for PumpCampaign {
         f.runs
     }
     fn from_file(f: &CampaignFile) -> Result<Self> {
-        let spec = ScenarioSpec::from_toml(&f.scenario_toml, "campaign.json")?;
+        let written = rhonn::experiment::PlantScenarioSpec::from_toml(&f.scenario_toml, "campaign.json")?;
+        let spec = rhonn::experiment::pump_scenario::lower(&written)?;
         Ok(PumpCampaign {
             plan: Plan::of(&spec)?,
             spec,

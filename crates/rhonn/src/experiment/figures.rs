@@ -99,7 +99,8 @@ pub struct Figures {
 pub struct Summary {
     /// rhonn's version.
     pub rhonn_version: &'static str,
-    /// The scenario as run.
+    /// The scenario as run (written in the one format, `pump_scenario::raise`).
+    #[serde(serialize_with = "super::pump_scenario::serialize_raised")]
     pub scenario: ScenarioSpec,
     /// Solver settings and counters.
     pub solver: SolverReport,

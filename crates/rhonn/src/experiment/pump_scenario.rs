@@ -432,6 +432,14 @@ pub fn raise(spec: &ScenarioSpec) -> PlantScenarioSpec {
     }
 }
 
+/// `spec` serialised as [`raise`] writes it (summary.json's echo of the scenario).
+pub(crate) fn serialize_raised<S: serde::Serializer>(
+    spec: &ScenarioSpec,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    serde::Serialize::serialize(&raise(spec), s)
+}
+
 /// `[control]` of the pump runner's controller `c`.
 fn raised_control(spec: &ScenarioSpec, c: &ControllerSpec) -> ControlSpec {
     use super::pump_controllers::{PI_BASELINE, ROBUST};

@@ -20,8 +20,7 @@ use serde::{Deserialize, Serialize};
 pub const Q_L_MAX_DM3_S: f64 = 2.1;
 
 /// Initial state, display units.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct InitialSpec {
     /// P_l(0) \[MPa\] (2).
     pub p_line_mpa: f64,
@@ -39,19 +38,13 @@ impl Default for InitialSpec {
 }
 
 /// Measurement of the line pressure.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct MeasurementSpec {
     /// Standard deviation of the white Gaussian noise on the measured pressure \[MPa\] (0).
     pub noise_std_mpa: f64,
     /// Standard deviation of the white Gaussian noise on the measured stroke \[mm\] (0;
     /// only controllers that use the stroke see it).
-    #[serde(skip_serializing_if = "is_zero")]
     pub stroke_noise_std_mm: f64,
-}
-
-fn is_zero(v: &f64) -> bool {
-    *v == 0.0
 }
 
 /// Step-size control profile.
@@ -84,8 +77,7 @@ pub struct SolverSpec {
 }
 
 /// A controller of the line pressure, tagged by `kind`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum ControllerSpec {
     /// PI on the measured pressure, sampled every T, anti-windup at the current limits.
     Pi {
@@ -97,11 +89,9 @@ pub enum ControllerSpec {
         ti_s: f64,
         /// Output offset \[A\] (default: the current whose steady stroke gives a pump
         /// flow equal to the lubricating flow Q_0).
-        #[serde(default)]
         bias_a: Option<f64>,
         /// An excitation added to the controller's output \[A\] (e.g. a PRBS), held over
         /// each control period; the sum is clipped to the current range.
-        #[serde(default)]
         dither_a: Option<SignalSpec>,
     },
     /// RHONN indirect adaptive cascade (`rhonn::control::adaptive`: an affine RHONN of the
@@ -112,57 +102,40 @@ pub enum ControllerSpec {
         /// Pressure set-point \[MPa\].
         setpoint_mpa: SignalSpec,
         /// Closed-loop pressure pole lambda \[1/s\] (100).
-        #[serde(default)]
         lambda_per_s: Option<f64>,
         /// lambda during the identification phase \[1/s\] (10).
-        #[serde(default)]
         lambda_ident_per_s: Option<f64>,
         /// Identification phase \[s\] (2).
-        #[serde(default)]
         identification_s: Option<f64>,
         /// Stroke feedback gain g (3).
-        #[serde(default)]
         stroke_gain: Option<f64>,
         /// Lead on the stroke reference \[s\] (0.06).
-        #[serde(default)]
         lead_s: Option<f64>,
         /// Identifier filter pole a \[1/s\] (70).
-        #[serde(default)]
         observer_pole_per_s: Option<f64>,
         /// Learning rate of the drift weights (1e4).
-        #[serde(default)]
         gamma_w: Option<f64>,
         /// Learning rate of the gain weights (5).
-        #[serde(default)]
         gamma_w1: Option<f64>,
         /// Radius of the gain weights' ball as a fraction of the largest safe radius, in (0, 1) (0.5).
-        #[serde(default)]
         ball_fraction: Option<f64>,
         /// Integral action on the tracking error k_i \[1/s^2\] (0: none).
-        #[serde(default)]
         integral_per_s2: Option<f64>,
         /// The baseline run beside it: `cascade-pi` (the same sensors; the default) or
         /// `pi` (the pressure only; the default when `baseline_kp_a_per_mpa` is given).
-        #[serde(default)]
         baseline: Option<String>,
         /// The PI baseline's proportional gain \[A/MPa\] (0.15).
-        #[serde(default)]
         baseline_kp_a_per_mpa: Option<f64>,
         /// The baseline's integral time \[s\] (PI 0.15; cascade PI: the robust tuning).
-        #[serde(default)]
         baseline_ti_s: Option<f64>,
         /// The cascade PI baseline's outer gain \[mm/MPa\] (the robust tuning).
-        #[serde(default)]
         baseline_kp_mm_per_mpa: Option<f64>,
         /// The cascade PI baseline's set-point weight (the robust tuning).
-        #[serde(default)]
         baseline_setpoint_weight: Option<f64>,
         /// The cascade PI baseline's stroke gain (the robust tuning).
-        #[serde(default)]
         baseline_stroke_gain: Option<f64>,
         /// A second cascade PI run beside it, by its tuning's name: `nominal-optimal` or
         /// `robust` (none by default).
-        #[serde(default, skip_serializing_if = "Option::is_none")]
         second_baseline: Option<String>,
     },
     /// Cascade PI (`rhonn::control::CascadePi`): an outer PI on the measured pressure
@@ -173,70 +146,50 @@ pub enum ControllerSpec {
         /// Pressure set-point \[MPa\].
         setpoint_mpa: SignalSpec,
         /// Outer proportional gain \[mm/MPa\].
-        #[serde(default)]
         kp_mm_per_mpa: Option<f64>,
         /// Outer integral time \[s\].
-        #[serde(default)]
         ti_s: Option<f64>,
         /// Set-point weight b of the proportional term, in [0, 1].
-        #[serde(default)]
         setpoint_weight: Option<f64>,
         /// Inner stroke feedback gain g.
-        #[serde(default)]
         stroke_gain: Option<f64>,
     },
 }
 
 /// The pump runner's settings, in display units (see each field): a scenario file of the
-/// pump lowered (`pump_scenario::lower`); a campaign records them in `campaign.json`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// pump lowered (`pump_scenario::lower`); written back in the one format by
+/// `pump_scenario::raise`, never as themselves.
+#[derive(Debug, Clone, PartialEq)]
 pub struct ScenarioSpec {
     /// Short name (used for the default output folder).
     pub name: String,
     /// One line saying what the scenario shows.
-    #[serde(default)]
     pub description: String,
     /// Simulated time \[s\].
     pub duration_s: f64,
     /// Interval of the output samples \[ms\] (1).
-    #[serde(default = "default_output_ms")]
     pub output_interval_ms: f64,
     /// Seed of every random draw (noise, PRBS) (0).
-    #[serde(default)]
     pub seed: u64,
     /// Parameter overrides (table 3.3 of the thesis by default).
-    #[serde(default)]
     pub plant: PumpParamsSpec,
     /// Initial state.
-    #[serde(default)]
     pub initial: InitialSpec,
     /// Open-loop solenoid current \[A\]; exclusive with `controller`.
-    #[serde(default)]
     pub current_a: Option<SignalSpec>,
     /// Demanded flow \[dm^3/s\] (zero when absent).
-    #[serde(default)]
     pub demand_dm3_s: Option<SignalSpec>,
     /// Pressure controller; exclusive with `current_a`.
-    #[serde(default)]
     pub controller: Option<ControllerSpec>,
     /// Measurement.
-    #[serde(default)]
     pub measurement: MeasurementSpec,
     /// Solver settings.
-    #[serde(default)]
     pub solver: SolverSpec,
     /// A RHONN identifier running along with the plant.
-    #[serde(default)]
     pub identifier: Option<IdentifierSpec>,
     /// `rhonn campaign`'s distributions of the uncertain parameters (default: uniform
     /// within the thesis's tolerances); ignored by `rhonn run`, but checked.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub campaign: Option<super::campaign_plan::CampaignSpec>,
-}
-
-fn default_output_ms() -> f64 {
-    1.0
 }
 
 /// A checked adaptive controller and its PI baseline (SI).
@@ -375,19 +328,6 @@ impl ScenarioSpec {
             ));
         }
         Ok(setpoint)
-    }
-
-    /// Parse TOML; `source_name` names the file in errors.
-    pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
-        toml::from_str(text).map_err(|e| Error::Parse {
-            source_name: source_name.to_string(),
-            message: e.to_string(),
-        })
-    }
-
-    /// The spec as TOML.
-    pub fn to_toml(&self) -> String {
-        toml::to_string_pretty(self).expect("a scenario spec serialises")
     }
 
     /// Validate everything and convert to SI.
