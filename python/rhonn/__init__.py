@@ -354,9 +354,9 @@ class Model:
         numpy.ndarray of shape (n, p)
             Samples before the first prediction repeat ``y``.
         """
-        return self._inner.predict(
+        return self._inner._predict(
             _matrix("u", u), _matrix("y", y), _steps(steps_ahead), bool(baseline), _window(init_window)
-        )
+        )[0]
 
     def score(
         self,
@@ -377,9 +377,9 @@ class Model:
             from the first predicted sample on; with ``init_window`` N, from row N on).
         """
         return json.loads(
-            self._inner.score_json(
+            self._inner._predict(
                 _matrix("u", u), _matrix("y", y), _steps(steps_ahead), bool(baseline), _window(init_window)
-            )
+            )[1]
         )
 
     def save(self, path: PathLike) -> None:
@@ -393,7 +393,7 @@ class Model:
     @property
     def summary(self) -> Optional[Dict[str, Any]]:
         """The fit's summary.json as a dict (None for a loaded or online model)."""
-        s = self._inner.summary_json
+        s = self._inner._info[4]
         return None if s is None else json.loads(s)
 
     @property
@@ -402,30 +402,30 @@ class Model:
         checks (a record sampled far faster than it moves, ...) and the selection's
         warnings (every structure worse than the mean on the folds). What the selection
         found is in ``summary["selection"]["findings"]``."""
-        return list(self._inner.warnings)
+        return list(self._inner._info[5])
 
     @property
     def kind(self) -> str:
         """``"fit"`` or ``"online-rhonn"``."""
-        return self._inner.kind
+        return self._inner._info[0]
 
     @property
     def inputs(self) -> List[str]:
         """Input names."""
-        return list(self._inner.inputs)
+        return list(self._inner._info[1])
 
     @property
     def outputs(self) -> List[str]:
         """Output names."""
-        return list(self._inner.outputs)
+        return list(self._inner._info[2])
 
     @property
     def sample_time_s(self) -> float:
         """Sample time [s]."""
-        return self._inner.sample_time_s
+        return self._inner._info[3]
 
     def __repr__(self) -> str:
-        return repr(self._inner)
+        return f"Model(kind={self.kind!r}, inputs={self.inputs!r}, outputs={self.outputs!r}, sample_time_s={self.sample_time_s})"
 
 
 def load(path: PathLike) -> Model:

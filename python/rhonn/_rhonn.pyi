@@ -39,26 +39,15 @@ def load(path: str) -> Model: ...
 def _rust_run_seconds(name: str, repeats: int) -> float: ...
 
 class Model:
-    kind: str
-    inputs: List[str]
-    outputs: List[str]
-    sample_time_s: float
-    summary_json: Optional[str]
-    warnings: List[str]
-    def predict(
+    _info: Tuple[str, List[str], List[str], float, Optional[str], List[str]]
+    def _predict(
         self,
         u: npt.NDArray[np.float64],
         y: npt.NDArray[np.float64],
         steps_ahead: Optional[int] = None,
         baseline: bool = False,
-    ) -> npt.NDArray[np.float64]: ...
-    def score_json(
-        self,
-        u: npt.NDArray[np.float64],
-        y: npt.NDArray[np.float64],
-        steps_ahead: Optional[int] = None,
-        baseline: bool = False,
-    ) -> str: ...
+        init_window: Optional[int] = None,
+    ) -> Tuple[npt.NDArray[np.float64], str]: ...
     def save(self, path: str) -> None: ...
     def to_json(self) -> str: ...
     @staticmethod

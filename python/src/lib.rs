@@ -42,14 +42,9 @@ type RunResult = (Py<PyAny>, Option<Py<PyAny>>, String);
 #[pyo3(signature = (name, toml_text=None, out=None))]
 fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>) -> PyResult<RunResult> {
     let sc = scenario(name, toml_text)?;
-    if let Some(dir) = &out {
-        rhonn_report::folder::check_writable(dir).map_err(report_err)?;
-    }
-    let run = py.detach(|| sc.run()).map_err(rhonn_err)?;
-    if let Some(dir) = out {
-        py.detach(|| rhonn_report::commands::save_scenario_run(&dir, sc.name(), &run))
-            .map_err(report_err)?;
-    }
+    let (run, _) = py
+        .detach(|| rhonn_report::commands::run_scenario(&sc, out.as_deref()))
+        .map_err(report_err)?;
     let summary = rhonn_report::scenario_run::summary_json(&run).map_err(report_err)?;
     let (traj, val) = run.into_columns();
     let traj = columns_dict(py, traj.into_iter())?;
@@ -75,24 +70,20 @@ fn fit(
     select_steps_ahead: Option<usize>,
     time_budget_s: Option<f64>,
 ) -> PyResult<model::Model> {
-    let specs = rhonn_report::commands::model_specs(spec_toml, spec_source).map_err(report_err)?;
     let mut opts = rhonn::sysid::select::SelectOptions {
         steps_ahead: select_steps_ahead,
         ..Default::default()
     };
-    if let Some(t) = time_budget_s {
-        opts.time_budget_s = t;
-    }
+    opts.time_budget_s = time_budget_s.unwrap_or(opts.time_budget_s);
+    let spec = spec_toml.map(|t| (t, spec_source));
+    let (structure, _) = rhonn_report::commands::fit_structure(select.then_some(&opts), spec, outputs.len())
+        .map_err(report_err)?;
     let recs = us
         .iter()
         .zip(&ys)
         .enumerate()
         .map(|(k, (u, y))| record(&format!("recording {k}"), dt, u, y, &inputs, &outputs))
         .collect::<PyResult<Vec<_>>>()?;
-    let structure = match select {
-        true => rhonn::sysid::FitStructure::Select(&opts),
-        false => rhonn::sysid::FitStructure::Given(specs),
-    };
     let run = py
         .detach(|| rhonn::sysid::fit_records(structure, &recs, &inputs, &outputs, "dt", &|_| {}))
         .map_err(rhonn_err)?;

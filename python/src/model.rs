@@ -40,21 +40,17 @@ impl Model {
             warnings: Vec::new(),
         }
     }
-
-    /// The prediction's columns (one per output) and its figures as JSON.
-    fn prediction(
-        &self,
-        py: Python<'_>,
-        u: &PyReadonlyArray2<'_, f64>,
-        y: &PyReadonlyArray2<'_, f64>,
-        (steps_ahead, baseline, init_window): (Option<usize>, bool, Option<usize>),
-    ) -> PyResult<(Vec<Vec<f64>>, String)> {
-        let (inputs, outputs, dt) = self.model.signals();
-        let rec = record("the data", dt, u, y, inputs, outputs)?;
-        py.detach(|| any_model::predict(&self.model, &rec, (steps_ahead, init_window), baseline))
-            .map_err(report_err)
-    }
 }
+
+/// `Model._info`: kind, inputs, outputs, sample time \[s\], summary.json's text, warnings.
+type Info = (
+    &'static str,
+    Vec<String>,
+    Vec<String>,
+    f64,
+    Option<String>,
+    Vec<String>,
+);
 
 /// Read a model.json written by `rhonn fit`, `rhonn identify` or `Model.save`.
 #[pyfunction]
@@ -64,12 +60,10 @@ pub fn load(path: PathBuf) -> PyResult<Model> {
 
 #[pymethods]
 impl Model {
-    /// Predict the outputs from inputs `u` (n, m) and measured outputs `y` (n, p):
-    /// free run (`steps_ahead` None: only the first samples of `y` are used) or K steps
-    /// ahead (`init_window` N: a free run seeing only `y`'s first N rows). Returns (n, p);
-    /// samples before the first prediction repeat `y`.
+    /// `rhonn predict` on inputs `u` (n, m) and measured outputs `y` (n, p): the prediction
+    /// (n, p) and its figures as JSON (`Model.predict` and `Model.score`).
     #[pyo3(signature = (u, y, steps_ahead=None, baseline=false, init_window=None))]
-    fn predict<'py>(
+    fn _predict<'py>(
         &self,
         py: Python<'py>,
         u: PyReadonlyArray2<'py, f64>,
@@ -77,28 +71,16 @@ impl Model {
         steps_ahead: Option<usize>,
         baseline: bool,
         init_window: Option<usize>,
-    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let (cols, _) = self.prediction(py, &u, &y, (steps_ahead, baseline, init_window))?;
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, String)> {
+        let (inputs, outputs, dt) = self.model.signals();
+        let rec = record("the data", dt, &u, &y, inputs, outputs)?;
+        let (cols, json) = py
+            .detach(|| any_model::predict(&self.model, &rec, (steps_ahead, init_window), baseline))
+            .map_err(report_err)?;
         let n = cols.first().map_or(0, Vec::len);
         let rows: Vec<Vec<f64>> = (0..n).map(|k| cols.iter().map(|c| c[k]).collect()).collect();
-        PyArray2::from_vec2(py, &rows).map_err(|e| value_error(e.to_string()))
-    }
-
-    /// The figures `rhonn predict` prints and writes for the same data (JSON text: one
-    /// object per output with `rms_error`, `fit_percent`, `nrmse`, `samples`).
-    #[pyo3(signature = (u, y, steps_ahead=None, baseline=false, init_window=None))]
-    fn score_json<'py>(
-        &self,
-        py: Python<'py>,
-        u: PyReadonlyArray2<'py, f64>,
-        y: PyReadonlyArray2<'py, f64>,
-        steps_ahead: Option<usize>,
-        baseline: bool,
-        init_window: Option<usize>,
-    ) -> PyResult<String> {
-        Ok(self
-            .prediction(py, &u, &y, (steps_ahead, baseline, init_window))?
-            .1)
+        let arr = PyArray2::from_vec2(py, &rows).map_err(|e| value_error(e.to_string()))?;
+        Ok((arr, json))
     }
 
     /// Write the model as `model.json` (the format `rhonn predict` and `rhonn.load` read).
@@ -119,47 +101,12 @@ impl Model {
             .map_err(report_err)
     }
 
-    /// The fit's summary (summary.json's text of `rhonn fit`), None for a loaded model.
+    /// `(kind, inputs, outputs, sample time s, summary.json's text or None, warnings)`:
+    /// `"fit"` or `"online-rhonn"`, the signals' names, what `rhonn fit` printed.
     #[getter]
-    fn summary_json(&self) -> Option<String> {
-        self.summary.clone()
-    }
-
-    /// What the data checks found (as `rhonn fit` prints them).
-    #[getter]
-    fn warnings(&self) -> Vec<String> {
-        self.warnings.clone()
-    }
-
-    /// `"fit"` or `"online-rhonn"`.
-    #[getter]
-    fn kind(&self) -> &'static str {
-        self.model.kind()
-    }
-
-    /// Input names.
-    #[getter]
-    fn inputs(&self) -> Vec<String> {
-        self.model.signals().0.to_vec()
-    }
-
-    /// Output names.
-    #[getter]
-    fn outputs(&self) -> Vec<String> {
-        self.model.signals().1.to_vec()
-    }
-
-    /// Sample time \[s\].
-    #[getter]
-    fn sample_time_s(&self) -> f64 {
-        self.model.signals().2
-    }
-
-    fn __repr__(&self) -> String {
+    fn _info(&self) -> Info {
         let (i, o, dt) = self.model.signals();
-        format!(
-            "Model(kind={:?}, inputs={i:?}, outputs={o:?}, sample_time_s={dt})",
-            self.kind()
-        )
+        let (s, w) = (self.summary.clone(), self.warnings.clone());
+        (self.model.kind(), i.to_vec(), o.to_vec(), dt, s, w)
     }
 }

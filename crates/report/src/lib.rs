@@ -98,6 +98,28 @@ pub enum Error {
     },
 }
 
+impl Error {
+    /// Its kind (a step's: its cause's).
+    pub fn kind(&self) -> rhonn::ErrorKind {
+        use rhonn::ErrorKind as K;
+        match self {
+            Error::Rhonn(e) => e.kind(),
+            Error::Input(_) | Error::Data(_) => K::Input,
+            Error::Context { source, .. } => source.kind(),
+            Error::Folder { .. } | Error::File { .. } => K::Io,
+            Error::Campaign(_) => K::Failed,
+        }
+    }
+
+    /// The message with its causes, `step: cause` (as the command line prints them).
+    pub fn message(&self) -> String {
+        match self {
+            Error::Context { context, source } => format!("{context}: {}", source.message()),
+            e => e.to_string(),
+        }
+    }
+}
+
 /// Result alias.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 

@@ -92,6 +92,32 @@ pub enum Error {
     },
 }
 
+/// What kind of failure an error is, for a caller that maps errors onto its own (Python's
+/// exception classes, an exit code).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// The caller gave something not allowed: a value, a file's content, a name.
+    Input,
+    /// A file could not be read or written.
+    Io,
+    /// A step failed while running (a solver, a diverging controller).
+    Failed,
+}
+
+impl Error {
+    /// Its kind.
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            Error::Invalid { .. }
+            | Error::Parse { .. }
+            | Error::UnknownScenario { .. }
+            | Error::Argument(_) => ErrorKind::Input,
+            Error::Io { .. } => ErrorKind::Io,
+            _ => ErrorKind::Failed,
+        }
+    }
+}
+
 /// Result alias.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 

@@ -46,4 +46,4 @@ pub mod signal;
 pub mod sysid;
 pub mod units;
 
-pub use error::{Error, InvalidValue, Result};
+pub use error::{Error, ErrorKind, InvalidValue, Result};

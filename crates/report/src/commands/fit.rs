@@ -4,7 +4,8 @@ use super::{context, read_text, unit_of, Outcome};
 use crate::{Error, Result};
 use rhonn::any_model::{AnyModel, AnyPrediction, ModelFileError};
 use rhonn::data::Record;
-use rhonn::sysid::{parse_spec_file, ModelSpec, RecordFigures};
+use rhonn::sysid::select::SelectOptions;
+use rhonn::sysid::{parse_spec_file, FitStructure, ModelSpec, RecordFigures};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -108,14 +109,29 @@ pub fn read_data_regridded(
     Ok((recs, changes))
 }
 
-/// The model structures of a spec file (one, or an ensemble's members), checked; None:
-/// the default structure.
-fn read_specs(model: Option<&Path>) -> Result<Vec<ModelSpec>> {
-    // (`model_specs` names the file in every error.)
-    match model {
-        None => model_specs(None, ""),
-        Some(p) => model_specs(Some(&read_text(p)?), &p.display().to_string()),
-    }
+/// The structure a fit of `n_outputs` outputs takes, and the fewest samples a record
+/// needs for it: chosen by cross-validation (`select`), else a spec's (`spec`: its TOML
+/// text and what names it in errors; None: the default structure). `rhonn fit` and
+/// Python's `rhonn.fit`.
+pub fn fit_structure<'a>(
+    select: Option<&'a SelectOptions>,
+    spec: Option<(&str, &str)>,
+    n_outputs: usize,
+) -> Result<(FitStructure<'a>, usize)> {
+    Ok(match select {
+        None => {
+            let specs = match spec {
+                Some((text, source)) => model_specs(Some(text), source)?,
+                None => model_specs(None, "")?,
+            };
+            let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
+            (FitStructure::Given(specs), max_lag + 2)
+        }
+        Some(opts) => (
+            FitStructure::Select(opts),
+            rhonn::sysid::select::min_samples(n_outputs, opts),
+        ),
+    })
 }
 
 /// The model structures of a spec's TOML text (one, or an ensemble's `[[members]]`),
@@ -174,17 +190,12 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
         ));
     }
     let mut o = Outcome::default();
-    let (structure, min_rows) = match &req.select {
-        None => {
-            let specs = read_specs(req.model.as_deref())?;
-            let max_lag = specs.iter().map(|s| s.max_lag()).max().unwrap_or(0);
-            (rhonn::sysid::FitStructure::Given(specs), max_lag + 2)
-        }
-        Some(opts) => (
-            rhonn::sysid::FitStructure::Select(opts),
-            rhonn::sysid::select::min_samples(outputs.len(), opts),
-        ),
+    let spec = match &req.model {
+        Some(p) => Some((read_text(p)?, p.display().to_string())),
+        None => None,
     };
+    let spec = spec.as_ref().map(|(t, s)| (t.as_str(), s.as_str()));
+    let (structure, min_rows) = fit_structure(req.select.as_ref(), spec, outputs.len())?;
     let (recs, regridded) = read_data_regridded(&req.data, inputs, outputs, min_rows, req.resample_s)?;
     let run = rhonn::sysid::fit_records(structure, &recs, inputs, outputs, "--resample", progress)
         .map_err(|e| spec_error(e, req))?;

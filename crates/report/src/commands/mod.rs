@@ -9,9 +9,11 @@ mod identify;
 mod run;
 
 pub use benchmark::{benchmark, figure, BenchmarkRequest, Row};
-pub use fit::{fit, fit_with_progress, model_specs, parse_units, predict, read_data, FitRequest};
+pub use fit::{
+    fit, fit_structure, fit_with_progress, model_specs, parse_units, predict, read_data, FitRequest,
+};
 pub use identify::{identify, online_spec, IdentifyRequest};
-pub use run::{bench, run, save_plant_run, save_scenario_run, show, REPRODUCED};
+pub use run::{bench, run, run_scenario, save_plant_run, save_scenario_run, show, REPRODUCED};
 
 use crate::campaign::CampaignOutcome;
 use std::path::{Path, PathBuf};

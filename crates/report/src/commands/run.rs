@@ -22,14 +22,27 @@ pub fn run(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
 fn run_named(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
     let sc = preset::load_any(scenario)?;
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(sc.name()));
-    crate::folder::check_writable(&dir)?;
-    let run = sc.run()?;
-    save_scenario_run(&dir, sc.name(), &run)
+    Ok(run_scenario(&sc, Some(&dir))?.1.unwrap_or_default())
 }
 
-/// Write a scenario run's folder as `rhonn run` does (`rhonn run` and Python's
-/// `rhonn.run(..., out=DIR)`; the caller checks `crate::folder::check_writable` before it
-/// runs): its files all or nothing, `report.html`, an earlier run's files this run does not
+/// Run `sc` and, given `out`, write its folder as `rhonn run` does (the folder checked
+/// before the run): the run, and what writing it told (`rhonn run`, Python's `rhonn.run`).
+pub fn run_scenario(
+    sc: &preset::AnyScenario,
+    out: Option<&Path>,
+) -> Result<(rhonn::experiment::ScenarioRun, Option<Outcome>)> {
+    if let Some(dir) = out {
+        crate::folder::check_writable(dir)?;
+    }
+    let run = sc.run()?;
+    let written = out
+        .map(|dir| save_scenario_run(dir, sc.name(), &run))
+        .transpose()?;
+    Ok((run, written))
+}
+
+/// Write a scenario run's folder as `rhonn run` does ([`run_scenario`]; the caller checks
+/// `crate::folder::check_writable` before it runs): its files all or nothing, `report.html`, an earlier run's files this run does not
 /// write removed (a note each); the scenario's warnings and the figures `rhonn run` prints.
 pub fn save_scenario_run(dir: &Path, name: &str, run: &rhonn::experiment::ScenarioRun) -> Result<Outcome> {
     let mut o = Outcome::default();
