@@ -120,7 +120,7 @@ fn plant_lines(output: &PlantRunOutput) -> Vec<String> {
     lines
 }
 
-/// `rhonn campaign` on a scenario of either format into `dir` (resumes a folder left by
+/// `rhonn campaign` on a scenario into `dir` (resumes a folder left by
 /// an interrupted one): the pump's campaign (its tolerances, envelopes) or a plant's.
 pub fn run_scenario_campaign(
     sc: &rhonn::experiment::preset::AnyScenario,

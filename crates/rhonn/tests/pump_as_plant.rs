@@ -207,7 +207,7 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
             .values
             .clone()
     };
-    // The pump's own format on the same settings, without noise, at tight tolerances.
+    // The pump's own runner on the same settings, without noise, at tight tolerances.
     let mut own = preset::load("control-adaptive").unwrap();
     own.duration_s = 20.0;
     own.measurement.noise_std_mpa = 0.0;
@@ -253,12 +253,12 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
     assert_eq!((a.controller, b.controller), ("rhonn-adaptive", "cascade-pi"));
     let own_iae = own_out.figures.regulation.unwrap().iae_mpa_s;
     eprintln!(
-        "adaptive IAE: {} MPa s here, {own_iae} MPa s in the pump's format",
+        "adaptive IAE: {} MPa s here, {own_iae} MPa s on the pump's own runner",
         a.iae
     );
     // 7.5 Pa and 0.07 Pa here: the same loops, to the solvers' tolerances. (The IAE differs
-    // by 0.7 %: the pump's format integrates the error on the dense output, the plant format
-    // by the rectangle rule at the control instants.)
+    // by 0.7 %: the pump's runner integrates the error on the dense output, the generic
+    // runner by the rectangle rule at the control instants.)
     assert!(worst[0] < 100.0 && worst[1] < 100.0, "{worst:?} Pa");
     assert!((a.iae / own_iae - 1.0).abs() < 0.02, "{} vs {own_iae}", a.iae);
     // The kinds refuse a plant that is not the pump, naming the field.

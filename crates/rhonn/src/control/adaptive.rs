@@ -58,8 +58,8 @@ impl Controller for RhonnCascade {
 }
 
 /// The adaptive cascade's settings as a scenario writes them: each unset one takes
-/// [`CascadeSettings::default`]. The pump's own format (`kind = "rhonn-adaptive"`) and the
-/// plant format's `pump-rhonn-adaptive` loop both check theirs here.
+/// [`CascadeSettings::default`]. The pump's own runner (a scenario's `pump-rhonn-adaptive`
+/// lowered) and the generic runner's `pump-rhonn-adaptive` loop both check theirs here.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AdaptiveKnobs {

@@ -12,7 +12,7 @@ use super::trace::Trace;
 use crate::error::Result;
 use std::time::Duration;
 
-/// What a scenario of either format produced.
+/// What a scenario's run produced, on either runner.
 #[derive(Debug, Clone)]
 pub enum ScenarioRun {
     /// A pump scenario: its samples and its output (summary, validation, model).
