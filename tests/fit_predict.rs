@@ -218,6 +218,12 @@ fn cascade_models_run_free_and_bad_cascade_specs_are_clear_errors() {
             "`model.settle` = 1 is not allowed: an integer in [2, 1000]",
         ),
         (
+            // 2,000 starts ran for minutes on a short record (the mutation harness's hang).
+            "kind = \"cascade\"\nstarts = 2000\n",
+            "y",
+            "`model.starts` = 2000 is not allowed: an integer in [1, 256]",
+        ),
+        (
             "kind = \"cascade\"\ninput_filters_s = [10.0]\n",
             "y",
             "`model.input_filters_s`",

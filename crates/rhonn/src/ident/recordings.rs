@@ -18,7 +18,9 @@ pub struct OnlineFigures {
     /// Fit \[%\] over the last half of the final pass.
     pub fit_percent_last_half: f64,
     /// First time \[s\] (from the final pass's start) after which |error| stays within
-    /// the band (twice the last half's RMS error), or None.
+    /// the band (twice the last half's RMS error), or None (left out of summary.json, where
+    /// a null would read as a NaN).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub converged_s: Option<f64>,
     /// The band \[output units\].
     pub band: f64,
@@ -382,4 +384,26 @@ pub fn predict_records(
         out.push(pred);
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::OnlineFigures;
+
+    /// An estimate that never stays within its band has no `converged_s` in summary.json
+    /// (a null there read as a NaN to the mutation harness, and would to a user).
+    #[test]
+    fn never_converged_is_left_out_not_null() {
+        let mut f = OnlineFigures {
+            output: "y".into(),
+            rms_error_last_half: 0.5,
+            fit_percent_last_half: 10.0,
+            converged_s: None,
+            band: 1.0,
+        };
+        let json = serde_json::to_string(&f).unwrap();
+        assert!(!json.contains("converged_s") && !json.contains("null"), "{json}");
+        f.converged_s = Some(2.0);
+        assert!(serde_json::to_string(&f).unwrap().contains("\"converged_s\":2.0"));
+    }
 }

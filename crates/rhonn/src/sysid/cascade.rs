@@ -677,7 +677,9 @@ impl super::kinds::ModelKind for Cascade {
     fn check_spec(&self, spec: &ModelSpec) -> Result<()> {
         use super::{int_in, Estimator};
         int_in("neurons", spec.neurons, 1, 4)?;
-        int_in("starts", spec.starts, 1, 10_000)?;
+        // 16 times the default at most: each start is a full fit (2,000 took minutes on
+        // a 200-sample record, which reads as a hang).
+        int_in("starts", spec.starts, 1, 256)?;
         int_in("settle", spec.settle, 2, 1000)?;
         if matches!(
             spec.law,

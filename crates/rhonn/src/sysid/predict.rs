@@ -191,6 +191,14 @@ pub fn predict_with(
     ensure_finite_figures(&figures, &record.source)?;
     let baseline = match &fitted.baseline {
         Some(b) => {
+            let need_b = b.spec.max_lag() + steps_ahead.unwrap_or(1) + 1;
+            if record.len() < need_b {
+                return Err(invalid(
+                    format!("{} (the model's ARX baseline)", record.source),
+                    record.len(),
+                    format!("at least {need_b} samples for its lags (model.json's baseline.spec)"),
+                ));
+            }
             let (pb, fb) = run(&|r| b.predict(r, steps_ahead))?;
             let f = b.figures(&record, &pb, fb);
             ensure_finite_figures(&f, &format!("{} (ARX baseline)", record.source))?;
@@ -255,5 +263,25 @@ mod tests {
         assert!(e.contains("`steps_ahead` = 0"), "{e}");
         let e = predict(&fitted, &record(3, 0.1), None).unwrap_err().to_string();
         assert!(e.contains("r.csv") && e.contains("at least"), "{e}");
+    }
+
+    /// A model.json whose ARX baseline has lags longer than the record (a hand-edited
+    /// `output_lag_start`): a clear error, not a panic (found by the mutation harness).
+    #[test]
+    fn a_baseline_longer_than_the_record_is_an_error() {
+        let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
+        let spec = ModelSpec {
+            kind: crate::sysid::Kind::Arx,
+            ..ModelSpec::default()
+        };
+        let (mut fitted, _) = train(&[spec], &[record(200, 0.1)], &u, &y).unwrap();
+        let mut b = fitted.model.clone();
+        b.spec.output_lag_start = 1000;
+        fitted.baseline = Some(b);
+        let e = predict(&fitted, &record(200, 0.1), None).unwrap_err().to_string();
+        assert!(
+            e.contains("r.csv (the model's ARX baseline)") && e.contains("at least 1003"),
+            "{e}"
+        );
     }
 }
