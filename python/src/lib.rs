@@ -138,11 +138,8 @@ fn _rust_run_seconds(py: Python<'_>, name: &str, repeats: usize) -> PyResult<f64
 
 /// The shipped scenarios: (name, description).
 #[pyfunction]
-fn scenarios() -> Vec<(String, String)> {
+fn scenarios() -> Vec<(&'static str, String)> {
     rhonn::experiment::preset::list()
-        .into_iter()
-        .map(|(n, d)| (n.to_string(), d))
-        .collect()
 }
 
 /// A scenario's TOML text (a shipped one as shipped).

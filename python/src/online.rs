@@ -103,12 +103,7 @@ impl OnlineIdentifier {
     /// Each term's name, in weight order (choosing online: the leading candidate's).
     #[getter]
     fn term_names(&self) -> PyResult<Vec<String>> {
-        let (inputs, outputs, _) = self.session.signals();
-        Ok(self
-            .session
-            .current()
-            .map_err(rhonn_err)?
-            .term_names(outputs, inputs))
+        self.session.term_names().map_err(rhonn_err)
     }
 
     /// Choosing online: every candidate's prequential figures and the winner so far, as

@@ -68,7 +68,7 @@ def test_run_and_campaign_refuse(tmp_path):
         spec = {"name": "bad", "duration_s": -1.0, "plant": {"kind": "pump"}}
         rhonn.run(spec)
     # A scenario names its plant; the pump's former format is refused with the way out.
-    with pytest.raises(ValueError, match="no `kind` in a \\[plant\\] section.*scenarios.md"):
+    with pytest.raises(ValueError, match="output_interval_ms.*no `kind` in \\[plant\\].*scenarios.md"):
         rhonn.run({"name": "old", "duration_s": 1.0, "output_interval_ms": 1.0})
 
 

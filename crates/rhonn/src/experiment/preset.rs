@@ -78,10 +78,11 @@ impl AnyScenario {
     /// A scenario from its TOML text; `source` names it in errors. The pump's
     /// (`[plant] kind = "pump"`) is lowered to its own runner's settings and checked.
     pub fn parse(text: &str, source: &str) -> Result<Self> {
-        if toml::from_str::<toml::Table>(text).is_ok() && !is_plant_scenario(text) {
+        let former = former_pump_keys(text);
+        if !former.is_empty() {
             return Err(Error::Parse {
                 source_name: source.to_string(),
-                message: "no `kind` in a [plant] section: every scenario names its plant (`[plant] kind = \"pump\"`, \"tanks\" or a registered kind). The pump's former format (`output_interval_ms`, `[controller]`, `[current_a]`) is now written in the one format: see docs/reference/scenarios.md, \"The pump\"".into(),
+                message: format!("{} and no `kind` in [plant]: the pump's former scenario format, now written in the one format every plant uses (`[plant] kind = \"pump\"`; the keys' mapping: docs/reference/scenarios.md, \"The pump\")", former.join(", ")),
             });
         }
         let spec = PlantScenarioSpec::from_toml(text, source)?;
@@ -92,6 +93,32 @@ impl AnyScenario {
             Ok(AnyScenario::Plant(Box::new(spec)))
         }
     }
+}
+
+/// The keys of the pump's former scenario format in `text` (a TOML text without
+/// `[plant] kind`), as `key` or `[section]`; empty for any other text, whose errors the
+/// one format's reader gives.
+fn former_pump_keys(text: &str) -> Vec<String> {
+    let Ok(t) = toml::from_str::<toml::Table>(text) else {
+        return Vec::new();
+    };
+    if is_plant_scenario(text) {
+        return Vec::new();
+    }
+    [
+        "output_interval_ms",
+        "controller",
+        "current_a",
+        "demand_dm3_s",
+        "initial",
+    ]
+    .iter()
+    .filter(|k| t.contains_key(**k))
+    .map(|k| match t[*k].is_table() {
+        true => format!("`[{k}]`"),
+        false => format!("`{k}`"),
+    })
+    .collect()
 }
 
 /// Names and one-line descriptions of the shipped scenarios.
@@ -188,5 +215,22 @@ mod tests {
             e.contains("x.toml") && e.contains("unknown field `durtion_s`"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn the_pumps_former_format_is_refused_with_the_way_out() {
+        let old = "name = \"x\"\nduration_s = 1.0\noutput_interval_ms = 1.0\n[current_a]\nkind = \"constant\"\nvalue = 0.1\n";
+        let e = AnyScenario::parse(old, "old.toml").unwrap_err().to_string();
+        assert!(
+            e.contains("old.toml")
+                && e.contains("`output_interval_ms`, `[current_a]`")
+                && e.contains("scenarios.md"),
+            "{e}"
+        );
+        // Any other text without a kind: the reader's own error, with its line.
+        let e = AnyScenario::parse("name = \"x\"\nduration_s = 1.0\n[plant]\n", "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 3") && e.contains("missing field `kind`"), "{e}");
     }
 }

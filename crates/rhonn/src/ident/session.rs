@@ -229,6 +229,12 @@ impl OnlineSession {
         }
     }
 
+    /// The current identifier's term names, in weight order (inputs and outputs by their
+    /// names in this session).
+    pub fn term_names(&self) -> Result<Vec<String>> {
+        Ok(self.current()?.term_names(&self.outputs, &self.inputs))
+    }
+
     /// Choosing online: every candidate's prequential figures and the winner so far; None
     /// with a given model.
     pub fn selection(&self) -> Result<Option<BankSelection>> {
