@@ -15,26 +15,15 @@ use rhonn::experiment::{preset, ControllerSpec, ScenarioSpec, NOMINAL_OPTIMAL};
 
 fn set(spec: &ScenarioSpec, k: &[f64; 8]) -> ScenarioSpec {
     let mut s = spec.clone();
-    if let Some(ControllerSpec::RhonnAdaptive {
-        lambda_per_s,
-        stroke_gain,
-        lead_s,
-        observer_pole_per_s,
-        gamma_w,
-        gamma_w1,
-        integral_per_s2,
-        identification_s,
-        ..
-    }) = &mut s.controller
-    {
-        *lambda_per_s = Some(k[0]);
-        *stroke_gain = Some(k[1]);
-        *lead_s = Some(k[2]);
-        *observer_pole_per_s = Some(k[3]);
-        *gamma_w = Some(k[4]);
-        *gamma_w1 = Some(k[5]);
-        *integral_per_s2 = Some(k[6]);
-        *identification_s = Some(k[7]);
+    if let Some(ControllerSpec::RhonnAdaptive { knobs, .. }) = &mut s.controller {
+        knobs.lambda_per_s = Some(k[0]);
+        knobs.stroke_gain = Some(k[1]);
+        knobs.lead_s = Some(k[2]);
+        knobs.observer_pole_per_s = Some(k[3]);
+        knobs.gamma_w = Some(k[4]);
+        knobs.gamma_w1 = Some(k[5]);
+        knobs.integral_per_s2 = Some(k[6]);
+        knobs.identification_s = Some(k[7]);
     }
     s
 }

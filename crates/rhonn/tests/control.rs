@@ -402,10 +402,8 @@ fn adaptive_has_lower_iae_than_both_cascade_pi_tunings_where_the_goals_say() {
 fn integral_action_removes_the_steady_offset() {
     let share = |ki: f64| {
         let mut spec = preset::load("control-adaptive").unwrap();
-        if let Some(rhonn::experiment::ControllerSpec::RhonnAdaptive { integral_per_s2, .. }) =
-            &mut spec.controller
-        {
-            *integral_per_s2 = Some(ki);
+        if let Some(rhonn::experiment::ControllerSpec::RhonnAdaptive { knobs, .. }) = &mut spec.controller {
+            knobs.integral_per_s2 = Some(ki);
         }
         let out = run_full(&spec.check().unwrap(), &mut NoRecorder).unwrap();
         out.summary.figures.regulation.unwrap().within_1pct_percent

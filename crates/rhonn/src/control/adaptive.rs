@@ -221,16 +221,28 @@ pub(crate) fn pump_states(cx: &LoopContext, state: &str) -> Result<()> {
     Ok(())
 }
 
-impl LoopSettings for PumpAdaptiveLoop {
-    fn state(&self) -> &str {
-        &self.state
+impl PumpAdaptiveLoop {
+    /// The loop on `state` with settings `k`.
+    pub fn with_knobs(state: String, k: AdaptiveKnobs) -> Self {
+        PumpAdaptiveLoop {
+            state,
+            lambda_per_s: k.lambda_per_s,
+            lambda_ident_per_s: k.lambda_ident_per_s,
+            identification_s: k.identification_s,
+            stroke_gain: k.stroke_gain,
+            lead_s: k.lead_s,
+            observer_pole_per_s: k.observer_pole_per_s,
+            gamma_w: k.gamma_w,
+            gamma_w1: k.gamma_w1,
+            ball_fraction: k.ball_fraction,
+            integral_per_s2: k.integral_per_s2,
+        }
     }
-    fn name(&self) -> &'static str {
-        "rhonn-adaptive"
-    }
-    fn build(&self, cx: &LoopContext) -> Result<Box<dyn Controller>> {
-        pump_states(cx, &self.state)?;
-        let settings = AdaptiveKnobs {
+
+    /// Its settings. (Written out here, not flattened: `serde` cannot refuse unknown keys
+    /// beside a flattened table.)
+    pub fn knobs(&self) -> AdaptiveKnobs {
+        AdaptiveKnobs {
             lambda_per_s: self.lambda_per_s,
             lambda_ident_per_s: self.lambda_ident_per_s,
             identification_s: self.identification_s,
@@ -242,7 +254,19 @@ impl LoopSettings for PumpAdaptiveLoop {
             ball_fraction: self.ball_fraction,
             integral_per_s2: self.integral_per_s2,
         }
-        .check(&cx.field)?;
+    }
+}
+
+impl LoopSettings for PumpAdaptiveLoop {
+    fn state(&self) -> &str {
+        &self.state
+    }
+    fn name(&self) -> &'static str {
+        "rhonn-adaptive"
+    }
+    fn build(&self, cx: &LoopContext) -> Result<Box<dyn Controller>> {
+        pump_states(cx, &self.state)?;
+        let settings = self.knobs().check(&cx.field)?;
         if !cx.setpoint0.is_finite() {
             return Err(invalid(
                 format!("{}.kind", cx.field),

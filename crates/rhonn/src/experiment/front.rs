@@ -90,7 +90,7 @@ pub fn adaptive_points(spec: &ScenarioSpec, lambdas_per_s: &[f64]) -> Vec<FrontP
         .filter_map(|&l| {
             let mut s = spec.clone();
             match &mut s.controller {
-                Some(ControllerSpec::RhonnAdaptive { lambda_per_s, .. }) => *lambda_per_s = Some(l),
+                Some(ControllerSpec::RhonnAdaptive { knobs, .. }) => knobs.lambda_per_s = Some(l),
                 _ => return None,
             }
             Some(point("rhonn-adaptive", format!("lambda {l} 1/s"), &s))

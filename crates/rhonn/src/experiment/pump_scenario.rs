@@ -287,16 +287,7 @@ fn adaptive(
     ) = keys;
     Ok(ControllerSpec::RhonnAdaptive {
         setpoint_mpa,
-        lambda_per_s: l.lambda_per_s,
-        lambda_ident_per_s: l.lambda_ident_per_s,
-        identification_s: l.identification_s,
-        stroke_gain: l.stroke_gain,
-        lead_s: l.lead_s,
-        observer_pole_per_s: l.observer_pole_per_s,
-        gamma_w: l.gamma_w,
-        gamma_w1: l.gamma_w1,
-        ball_fraction: l.ball_fraction,
-        integral_per_s2: l.integral_per_s2,
+        knobs: l.knobs(),
         baseline,
         baseline_kp_a_per_mpa,
         baseline_ti_s,
@@ -485,16 +476,7 @@ fn raised_control(spec: &ScenarioSpec, c: &ControllerSpec) -> ControlSpec {
         ),
         ControllerSpec::RhonnAdaptive {
             setpoint_mpa,
-            lambda_per_s,
-            lambda_ident_per_s,
-            identification_s,
-            stroke_gain,
-            lead_s,
-            observer_pole_per_s,
-            gamma_w,
-            gamma_w1,
-            ball_fraction,
-            integral_per_s2,
+            knobs,
             baseline,
             baseline_kp_a_per_mpa,
             baseline_ti_s,
@@ -503,19 +485,7 @@ fn raised_control(spec: &ScenarioSpec, c: &ControllerSpec) -> ControlSpec {
             baseline_stroke_gain,
             second_baseline,
         } => {
-            let l = PumpAdaptiveLoop {
-                state: p_line(),
-                lambda_per_s,
-                lambda_ident_per_s,
-                identification_s,
-                stroke_gain,
-                lead_s,
-                observer_pole_per_s,
-                gamma_w,
-                gamma_w1,
-                ball_fraction,
-                integral_per_s2,
-            };
+            let l = PumpAdaptiveLoop::with_knobs(p_line(), knobs);
             let pi =
                 baseline.as_deref() == Some("pi") || (baseline.is_none() && baseline_kp_a_per_mpa.is_some());
             let b = if pi {

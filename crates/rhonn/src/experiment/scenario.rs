@@ -101,26 +101,10 @@ pub enum ControllerSpec {
     RhonnAdaptive {
         /// Pressure set-point \[MPa\].
         setpoint_mpa: SignalSpec,
-        /// Closed-loop pressure pole lambda \[1/s\] (100).
-        lambda_per_s: Option<f64>,
-        /// lambda during the identification phase \[1/s\] (10).
-        lambda_ident_per_s: Option<f64>,
-        /// Identification phase \[s\] (2).
-        identification_s: Option<f64>,
-        /// Stroke feedback gain g (3).
-        stroke_gain: Option<f64>,
-        /// Lead on the stroke reference \[s\] (0.06).
-        lead_s: Option<f64>,
-        /// Identifier filter pole a \[1/s\] (70).
-        observer_pole_per_s: Option<f64>,
-        /// Learning rate of the drift weights (1e4).
-        gamma_w: Option<f64>,
-        /// Learning rate of the gain weights (5).
-        gamma_w1: Option<f64>,
-        /// Radius of the gain weights' ball as a fraction of the largest safe radius, in (0, 1) (0.5).
-        ball_fraction: Option<f64>,
-        /// Integral action on the tracking error k_i \[1/s^2\] (0: none).
-        integral_per_s2: Option<f64>,
+        /// The cascade's settings (each unset one: `CascadeSettings::default`: lambda 100
+        /// 1/s, 10 while identifying for 2 s, stroke gain 3, lead 0.06 s, filter pole 70
+        /// 1/s, learning rates 1e4 and 5, ball fraction 0.5, no integral action).
+        knobs: crate::control::AdaptiveKnobs,
         /// The baseline run beside it: `cascade-pi` (the same sensors; the default) or
         /// `pi` (the pressure only; the default when `baseline_kp_a_per_mpa` is given).
         baseline: Option<String>,
@@ -520,16 +504,7 @@ impl ScenarioSpec {
     fn check_adaptive(&self, spec: &ControllerSpec, params: &PumpParams) -> Result<Drive> {
         let ControllerSpec::RhonnAdaptive {
             setpoint_mpa,
-            lambda_per_s,
-            lambda_ident_per_s,
-            identification_s,
-            stroke_gain,
-            lead_s,
-            observer_pole_per_s,
-            gamma_w,
-            gamma_w1,
-            ball_fraction,
-            integral_per_s2,
+            knobs,
             baseline: baseline_kind,
             baseline_kp_a_per_mpa,
             baseline_ti_s,
@@ -542,19 +517,7 @@ impl ScenarioSpec {
             return Err(invalid("controller.kind", "another kind", "rhonn-adaptive"));
         };
         let setpoint = self.check_setpoint(setpoint_mpa, params)?;
-        let cascade = crate::control::AdaptiveKnobs {
-            lambda_per_s: *lambda_per_s,
-            lambda_ident_per_s: *lambda_ident_per_s,
-            identification_s: *identification_s,
-            stroke_gain: *stroke_gain,
-            lead_s: *lead_s,
-            observer_pole_per_s: *observer_pole_per_s,
-            gamma_w: *gamma_w,
-            gamma_w1: *gamma_w1,
-            ball_fraction: *ball_fraction,
-            integral_per_s2: *integral_per_s2,
-        }
-        .check("controller")?;
+        let cascade = knobs.check("controller")?;
         let baseline = check_baseline(
             BaselineKeys {
                 kind: baseline_kind.as_deref(),
