@@ -192,16 +192,7 @@ fn fit_selection(
             "--select-steps-ahead 0 is not allowed: give K >= 1, or leave it out to judge the free run"
         );
     }
-    Ok(auto.then(|| {
-        let mut o = rhonn::sysid::select::SelectOptions {
-            steps_ahead,
-            ..Default::default()
-        };
-        if let Some(t) = time_budget {
-            o.time_budget_s = t;
-        }
-        o
-    }))
+    Ok(auto.then(|| rhonn::sysid::select::SelectOptions::judged(steps_ahead, time_budget)))
 }
 
 /// `rhonn identify`: the identification with a spinner.

@@ -18,20 +18,13 @@ use std::path::PathBuf;
 
 /// A scenario given as a shipped name, a path, or TOML text.
 fn scenario(name_or_path: &str, toml_text: Option<&str>) -> PyResult<AnyScenario> {
-    match toml_text {
-        Some(text) => AnyScenario::parse(text, name_or_path).map_err(rhonn_err),
-        None => rhonn::experiment::preset::load_any(name_or_path).map_err(rhonn_err),
-    }
+    rhonn::experiment::preset::load_or_parse(name_or_path, toml_text).map_err(rhonn_err)
 }
 
 /// TOML text of a JSON object (a scenario or model spec given as a Python dict).
 #[pyfunction]
 fn json_to_toml(json: &str) -> PyResult<String> {
-    let v: serde_json::Value =
-        serde_json::from_str(json).map_err(|e| errors::value_error(format!("not JSON: {e}")))?;
-    let t = toml::Value::try_from(v)
-        .map_err(|e| errors::value_error(format!("cannot be written as TOML: {e}")))?;
-    toml::to_string(&t).map_err(|e| errors::value_error(format!("cannot be written as TOML: {e}")))
+    rhonn_report::commands::toml_of_json(json).map_err(report_err)
 }
 
 /// A run's trajectory (name -> SI array), validation columns, and summary.json's text.
@@ -70,11 +63,7 @@ fn fit(
     select_steps_ahead: Option<usize>,
     time_budget_s: Option<f64>,
 ) -> PyResult<model::Model> {
-    let mut opts = rhonn::sysid::select::SelectOptions {
-        steps_ahead: select_steps_ahead,
-        ..Default::default()
-    };
-    opts.time_budget_s = time_budget_s.unwrap_or(opts.time_budget_s);
+    let opts = rhonn::sysid::select::SelectOptions::judged(select_steps_ahead, time_budget_s);
     let spec = spec_toml.map(|t| (t, spec_source));
     let (structure, _) = rhonn_report::commands::fit_structure(select.then_some(&opts), spec, outputs.len())
         .map_err(report_err)?;
@@ -88,8 +77,9 @@ fn fit(
         .detach(|| rhonn::sysid::fit_records(structure, &recs, &inputs, &outputs, "dt", &|_| {}))
         .map_err(rhonn_err)?;
     let notes = [run.data_warnings, run.selection_warnings].concat();
-    Ok(model::Model::fitted(
-        run.fitted,
+    let fitted = rhonn_report::any_model::AnyModel::Fitted(Box::new(run.fitted));
+    Ok(model::Model::new(
+        fitted,
         Some(errors::json(&run.summary)?),
         notes,
     ))

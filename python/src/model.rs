@@ -3,11 +3,10 @@
 //! `rhonn::any_model::AnyModel` through `rhonn_report::any_model`, converted.
 
 use crate::arrays::record;
-use crate::errors::{report_err, value_error};
-use numpy::{PyArray2, PyReadonlyArray2};
+use crate::errors::report_err;
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
-use rhonn::ident::OnlineModel;
-use rhonn::sysid::FittedModel;
 use rhonn_report::any_model::{self, AnyModel};
 use std::path::PathBuf;
 
@@ -21,23 +20,12 @@ pub struct Model {
 }
 
 impl Model {
-    pub fn fitted(m: FittedModel, summary: Option<String>, warnings: Vec<String>) -> Self {
-        Model {
-            model: AnyModel::Fitted(Box::new(m)),
-            summary,
-            warnings,
-        }
-    }
-
-    pub fn online(m: OnlineModel) -> Self {
-        Self::loaded(AnyModel::Online(Box::new(m)))
-    }
-
-    fn loaded(model: AnyModel) -> Self {
+    /// A model with what `rhonn fit` wrote of it (its summary.json's text) and printed.
+    pub fn new(model: AnyModel, summary: Option<String>, warnings: Vec<String>) -> Self {
         Model {
             model,
-            summary: None,
-            warnings: Vec::new(),
+            summary,
+            warnings,
         }
     }
 }
@@ -55,7 +43,9 @@ type Info = (
 /// Read a model.json written by `rhonn fit`, `rhonn identify` or `Model.save`.
 #[pyfunction]
 pub fn load(path: PathBuf) -> PyResult<Model> {
-    any_model::load(&path).map(Model::loaded).map_err(report_err)
+    any_model::load(&path)
+        .map(|m| Model::new(m, None, Vec::new()))
+        .map_err(report_err)
 }
 
 #[pymethods]
@@ -78,9 +68,8 @@ impl Model {
             .detach(|| any_model::predict(&self.model, &rec, (steps_ahead, init_window), baseline))
             .map_err(report_err)?;
         let n = cols.first().map_or(0, Vec::len);
-        let rows: Vec<Vec<f64>> = (0..n).map(|k| cols.iter().map(|c| c[k]).collect()).collect();
-        let arr = PyArray2::from_vec2(py, &rows).map_err(|e| value_error(e.to_string()))?;
-        Ok((arr, json))
+        let arr = Array2::from_shape_fn((n, cols.len()), |(k, j)| cols[j][k]);
+        Ok((arr.into_pyarray(py), json))
     }
 
     /// Write the model as `model.json` (the format `rhonn predict` and `rhonn.load` read).
@@ -97,7 +86,7 @@ impl Model {
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Model> {
         any_model::from_json(text, "the model text")
-            .map(Model::loaded)
+            .map(|m| Model::new(m, None, Vec::new()))
             .map_err(report_err)
     }
 

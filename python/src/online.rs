@@ -8,6 +8,7 @@ use crate::model::Model;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use rhonn::ident::{OnlineSession, SessionOptions};
+use rhonn_report::any_model::AnyModel;
 
 /// Identify a sampled plant online: `update(t, u, y)` returns the estimate of `y(t)`
 /// made before seeing `y`, then learns from it.
@@ -79,7 +80,8 @@ impl OnlineIdentifier {
     /// identifier stays frozen until `resume()`. Choosing online: the winner so far
     /// becomes the identifier (the other candidates are dropped).
     fn freeze(&mut self) -> PyResult<Model> {
-        Ok(Model::online(self.session.freeze().map_err(rhonn_err)?))
+        let m = self.session.freeze().map_err(rhonn_err)?;
+        Ok(Model::new(AnyModel::Online(Box::new(m)), None, Vec::new()))
     }
 
     /// Adapt the weights again after `freeze()`.
@@ -110,10 +112,8 @@ impl OnlineIdentifier {
     /// JSON (`rhonn identify`'s `selection` in summary.json); None with a given model.
     #[getter]
     fn _selection_json(&self) -> PyResult<Option<String>> {
-        match self.session.selection().map_err(rhonn_err)? {
-            Some(sel) => crate::errors::json(&sel).map(Some),
-            None => Ok(None),
-        }
+        let sel = self.session.selection().map_err(rhonn_err)?;
+        sel.map(|s| crate::errors::json(&s)).transpose()
     }
 
     /// For the bench (`python/bench.py`): the same updates as `update` on the rows of `t`,

@@ -102,15 +102,16 @@ pub(crate) fn envelope_files<'a>(
 
 /// How plots name an adaptive scenario's baseline.
 fn baseline_label(spec: &ScenarioSpec) -> &'static str {
-    let pi = match &spec.controller {
-        Some(rhonn::experiment::ControllerSpec::RhonnAdaptive {
+    use rhonn::experiment::ControllerSpec::RhonnAdaptive;
+    let kind = match &spec.controller {
+        Some(RhonnAdaptive {
             baseline,
             baseline_kp_a_per_mpa,
             ..
-        }) => baseline.as_deref() == Some("pi") || (baseline.is_none() && baseline_kp_a_per_mpa.is_some()),
-        _ => true,
+        }) => rhonn::experiment::baseline_kind(baseline.as_deref(), *baseline_kp_a_per_mpa),
+        _ => "pi",
     };
-    if pi {
+    if kind == "pi" {
         "PI baseline"
     } else {
         "cascade PI baseline"

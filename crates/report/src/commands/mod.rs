@@ -51,6 +51,16 @@ impl Outcome {
     }
 }
 
+/// TOML text of a JSON object: a scenario or a model spec given as a Python dict, read
+/// then as the file it would be.
+pub fn toml_of_json(json: &str) -> crate::Result<String> {
+    let bad = |e: &dyn std::fmt::Display| crate::Error::Input(format!("cannot be written as TOML: {e}"));
+    let v: serde_json::Value =
+        serde_json::from_str(json).map_err(|e| crate::Error::Input(format!("not JSON: {e}")))?;
+    let t = toml::Value::try_from(v).map_err(|e| bad(&e))?;
+    toml::to_string(&t).map_err(|e| bad(&e))
+}
+
 /// `rhonn campaign` and Python's `rhonn.campaign`: `sc`'s Monte Carlo campaign into `dir`
 /// (resuming a folder an interrupted one left) on `threads` worker threads (None: every
 /// core; 0 is refused with the door's own words `zero`), then its `report.html`; what to

@@ -34,7 +34,7 @@ pub use plant_scenario::{
     ValidationSpec, MAX_DELAY_PERIODS,
 };
 pub use pump_controllers::{
-    Baseline, CascadePiGainsMpa, CascadePiSettings, PiSettings, NOMINAL_OPTIMAL, ROBUST,
+    baseline_kind, Baseline, CascadePiGainsMpa, CascadePiSettings, PiSettings, NOMINAL_OPTIMAL, ROBUST,
 };
 pub use run::{
     run, run_full, solver_options, AdaptiveReport, Alone, BaselineReport, ControlReport, Figures,

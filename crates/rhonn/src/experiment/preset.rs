@@ -160,6 +160,15 @@ pub fn load_any(name_or_path: &str) -> Result<AnyScenario> {
     AnyScenario::parse(&text_of(name_or_path)?, name_or_path)
 }
 
+/// A scenario given as TOML `text` (`name_or_path` names it in errors), or without a
+/// text by name or path (see [`load_any`]): Python's `rhonn.run(name, toml_text)`.
+pub fn load_or_parse(name_or_path: &str, text: Option<&str>) -> Result<AnyScenario> {
+    match text {
+        Some(text) => AnyScenario::parse(text, name_or_path),
+        None => load_any(name_or_path),
+    }
+}
+
 /// A pump scenario by name or path; a scenario of another plant is an error saying so.
 pub fn load(name_or_path: &str) -> Result<ScenarioSpec> {
     match load_any(name_or_path)? {

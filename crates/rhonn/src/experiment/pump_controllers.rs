@@ -164,6 +164,18 @@ pub(super) struct BaselineKeys<'a> {
     pub stroke_gain: Option<f64>,
 }
 
+/// The kind of an adaptive controller's baseline: `kind` as written, else the one its keys
+/// imply (`"pi"` when the PI's gain `kp_a_per_mpa` is given, `"cascade-pi"` otherwise).
+/// The one statement of that rule: the check, the one format's writer and the report's
+/// labels ask it.
+pub fn baseline_kind(kind: Option<&str>, kp_a_per_mpa: Option<f64>) -> &str {
+    kind.unwrap_or(if kp_a_per_mpa.is_some() {
+        "pi"
+    } else {
+        "cascade-pi"
+    })
+}
+
 /// The pressure-only PI baseline's defaults: gain \[A/MPa\] and integral time \[s\].
 pub const PI_BASELINE: [f64; 2] = [0.15, 0.15];
 
@@ -172,11 +184,7 @@ pub const PI_BASELINE: [f64; 2] = [0.15, 0.15];
 /// the other kind is an error.
 pub(super) fn check_baseline(k: BaselineKeys, setpoint: &Signal, params: &PumpParams) -> Result<Baseline> {
     let prefix = "controller.baseline_";
-    let kind = k.kind.unwrap_or(if k.kp_a_per_mpa.is_some() {
-        "pi"
-    } else {
-        "cascade-pi"
-    });
+    let kind = baseline_kind(k.kind, k.kp_a_per_mpa);
     match kind {
         "pi" => {
             let cascade_keys = [k.kp_mm_per_mpa, k.setpoint_weight, k.stroke_gain];
@@ -300,4 +308,17 @@ pub(super) fn check_pi(
         bias,
         dither: None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::baseline_kind;
+
+    #[test]
+    fn a_baseline_is_the_kind_written_else_a_pi_when_its_gain_is_given() {
+        assert_eq!(baseline_kind(None, None), "cascade-pi");
+        assert_eq!(baseline_kind(None, Some(0.2)), "pi");
+        assert_eq!(baseline_kind(Some("cascade-pi"), Some(0.2)), "cascade-pi");
+        assert_eq!(baseline_kind(Some("pi"), None), "pi");
+    }
 }

@@ -433,7 +433,7 @@ pub(crate) fn serialize_raised<S: serde::Serializer>(
 
 /// `[control]` of the pump runner's controller `c`.
 fn raised_control(spec: &ScenarioSpec, c: &ControllerSpec) -> ControlSpec {
-    use super::pump_controllers::{PI_BASELINE, ROBUST};
+    use super::pump_controllers::{baseline_kind, PI_BASELINE, ROBUST};
     use crate::control::{PiLoop, PumpAdaptiveLoop, PumpCascadePiLoop};
     let p_line = || "p_line".to_string();
     let cascade = |kp: Option<f64>, ti: Option<f64>, w: Option<f64>, g: Option<f64>| {
@@ -486,9 +486,7 @@ fn raised_control(spec: &ScenarioSpec, c: &ControllerSpec) -> ControlSpec {
             second_baseline,
         } => {
             let l = PumpAdaptiveLoop::with_knobs(p_line(), knobs);
-            let pi =
-                baseline.as_deref() == Some("pi") || (baseline.is_none() && baseline_kp_a_per_mpa.is_some());
-            let b = if pi {
+            let b = if baseline_kind(baseline.as_deref(), baseline_kp_a_per_mpa) == "pi" {
                 LoopSpec::Pi(PiLoop {
                     state: p_line(),
                     kp: baseline_kp_a_per_mpa.unwrap_or(PI_BASELINE[0]),

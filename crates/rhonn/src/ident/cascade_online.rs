@@ -207,13 +207,7 @@ impl CascadeOnline {
             ));
         }
         let measured_needed = !self.free_run || self.seen < self.set.settle;
-        if !t.is_finite() || u.iter().any(|v| !v.is_finite()) || (measured_needed && !y[0].is_finite()) {
-            return Err(invalid(
-                format!("sample at t = {t} s"),
-                format!("u = {u:?}, y = {y:?}"),
-                "finite numbers",
-            ));
-        }
+        super::online::check_sample_finite(t, u, &y[..1], measured_needed)?;
         if let Some(t_last) = self.t_last.filter(|tl| t <= *tl) {
             return Err(invalid(
                 "t",

@@ -159,11 +159,10 @@ impl Continuous {
                     self.scaling.y_scale.len()
                 ),
             )),
-            Err(UpdateError::NotFinite) => Err(invalid(
-                format!("sample at t = {t} s"),
-                format!("u = {u:?}, y = {y:?}"),
-                "finite numbers",
-            )),
+            // The core refused a value it reads: the first non-finite one is it.
+            Err(UpdateError::NotFinite) => {
+                super::online::check_sample_finite(t, u, y, true).map(|()| &self.y_hat[..])
+            }
             Err(UpdateError::NotAfter { t_last }) => Err(invalid(
                 "t",
                 t,

@@ -414,13 +414,7 @@ impl LaggedOnline {
             ));
         }
         let free = self.core.free_run;
-        if !t.is_finite() || u.iter().any(|v| !v.is_finite()) || (!free && y.iter().any(|v| !v.is_finite())) {
-            return Err(invalid(
-                format!("sample at t = {t} s"),
-                format!("u = {u:?}, y = {y:?}"),
-                "finite numbers",
-            ));
-        }
+        super::online::check_sample_finite(t, u, y, !free)?;
         if let Some(t_last) = self.core.t_last.filter(|tl| t <= *tl) {
             return Err(invalid(
                 "t",

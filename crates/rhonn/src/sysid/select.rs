@@ -49,6 +49,20 @@ impl Default for SelectOptions {
     }
 }
 
+impl SelectOptions {
+    /// The defaults, judged `steps_ahead` samples ahead (None: free run) within
+    /// `time_budget_s` (None: the default 40 s): `rhonn fit`'s `--select-steps-ahead` and
+    /// `--time-budget`, Python's `select_steps_ahead` and `time_budget_s`.
+    pub fn judged(steps_ahead: Option<usize>, time_budget_s: Option<f64>) -> Self {
+        let d = SelectOptions::default();
+        SelectOptions {
+            steps_ahead,
+            time_budget_s: time_budget_s.unwrap_or(d.time_budget_s),
+            ..d
+        }
+    }
+}
+
 /// One candidate's result.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CandidateScore {

@@ -192,13 +192,7 @@ impl OnlineBank {
                 format!("{} inputs and {} outputs", self.nu, self.ny),
             ));
         }
-        if !t.is_finite() || u.iter().chain(y).any(|v| !v.is_finite()) {
-            return Err(invalid(
-                format!("sample at t = {t} s"),
-                format!("u = {u:?}, y = {y:?}"),
-                "finite numbers",
-            ));
-        }
+        crate::ident::online::check_sample_finite(t, u, y, true)?;
         if let Some(tl) = self.t_last.filter(|tl| t <= *tl) {
             return Err(invalid(
                 "t",
