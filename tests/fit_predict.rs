@@ -116,6 +116,66 @@ fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
     assert!(arx1 > arx + 10.0, "ARX one step {arx1} %, free run {arx} %");
     assert!(s1["outputs"][0]["fit_percent"].as_f64().unwrap() > 99.0, "{s1}");
     assert_eq!(s1["steps_ahead"], 1);
+    // A model.json whose sample time leaves the data too few samples on its grid: the error
+    // names the key, readably (found by a mutation run: 1e300 was written out in 301 digits).
+    let text = std::fs::read_to_string(d.path().join("m/model.json")).unwrap();
+    let mut j: serde_json::Value = serde_json::from_str(&text).unwrap();
+    j["model"]["sample_time_s"] = serde_json::json!(1e300);
+    std::fs::write(d.path().join("big.json"), j.to_string()).unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "predict", "--model", "big.json", "--data", "val.csv", "--out", "pb",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("model.sample_time_s = 1e300 s") && e.len() < 400,
+        "{e}"
+    );
+    assert!(!d.path().join("pb").exists());
+    // A grid of nanoseconds: refused naming the key, not a crash filling the memory (found
+    // by a mutation run: 8e11 samples were allocated), from the model and from --resample.
+    j["model"]["sample_time_s"] = serde_json::json!(1e-9);
+    std::fs::write(d.path().join("fine.json"), j.to_string()).unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "fine.json",
+            "--data",
+            "val.csv",
+            "--out",
+            "pf",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("`model.sample_time_s` = 1e-9 is not allowed"),
+        "{}",
+        stderr(&o)
+    );
+    let args = [
+        "fit",
+        "--data",
+        "val.csv",
+        "--inputs",
+        "u",
+        "--outputs",
+        "y",
+        "--out",
+        "fr",
+    ];
+    let o = rhonn(d.path(), &[&args[..], &["--resample", "1e-9"]].concat());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("`--resample` = 1e-9 is not allowed"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!d.path().join("pf").exists() && !d.path().join("fr").exists());
 }
 
 #[test]

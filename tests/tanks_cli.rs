@@ -263,10 +263,22 @@ fn bad_tanks_scenarios_name_the_field() {
         ("output = \"h2\"", "output = \"h3\"", "control.output"),
         ("input = \"voltage\"", "input = \"current\"", "control.input"),
         ("period_s = 1.0", "period_s = 0.0", "control.period_s"),
+        // Nanoseconds: refused before the run, not after the solver's step budget.
+        (
+            "period_s = 1.0",
+            "period_s = 0.000000001",
+            "control.period_s` = 1e-9 is not allowed: at most 1,000,000 control periods",
+        ),
         (
             "lambda_per_s = 0.05",
             "lambda_per_s = -1.0",
             "control.controller.outer.lambda_per_s",
+        ),
+        // Found by a mutation run: a gain guess near the largest float wrote inf with exit 0.
+        (
+            "gain0 = 5.0",
+            "gain0 = -1.7e308",
+            "control.controller.outer.gain0` = -1.7e308 is not allowed",
         ),
         (
             "kp = 8.0, ti_s = 30.0",

@@ -51,6 +51,9 @@ pub struct Record {
     pub outputs: Vec<Vec<f64>>,
 }
 
+/// The most samples [`Record::regrid`] puts on a grid (beyond a record's own rows).
+pub const MAX_GRID_SAMPLES: f64 = 1e7;
+
 impl Record {
     /// Number of samples.
     pub fn len(&self) -> usize {
@@ -141,17 +144,35 @@ impl Record {
     /// The record on a uniform grid of interval `dt` from its first time: inputs held
     /// (zero-order hold), outputs interpolated linearly. A record already on that grid
     /// ([`Record::on_grid`]) comes back unchanged.
-    pub fn uniform(&self, dt: f64) -> Record {
-        self.regrid(dt).0
+    /// `field` names `dt` in the error of a grid too fine (see [`Record::regrid`]).
+    pub fn uniform(&self, dt: f64, field: &str) -> Result<Record> {
+        Ok(self.regrid(dt, field)?.0)
     }
 
-    /// [`Record::uniform`], and what it changed (None when nothing).
-    pub fn regrid(&self, dt: f64) -> (Record, Option<Regrid>) {
+    /// [`Record::uniform`], and what it changed (None when nothing). A grid of more than
+    /// [`MAX_GRID_SAMPLES`] samples (and more than the record's rows) is an error naming
+    /// `field`: a sample time of nanoseconds over a record of minutes would otherwise
+    /// fill the memory.
+    pub fn regrid(&self, dt: f64, field: &str) -> Result<(Record, Option<Regrid>)> {
         if self.on_grid(dt) {
-            return (self.clone(), None);
+            return Ok((self.clone(), None));
         }
         let t0 = self.t[0];
-        let n = ((self.t[self.len() - 1] - t0) / dt).floor() as usize + 1;
+        let span = self.t[self.len() - 1] - t0;
+        let n_f = (span / dt).floor() + 1.0;
+        if !(dt.is_finite() && dt > 0.0 && n_f <= MAX_GRID_SAMPLES.max(self.len() as f64)) {
+            return Err(invalid(
+                field,
+                crate::metrics::sig(dt, 6),
+                format!(
+                    "a sample time of at least {} s: at most 10,000,000 samples over {}'s {} s",
+                    crate::metrics::sig(span / MAX_GRID_SAMPLES, 3),
+                    self.source,
+                    crate::metrics::sig(span, 6)
+                ),
+            ));
+        }
+        let n = n_f as usize;
         let grid: Vec<f64> = (0..n).map(|k| t0 + k as f64 * dt).collect();
         let mut j = 0;
         let mut inputs = vec![Vec::with_capacity(n); self.inputs.len()];
@@ -205,7 +226,7 @@ impl Record {
             inputs,
             outputs,
         };
-        (r, Some(report))
+        Ok((r, Some(report)))
     }
 
     /// A record sampled every `dt` s from columns given in memory (a caller's arrays, as
@@ -316,7 +337,7 @@ mod tests {
             outputs: vec![ramp],
         };
         let dt = 0.004_999_999_999_999_893;
-        let u = r.uniform(dt);
+        let u = r.uniform(dt, "dt").unwrap();
         assert_eq!(u.len(), 2401);
         for k in 0..u.len() {
             assert_eq!(u.inputs[0][k], k as f64, "input at grid point {k}");
@@ -333,8 +354,13 @@ mod tests {
             outputs: vec![vec![0.0, 10.0, 30.0]],
         };
         assert_eq!(r.median_interval(), 2.0);
-        let u = r.uniform(1.0);
+        let u = r.uniform(1.0, "dt").unwrap();
         assert_eq!(u.t, vec![0.0, 1.0, 2.0, 3.0]);
+        let e = r.uniform(1e-9, "--resample").unwrap_err().to_string();
+        assert!(
+            e.contains("`--resample` = 1e-9") && e.contains("10,000,000 samples"),
+            "{e}"
+        );
         assert_eq!(u.inputs[0], vec![1.0, 2.0, 2.0, 3.0]);
         assert_eq!(u.outputs[0], vec![0.0, 10.0, 20.0, 30.0]);
     }

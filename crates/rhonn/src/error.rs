@@ -130,7 +130,7 @@ pub(crate) fn invalid(
     Error::Invalid {
         value: InvalidValue {
             field: field.into(),
-            value: value.to_string(),
+            value: readable(value.to_string()),
             allowed: allowed.into(),
         },
         scenario: None,
@@ -180,6 +180,15 @@ pub fn path_problem(path: &std::path::Path, e: &std::io::Error) -> String {
     }
 }
 
+/// A number written out in more than 20 characters (`1e300` prints 301 digits) with 10
+/// significant digits; any other value as it is.
+fn readable(value: String) -> String {
+    match value.parse::<f64>() {
+        Ok(v) if value.len() > 20 => crate::metrics::sig(v, 10),
+        _ => value,
+    }
+}
+
 #[cfg(test)]
 mod path_tests {
     use super::path_problem;
@@ -206,5 +215,15 @@ mod path_tests {
         );
         let pd = Error::from(ErrorKind::PermissionDenied);
         assert!(path_problem(&d.path().join("x"), &pd).starts_with("permission denied"));
+    }
+
+    #[test]
+    fn a_huge_value_in_an_error_is_written_with_significant_digits() {
+        let e = super::invalid("gain0", -1.7e308, "at most 1e6").to_string();
+        assert!(e.contains("`gain0` = -1.7e308 is not allowed"), "{e}");
+        let e = super::invalid("x", 0.125, "below 0.1").to_string();
+        assert!(e.contains("`x` = 0.125 is"), "{e}");
+        let e = super::invalid("name", "a very long name that is not a number at all", "short").to_string();
+        assert!(e.contains("a very long name that is not a number at all"), "{e}");
     }
 }

@@ -267,3 +267,22 @@ fn weights_freeze_after_the_given_time_of_each_pass() {
     let r = run(None, 2);
     assert!(r.weight_norms[0][0][0] > 0.0);
 }
+
+/// A model.json's sample time out of range is refused naming its key (found by a
+/// mutation run: the error said "sample time" only).
+#[test]
+fn a_frozen_models_sample_time_out_of_range_names_its_key() {
+    let spec = OnlineSpec::default();
+    let id = OnlineIdentifier::new(&spec, 1, 1, 0.1, Scaling::identity(1, 1)).unwrap();
+    let names = |s: &str| vec![s.to_string()];
+    let mut m = rhonn::ident::OnlineModel::of(&id, spec, &names("u"), &names("y"), 0.1);
+    assert!(m.identifier().is_ok());
+    for bad in [-1.0, 0.0, 1e300, f64::NAN] {
+        m.sample_time_s = bad;
+        let e = m.identifier().expect_err("refused").to_string();
+        assert!(
+            e.contains("`sample_time_s`") && e.contains("[1e-9, 1e9]"),
+            "{bad}: {e}"
+        );
+    }
+}

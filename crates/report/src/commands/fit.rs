@@ -95,7 +95,14 @@ pub fn read_data_regridded(
     for p in paths {
         let r = crate::read_record(p, inputs, outputs, min_rows)?;
         let dt = resample_s.unwrap_or_else(|| r.sample_interval());
-        let (u, change) = r.regrid(dt);
+        let (u, change) = r.regrid(
+            dt,
+            if resample_s.is_some() {
+                "--resample"
+            } else {
+                "the sample time"
+            },
+        )?;
         changes.extend(change);
         if u.len() < min_rows {
             return Err(Error::Input(format!(

@@ -238,8 +238,13 @@ impl LoopSettings for IndirectLoop {
             st.ball_fraction = v;
         }
         let g0 = self.gain0.unwrap_or(0.01);
-        if !(g0.is_finite() && g0 != 0.0) {
-            return Err(invalid(format!("{field}.gain0"), g0, "finite and not 0"));
+        // Bounded so that the weights' norms stay finite (|gain0| near 1e308 overflowed them).
+        if !(g0.is_finite() && g0 != 0.0 && g0.abs() <= 1e6) {
+            return Err(invalid(
+                format!("{field}.gain0"),
+                g0,
+                "a number not 0 of magnitude at most 1e6 (scaled units per second)",
+            ));
         }
         Ok(Box::new(RhonnIndirect::new(
             st,

@@ -6,7 +6,7 @@
 use super::any_plant::{closed_loop_with, identify, IdentRun, LoopRun};
 use super::plant_scenario::{configure, drive, loop_conditions, signal, state_index, PlantScenarioSpec};
 use crate::control::LoopContext;
-use crate::error::{invalid, Result};
+use crate::error::{invalid, Error, Result};
 use crate::plant::{with_kind, Plant, Quantity, WithPlant};
 use serde::Serialize;
 
@@ -332,10 +332,34 @@ fn run_on<P: Plant>(
         findings: Vec::new(),
     };
     let plant = drive(plant, &spec.input, "input")?;
-    if let Some(ident) = &spec.identifier {
-        return run_identification(plant, &x0, spec, ident, summary);
+    let out = match &spec.identifier {
+        Some(ident) => run_identification(plant, &x0, spec, ident, summary)?,
+        None => run_control(plant, &x0, spec, summary)?,
+    };
+    all_finite(&out.trajectory, "trajectory.csv")?;
+    if let Some(v) = &out.validation {
+        all_finite(v, "validation.csv")?;
     }
-    run_control(plant, &x0, spec, summary)
+    Ok(out)
+}
+
+/// Refuse columns with a value that is not finite, naming the first (column, time): a run
+/// never writes NaN or infinity with success, whatever a setting let through.
+fn all_finite(columns: &[PlantColumn], file: &str) -> Result<()> {
+    for c in columns {
+        if let Some(k) = c.values.iter().position(|v| !v.is_finite()) {
+            let t = columns
+                .first()
+                .and_then(|t| t.values.get(k))
+                .copied()
+                .unwrap_or(f64::NAN);
+            return Err(Error::NotFinite {
+                what: format!("{file}'s column `{}` at t = {} s ({})", c.name, crate::metrics::sig(t, 6), c.values[k]),
+                cause: "a setting far outside its working range (a gain, a scale, an initial guess): check the scenario's controller and identifier settings".into(),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The input `c` drives (its index) and its range in SI, checked.
@@ -389,6 +413,7 @@ fn run_control<P: Plant>(
             "finite, > 0 and at most duration_s",
         ));
     }
+    check_control_periods(spec.duration_s, c.period_s)?;
     // Bounded so that the error's integrals (IAE, ISE) stay finite.
     let sp = signal(&c.setpoint, "control.setpoint", &qy, (-1e150, 1e150))?;
     let conditions = loop_conditions(&plant, spec, c, qu, range)?;
@@ -654,4 +679,44 @@ fn ident_columns(
         });
     }
     Ok(cols)
+}
+
+/// At most [`MAX_CONTROL_PERIODS`] control periods in a run: a period of nanoseconds
+/// would otherwise run until the solver's step budget failed it, naming no setting.
+pub(crate) fn check_control_periods(duration_s: f64, period_s: f64) -> Result<()> {
+    if duration_s / period_s > MAX_CONTROL_PERIODS {
+        return Err(invalid(
+            "control.period_s",
+            crate::metrics::sig(period_s, 6),
+            format!(
+                "at most 1,000,000 control periods in the run's duration_s = {} s: a period of at least {} s",
+                crate::metrics::sig(duration_s, 6),
+                crate::metrics::sig(duration_s / MAX_CONTROL_PERIODS, 3)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The most control periods a run may hold.
+pub(crate) const MAX_CONTROL_PERIODS: f64 = 1e6;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_column_with_a_non_finite_value_is_an_error_naming_it_and_the_time() {
+        let col = |name: &str, values: Vec<f64>| PlantColumn {
+            name: name.into(),
+            quantity: TIME,
+            values,
+            input: false,
+        };
+        let ok = [col("t", vec![0.0, 1.0]), col("w1_norm", vec![0.5, 0.7])];
+        assert!(all_finite(&ok, "trajectory.csv").is_ok());
+        let bad = [col("t", vec![0.0, 1.0]), col("w1_norm", vec![0.5, f64::INFINITY])];
+        let e = all_finite(&bad, "trajectory.csv").unwrap_err().to_string();
+        assert!(e.contains("column `w1_norm` at t = 1 s"), "{e}");
+    }
 }

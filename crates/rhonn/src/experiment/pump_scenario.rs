@@ -61,7 +61,7 @@ pub fn lower(spec: &PlantScenarioSpec) -> Result<ScenarioSpec> {
                 "none with a [control] section (the controller drives the current)",
             ));
         }
-        check_loop(c, &plant)?;
+        check_loop(c, &plant, spec.duration_s)?;
         plant.t_control_ms = c.period_s * 1e3;
         plant.transport_delay_periods = c.delay_periods;
         out.controller = Some(controller(c)?);
@@ -147,7 +147,7 @@ fn measurement(spec: &PlantScenarioSpec) -> Result<MeasurementSpec> {
 }
 
 /// The loop's input, output and range are the pump's current and pressure.
-fn check_loop(c: &ControlSpec, plant: &PumpParamsSpec) -> Result<()> {
+fn check_loop(c: &ControlSpec, plant: &PumpParamsSpec, duration_s: f64) -> Result<()> {
     if c.input != "current" {
         return Err(invalid(
             "control.input",
@@ -175,6 +175,7 @@ fn check_loop(c: &ControlSpec, plant: &PumpParamsSpec) -> Result<()> {
     if !(c.period_s.is_finite() && c.period_s > 0.0) {
         return Err(invalid("control.period_s", c.period_s, "finite and > 0"));
     }
+    super::plant_run::check_control_periods(duration_s, c.period_s)?;
     if c.dither.is_some() && !matches!(c.controller, LoopSpec::Pi(_)) {
         return Err(invalid(
             "control.dither",
@@ -577,6 +578,11 @@ mod tests {
         };
         let e = err(&|s| s.control.as_mut().unwrap().period_s = -1.0);
         assert!(e.contains("`control.period_s` = -1"), "{e}");
+        let e = err(&|s| s.control.as_mut().unwrap().period_s = 1e-9);
+        assert!(
+            e.contains("`control.period_s` = 1e-9") && e.contains("1,000,000 control periods"),
+            "{e}"
+        );
         let e = err(&|s| s.control.as_mut().unwrap().input_range = [0.0, 1.0]);
         assert!(
             e.contains("`control.input_range`") && e.contains("plant.i_max_a"),

@@ -207,7 +207,7 @@ impl CascadeOnline {
             ));
         }
         let measured_needed = !self.free_run || self.seen < self.set.settle;
-        super::online::check_sample_finite(t, u, &y[..1], measured_needed)?;
+        super::engine::check_sample_finite(t, u, &y[..1], measured_needed)?;
         if let Some(t_last) = self.t_last.filter(|tl| t <= *tl) {
             return Err(invalid(
                 "t",

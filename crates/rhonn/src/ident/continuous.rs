@@ -161,7 +161,7 @@ impl Continuous {
             )),
             // The core refused a value it reads: the first non-finite one is it.
             Err(UpdateError::NotFinite) => {
-                super::online::check_sample_finite(t, u, y, true).map(|()| &self.y_hat[..])
+                super::engine::check_sample_finite(t, u, y, true).map(|()| &self.y_hat[..])
             }
             Err(UpdateError::NotAfter { t_last }) => Err(invalid(
                 "t",

@@ -76,3 +76,26 @@ impl Clone for Box<dyn OnlineEngine> {
         self.box_clone()
     }
 }
+
+/// Refuse a sample whose time, an input, or (when `y_used`: the outputs are read, not in
+/// a frozen model's free run) an output is not finite, naming the first such value
+/// (`t`, `u[i]` or `y[i]`) and the sample's time: the one check every online engine makes.
+pub(super) fn check_sample_finite(t: f64, u: &[f64], y: &[f64], y_used: bool) -> Result<()> {
+    if !t.is_finite() {
+        return Err(crate::Error::Argument(format!(
+            "t = {t} is not allowed: a sample's time must be a finite number of seconds"
+        )));
+    }
+    let ys = if y_used { y } else { &[] };
+    let named = |s: &'static str| move |(i, v): (usize, &f64)| (s, i, *v);
+    let first = u.iter().enumerate().map(named("u"));
+    match first
+        .chain(ys.iter().enumerate().map(named("y")))
+        .find(|(_, _, v)| !v.is_finite())
+    {
+        Some((s, i, v)) => Err(crate::Error::Argument(format!(
+            "{s}[{i}] = {v} (the sample at t = {t} s) is not allowed: every value must be finite"
+        ))),
+        None => Ok(()),
+    }
+}

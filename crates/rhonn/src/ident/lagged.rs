@@ -414,7 +414,7 @@ impl LaggedOnline {
             ));
         }
         let free = self.core.free_run;
-        super::online::check_sample_finite(t, u, y, !free)?;
+        super::engine::check_sample_finite(t, u, y, !free)?;
         if let Some(t_last) = self.core.t_last.filter(|tl| t <= *tl) {
             return Err(invalid(
                 "t",

@@ -84,6 +84,11 @@ impl OnlineModel {
         if self.kind != Self::KIND {
             return Err(invalid("kind", &self.kind, Self::KIND));
         }
+        let dt = self.sample_time_s;
+        if !(dt.is_finite() && (1e-9..=1e9).contains(&dt)) {
+            let allowed = "a number of seconds in [1e-9, 1e9]";
+            return Err(invalid("sample_time_s", crate::metrics::sig(dt, 6), allowed));
+        }
         let (ny, nu) = (self.outputs.len(), self.inputs.len());
         let mut id = OnlineIdentifier::new(&self.model, ny, nu, self.sample_time_s, self.scaling.clone())?;
         let l = id.n_terms();
@@ -148,29 +153,6 @@ struct SeenRange {
     lo: Vec<f64>,
     hi: Vec<f64>,
     margin: f64,
-}
-
-/// Refuse a sample whose time, an input, or (when `y_used`: the outputs are read, not in
-/// a frozen model's free run) an output is not finite, naming the first such value
-/// (`t`, `u[i]` or `y[i]`) and the sample's time: the one check every online engine makes.
-pub(super) fn check_sample_finite(t: f64, u: &[f64], y: &[f64], y_used: bool) -> Result<()> {
-    if !t.is_finite() {
-        return Err(crate::Error::Argument(format!(
-            "t = {t} is not allowed: a sample's time must be a finite number of seconds"
-        )));
-    }
-    let ys = if y_used { y } else { &[] };
-    let named = |s: &'static str| move |(i, v): (usize, &f64)| (s, i, *v);
-    let first = u.iter().enumerate().map(named("u"));
-    match first
-        .chain(ys.iter().enumerate().map(named("y")))
-        .find(|(_, _, v)| !v.is_finite())
-    {
-        Some((s, i, v)) => Err(crate::Error::Argument(format!(
-            "{s}[{i}] = {v} (the sample at t = {t} s) is not allowed: every value must be finite"
-        ))),
-        None => Ok(()),
-    }
 }
 
 /// Per output, the range `[lo, hi]` widened by `margin` of it on each side (an output

@@ -168,13 +168,14 @@ pub fn predict_with(
     let (record, resampled_from_s) = if record.on_grid(m.sample_time_s) {
         (record.clone(), None)
     } else {
-        (record.uniform(m.sample_time_s), Some(dt))
+        (record.uniform(m.sample_time_s, "model.sample_time_s")?, Some(dt))
     };
     if record.len() < need {
         return Err(invalid(
             format!(
-                "{} (samples on the model's {} s grid)",
-                record.source, m.sample_time_s
+                "{} (samples on the grid of the model's model.sample_time_s = {} s)",
+                record.source,
+                crate::metrics::sig(m.sample_time_s, 6)
             ),
             record.len(),
             format!("at least {need} samples for this model"),

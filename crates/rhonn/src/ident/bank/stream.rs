@@ -192,7 +192,7 @@ impl OnlineBank {
                 format!("{} inputs and {} outputs", self.nu, self.ny),
             ));
         }
-        crate::ident::online::check_sample_finite(t, u, y, true)?;
+        crate::ident::engine::check_sample_finite(t, u, y, true)?;
         if let Some(tl) = self.t_last.filter(|tl| t <= *tl) {
             return Err(invalid(
                 "t",
