@@ -201,7 +201,11 @@ where
         .filter(|(s, _)| !s.dashed)
         .chain(colored.iter().filter(|(s, _)| s.dashed));
     for &(s, color) in solid_first {
-        let pts = decimate(&p.t, &s.y, 2000);
+        // Points beyond a clamped axis (+-1e300) are drawn on its edge: plotters' pixel
+        // arithmetic overflows on them (a panic in a debug build, a line drawn elsewhere
+        // in a release one). Within the axes, as every ordinary point is, nothing moves.
+        let in_box = |(t, y): (f64, f64)| (t.clamp(t0, t1), if y.is_finite() { y.clamp(lo, hi) } else { y });
+        let pts: Vec<(f64, f64)> = decimate(&p.t, &s.y, 2000).into_iter().map(in_box).collect();
         all_points.extend(pts.iter().copied().filter(|(_, y)| y.is_finite()));
         let width = if s.dashed { 1 } else { 2 };
         let style = ShapeStyle {
