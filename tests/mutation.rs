@@ -17,6 +17,7 @@ fn hostile_files_get_clear_errors_and_never_a_panic_a_hang_or_a_nan() {
         // Generous: a case takes well under a second; only a hang reaches this.
         timeout: Duration::from_secs(120),
         jobs: 2,
+        sweep: false,
     };
     let report = rhonn_mutate::run(&cfg).unwrap();
     let table = report.table();

@@ -10,7 +10,8 @@
 //! are counted by whether the message names the file and the field, column or line.
 //!
 //! `cargo run --release -p rhonn-mutate -- --bin target/release/rhonn --cases 20000` runs a
-//! long campaign; `tests/mutation.rs` runs the default, short one.
+//! long campaign; `tests/mutation.rs` runs the default, short one; `--sweep` the systematic
+//! one ([`mutation::sweep`]: every numeric value set to each extreme in turn, run by CI).
 
 pub mod corpus;
 pub mod csv_mutation;
@@ -44,6 +45,9 @@ pub struct Config {
     pub timeout: Duration,
     /// Cases run at once.
     pub jobs: usize,
+    /// Instead of `cases` random mutants, every numeric value of every TOML and JSON
+    /// surface set to each extreme in turn ([`mutation::sweep`]).
+    pub sweep: bool,
 }
 
 /// What one case did.
@@ -61,17 +65,38 @@ pub enum Verdict {
 pub fn run(cfg: &Config) -> anyhow::Result<Report> {
     let base = cfg.work.join("base");
     let surfaces = corpus::prepare(&cfg.bin, &base)?;
+    // The sweep's cases, made up front: (surface, mutant).
+    let swept: Vec<(usize, mutation::Mutant)> = match cfg.sweep {
+        true => (surfaces.iter().enumerate())
+            .flat_map(|(k, s)| {
+                mutation::sweep(&s.base, s.format)
+                    .into_iter()
+                    .map(move |m| (k, m))
+            })
+            .collect(),
+        false => Vec::new(),
+    };
+    let total = if cfg.sweep { swept.len() } else { cfg.cases };
     let next = AtomicUsize::new(0);
     let report = Mutex::new(Report::new(&surfaces));
     std::thread::scope(|scope| {
         for _ in 0..cfg.jobs.max(1) {
             scope.spawn(|| loop {
                 let i = next.fetch_add(1, Ordering::SeqCst);
-                if i >= cfg.cases {
+                if i >= total {
                     break;
                 }
-                let s = &surfaces[i % surfaces.len()];
-                let (what, stderr, verdict) = run_case(cfg, s, i);
+                let (s, m) = match cfg.sweep {
+                    true => (&surfaces[swept[i].0], swept[i].1.clone()),
+                    false => {
+                        let s = &surfaces[i % surfaces.len()];
+                        let mut rng = ChaCha8Rng::seed_from_u64(
+                            cfg.seed ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15),
+                        );
+                        (s, mutation::mutate(&s.base, s.format, &mut rng))
+                    }
+                };
+                let (what, stderr, verdict) = run_mutant(cfg, s, i, m);
                 report.lock().unwrap().add(i, s, what, &stderr, verdict);
             });
         }
@@ -79,10 +104,15 @@ pub fn run(cfg: &Config) -> anyhow::Result<Report> {
     Ok(report.into_inner().unwrap())
 }
 
-/// Run case `i` on surface `s`; its folder is removed when it passes.
+/// Run case `i` on surface `s`: its seeded random mutant; its folder is removed when it
+/// passes.
 pub fn run_case(cfg: &Config, s: &Surface, i: usize) -> (String, String, Verdict) {
     let mut rng = ChaCha8Rng::seed_from_u64(cfg.seed ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-    let m = mutation::mutate(&s.base, s.format, &mut rng);
+    run_mutant(cfg, s, i, mutation::mutate(&s.base, s.format, &mut rng))
+}
+
+/// Run mutant `m` of surface `s` as case `i`; its folder is removed when it passes.
+pub fn run_mutant(cfg: &Config, s: &Surface, i: usize, m: mutation::Mutant) -> (String, String, Verdict) {
     let dir = cfg.work.join(format!("case-{i:06}"));
     let _ = std::fs::remove_dir_all(&dir);
     if let Err(e) = std::fs::create_dir_all(&dir) {

@@ -29,6 +29,11 @@ struct Args {
     /// Also write the report as JSON to this file.
     #[arg(long)]
     json: Option<PathBuf>,
+    /// Instead of --cases random mutants: every numeric value of every scenario, spec and
+    /// model.json set to each extreme in turn (zero, -1, 1e-9, 1e9, +-1.7e308, 5e-324,
+    /// and in TOML infinity and NaN).
+    #[arg(long)]
+    sweep: bool,
 }
 
 fn main() -> Result<()> {
@@ -47,6 +52,7 @@ fn main() -> Result<()> {
         seed: a.seed,
         timeout: Duration::from_secs(a.timeout_s),
         jobs: a.jobs,
+        sweep: a.sweep,
     };
     let report = rhonn_mutate::run(&cfg)?;
     print!("{}", report.table());

@@ -391,3 +391,109 @@ fn mutate_json(text: &str, rng: &mut ChaCha8Rng) -> Mutant {
         names,
     }
 }
+
+/// Every numeric value of a TOML or JSON text replaced, one at a time, by each extreme a
+/// user's file may hold (zero, negative, tiny, huge, the largest float, the smallest
+/// subnormal; TOML also infinity and NaN): the systematic sweep (`--sweep`), where the
+/// random cases draw one key and one value. Array elements past the second are left out
+/// (a model's weights would otherwise make thousands of cases); a CSV gives none.
+pub fn sweep(text: &str, format: Format) -> Vec<Mutant> {
+    const FLOATS: [f64; 9] = [
+        0.0,
+        -1.0,
+        1e-9,
+        1e9,
+        1.7e308,
+        -1.7e308,
+        5e-324,
+        f64::INFINITY,
+        f64::NAN,
+    ];
+    const INTS: [i64; 5] = [0, -1, 1_000_000_000, i64::MAX, i64::MIN];
+    let short = |p: &Vec<Seg>| p.iter().all(|s| !matches!(s, Seg::Index(i) if *i >= 2));
+    let mut out = Vec::new();
+    match format {
+        Format::Toml => {
+            let Ok(doc) = text.parse::<toml::Table>().map(toml::Value::Table) else {
+                return out;
+            };
+            let mut paths = Vec::new();
+            toml_leaves(&doc, &mut Vec::new(), &mut paths);
+            for p in paths.iter().filter(|p| short(p)) {
+                let values: Vec<toml::Value> = match toml_at(&mut doc.clone(), p) {
+                    Some(toml::Value::Float(_)) => FLOATS.iter().map(|v| toml::Value::Float(*v)).collect(),
+                    Some(toml::Value::Integer(_)) => INTS.iter().map(|v| toml::Value::Integer(*v)).collect(),
+                    _ => continue,
+                };
+                for v in values {
+                    let mut d = doc.clone();
+                    *toml_at(&mut d, p).unwrap() = v.clone();
+                    if let Ok(t) = toml::to_string(&d) {
+                        let what = format!("{} = {v}", path_text(p));
+                        out.push(Mutant {
+                            text: t,
+                            what,
+                            names: path_names(p),
+                        });
+                    }
+                }
+            }
+        }
+        Format::Json => {
+            let Ok(doc) = serde_json::from_str::<serde_json::Value>(text) else {
+                return out;
+            };
+            let mut paths = Vec::new();
+            json_leaves(&doc, &mut Vec::new(), &mut paths);
+            for p in paths.iter().filter(|p| short(p)) {
+                if !json_at(&mut doc.clone(), p).is_some_and(|v| v.is_number()) {
+                    continue;
+                }
+                // JSON holds no infinity or NaN (the random cases write NaN as text).
+                for v in FLOATS.iter().filter(|v| v.is_finite()) {
+                    let mut d = doc.clone();
+                    *json_at(&mut d, p).unwrap() = serde_json::json!(v);
+                    let what = format!("{} = {v:e}", path_text(p));
+                    let text = serde_json::to_string_pretty(&d).unwrap();
+                    out.push(Mutant {
+                        text,
+                        what,
+                        names: path_names(p),
+                    });
+                }
+            }
+        }
+        Format::Csv => {}
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_sweep_sets_each_number_to_each_extreme_and_leaves_long_arrays_short() {
+        let toml = "a = 1.5\nn = 3\nname = \"x\"\n[s]\nv = [1.0, 2.0, 3.0]\n";
+        let m = sweep(toml, Format::Toml);
+        // a: 9 floats; n: 5 integers; v[0], v[1]: 9 each; v[2] and the string: none.
+        assert_eq!(m.len(), 9 + 5 + 18);
+        assert!(m
+            .iter()
+            .any(|m| m.what == "a = 1.7e308" || m.what.starts_with("a = 170000")));
+        assert!(m
+            .iter()
+            .any(|m| m.what == "s.v[1] = nan" && m.names.contains(&"v".to_string())));
+        assert!(m
+            .iter()
+            .all(|m| !m.what.starts_with("s.v[2]") && !m.what.starts_with("name")));
+        let json = r#"{"w": [[1.0, 2.0, 3.0]], "dt": 0.1, "kind": "x"}"#;
+        let m = sweep(json, Format::Json);
+        // JSON holds no infinity or NaN: 7 finite extremes for dt, w[0][0] and w[0][1].
+        assert_eq!(m.len(), 3 * 7);
+        assert!(m
+            .iter()
+            .all(|m| serde_json::from_str::<serde_json::Value>(&m.text).is_ok()));
+        assert!(sweep("t,u\n0,1\n", Format::Csv).is_empty());
+    }
+}
