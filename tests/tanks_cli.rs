@@ -297,5 +297,25 @@ fn bad_tanks_scenarios_name_the_field() {
         assert_eq!(o.status.code(), Some(2), "{to}");
         assert!(stderr(&o).contains(want), "{to}: {}", stderr(&o));
         assert_eq!(files_in(d.path()), ["s.toml"], "{to}");
-    }
+    } // Found by the mutation sweep: a validation of 1e9 s ran until the solver's step
+      // budget failed it, naming no setting.
+    let ident = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/tanks-identify.toml"
+    ))
+    .unwrap();
+    let long = ident.replace(
+        "[validation]\nduration_s = 3000.0",
+        "[validation]\nduration_s = 1e9",
+    );
+    assert_ne!(long, ident);
+    std::fs::write(d.path().join("s.toml"), long).unwrap();
+    let o = rhonn(d.path(), &["run", "s.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("`validation.duration_s` = 1000000000 is not allowed"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(files_in(d.path()), ["s.toml"]);
 }

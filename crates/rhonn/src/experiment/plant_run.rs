@@ -572,8 +572,16 @@ fn run_identification<P: Plant>(
     )?;
     let validation = match &spec.validation {
         Some(v) => {
-            if !(v.duration_s.is_finite() && v.duration_s > 0.0) {
-                return Err(invalid("validation.duration_s", v.duration_s, "finite and > 0"));
+            // As many output samples as the run may hold (check_times' bound).
+            if !(v.duration_s.is_finite()
+                && v.duration_s > 0.0
+                && v.duration_s / spec.output_interval_s <= 1e7)
+            {
+                return Err(invalid(
+                    "validation.duration_s",
+                    v.duration_s,
+                    "finite, > 0 and at most 10,000,000 output intervals (output_interval_s)",
+                ));
             }
             let p = drive(plant.clone(), &v.input, "validation.input")?;
             Some(identify(

@@ -578,6 +578,13 @@ mod tests {
         };
         let e = err(&|s| s.control.as_mut().unwrap().period_s = -1.0);
         assert!(e.contains("`control.period_s` = -1"), "{e}");
+        let e = err(&|s| {
+            s.solver.get_or_insert_with(Default::default).max_step_ms = Some(1e-9);
+        });
+        assert!(
+            e.contains("`solver.max_step_ms` = 1e-9") && e.contains("10,000,000 steps"),
+            "{e}"
+        );
         let e = err(&|s| s.control.as_mut().unwrap().period_s = 1e-9);
         assert!(
             e.contains("`control.period_s` = 1e-9") && e.contains("1,000,000 control periods"),

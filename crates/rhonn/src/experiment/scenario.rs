@@ -574,11 +574,17 @@ impl ScenarioSpec {
                 "a number > 0 (m)",
             ));
         }
-        if !(solver.max_step_s.is_finite() && solver.max_step_s > 0.0) {
+        // At most 10,000,000 steps of the largest size over the run: a smaller bound ran
+        // until the solver's step budget failed it, naming no setting.
+        let min_step_s = self.duration_s / 1e7;
+        if !(solver.max_step_s.is_finite() && solver.max_step_s >= min_step_s) {
             return Err(invalid(
                 "solver.max_step_ms",
-                solver.max_step_s / S_PER_MS,
-                "a number > 0 (ms)",
+                crate::metrics::sig(solver.max_step_s / S_PER_MS, 6),
+                format!(
+                    "a number of ms of at least {} (duration_s / 10,000,000 steps)",
+                    crate::metrics::sig(min_step_s / S_PER_MS, 3)
+                ),
             ));
         }
         Ok(solver)

@@ -54,7 +54,14 @@ impl PiecewiseLinear {
                 if j == 0 || j >= n || t[j] == t[j - 1] {
                     0.0
                 } else {
-                    (v[j] - v[j - 1]) / (t[j] - t[j - 1])
+                    // A ramp too short for its slope to be a number (5e-324 s) is a step
+                    // at its end: its slope would make the signal NaN.
+                    let s = (v[j] - v[j - 1]) / (t[j] - t[j - 1]);
+                    if s.is_finite() {
+                        s
+                    } else {
+                        0.0
+                    }
                 }
             })
             .collect();
@@ -281,6 +288,18 @@ impl Signal {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_ramp_too_short_for_its_slope_is_a_step_not_nan() {
+        // Found by the mutation sweep: an input ramp of 5e-324 s made the run's input NaN.
+        let p = PiecewiseLinear::new(vec![(0.0, 1.0), (5e-324, 3.0), (2.0, 3.0)]);
+        let s = Signal::piecewise(p, f64::NEG_INFINITY, f64::INFINITY);
+        for t in [0.0, 5e-324, 1e-300, 1.0, 3.0] {
+            assert!(s.eval(t).is_finite(), "t = {t}: {}", s.eval(t));
+        }
+        assert_eq!(s.eval(0.0), 1.0);
+        assert_eq!(s.eval(1.0), 3.0);
+    }
 
     #[test]
     fn piecewise_linear_segments_jumps_and_breakpoints() {
