@@ -260,6 +260,14 @@ impl Record {
                 "u has {n} rows and y {ny}: give one row per sample in both"
             )));
         }
+        let span = n.saturating_sub(1) as f64 * dt;
+        if !span.is_finite() {
+            return Err(arg(format!(
+                "dt = {} is not allowed: the last of {n} samples, at {} x dt, is not a finite time; give the sample time in seconds",
+                crate::metrics::sig(dt, 6),
+                n - 1
+            )));
+        }
         Ok(Record {
             source: source.to_string(),
             t: (0..n).map(|k| k as f64 * dt).collect(),
@@ -343,6 +351,19 @@ mod tests {
             assert_eq!(u.inputs[0][k], k as f64, "input at grid point {k}");
             assert!((u.outputs[0][k] - 5.0 * k as f64).abs() < 1e-6, "output at {k}");
         }
+    }
+
+    #[test]
+    fn a_sample_time_whose_last_sample_is_not_a_finite_time_is_refused() {
+        let cols = || vec![vec![0.0, 1.0, 2.0]];
+        let e = Record::sampled("x", 1.7e308, cols(), cols())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("dt = 1.7e308 is not allowed") && e.contains("2 x dt"),
+            "{e}"
+        );
+        assert!(Record::sampled("x", 1e300, cols(), cols()).is_ok());
     }
 
     #[test]
