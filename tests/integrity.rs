@@ -425,3 +425,101 @@ fn a_missing_row_and_an_infinite_bias_are_named_as_what_they_are() {
         stderr(&o)
     );
 }
+
+/// Arguments at their extremes, found by hand after the mutation sweep (which mutates files,
+/// not arguments): a steps-ahead past every record panicked `predict`, `identify` and the
+/// selection (an index overflow); 100,000 campaign threads ran past a minute. Each is now a
+/// refusal naming the argument, exit 2, nothing written.
+#[test]
+fn arguments_at_their_extremes_are_refused_not_a_panic_or_a_hang() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let (est, val) = (data("estimation.csv"), data("validation.csv"));
+    let huge = u64::MAX.to_string();
+    let fit = rhonn(
+        p,
+        &[
+            "fit",
+            "--data",
+            s(&est),
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--model",
+            s(&model("cascaded-tanks.toml")),
+            "--out",
+            "m",
+        ],
+    );
+    assert!(fit.status.success(), "{}", stderr(&fit));
+    let cases: [(Vec<&str>, &str); 4] = [
+        (
+            vec![
+                "predict",
+                "--model",
+                "m/model.json",
+                "--data",
+                s(&val),
+                "--steps-ahead",
+                &huge,
+                "--out",
+                "o",
+            ],
+            "at least 18446744073709551615 are needed",
+        ),
+        (
+            vec![
+                "identify",
+                "--data",
+                s(&est),
+                "--inputs",
+                "u",
+                "--outputs",
+                "y",
+                "--validate",
+                s(&val),
+                "--steps-ahead",
+                &huge,
+                "--out",
+                "o",
+            ],
+            "`steps_ahead` = 18446744073709551615 is not allowed",
+        ),
+        (
+            vec![
+                "fit",
+                "--data",
+                s(&est),
+                "--inputs",
+                "u",
+                "--outputs",
+                "y",
+                "--select-steps-ahead",
+                &huge,
+                "--out",
+                "o",
+            ],
+            "`--select-steps-ahead` = 18446744073709551615 is not allowed",
+        ),
+        (
+            vec![
+                "campaign",
+                "tanks-control",
+                "--runs",
+                "3",
+                "--threads",
+                "100000",
+                "--out",
+                "o",
+            ],
+            "threads = 100000 is not allowed: give at most 1024",
+        ),
+    ];
+    for (args, want) in cases {
+        let o = rhonn(p, &args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{args:?}: {}", stderr(&o));
+        assert!(!p.join("o").exists(), "{args:?} wrote its folder");
+    }
+}

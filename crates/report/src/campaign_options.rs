@@ -50,6 +50,9 @@ pub struct CampaignOutcome {
     pub notes: Vec<String>,
 }
 
+/// The most worker threads a campaign may ask for.
+pub const MAX_WORKER_THREADS: usize = 1024;
+
 /// Run `f` on `threads` worker threads (None: every core, rayon's global pool), as
 /// `rhonn campaign --threads` and Python's `rhonn.campaign(threads=...)` do; `Some(0)` is
 /// refused with `zero`, the door's message naming its argument.
@@ -60,6 +63,12 @@ pub fn on_threads<T: Send, E: From<crate::Error> + Send>(
 ) -> Result<T, E> {
     match threads {
         Some(0) => Err(crate::Error::Input(zero.to_string()).into()),
+        // 100,000 threads took longer to start than the campaign to run (found by hand).
+        Some(n) if n > MAX_WORKER_THREADS => Err(crate::Error::Input(format!(
+            "threads = {n} is not allowed: give at most {MAX_WORKER_THREADS} worker threads (this machine has {} cores)",
+            std::thread::available_parallelism().map_or(1, |c| c.get())
+        ))
+        .into()),
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()

@@ -106,9 +106,10 @@ pub fn read_data_regridded(
         changes.extend(change);
         if u.len() < min_rows {
             return Err(Error::Input(format!(
-                "{}: {} samples on the grid of {dt} s, the model needs at least {min_rows}: give a shorter --resample",
+                "{}: {} samples on the grid of {} s, the model needs at least {min_rows}: give a shorter --resample",
                 p.display(),
-                u.len()
+                u.len(),
+                rhonn::metrics::sig(dt, 6)
             )));
         }
         recs.push(u);

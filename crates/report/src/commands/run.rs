@@ -91,7 +91,8 @@ pub fn bench(
 ) -> Result<Outcome> {
     if !(seconds.is_finite() && seconds > 0.0 && seconds <= 3600.0) {
         return Err(Error::Input(format!(
-            "--seconds {seconds} is not allowed: give a time in (0, 3600] s"
+            "--seconds {} is not allowed: give a time in (0, 3600] s",
+            rhonn::metrics::sig(seconds, 6)
         )));
     }
     // The comparison file is read before the timings, so a bad one fails at once.

@@ -326,6 +326,15 @@ pub fn predict_records(
     records: &[Record],
     horizon: Option<usize>,
 ) -> Result<Vec<Vec<Vec<f64>>>> {
+    for r in records {
+        if let Some(k) = horizon.filter(|&k| k == 0 || k >= r.len()) {
+            return Err(crate::error::invalid(
+                "steps_ahead",
+                k,
+                format!("at least 1 and fewer than {}'s {} samples", r.source, r.len()),
+            ));
+        }
+    }
     id.freeze(true);
     let (ny, nu) = (records[0].outputs.len(), records[0].inputs.len());
     let (mut u, mut y) = (vec![0.0; nu], vec![0.0; ny]);

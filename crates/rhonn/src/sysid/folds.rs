@@ -34,7 +34,12 @@ pub(super) fn held_out_error(m: &Model, test: &[Record], steps: Option<usize>) -
     let mut total = 0.0;
     let mut count = 0.0;
     for r in test {
-        if r.len() < m.spec.max_lag() + steps.unwrap_or(1) + 2 {
+        if r.len()
+            < m.spec
+                .max_lag()
+                .saturating_add(steps.unwrap_or(1))
+                .saturating_add(2)
+        {
             continue;
         }
         let (pred, first) = m.predict(r, steps)?;

@@ -118,7 +118,10 @@ impl Prediction {
 
 /// Samples a record needs for `fitted` to predict `steps_ahead` (None: free run).
 pub fn samples_needed(fitted: &FittedModel, steps_ahead: Option<usize>) -> usize {
-    fitted.max_lag() + steps_ahead.unwrap_or(1) + 1
+    fitted
+        .max_lag()
+        .saturating_add(steps_ahead.unwrap_or(1))
+        .saturating_add(1)
 }
 
 /// Predict every output of `record` with `fitted`, free run (`steps_ahead` None) or K
@@ -160,6 +163,13 @@ pub fn predict_with(
             "steps_ahead",
             0,
             "K >= 1 steps ahead, or none for a free run",
+        ));
+    }
+    if let Some(k) = steps_ahead.filter(|&k| k >= record.len()) {
+        return Err(invalid(
+            "steps_ahead",
+            k,
+            format!("fewer steps than {}'s {} samples", record.source, record.len()),
         ));
     }
     let m = &fitted.model;

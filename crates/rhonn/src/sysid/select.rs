@@ -284,6 +284,14 @@ pub fn select(
             "a number of seconds > 0",
         ));
     }
+    let shortest = records.iter().map(Record::len).min().unwrap_or(0);
+    if let Some(k) = opts.steps_ahead.filter(|&k| k >= shortest) {
+        return Err(invalid(
+            "--select-steps-ahead",
+            k,
+            format!("fewer steps than the shortest record's {shortest} samples"),
+        ));
+    }
     let list = candidates(outputs.len(), opts.cascade)
         .into_iter()
         .filter(|(_, s)| s.kind != Kind::WienerHammerstein || inputs.len() == 1)
