@@ -523,3 +523,49 @@ fn arguments_at_their_extremes_are_refused_not_a_panic_or_a_hang() {
         assert!(!p.join("o").exists(), "{args:?} wrote its folder");
     }
 }
+
+/// An endless input (found by hand: `rhonn run /dev/zero` and `rhonn fit --data /dev/zero`
+/// read until the machine killed them): refused with the file named, exit 2.
+#[cfg(unix)]
+#[test]
+fn an_endless_input_file_is_refused_not_read_for_ever() {
+    let d = tempfile::tempdir().unwrap();
+    let cases: [(&[&str], &str); 3] = [
+        (
+            &["run", "/dev/zero", "--out", "o"],
+            "cannot read /dev/zero: more than 256 MiB",
+        ),
+        (
+            &[
+                "fit",
+                "--data",
+                "/dev/zero",
+                "--inputs",
+                "u",
+                "--outputs",
+                "y",
+                "--out",
+                "o",
+            ],
+            "/dev/zero: cannot read: a line longer than 1 MiB",
+        ),
+        (
+            &[
+                "predict",
+                "--model",
+                "/dev/zero",
+                "--data",
+                "/dev/zero",
+                "--out",
+                "o",
+            ],
+            "cannot read /dev/zero: more than 256 MiB",
+        ),
+    ];
+    for (args, want) in cases {
+        let o = rhonn(d.path(), args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{args:?}: {}", stderr(&o));
+        assert!(!d.path().join("o").exists());
+    }
+}

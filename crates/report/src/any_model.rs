@@ -27,7 +27,7 @@ pub fn file_error(e: ModelFileError) -> Error {
 
 /// Read model.json at `path`.
 pub fn load(path: &Path) -> Result<AnyModel> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let text = rhonn::error::read_text(path).map_err(|e| {
         Error::Rhonn(rhonn::Error::Io {
             path: path.display().to_string(),
             message: rhonn::error::path_problem(path, &e),

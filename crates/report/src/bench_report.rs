@@ -25,7 +25,7 @@ pub struct Compared {
 
 /// Read a comparison file (a JSON list of [`Compared`]); errors name the file.
 pub fn read_compared(path: &Path) -> Result<Vec<Compared>> {
-    let text = std::fs::read_to_string(path).map_err(|e| crate::Error::File {
+    let text = rhonn::error::read_text(path).map_err(|e| crate::Error::File {
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;

@@ -32,7 +32,7 @@ pub fn available(dir: &Path) -> Result<Vec<String>> {
 pub fn load(dir: &Path, name: &str) -> Result<Benchmark> {
     let folder = dir.join(name);
     let toml_path = folder.join("benchmark.toml");
-    let text = std::fs::read_to_string(&toml_path).map_err(|e| {
+    let text = rhonn::error::read_text(&toml_path).map_err(|e| {
         let known = available(dir).map(|v| v.join(", ")).unwrap_or_default();
         Error::Input(format!(
             "no benchmark `{name}`: cannot read {} ({}); the benchmarks in {}: {known}",

@@ -92,14 +92,11 @@ pub fn read_record(
     if path.is_dir() {
         return Err(unreadable(&"it is a directory, not a file"));
     }
+    let f = std::fs::File::open(path).map_err(|e| unreadable(&rhonn::error::path_problem(path, &e)))?;
     let mut rd = csv::ReaderBuilder::new()
         .has_headers(true)
         .trim(csv::Trim::All)
-        .from_path(path)
-        .map_err(|e| match e.kind() {
-            csv::ErrorKind::Io(io) => unreadable(&rhonn::error::path_problem(path, io)),
-            _ => unreadable(&e),
-        })?;
+        .from_reader(rhonn::error::LineLimited::new(f));
     let header: Vec<String> = rd
         .headers()
         .map_err(|e| unreadable(&e))?

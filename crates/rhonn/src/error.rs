@@ -180,6 +180,69 @@ pub fn path_problem(path: &std::path::Path, e: &std::io::Error) -> String {
     }
 }
 
+/// The most bytes of a scenario, spec or model file read ([`read_text`]).
+pub const MAX_TEXT_BYTES: u64 = 256 << 20;
+/// The longest line of a recording read ([`LineLimited`]).
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// A user's text file (a scenario, spec or model.json), at most [`MAX_TEXT_BYTES`]:
+/// a larger one, or an endless stream such as `/dev/zero`, is an error instead of filling
+/// the memory (found by hand: `rhonn run /dev/zero` ran until it was killed). Pipes
+/// (`<(zcat f)`) are read as files are.
+pub fn read_text(path: &std::path::Path) -> std::io::Result<String> {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)?
+        .take(MAX_TEXT_BYTES + 1)
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > MAX_TEXT_BYTES {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "more than 256 MiB: not a scenario, spec or model file",
+        ));
+    }
+    String::from_utf8(bytes).map_err(|_| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "stream did not contain valid UTF-8",
+        )
+    })
+}
+
+/// A reader that fails on a line longer than [`MAX_LINE_BYTES`]: a recording read
+/// through it is refused, not read into memory for ever, when it has no line ends (a
+/// binary file, `/dev/zero`; found by hand).
+pub struct LineLimited<R> {
+    inner: R,
+    since_newline: usize,
+}
+
+impl<R> LineLimited<R> {
+    /// Wrap `inner`.
+    pub fn new(inner: R) -> Self {
+        LineLimited {
+            inner,
+            since_newline: 0,
+        }
+    }
+}
+
+impl<R: std::io::Read> std::io::Read for LineLimited<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        for &b in &buf[..n] {
+            self.since_newline = if b == b'\n' { 0 } else { self.since_newline + 1 };
+            if self.since_newline > MAX_LINE_BYTES {
+                return Err(std::io::Error::new(
+                    std::io::ErrorKind::InvalidData,
+                    "a line longer than 1 MiB: not a CSV recording",
+                ));
+            }
+        }
+        Ok(n)
+    }
+}
+
 /// A number written out in more than 20 characters (`1e300` prints 301 digits) with 10
 /// significant digits; any other value as it is.
 fn readable(value: String) -> String {
@@ -215,6 +278,25 @@ mod path_tests {
         );
         let pd = Error::from(ErrorKind::PermissionDenied);
         assert!(path_problem(&d.path().join("x"), &pd).starts_with("permission denied"));
+    }
+
+    #[test]
+    fn a_line_longer_than_the_limit_fails_the_read_and_short_lines_pass() {
+        use std::io::Read;
+        let long = vec![b'0'; super::MAX_LINE_BYTES + 1];
+        let mut out = Vec::new();
+        let e = super::LineLimited::new(&long[..])
+            .read_to_end(&mut out)
+            .unwrap_err();
+        assert!(e.to_string().contains("longer than 1 MiB"), "{e}");
+        let mut ok = Vec::new();
+        for _ in 0..3 {
+            ok.extend(vec![b'1'; super::MAX_LINE_BYTES]);
+            ok.push(b'\n');
+        }
+        let mut out = Vec::new();
+        super::LineLimited::new(&ok[..]).read_to_end(&mut out).unwrap();
+        assert_eq!(out, ok);
     }
 
     #[test]

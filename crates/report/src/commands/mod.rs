@@ -171,7 +171,7 @@ pub(crate) fn ratio(v: f64) -> String {
 
 /// A file's text, or an error naming the file and what the system said.
 pub(crate) fn read_text(p: &Path) -> crate::Result<String> {
-    std::fs::read_to_string(p).map_err(|e| {
+    rhonn::error::read_text(p).map_err(|e| {
         crate::Error::Input(format!(
             "cannot read {}: {}",
             p.display(),

@@ -144,7 +144,7 @@ fn text_of(name_or_path: &str) -> Result<String> {
     }
     let path = Path::new(name_or_path);
     if path.is_file() || looks_like_path || path.exists() {
-        return std::fs::read_to_string(path).map_err(|e| Error::Io {
+        return crate::error::read_text(path).map_err(|e| Error::Io {
             path: name_or_path.to_string(),
             message: crate::error::path_problem(path, &e),
         });
