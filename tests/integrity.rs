@@ -569,3 +569,35 @@ fn an_endless_input_file_is_refused_not_read_for_ever() {
         assert!(!d.path().join("o").exists());
     }
 }
+
+/// A column named twice (`--inputs u,u` fitted a model of two identical inputs without a
+/// word): refused by `fit` and `identify`, naming it.
+#[test]
+fn a_column_named_twice_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let est = data("estimation.csv");
+    for cmd in ["fit", "identify"] {
+        for (ins, outs, want) in [
+            ("u,u", "y", "inputs name `u` twice"),
+            ("u", "y,y", "outputs name `y` twice"),
+        ] {
+            let o = rhonn(
+                d.path(),
+                &[
+                    cmd,
+                    "--data",
+                    s(&est),
+                    "--inputs",
+                    ins,
+                    "--outputs",
+                    outs,
+                    "--out",
+                    "o",
+                ],
+            );
+            assert_eq!(o.status.code(), Some(2), "{cmd} {ins} {outs}: {}", stderr(&o));
+            assert!(stderr(&o).contains(want), "{cmd}: {}", stderr(&o));
+            assert!(!d.path().join("o").exists());
+        }
+    }
+}

@@ -51,6 +51,23 @@ pub struct Record {
     pub outputs: Vec<Vec<f64>>,
 }
 
+/// Refuse a signal named twice among the inputs or among the outputs (`--inputs u,u`
+/// was a model of two identical inputs, without a word). An input that is also an output
+/// stays a warning of the fit.
+pub fn check_names(inputs: &[String], outputs: &[String]) -> Result<()> {
+    for (what, names) in [("inputs", inputs), ("outputs", outputs)] {
+        for (k, n) in names.iter().enumerate() {
+            if names[..k].contains(n) {
+                return Err(crate::Error::Argument(format!(
+                    "{what} name `{n}` twice ({}): give each column once",
+                    names.join(",")
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The most samples [`Record::regrid`] puts on a grid (beyond a record's own rows).
 pub const MAX_GRID_SAMPLES: f64 = 1e7;
 
@@ -364,6 +381,19 @@ mod tests {
             "{e}"
         );
         assert!(Record::sampled("x", 1e300, cols(), cols()).is_ok());
+    }
+
+    #[test]
+    fn a_signal_named_twice_is_refused() {
+        let v = |s: &[&str]| s.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        assert!(check_names(&v(&["u", "v"]), &v(&["y"])).is_ok());
+        assert!(check_names(&v(&["u"]), &v(&["u"])).is_ok());
+        let e = check_names(&v(&["u", "u"]), &v(&["y"])).unwrap_err().to_string();
+        assert!(e.contains("inputs name `u` twice (u,u)"), "{e}");
+        let e = check_names(&v(&["u"]), &v(&["y", "z", "y"]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("outputs name `y` twice"), "{e}");
     }
 
     #[test]

@@ -84,6 +84,7 @@ pub fn read_data_regridded(
     min_rows: usize,
     resample_s: Option<f64>,
 ) -> Result<(Vec<Record>, Vec<rhonn::data::Regrid>)> {
+    rhonn::data::check_names(inputs, outputs)?;
     if let Some(dt) = resample_s {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(Error::Input(format!(

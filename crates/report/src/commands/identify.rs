@@ -126,6 +126,7 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
 
 /// The records of `paths`, with `a`'s columns.
 fn read_all(a: &IdentifyRequest, paths: &[PathBuf]) -> Result<Vec<rhonn::data::Record>> {
+    rhonn::data::check_names(&a.inputs, &a.outputs)?;
     paths
         .iter()
         .map(|p| crate::read_record(p, &a.inputs, &a.outputs, 2).map_err(Error::from))

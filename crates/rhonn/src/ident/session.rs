@@ -116,6 +116,7 @@ impl OnlineSession {
         if outputs.is_empty() {
             return Err(argument("outputs is empty: name at least one output"));
         }
+        crate::data::check_names(&inputs, &outputs)?;
         if !(dt.is_finite() && dt > 0.0) {
             return Err(argument(format!(
                 "dt = {dt} is not allowed: give the sample time in seconds, finite and > 0"

@@ -172,6 +172,7 @@ pub fn fit_records(
     hint: &str,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<FitRun> {
+    crate::data::check_names(inputs, outputs)?;
     let needed = match &structure {
         FitStructure::Given(specs) => specs.iter().map(|s| s.max_lag()).max().unwrap_or(0) + 2,
         FitStructure::Select(opts) => super::select::min_samples(outputs.len(), opts),
