@@ -159,10 +159,15 @@ impl Continuous {
                     self.scaling.y_scale.len()
                 ),
             )),
-            // The core refused a value it reads: the first non-finite one is it.
-            Err(UpdateError::NotFinite) => {
-                super::engine::check_sample_finite(t, u, y, true).map(|()| &self.y_hat[..])
-            }
+            // The core refused a value it reads: the first non-finite one is it (a refusal
+            // stays one even if the check named none).
+            Err(UpdateError::NotFinite) => Err(super::engine::check_sample_finite(t, u, y, true)
+                .err()
+                .unwrap_or_else(|| {
+                    Error::Argument(format!(
+                        "the sample at t = {t} s holds a value that is not finite"
+                    ))
+                })),
             Err(UpdateError::NotAfter { t_last }) => Err(invalid(
                 "t",
                 t,
