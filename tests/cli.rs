@@ -473,6 +473,15 @@ fn a_campaign_is_the_same_on_one_thread_sharded_and_merged() {
         "{}",
         stderr(&o)
     );
+    // More shards than runs: a shard would run nothing, so it is refused before a folder.
+    let few = ["campaign", "tanks-control", "--runs", "3", "--seed", "1"];
+    let o = rhonn(
+        d.path(),
+        &[&few[..], &["--shard", "2/10", "--out", "empty"]].concat(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("give M at most 3"), "{}", stderr(&o));
+    assert!(!d.path().join("empty").exists());
 }
 
 #[test]

@@ -259,7 +259,8 @@ def fit(
             raise ValueError(f"time_budget_s = {time_budget_s} is not allowed: give a finite number of seconds > 0")
         time_budget_s = float(time_budget_s)
     text, source = _spec_text(model)
-    return Model(_rhonn.fit(us, ys, float(dt), ins, outs, text, source, select == "auto", k, time_budget_s))
+    spec = None if text is None else (text, source)
+    return Model(_rhonn.fit(us, ys, float(dt), ins, outs, spec, (k, time_budget_s) if select == "auto" else None))
 
 
 def _optional_at_least_one(value, arg: str, letter: str, or_none: str) -> Optional[int]:

@@ -25,9 +25,3 @@ pub fn rhonn_err(e: rhonn::Error) -> PyErr {
 pub fn report_err(e: rhonn_report::Error) -> PyErr {
     exception(e.kind(), e.message())
 }
-
-/// JSON text of a summary (Python parses it into a dict).
-pub fn json(v: &impl serde::Serialize) -> pyo3::PyResult<String> {
-    serde_json::to_string(v)
-        .map_err(|e| PyRuntimeError::new_err(format!("cannot write the summary as JSON: {e}")))
-}

@@ -46,9 +46,11 @@ fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>
 }
 
 /// Fit a model to recordings given as arrays (`us[k]`: (n, m), `ys[k]`: (n, p), one pair
-/// per recording, sampled every `dt` s).
+/// per recording, sampled every `dt` s). `spec`: a model spec's TOML text and what names
+/// it; `select`: choose the structure by cross-validation, judged `select_steps_ahead`
+/// samples ahead within `time_budget_s`.
 #[pyfunction]
-#[pyo3(signature = (us, ys, dt, inputs, outputs, spec_toml=None, spec_source="the model spec", select=false, select_steps_ahead=None, time_budget_s=None))]
+#[pyo3(signature = (us, ys, dt, inputs, outputs, spec=None, select=None))]
 #[allow(clippy::too_many_arguments)]
 fn fit(
     py: Python<'_>,
@@ -57,32 +59,20 @@ fn fit(
     dt: f64,
     inputs: Vec<String>,
     outputs: Vec<String>,
-    spec_toml: Option<&str>,
-    spec_source: &str,
-    select: bool,
-    select_steps_ahead: Option<usize>,
-    time_budget_s: Option<f64>,
+    spec: Option<(String, String)>,
+    select: Option<(Option<usize>, Option<f64>)>,
 ) -> PyResult<model::Model> {
-    let opts = rhonn::sysid::select::SelectOptions::judged(select_steps_ahead, time_budget_s);
-    let spec = spec_toml.map(|t| (t, spec_source));
-    let (structure, _) = rhonn_report::commands::fit_structure(select.then_some(&opts), spec, outputs.len())
-        .map_err(report_err)?;
     let recs = us
         .iter()
         .zip(&ys)
         .enumerate()
         .map(|(k, (u, y))| record(&format!("recording {k}"), dt, u, y, &inputs, &outputs))
         .collect::<PyResult<Vec<_>>>()?;
-    let run = py
-        .detach(|| rhonn::sysid::fit_records(structure, &recs, &inputs, &outputs, "dt", &|_| {}))
-        .map_err(rhonn_err)?;
-    let notes = [run.data_warnings, run.selection_warnings].concat();
-    let fitted = rhonn_report::any_model::AnyModel::Fitted(Box::new(run.fitted));
-    Ok(model::Model::new(
-        fitted,
-        Some(errors::json(&run.summary)?),
-        notes,
-    ))
+    let spec = spec.as_ref().map(|(t, s)| (t.as_str(), s.as_str()));
+    let (fitted, summary, notes) = py
+        .detach(|| rhonn_report::commands::fit_in_memory(&recs, &inputs, &outputs, spec, select))
+        .map_err(report_err)?;
+    Ok(model::Model(fitted, Some(summary), notes))
 }
 
 /// Run a Monte Carlo campaign into `out` (resumes a folder left by an interrupted one);
@@ -103,13 +93,7 @@ fn campaign(
 ) -> PyResult<String> {
     use rhonn_report::campaign::CampaignOptions;
     let sc = scenario(name, toml_text)?;
-    let opts = CampaignOptions {
-        runs,
-        seed,
-        shard: [1, 1],
-        corners,
-        envelope_runs,
-    };
+    let opts = CampaignOptions::whole(runs, seed, corners, envelope_runs);
     let zero = "threads = 0 is not allowed: give 1 or more, or None for every core";
     py.detach(|| rhonn_report::commands::campaign(&sc, &opts, &out, (threads, zero), &|_| {}))
         .map_err(report_err)?;

@@ -10,41 +10,21 @@ use pyo3::prelude::*;
 use rhonn_report::any_model::{self, AnyModel};
 use std::path::PathBuf;
 
-/// A model: `predict`, `save`, its `summary`.
+/// A model: `predict`, `save`, its `summary`. Its parts: the model, what `rhonn fit`
+/// wrote of it (its summary.json's text) and the warnings it printed.
 #[pyclass(module = "rhonn._rhonn", frozen)]
 #[derive(Clone)]
-pub struct Model {
-    model: AnyModel,
-    summary: Option<String>,
-    warnings: Vec<String>,
-}
-
-impl Model {
-    /// A model with what `rhonn fit` wrote of it (its summary.json's text) and printed.
-    pub fn new(model: AnyModel, summary: Option<String>, warnings: Vec<String>) -> Self {
-        Model {
-            model,
-            summary,
-            warnings,
-        }
-    }
-}
+pub struct Model(pub AnyModel, pub Option<String>, pub Vec<String>);
 
 /// `Model._info`: kind, inputs, outputs, sample time \[s\], summary.json's text, warnings.
-type Info = (
-    &'static str,
-    Vec<String>,
-    Vec<String>,
-    f64,
-    Option<String>,
-    Vec<String>,
-);
+type Info = (&'static str, Names, Names, f64, Option<String>, Names);
+type Names = Vec<String>;
 
 /// Read a model.json written by `rhonn fit`, `rhonn identify` or `Model.save`.
 #[pyfunction]
 pub fn load(path: PathBuf) -> PyResult<Model> {
     any_model::load(&path)
-        .map(|m| Model::new(m, None, Vec::new()))
+        .map(|m| Model(m, None, Vec::new()))
         .map_err(report_err)
 }
 
@@ -62,10 +42,10 @@ impl Model {
         baseline: bool,
         init_window: Option<usize>,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, String)> {
-        let (inputs, outputs, dt) = self.model.signals();
+        let (inputs, outputs, dt) = self.0.signals();
         let rec = record("the data", dt, &u, &y, inputs, outputs)?;
         let (cols, json) = py
-            .detach(|| any_model::predict(&self.model, &rec, (steps_ahead, init_window), baseline))
+            .detach(|| any_model::predict(&self.0, &rec, (steps_ahead, init_window), baseline))
             .map_err(report_err)?;
         let n = cols.first().map_or(0, Vec::len);
         let arr = Array2::from_shape_fn((n, cols.len()), |(k, j)| cols[j][k]);
@@ -74,19 +54,19 @@ impl Model {
 
     /// Write the model as `model.json` (the format `rhonn predict` and `rhonn.load` read).
     fn save(&self, path: PathBuf) -> PyResult<()> {
-        any_model::save(&self.model, &path).map_err(report_err)
+        any_model::save(&self.0, &path).map_err(report_err)
     }
 
     /// The model as model.json's text.
     fn to_json(&self) -> PyResult<String> {
-        any_model::to_json(&self.model).map_err(report_err)
+        any_model::to_json(&self.0).map_err(report_err)
     }
 
     /// Read a model from model.json's text.
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Model> {
         any_model::from_json(text, "the model text")
-            .map(|m| Model::new(m, None, Vec::new()))
+            .map(|m| Model(m, None, Vec::new()))
             .map_err(report_err)
     }
 
@@ -94,8 +74,8 @@ impl Model {
     /// `"fit"` or `"online-rhonn"`, the signals' names, what `rhonn fit` printed.
     #[getter]
     fn _info(&self) -> Info {
-        let (i, o, dt) = self.model.signals();
-        let (s, w) = (self.summary.clone(), self.warnings.clone());
-        (self.model.kind(), i.to_vec(), o.to_vec(), dt, s, w)
+        let (i, o, dt) = self.0.signals();
+        let (s, w) = (self.1.clone(), self.2.clone());
+        (self.0.kind(), i.to_vec(), o.to_vec(), dt, s, w)
     }
 }

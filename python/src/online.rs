@@ -81,7 +81,7 @@ impl OnlineIdentifier {
     /// becomes the identifier (the other candidates are dropped).
     fn freeze(&mut self) -> PyResult<Model> {
         let m = self.session.freeze().map_err(rhonn_err)?;
-        Ok(Model::new(AnyModel::Online(Box::new(m)), None, Vec::new()))
+        Ok(Model(AnyModel::Online(Box::new(m)), None, Vec::new()))
     }
 
     /// Adapt the weights again after `freeze()`.
@@ -112,8 +112,7 @@ impl OnlineIdentifier {
     /// JSON (`rhonn identify`'s `selection` in summary.json); None with a given model.
     #[getter]
     fn _selection_json(&self) -> PyResult<Option<String>> {
-        let sel = self.session.selection().map_err(rhonn_err)?;
-        sel.map(|s| crate::errors::json(&s)).transpose()
+        self.session.selection_json().map_err(rhonn_err)
     }
 
     /// For the bench (`python/bench.py`): the same updates as `update` on the rows of `t`,

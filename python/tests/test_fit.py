@@ -157,6 +157,11 @@ def test_the_selection_options_are_those_of_the_command(tanks):
         rhonn.fit(est["u"], est["y"], dt=4.0, time_budget_s=float("nan"))
     with pytest.raises(ValueError, match="steps_ahead"):
         rhonn.fit(est["u"], est["y"], dt=4.0, select_steps_ahead=0)
+    # As many steps as the record's samples: refused naming Python's argument, not the
+    # command's option.
+    with pytest.raises(ValueError, match="`select_steps_ahead` = 1024 is not allowed") as e:
+        rhonn.fit(est["u"], est["y"], dt=4.0, select_steps_ahead=len(est["u"]))
+    assert "--select" not in str(e.value)
 
 
 def test_the_default_fit_equals_the_command_with_its_baseline(tmp_path, root, rhonn_bin, tanks):

@@ -27,13 +27,6 @@ impl From<csv::Error> for Error {
     }
 }
 
-/// Return a campaign error with a formatted message.
-macro_rules! bail {
-    ($($t:tt)*) => {
-        return Err(Error::Campaign(format!($($t)*)))
-    };
-}
-
 /// `.ctx(|| what)`: an error of any kind as a campaign error saying `what: error`.
 trait Ctx<T> {
     fn ctx(self, what: impl FnOnce() -> String) -> Result<T>;
@@ -309,11 +302,7 @@ pub fn run_campaign(
     spec.check()?;
     let plan = Plan::of(&spec)?;
     let runs = if o.corners { plan.corner_runs() } else { o.runs };
-    if runs == 0 || runs > 10_000_000 {
-        bail!("--runs {runs} is not allowed: give a number in [1, 10000000]");
-    }
-    let [k, m] = o.shard;
-    let indices = [runs * (k - 1) / m, runs * k / m];
+    let indices = o.shard_indices(runs)?;
     let file = CampaignFile {
         scenario_toml: rhonn::experiment::pump_scenario::raise(&spec).to_toml(),
         scenario: spec.name.clone(),

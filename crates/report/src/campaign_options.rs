@@ -18,6 +18,39 @@ pub struct CampaignOptions {
     pub envelope_runs: u64,
 }
 
+/// The most runs a campaign may have.
+pub const MAX_RUNS: u64 = 10_000_000;
+
+impl CampaignOptions {
+    /// A whole campaign (shard 1/1): `runs` random draws from `seed` (or every corner).
+    pub fn whole(runs: u64, seed: u64, corners: bool, envelope_runs: u64) -> Self {
+        CampaignOptions {
+            runs,
+            seed,
+            shard: [1, 1],
+            corners,
+            envelope_runs,
+        }
+    }
+
+    /// The run indices `[first, end)` this call's shard runs of a campaign of `runs` runs
+    /// (every run for shard 1/1); a shard that would hold no run is refused.
+    pub fn shard_indices(&self, runs: u64) -> Result<[u64; 2], crate::Error> {
+        if runs == 0 || runs > MAX_RUNS {
+            return Err(crate::Error::Input(format!(
+                "--runs {runs} is not allowed: give a number in [1, {MAX_RUNS}]"
+            )));
+        }
+        let [k, m] = self.shard;
+        if m > runs {
+            return Err(crate::Error::Input(format!(
+                "--shard {k}/{m} is not allowed: the campaign has {runs} runs, so give M at most {runs} (each shard runs at least one)"
+            )));
+        }
+        Ok([runs * (k - 1) / m, runs * k / m])
+    }
+}
+
 /// How far a campaign has come, given to the progress callback after each run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Progress<'a> {

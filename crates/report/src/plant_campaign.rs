@@ -93,13 +93,7 @@ pub fn run_plant_campaign(
     let runs = if o.corners { 1u64 << varying } else { o.runs };
     let nominal = run_plant_scenario(spec, None)?;
     let fig_names: Vec<String> = nominal.summary.figures().into_iter().map(|(n, _)| n).collect();
-    if runs == 0 || runs > 10_000_000 {
-        return Err(err(format!(
-            "--runs {runs} is not allowed: give a number in [1, 10000000]"
-        )));
-    }
-    let [k, m] = o.shard;
-    let indices = [runs * (k - 1) / m, runs * k / m];
+    let indices = o.shard_indices(runs)?;
     let file = PlantCampaignFile {
         scenario_toml: spec.to_toml(),
         scenario: spec.name.clone(),

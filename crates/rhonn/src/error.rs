@@ -121,6 +121,20 @@ impl Error {
 /// Result alias.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
+impl Error {
+    /// This error with an invalid value's field `from` named `to` instead: a caller whose
+    /// argument has another name (Python's `select_steps_ahead` for `--select-steps-ahead`).
+    pub fn with_field_named(self, from: &str, to: &str) -> Error {
+        match self {
+            Error::Invalid { mut value, scenario } if value.field == from => {
+                value.field = to.to_string();
+                Error::Invalid { value, scenario }
+            }
+            e => e,
+        }
+    }
+}
+
 /// Shorthand to build [`Error::Invalid`].
 pub(crate) fn invalid(
     field: impl Into<String>,

@@ -143,6 +143,33 @@ pub fn fit_structure<'a>(
     })
 }
 
+/// What a fit of recordings in memory gives: the model, summary.json's text (as `rhonn
+/// fit` writes it) and the warnings `rhonn fit` prints.
+pub type FittedInMemory = (AnyModel, String, Vec<String>);
+
+/// `rhonn fit` on recordings already in memory (Python's `rhonn.fit`): the structure
+/// chosen by cross-validation when `select` holds `(select_steps_ahead, time_budget_s)`,
+/// else `spec`'s (its TOML text and what names it; None: the default structure). Errors
+/// name these arguments by those names.
+pub fn fit_in_memory(
+    recs: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+    spec: Option<(&str, &str)>,
+    select: Option<(Option<usize>, Option<f64>)>,
+) -> Result<FittedInMemory> {
+    let opts = select.map(|(k, budget)| SelectOptions::judged(k, budget));
+    let (structure, _) = fit_structure(opts.as_ref(), spec, outputs.len())?;
+    let run = rhonn::sysid::fit_records(structure, recs, inputs, outputs, "dt", &|_| {}).map_err(|e| {
+        e.with_field_named("--select-steps-ahead", "select_steps_ahead")
+            .with_field_named("--time-budget", "time_budget_s")
+    })?;
+    let summary = serde_json::to_string(&run.summary)
+        .map_err(|e| Error::Input(format!("cannot write the summary as JSON: {e}")))?;
+    let notes = [run.data_warnings, run.selection_warnings].concat();
+    Ok((AnyModel::Fitted(Box::new(run.fitted)), summary, notes))
+}
+
 /// The model structures of a spec's TOML text (one, or an ensemble's `[[members]]`),
 /// checked; None: the default structure. `source` names the spec in errors.
 pub fn model_specs(text: Option<&str>, source: &str) -> Result<Vec<ModelSpec>> {

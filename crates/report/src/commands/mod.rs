@@ -10,7 +10,8 @@ mod run;
 
 pub use benchmark::{benchmark, figure, BenchmarkRequest, Row};
 pub use fit::{
-    fit, fit_structure, fit_with_progress, model_specs, parse_units, predict, read_data, FitRequest,
+    fit, fit_in_memory, fit_structure, fit_with_progress, model_specs, parse_units, predict, read_data,
+    FitRequest,
 };
 pub use identify::{identify, online_spec, IdentifyRequest};
 pub use run::{bench, run, run_scenario, save_plant_run, save_scenario_run, show, REPRODUCED};

@@ -245,6 +245,16 @@ impl OnlineSession {
         }
     }
 
+    /// [`OnlineSession::selection`] as JSON text (`rhonn identify`'s `selection` in
+    /// summary.json).
+    pub fn selection_json(&self) -> Result<Option<String>> {
+        let text = |s| {
+            serde_json::to_string(&s)
+                .map_err(|e| Error::Argument(format!("cannot write the selection as JSON: {e}")))
+        };
+        self.selection()?.map(text).transpose()
+    }
+
     /// The given model's identifier (None while choosing online).
     pub fn given(&self) -> Option<&OnlineIdentifier> {
         match &self.engine {
