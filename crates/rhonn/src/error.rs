@@ -259,7 +259,7 @@ impl<R: std::io::Read> std::io::Read for LineLimited<R> {
 
 /// A number written out in more than 20 characters (`1e300` prints 301 digits) with 10
 /// significant digits; any other value as it is.
-fn readable(value: String) -> String {
+pub(crate) fn readable(value: String) -> String {
     match value.parse::<f64>() {
         Ok(v) if value.len() > 20 => crate::metrics::sig(v, 10),
         _ => value,

@@ -76,6 +76,7 @@ fn per_signal(name: &str, v: Option<Vec<f64>>, n: usize, default: f64, positive:
         .find(|(_, x)| !x.is_finite() || (positive && **x <= 0.0))
     {
         let allowed = if positive { "finite and > 0" } else { "finite" };
+        let x = crate::error::readable(x.to_string());
         return Err(argument(format!("{name}[{i}] = {x} is not allowed: {allowed}")));
     }
     Ok(v)
@@ -97,7 +98,8 @@ fn check_bounds(b: Option<Vec<[f64; 2]>>, n: usize) -> Result<Option<Vec<[f64; 2
     {
         return Err(argument(format!(
             "y_bounds[{i}] = [{}, {}] is not allowed: give finite [low, high] with low < high",
-            r[0], r[1]
+            crate::error::readable(r[0].to_string()),
+            crate::error::readable(r[1].to_string())
         )));
     }
     Ok(Some(b))
@@ -292,5 +294,26 @@ impl OnlineSession {
             std::hint::black_box(id.update(*tk, &uk, &yk)?);
         }
         Ok(start.elapsed().as_secs_f64() / t.len().max(1) as f64)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{check_bounds, per_signal};
+
+    #[test]
+    fn refused_scalings_and_bounds_print_huge_numbers_readably() {
+        let e = check_bounds(Some(vec![[1e300, -1e300]]), 1)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("y_bounds[0] = [1e300, -1e300] is not allowed"), "{e}");
+        let e = per_signal("y_scale", Some(vec![-1e300]), 1, 1.0, true)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("y_scale[0] = -1e300 is not allowed: finite and > 0"),
+            "{e}"
+        );
+        assert!(e.len() < 120, "{e}");
     }
 }
