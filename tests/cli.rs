@@ -310,6 +310,14 @@ fn bad_adaptive_controller_settings_are_clear_errors() {
             "`control.controller.integral_per_s2` = -1 is not allowed: a finite number >= 0",
         ),
         (
+            shipped.replace("integral_per_s2 = 1000.0", "integral_per_s2 = 1000.0\nactuator_memory_s = -5"),
+            "`control.controller.actuator_memory_s` = -5 is not allowed: a finite number >= 0",
+        ),
+        (
+            shipped.replace("integral_per_s2 = 1000.0", "integral_per_s2 = 1000.0\nlag_scale_s = inf"),
+            "`control.controller.lag_scale_s` = inf is not allowed: a finite number >= 0",
+        ),
+        (
             shipped.replace("period_s = 0.005", "period_s = 0.005\ndelay_periods = 5000"),
             "`control.delay_periods` = 5000 is not allowed: an integer in [0, 1000]",
         ),

@@ -39,11 +39,21 @@
 //! pressure sits on a bound of the limited integrator (near 0 or P_max) the model's
 //! derivative is not the plant's, and adaptation pauses.
 //!
+//! **The actuator identified online** (`actuator_memory_s` > 0, the default): a bank of
+//! candidate solenoid lags fitted to the measured stroke ([`crate::actuator`]) gives the
+//! actuator's lag `tau` and its pilot valve's flow against the nominal one, `theta`. The
+//! stroke loop keeps its nominal speed on a slow or fast valve and backs off on a slow
+//! solenoid: `I = K_a/phi (x + (1 + g') (x_d - x) / theta + tau_lead dx_d/dt / theta)`
+//! with `g' = g / (1 + tau / tau_c)` (`lag_scale_s` = tau_c; g = 3 and tau_c = 40 ms give
+//! g' = 2 at a 20 ms lag, the best stroke gain there); the lead is off while `x_d` is held
+//! at a bound of the stroke (the derivative of a reference that does not move).
+//!
 //! Identification phase (thesis 4.5.1): for the first `identification_s` the same law
 //! runs with a gentle `lambda_ident` around the first set-point while the weights
 //! learn; then the ball's centre is set to the identified `W_1` and the full `lambda`
 //! takes over.
 
+use crate::actuator::ActuatorBank;
 use crate::dot;
 use crate::law::{descend, project};
 use crate::sigmoid::Sigmoid;
@@ -278,6 +288,14 @@ pub struct CascadeSettings {
     /// eps -> 0. Integral separation (only |eps| <= 1 MPa is integrated) and the
     /// anti-windup only stop the integration, which keeps the integral bounded.
     pub integral_per_s2: f64,
+    /// Memory \[s\] of the actuator's online identification ([`crate::actuator`]): the
+    /// stroke loop's gain and lead divided by the identified pilot valve's flow ratio,
+    /// its gain scheduled on the identified lag (`lag_scale_s`). 0: off, the stroke loop
+    /// as designed for the nominal valve.
+    pub actuator_memory_s: f64,
+    /// tau_c \[s\]: the stroke gain is divided by `1 + tau / tau_c` for an identified lag
+    /// tau (0: not scheduled). Only with `actuator_memory_s` > 0.
+    pub lag_scale_s: f64,
 }
 
 impl Default for CascadeSettings {
@@ -294,6 +312,8 @@ impl Default for CascadeSettings {
             ball_fraction: 0.5,
             p_scale_mpa: 10.0,
             integral_per_s2: 1000.0,
+            actuator_memory_s: 5.0,
+            lag_scale_s: 0.04,
         }
     }
 }
@@ -339,6 +359,10 @@ pub struct RhonnCascade<T = f64> {
     projections: u64,
     /// int (p - r) dt since the identification phase ended \[MPa s\].
     integral: T,
+    /// The actuator's online identification (None: off).
+    actuator: Option<ActuatorBank<T>>,
+    /// The current applied over the last period \[A\].
+    last_i: T,
 }
 
 impl<T: Real> RhonnCascade<T> {
@@ -367,6 +391,8 @@ impl<T: Real> RhonnCascade<T> {
             c(settings.ball_fraction),
             c(p0 * 1e-6),
         );
+        let memory_s = settings.actuator_memory_s;
+        let actuator = (memory_s > 0.0).then(|| ActuatorBank::new(period_s, memory_s));
         RhonnCascade {
             settings,
             neuron,
@@ -381,6 +407,8 @@ impl<T: Real> RhonnCascade<T> {
             x_d: T::default(),
             projections: 0,
             integral: T::default(),
+            actuator,
+            last_i: T::default(),
         }
     }
 
@@ -414,6 +442,9 @@ impl<T: Real> RhonnCascade<T> {
                     Self::features(sig, scale, pm)
                 });
             self.projections += projected as u64;
+            if let Some(a) = &mut self.actuator {
+                a.update((p0, x0), (p, x), self.last_i, self.x_max_mm);
+            }
         }
         self.prev = Some((p, x));
         let ident = t < c(self.settings.identification_s);
@@ -453,7 +484,19 @@ impl<T: Real> RhonnCascade<T> {
         let x_d_dot = (-lambda * p_dot - ki * (p - r) - w_dot_s - w1_dot_s1 * x_d) / g;
         self.x_d = x_d;
         let st = &self.settings;
-        let i = self.amp_per_mm * (x_d + c(st.stroke_gain) * (x_d - x) + c(st.lead_s) * x_d_dot);
+        let i = match &self.actuator {
+            None => self.amp_per_mm * (x_d + c(st.stroke_gain) * (x_d - x) + c(st.lead_s) * x_d_dot),
+            Some(a) => {
+                let g = match st.lag_scale_s > 0.0 {
+                    true => c(st.stroke_gain) / (c(1.0) + a.lag_s() / c(st.lag_scale_s)),
+                    false => c(st.stroke_gain),
+                };
+                let x_d_dot = if x_d == x_d_raw { x_d_dot } else { zero };
+                let per_theta = c(1.0) / a.ratio();
+                let feedback = (c(1.0) + g) * (x_d - x) + c(st.lead_s) * x_d_dot;
+                self.amp_per_mm * (x + per_theta * feedback)
+            }
+        };
         if ki > zero {
             // p > r asks for less stroke: winding while the output sits at its bottom.
             let low = x_d_raw < zero || i < zero;
@@ -462,7 +505,15 @@ impl<T: Real> RhonnCascade<T> {
                 self.integral = candidate;
             }
         }
-        i.clamp(zero, self.i_max)
+        let i = i.clamp(zero, self.i_max);
+        self.last_i = i;
+        i
+    }
+
+    /// The actuator's identified lag \[s\] and pilot flow ratio (None: not identified,
+    /// `actuator_memory_s` = 0).
+    pub fn actuator(&self) -> Option<(T, T)> {
+        self.actuator.as_ref().map(|a| (a.lag_s(), a.ratio()))
     }
 
     /// Internal state for the trace.

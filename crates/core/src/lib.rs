@@ -32,6 +32,7 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod actuator;
 pub mod adaptive;
 pub mod ident;
 pub mod law;

@@ -5,6 +5,8 @@
 //! tests, the `embedded/` firmware), without the events: the valve's branch is chosen
 //! at the start of each substep.
 
+use crate::Real;
+
 /// Coefficients of the pump's equations, SI.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PumpEquations {
@@ -42,15 +44,16 @@ pub struct PumpEquations {
     pub p_0: f64,
 }
 
-/// Intermediate quantities of the pilot valve.
+/// Intermediate quantities of the pilot valve (`T`: `f64` unless a controller on a
+/// single-precision target evaluates the nominal valve in `f32`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Pilot {
+pub struct Pilot<T = f64> {
     /// Pilot valve stroke s \[m\].
-    pub s: f64,
+    pub s: T,
     /// Pressure drop across the pilot valve \[Pa\].
-    pub dpa: f64,
+    pub dpa: T,
     /// Pilot flow Q_a \[m^3/s\].
-    pub q_a: f64,
+    pub q_a: T,
 }
 
 impl PumpEquations {
@@ -75,19 +78,22 @@ impl PumpEquations {
         p_0: 400000.0,
     };
 
-    /// The pilot valve at `(P_l, x)` and current `i`, on the branch `neg` (s < 0).
+    /// The pilot valve at `(P_l, x)` and current `i`, on the branch `neg` (s < 0), in the
+    /// arithmetic `T` (for `f64` exactly the operations of the plant's model).
     #[inline(always)]
-    pub fn pilot(&self, p: f64, x: f64, i: f64, neg: bool) -> Pilot {
+    pub fn pilot<T: Real>(&self, p: T, x: T, i: T, neg: bool) -> Pilot<T> {
+        let c = T::of;
         let k = self;
-        let s = (k.phi * i - k.k_a * x) / (k.k_c + k.k_a);
-        let bias = (k.f_u - k.k * x) / k.a_a;
+        let s = (c(k.phi) * i - c(k.k_a) * x) / c(k.k_c + k.k_a);
+        let bias = (c(k.f_u) - c(k.k) * x) / c(k.a_a);
         let dpa = if neg {
-            (1.0 - k.gamma_l) * p - bias
+            c(1.0 - k.gamma_l) * p - bias
         } else {
-            k.gamma_l * p + bias - k.p_0
+            c(k.gamma_l) * p + bias - c(k.p_0)
         };
-        let mag = libm::sqrt(libm::fabs(dpa));
-        let q_a = if dpa >= 0.0 { 1.0 } else { -1.0 } * s * (k.mu_1 + k.mu_2 * libm::fabs(s)) * mag;
+        let mag = dpa.abs().sqrt();
+        let sign = if dpa >= T::default() { c(1.0) } else { c(-1.0) };
+        let q_a = sign * s * (c(k.mu_1) + c(k.mu_2) * s.abs()) * mag;
         Pilot { s, dpa, q_a }
     }
 

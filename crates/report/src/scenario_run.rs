@@ -79,6 +79,13 @@ fn pump_lines(output: &RunOutput) -> Vec<String> {
             "    weights: |W| max {:.1}, |W_1 - centre| max {:.2} within the ball's radius {:.2}, {} projections",
             c.adaptive.w_norm_max, c.adaptive.w1_distance_max, c.adaptive.w1_ball_radius, c.adaptive.projections
         ));
+        if let (Some(lag_ms), Some(ratio)) = (c.adaptive.actuator_lag_ms, c.adaptive.pilot_flow_ratio) {
+            l.push(format!(
+                "    actuator identified online: lag {} ms, pilot valve flow {} x the nominal valve's",
+                rhonn::metrics::sig(lag_ms, 3),
+                rhonn::metrics::sig(ratio, 3)
+            ));
+        }
     }
     let s = &summary.solver;
     l.push(format!(

@@ -31,6 +31,7 @@ impl AdaptiveView {
             w_bound: neuron.w_bound,
             w1: neuron.w1,
             projections,
+            actuator: None,
         }
     }
 }
@@ -47,13 +48,15 @@ impl Controller for RhonnCascade {
     }
     fn adaptive(&self, t: f64) -> Option<AdaptiveView> {
         let identifying = t < self.settings.identification_s;
-        Some(AdaptiveView::of(
+        let mut view = AdaptiveView::of(
             &self.neuron,
             self.neuron.xh * 1e6,
             Some(self.state().stroke_ref),
             identifying,
             self.projections(),
-        ))
+        );
+        view.actuator = self.actuator();
+        Some(view)
     }
 }
 
@@ -93,6 +96,12 @@ pub struct AdaptiveKnobs {
     /// Integral action on the tracking error \[1/s^2\].
     #[serde(default)]
     pub integral_per_s2: Option<f64>,
+    /// Memory of the actuator's online identification \[s\] (0: off).
+    #[serde(default)]
+    pub actuator_memory_s: Option<f64>,
+    /// The stroke gain's scale for an identified lag \[s\] (0: not scheduled).
+    #[serde(default)]
+    pub lag_scale_s: Option<f64>,
 }
 
 impl AdaptiveKnobs {
@@ -135,6 +144,8 @@ impl AdaptiveKnobs {
             ball_fraction: self.ball_fraction.unwrap_or(d.ball_fraction),
             p_scale_mpa: d.p_scale_mpa,
             integral_per_s2: non_neg("integral_per_s2", self.integral_per_s2, d.integral_per_s2)?,
+            actuator_memory_s: non_neg("actuator_memory_s", self.actuator_memory_s, d.actuator_memory_s)?,
+            lag_scale_s: non_neg("lag_scale_s", self.lag_scale_s, d.lag_scale_s)?,
         };
         if !(cascade.ball_fraction > 0.0 && cascade.ball_fraction < 1.0) {
             return Err(invalid(
@@ -203,6 +214,12 @@ pub struct PumpAdaptiveLoop {
     /// Integral action \[1/s^2\].
     #[serde(default)]
     pub integral_per_s2: Option<f64>,
+    /// Memory of the actuator's online identification \[s\].
+    #[serde(default)]
+    pub actuator_memory_s: Option<f64>,
+    /// The stroke gain's scale for an identified lag \[s\].
+    #[serde(default)]
+    pub lag_scale_s: Option<f64>,
 }
 
 /// The pump's pressure and stroke among `cx`'s states, or an error naming the field.
@@ -236,6 +253,8 @@ impl PumpAdaptiveLoop {
             gamma_w1: k.gamma_w1,
             ball_fraction: k.ball_fraction,
             integral_per_s2: k.integral_per_s2,
+            actuator_memory_s: k.actuator_memory_s,
+            lag_scale_s: k.lag_scale_s,
         }
     }
 
@@ -253,6 +272,8 @@ impl PumpAdaptiveLoop {
             gamma_w1: self.gamma_w1,
             ball_fraction: self.ball_fraction,
             integral_per_s2: self.integral_per_s2,
+            actuator_memory_s: self.actuator_memory_s,
+            lag_scale_s: self.lag_scale_s,
         }
     }
 }

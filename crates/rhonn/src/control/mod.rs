@@ -134,4 +134,7 @@ pub struct AdaptiveView {
     pub w1: [f64; adaptive::L_GAIN],
     /// Identifier substeps that ended with a projection, so far.
     pub projections: u64,
+    /// The actuator as identified online, (lag \[s\], pilot flow against the nominal
+    /// valve's): the pump's cascade with `actuator_memory_s` > 0; None otherwise.
+    pub actuator: Option<(f64, f64)>,
 }

@@ -624,4 +624,11 @@ pub struct AdaptiveReport {
     pub projections: u64,
     /// Radius of W's ball (around 0).
     pub w_bound: f64,
+    /// The actuator's lag identified online, at the end \[ms\] (a one-period delay reads
+    /// as one period); absent when the controller does not identify it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub actuator_lag_ms: Option<f64>,
+    /// The pilot valve's flow against the nominal one, identified online, at the end.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pilot_flow_ratio: Option<f64>,
 }

@@ -250,6 +250,8 @@ fn adaptive_state(
     rep.w_bound = v.w_bound;
     rep.w1_final = v.w1.to_vec();
     rep.projections = v.projections;
+    rep.actuator_lag_ms = v.actuator.map(|(lag_s, _)| lag_s * 1e3);
+    rep.pilot_flow_ratio = v.actuator.map(|(_, ratio)| ratio);
     Ok(st)
 }
 

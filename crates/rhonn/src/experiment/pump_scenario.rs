@@ -288,7 +288,7 @@ fn adaptive(
     ) = keys;
     Ok(ControllerSpec::RhonnAdaptive {
         setpoint_mpa,
-        knobs: l.knobs(),
+        knobs: Box::new(l.knobs()),
         baseline,
         baseline_kp_a_per_mpa,
         baseline_ti_s,
@@ -486,7 +486,7 @@ fn raised_control(spec: &ScenarioSpec, c: &ControllerSpec) -> ControlSpec {
             baseline_stroke_gain,
             second_baseline,
         } => {
-            let l = PumpAdaptiveLoop::with_knobs(p_line(), knobs);
+            let l = PumpAdaptiveLoop::with_knobs(p_line(), *knobs);
             let b = if baseline_kind(baseline.as_deref(), baseline_kp_a_per_mpa) == "pi" {
                 LoopSpec::Pi(PiLoop {
                     state: p_line(),

@@ -104,7 +104,7 @@ pub enum ControllerSpec {
         /// The cascade's settings (each unset one: `CascadeSettings::default`: lambda 100
         /// 1/s, 10 while identifying for 2 s, stroke gain 3, lead 0.06 s, filter pole 70
         /// 1/s, learning rates 1e4 and 5, ball fraction 0.5, no integral action).
-        knobs: crate::control::AdaptiveKnobs,
+        knobs: Box<crate::control::AdaptiveKnobs>,
         /// The baseline run beside it: `cascade-pi` (the same sensors; the default) or
         /// `pi` (the pressure only; the default when `baseline_kp_a_per_mpa` is given).
         baseline: Option<String>,
