@@ -1,6 +1,6 @@
 //! The pump's actuator identified online, for the adaptive cascade's stroke loop
-//! ([`crate::adaptive::RhonnCascade`]): how late and how fast the stroke answers the
-//! current.
+//! (`RhonnCascade` in the `adaptive` module, which owns a bank): how late and how fast the
+//! stroke answers the current.
 //!
 //! A bank of candidate actuators ([`CANDIDATES`]): a solenoid lag `tau`, after a transport
 //! delay of zero or one control period. Each candidate passes the applied current through
