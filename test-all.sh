@@ -19,7 +19,9 @@ part() {
         failed+=("$name")
     fi
 }
-part "Rust (cargo test --workspace --release)" cargo test --workspace --release --locked
+# --no-fail-fast: one failing test binary does not hide the failures of the others (cargo
+# stops at the first by default).
+part "Rust (cargo test --workspace --release)" cargo test --workspace --release --locked --no-fail-fast
 # The binary the Rust tests built (the same crates the Python extension's build reuses).
 export RHONN_BIN="$PWD/target/release/rhonn"
 part "Python (python/test.sh)" python/test.sh
