@@ -55,9 +55,10 @@ pub fn undefined(v: &f64) -> bool {
     !v.is_finite()
 }
 
-/// Whether an optional figure is present but undefined (None stays: it means "not run").
-pub fn undefined_opt(v: &Option<f64>) -> bool {
-    v.is_some_and(|x| !x.is_finite())
+/// Whether an optional figure is absent (not run) or undefined: left out of JSON, so that a
+/// run without the part writes no `null` a reader could take for a failed number.
+pub fn absent_or_undefined(v: &Option<f64>) -> bool {
+    !v.is_some_and(f64::is_finite)
 }
 
 /// MATLAB `compare`'s fit: `100 (1 - |y - yhat| / |y - mean(y)|)` \[%\]; 100 is perfect,

@@ -37,10 +37,11 @@ pub struct IdentStateFigures {
     #[serde(skip_serializing_if = "crate::metrics::undefined")]
     pub training_fit_percent: f64,
     /// RMS error of the frozen model's free run on the validation inputs (after its
-    /// first tenth), when there is a validation.
+    /// first tenth), when there is a validation (left out of JSON without one).
+    #[serde(skip_serializing_if = "crate::metrics::absent_or_undefined")]
     pub validation_rms_error: Option<f64>,
-    /// Fit \[%\] of the same (left out of JSON when undefined).
-    #[serde(skip_serializing_if = "crate::metrics::undefined_opt")]
+    /// Fit \[%\] of the same (left out of JSON without a validation or when undefined).
+    #[serde(skip_serializing_if = "crate::metrics::absent_or_undefined")]
     pub validation_fit_percent: Option<f64>,
     /// |w| of the neuron at the end of training.
     pub final_weight_norm: f64,
@@ -726,5 +727,30 @@ mod tests {
         let bad = [col("t", vec![0.0, 1.0]), col("w1_norm", vec![0.5, f64::INFINITY])];
         let e = all_finite(&bad, "trajectory.csv").unwrap_err().to_string();
         assert!(e.contains("column `w1_norm` at t = 1 s"), "{e}");
+    }
+
+    /// Found by `rhonn-mutate` (seed 50): an identification scenario without `[validation]`
+    /// wrote `"validation_fit_percent": null`, which a reader takes for a failed number.
+    #[test]
+    fn an_identification_without_validation_leaves_its_figures_out_not_null() {
+        let f = IdentStateFigures {
+            state: "h1",
+            unit: "mm",
+            training_rms_error: 1.0,
+            training_fit_percent: 90.0,
+            validation_rms_error: None,
+            validation_fit_percent: None,
+            final_weight_norm: 0.5,
+        };
+        let json = serde_json::to_string(&f).unwrap();
+        assert!(!json.contains("null") && !json.contains("validation"), "{json}");
+        let with = IdentStateFigures {
+            validation_rms_error: Some(2.0),
+            validation_fit_percent: Some(80.0),
+            ..f
+        };
+        assert!(serde_json::to_string(&with)
+            .unwrap()
+            .contains("\"validation_fit_percent\":80.0"));
     }
 }
