@@ -9,9 +9,9 @@
 //!
 //! `cargo run --release -p rhonn-report --example actuator_study` (about 10 s on 2 cores).
 use rayon::prelude::*;
-use rhonn::experiment::front::points;
-use rhonn::experiment::tuning::{robustness_cases, with_cascade_pi};
-use rhonn::experiment::{preset, ControllerSpec, ScenarioSpec, NOMINAL_OPTIMAL};
+use rhonn::experiment::front::{nominal_optimal_points, points, wins};
+use rhonn::experiment::tuning::robustness_cases;
+use rhonn::experiment::{preset, ControllerSpec, ScenarioSpec};
 
 fn with_actuator(spec: &ScenarioSpec, memory_s: f64, lag_scale_s: f64) -> ScenarioSpec {
     let mut s = spec.clone();
@@ -31,13 +31,7 @@ fn main() {
         "control-adaptive-fast",
     ] {
         let cases = robustness_cases(&preset::load(name).unwrap()).unwrap();
-        let no = points(
-            "cascade-pi",
-            cases
-                .iter()
-                .map(|(n, s)| (n.clone(), with_cascade_pi(s, NOMINAL_OPTIMAL)))
-                .collect(),
-        );
+        let no = nominal_optimal_points(&cases);
         let settings = [
             (0.0, 0.0),
             (5.0, 0.0),
@@ -52,11 +46,7 @@ fn main() {
             .par_iter()
             .map(|&(m, l)| {
                 let a = points("rhonn-adaptive", cases.iter().map(|(n, s)| (n.clone(), with_actuator(s, m, l))).collect());
-                let wins = a
-                    .iter()
-                    .zip(&no)
-                    .filter(|(a, n)| a.iae_mpa_s < n.iae_mpa_s && a.current_total_variation_a <= n.current_total_variation_a)
-                    .count();
+                let wins = wins(&a, &no);
                 format!(
                     "| `{name}` | {m}, {l} | {wins} | {:.1} / {:.1} / {:.1}, {:.1} | {:.2} | {:.0} | {:.1} % |",
                     a[1].iae_mpa_s, a[2].iae_mpa_s, a[3].iae_mpa_s, a[4].iae_mpa_s, a[0].iae_mpa_s,

@@ -9,9 +9,9 @@
 //! `cargo run --release -p rhonn-report --example adaptive_sweep -- [N] [SEED]` (300 draws:
 //! about 90 s on 2 cores).
 use rayon::prelude::*;
-use rhonn::experiment::front::points;
-use rhonn::experiment::tuning::{robustness_cases, with_cascade_pi};
-use rhonn::experiment::{preset, ControllerSpec, ScenarioSpec, NOMINAL_OPTIMAL};
+use rhonn::experiment::front::{nominal_optimal_points, points, wins};
+use rhonn::experiment::tuning::robustness_cases;
+use rhonn::experiment::{preset, ControllerSpec, ScenarioSpec};
 
 fn set(spec: &ScenarioSpec, k: &[f64; 8]) -> ScenarioSpec {
     let mut s = spec.clone();
@@ -31,13 +31,7 @@ fn set(spec: &ScenarioSpec, k: &[f64; 8]) -> ScenarioSpec {
 fn main() {
     let spec = preset::load("control-adaptive").unwrap();
     let cases = robustness_cases(&spec).unwrap();
-    let no = points(
-        "cascade-pi",
-        cases
-            .iter()
-            .map(|(n, s)| (n.clone(), with_cascade_pi(s, NOMINAL_OPTIMAL)))
-            .collect(),
-    );
+    let no = nominal_optimal_points(&cases);
     let n: usize = std::env::args().nth(1).map_or(200, |a| a.parse().unwrap());
     let seed: u64 = std::env::args().nth(2).map_or(1, |a| a.parse().unwrap());
     let grid: Vec<[f64; 8]> = (0..n as u64)
@@ -69,13 +63,7 @@ fn main() {
                 "rhonn-adaptive",
                 cases.iter().map(|(n, s)| (n.clone(), set(s, k))).collect(),
             );
-            let wins = a
-                .iter()
-                .zip(&no)
-                .filter(|(a, n)| {
-                    a.iae_mpa_s < n.iae_mpa_s && a.current_total_variation_a <= n.current_total_variation_a
-                })
-                .count();
+            let wins = wins(&a, &no);
             format!(
                 "{wins} lag20 {:.1} nominal {:.2} tv {:.0} within {:.1} k {:?}",
                 a[3].iae_mpa_s, a[0].iae_mpa_s, a[0].current_total_variation_a, a[0].within_1pct_percent, k

@@ -11,10 +11,11 @@
 //! cores) prints both tables and writes OUT/front.csv and OUT/front.svg (default OUT:
 //! out/control-front).
 use rhonn::experiment::front::{
-    adaptive_points, best_iae_within, cascade_grid, cascade_points, points, FrontPoint,
+    adaptive_points, best_iae_within, cascade_grid, cascade_points, nominal_optimal_points, points, wins,
+    FrontPoint,
 };
-use rhonn::experiment::tuning::{robustness_cases, with_cascade_pi};
-use rhonn::experiment::{preset, NOMINAL_OPTIMAL};
+use rhonn::experiment::preset;
+use rhonn::experiment::tuning::robustness_cases;
 
 const SHIPPED: [&str; 3] = [
     "control-adaptive-gentle",
@@ -60,26 +61,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     let cases = robustness_cases(&spec)?;
-    let no = points(
-        "cascade-pi",
-        cases
-            .iter()
-            .map(|(n, s)| (n.clone(), with_cascade_pi(s, NOMINAL_OPTIMAL)))
-            .collect(),
-    );
+    let no = nominal_optimal_points(&cases);
     println!("the 37 plants of the robustness study: wins = lower IAE at no more current total variation than the nominal-optimal cascade PI");
     for name in SHIPPED {
         let shipped_spec = preset::load(name)?;
         let cases = robustness_cases(&shipped_spec)?;
         let a = points("rhonn-adaptive", cases);
-        let beats = |a: &FrontPoint, n: &FrontPoint| {
-            a.iae_mpa_s < n.iae_mpa_s && a.current_total_variation_a <= n.current_total_variation_a
-        };
-        let wins = a.iter().zip(&no).filter(|(a, n)| beats(a, n)).count();
+        let wins = wins(&a, &no);
         let lost: Vec<String> = a
             .iter()
             .zip(&no)
-            .filter(|(a, n)| !beats(a, n))
+            .filter(|(a, n)| !a.beats(n))
             .map(|(a, n)| {
                 format!(
                     "{}: IAE {:.1} vs {:.1}, TV {:.0} vs {:.0}",

@@ -462,9 +462,10 @@ fn the_measured_margins_are_consistent_and_the_robust_tuning_keeps_them() {
 /// no more current activity on every one of the 37 plants of the robustness study.
 #[test]
 fn every_shipped_adaptive_setting_beats_the_cascade_front() {
-    use rhonn::experiment::front::{best_iae_within, cascade_grid, cascade_points, points};
-    use rhonn::experiment::tuning::{robustness_cases, with_cascade_pi};
-    use rhonn::experiment::NOMINAL_OPTIMAL;
+    use rhonn::experiment::front::{
+        best_iae_within, cascade_grid, cascade_points, nominal_optimal_points, points, wins,
+    };
+    use rhonn::experiment::tuning::robustness_cases;
     let spec = preset::load("control-adaptive").unwrap();
     let gains = cascade_grid();
     let cascade = cascade_points(&spec, &gains);
@@ -488,36 +489,19 @@ fn every_shipped_adaptive_setting_beats_the_cascade_front() {
         }
     }
     let cases = robustness_cases(&spec).unwrap();
-    let no = points(
-        "cascade-pi",
-        cases
-            .iter()
-            .map(|(n, s)| (n.clone(), with_cascade_pi(s, NOMINAL_OPTIMAL)))
-            .collect(),
-    );
+    let no = nominal_optimal_points(&cases);
     let lag_20 = cases.iter().position(|(n, _)| n == "solenoid lag 20 ms").unwrap();
-    let without_bank: Vec<_> = cases
-        .iter()
-        .map(|(n, s)| {
-            let mut s = s.clone();
-            if let Some(rhonn::experiment::ControllerSpec::RhonnAdaptive { knobs, .. }) = &mut s.controller {
-                knobs.actuator_memory_s = Some(0.0);
-            }
-            (n.clone(), s)
-        })
-        .collect();
+    let (name, mut without_bank) = cases[lag_20].clone();
+    if let Some(rhonn::experiment::ControllerSpec::RhonnAdaptive { knobs, .. }) = &mut without_bank.controller
+    {
+        knobs.actuator_memory_s = Some(0.0);
+    }
     let a = points("rhonn-adaptive", cases);
-    let wins = a
-        .iter()
-        .zip(&no)
-        .filter(|(a, n)| {
-            a.iae_mpa_s < n.iae_mpa_s && a.current_total_variation_a <= n.current_total_variation_a
-        })
-        .count();
+    let wins = wins(&a, &no);
     assert_eq!(wins, 37, "{wins} of 37");
     // Behind a 20 ms solenoid lag: at most 40 MPa s, which the stroke loop reaches by
     // identifying the lag online and scheduling its gain on it (without: 44).
-    let off = points("rhonn-adaptive", vec![without_bank[lag_20].clone()]).remove(0);
+    let off = points("rhonn-adaptive", vec![(name, without_bank)]).remove(0);
     assert!(
         a[lag_20].iae_mpa_s <= 40.0 && off.iae_mpa_s > a[lag_20].iae_mpa_s,
         "20 ms lag: IAE {} (without the actuator's identification {})",

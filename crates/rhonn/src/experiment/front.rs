@@ -72,6 +72,30 @@ pub fn cascade_points(spec: &ScenarioSpec, gains: &[CascadePiGainsMpa]) -> Vec<F
         .collect()
 }
 
+impl FrontPoint {
+    /// Whether this run beats `other`: a lower IAE at no more current total variation (how
+    /// the adaptive controller is judged against the nominal-optimal cascade PI).
+    pub fn beats(&self, other: &FrontPoint) -> bool {
+        self.iae_mpa_s < other.iae_mpa_s && self.current_total_variation_a <= other.current_total_variation_a
+    }
+}
+
+/// The nominal-optimal cascade PI on each of `cases` (a name and an adaptive scenario, e.g.
+/// the robustness study's), on every core: the baseline each case's adaptive run is judged
+/// against.
+pub fn nominal_optimal_points(cases: &[(String, ScenarioSpec)]) -> Vec<FrontPoint> {
+    let pi = cases
+        .iter()
+        .map(|(n, s)| (n.clone(), with_cascade_pi(s, super::NOMINAL_OPTIMAL)))
+        .collect();
+    points("cascade-pi", pi)
+}
+
+/// How many of `runs` beat the run of the same index in `baselines` ([`FrontPoint::beats`]).
+pub fn wins(runs: &[FrontPoint], baselines: &[FrontPoint]) -> usize {
+    runs.iter().zip(baselines).filter(|(a, b)| a.beats(b)).count()
+}
+
 /// Each of `variants` (a setting in words and its scenario) run for `controller`, on every
 /// core.
 pub fn points(controller: &'static str, variants: Vec<(String, ScenarioSpec)>) -> Vec<FrontPoint> {
