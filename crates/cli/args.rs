@@ -104,8 +104,8 @@ pub enum Command {
         /// ARX, lagged RHONN (least squares and free-run trained, sigmoid or polynomial
         /// terms), for one input and one output Wiener-Hammerstein block structures and,
         /// for one output, continuous-time cascade structures; the choice is never worse
-        /// than the best ARX on the folds, and summary.json's `selection` says by how
-        /// much. `none`:
+        /// than the best ARX on the folds (another structure replaces it only when it is
+        /// better on every fold), and summary.json's `selection` says by how much. `none`:
         /// a RHONN with na = nb = 2, nk = 1, degree 2, batch least squares.
         #[arg(long, value_name = "auto|none")]
         select: Option<SelectMode>,
