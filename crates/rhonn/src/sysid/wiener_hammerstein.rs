@@ -192,15 +192,27 @@ impl Params {
     }
 
     /// G1 and the polynomial: the input to G2, from the normalised input alone.
-    fn inner(&self, un: &[f64], nk: usize, x: &mut Vec<f64>) -> Vec<f64> {
-        self.g1.run(un, nk, x);
-        x.iter()
-            .map(|&xv| {
-                let xv = xv.max(self.x_range.0).min(self.x_range.1);
-                let mut h = [0.0; MAX_DEGREE];
-                hermite(xv, &mut h[..self.c.len()]);
-                self.c.iter().zip(&h).map(|(c, h)| c * h).sum()
-            })
+    fn inner(&self, un: &[f64], nk: usize) -> Vec<f64> {
+        self.combine(&self.basis(un, nk))
+    }
+
+    /// G1's output, held in the x range, through the basis: `c.len()` values a sample.
+    fn basis(&self, un: &[f64], nk: usize) -> Vec<f64> {
+        let mut x = Vec::new();
+        self.g1.run(un, nk, &mut x);
+        let d = self.c.len();
+        let mut out = vec![0.0; x.len() * d];
+        for (xv, h) in x.iter().zip(out.chunks_mut(d.max(1))) {
+            hermite(xv.max(self.x_range.0).min(self.x_range.1), &mut h[..d]);
+        }
+        out
+    }
+
+    /// The polynomial of a [`Params::basis`]: the input to G2.
+    fn combine(&self, basis: &[f64]) -> Vec<f64> {
+        basis
+            .chunks(self.c.len().max(1))
+            .map(|h| self.c.iter().zip(h).map(|(c, h)| c * h).sum())
             .collect()
     }
 
@@ -260,10 +272,13 @@ fn bounds(m: &Model) -> (f64, f64) {
 
 /// Free-run prediction (normalised) of one record: the first `settle` outputs measured.
 fn free_run(p: &Params, spec: &ModelSpec, un: &[f64], yn: &[f64], bounds: (f64, f64)) -> Vec<f64> {
-    let mut x = Vec::new();
-    let v = p.inner(un, spec.nk, &mut x);
+    free_run_from(p, spec, &p.inner(un, spec.nk), yn, bounds)
+}
+
+/// [`free_run`] from G2's input `v`.
+fn free_run_from(p: &Params, spec: &ModelSpec, v: &[f64], yn: &[f64], bounds: (f64, f64)) -> Vec<f64> {
     let settle = spec.settle.min(yn.len());
-    p.outer(&v, yn, &|k| k < settle, bounds)
+    p.outer(v, yn, &|k| k < settle, bounds)
         .iter()
         .map(|w| w + p.bias)
         .collect()
@@ -279,8 +294,7 @@ pub(crate) fn predict(m: &Model, r: &Record, steps_ahead: Option<usize>) -> Resu
         None => free_run(&p, &m.spec, &un, &yn, b),
         Some(kk) => {
             let kk = kk.max(1);
-            let mut x = Vec::new();
-            let v = p.inner(&un, m.spec.nk, &mut x);
+            let v = p.inner(&un, m.spec.nk);
             let mut out = yn.clone();
             let first = first + kk - 1;
             // G2's past measured up to each start, then K samples run on: the window
@@ -357,10 +371,11 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
 fn refine(mut p: Params, spec: &ModelSpec, data: &[(Vec<f64>, Vec<f64>)], b: (f64, f64)) -> (f64, Params) {
     let mut theta = p.free();
     let base = p.clone();
+    let cache = basis::BasisCache::default();
     let cost = lm(&mut theta, spec.epochs, 1e-6, &|th, out| {
         let mut q = base.clone();
         q.set_free(th);
-        residuals(&q, spec, data, b, out)
+        residuals(&q, spec, data, &cache.bases(&q, spec.nk, data), b, out)
     });
     p.set_free(&theta);
     (cost, p)
@@ -381,12 +396,13 @@ fn residuals(
     p: &Params,
     spec: &ModelSpec,
     data: &[(Vec<f64>, Vec<f64>)],
+    bases: &[Vec<f64>],
     b: (f64, f64),
     out: &mut Vec<f64>,
 ) -> bool {
     out.clear();
-    for (un, yn) in data {
-        let y = free_run(p, spec, un, yn, b);
+    for ((_, yn), basis) in data.iter().zip(bases) {
+        let y = free_run_from(p, spec, &p.combine(basis), yn, b);
         for k in spec.settle.min(yn.len())..yn.len() {
             let e = y[k] - yn[k];
             if !e.is_finite() || e.abs() > DIVERGED {
@@ -445,10 +461,11 @@ fn best_linear_approximation(spec: &ModelSpec, data: &[(Vec<f64>, Vec<f64>)], b:
         q.g1.a.copy_from_slice(&th[nb..nb + na]);
         q.bias = th[nb + na];
     };
+    let cache = basis::BasisCache::default();
     lm(&mut free, spec.epochs, 1e-6, &|th, out| {
         let mut q = base.clone();
         set(&mut q, th);
-        residuals(&q, &linear, data, b, out)
+        residuals(&q, &linear, data, &cache.bases(&q, linear.nk, data), b, out)
     });
     set(&mut p, &free);
     p
@@ -672,6 +689,9 @@ impl super::kinds::ModelKind for WienerHammerstein {
         n_params(m)
     }
 }
+
+#[path = "wiener_hammerstein_basis.rs"]
+mod basis;
 
 #[cfg(test)]
 #[path = "wiener_hammerstein_tests.rs"]
