@@ -1,7 +1,7 @@
 //! Experiments on any [`Plant`] from the library: online identification of its states,
 //! and a controller on one of its inputs tracking a set-point, sampled at the control
 //! period with zero-order hold. Both run through the one run loop ([`super::sim`]), as
-//! the pump's scenarios do (`run.rs` adds sensor noise, a delay line and figures on the
+//! the pump's scenarios do (`pump_run.rs` adds sensor noise, a delay line and figures on the
 //! dense output for the pump).
 
 use super::integrated::{Alone, Integrated};

@@ -7,7 +7,7 @@
 use super::bench::{bench, bench_plant, BenchFigures};
 use super::plant_run::{run_plant_scenario, PlantRunOutput};
 use super::preset::AnyScenario;
-use super::run::{run_full, RunOutput};
+use super::pump_run::{run_full, RunOutput};
 use super::trace::Trace;
 use crate::error::Result;
 use std::time::Duration;

@@ -5,8 +5,8 @@
 use super::plant_run::run_plant_scenario;
 use super::plant_scenario::PlantScenarioSpec;
 use super::preset::AnyScenario;
-use super::run::run;
-use super::scenario::Scenario;
+use super::pump_run::run;
+use super::pump_settings::Scenario;
 use super::trace::NoRecorder;
 use crate::error::Result;
 use rayon::prelude::*;

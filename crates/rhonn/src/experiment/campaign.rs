@@ -5,8 +5,8 @@
 //! distribution (uniform, truncated normal, fixed) and range. `rhonn campaign` adds the
 //! files, the resume and the merge.
 
-use super::run::{run_full, Summary};
-use super::scenario::ScenarioSpec;
+use super::pump_run::{run_full, Summary};
+use super::pump_settings::ScenarioSpec;
 use super::trace::NoRecorder;
 use crate::error::Result;
 use crate::signal::SignalSpec;
@@ -72,7 +72,7 @@ pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
     }
     if matches!(
         spec.controller,
-        Some(super::scenario::ControllerSpec::RhonnAdaptive { .. })
+        Some(super::pump_settings::ControllerSpec::RhonnAdaptive { .. })
     ) {
         v.extend(
             [
@@ -88,7 +88,7 @@ pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
             .map(String::from),
         );
     }
-    if let Some(super::scenario::ControllerSpec::RhonnAdaptive {
+    if let Some(super::pump_settings::ControllerSpec::RhonnAdaptive {
         second_baseline: Some(_),
         ..
     }) = &spec.controller

@@ -5,7 +5,7 @@
 //! knobs swept (`crates/report/examples/control_front.rs` prints and plots them).
 
 use super::pump_controllers::CascadePiGainsMpa;
-use super::scenario::{ControllerSpec, ScenarioSpec};
+use super::pump_settings::{ControllerSpec, ScenarioSpec};
 use super::tuning::{grid, with_cascade_pi};
 use super::{run_full, NoRecorder};
 use rayon::prelude::*;

@@ -5,19 +5,19 @@ mod any_scenario;
 mod bench;
 pub mod campaign;
 mod campaign_plan;
-mod figures;
 pub mod front;
-mod ident_figures;
 mod integrated;
 mod loop_conditions;
 mod plant_run;
 mod plant_scenario;
 pub mod preset;
 mod pump_controllers;
+mod pump_figures;
+mod pump_ident_figures;
 mod pump_loop;
+mod pump_run;
 pub mod pump_scenario;
-mod run;
-mod scenario;
+mod pump_settings;
 pub mod sim;
 mod trace;
 pub mod tuning;
@@ -36,11 +36,11 @@ pub use plant_scenario::{
 pub use pump_controllers::{
     baseline_kind, Baseline, CascadePiGainsMpa, CascadePiSettings, PiSettings, NOMINAL_OPTIMAL, ROBUST,
 };
-pub use run::{
+pub use pump_run::{
     run, run_full, solver_options, AdaptiveReport, Alone, BaselineReport, ControlReport, Figures,
     IdentReport, Integrated, ModelFile, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,
 };
-pub use scenario::{
+pub use pump_settings::{
     AdaptiveSettings, ControllerSpec, Drive, InitialSpec, MeasurementSpec, ProfileSpec, Scenario,
     ScenarioSpec, SolverSettings, SolverSpec, Q_L_MAX_DM3_S,
 };

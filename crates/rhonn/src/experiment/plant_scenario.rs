@@ -6,7 +6,7 @@
 
 use super::campaign_plan::CampaignSpec;
 use super::loop_conditions::{LoopConditions, SensorNoise};
-use super::scenario::SolverSpec;
+use super::pump_settings::SolverSpec;
 pub use crate::control::LoopSpec;
 use crate::error::{invalid, Error, Result};
 use crate::ident::IdentifierSpec;
@@ -265,7 +265,7 @@ impl PlantScenarioSpec {
 
     /// Name, duration and output interval.
     pub(crate) fn check_times(&self) -> Result<()> {
-        super::scenario::check_folder_name("name", &self.name)?;
+        super::pump_settings::check_folder_name("name", &self.name)?;
         if !(self.duration_s.is_finite() && self.duration_s > 0.0) {
             return Err(invalid("duration_s", self.duration_s, "finite and > 0"));
         }

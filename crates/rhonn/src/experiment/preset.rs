@@ -2,7 +2,7 @@
 //! folder, compiled in), and loading a scenario by name or path.
 
 use super::plant_scenario::{is_plant_scenario, PlantScenarioSpec};
-use super::scenario::ScenarioSpec;
+use super::pump_settings::ScenarioSpec;
 use crate::error::{Error, Result};
 use std::path::Path;
 

@@ -3,11 +3,11 @@
 //! instants and after its steps ([`PumpHooks`]), driven by the one run loop
 //! ([`super::sim::drive`]).
 
-use super::figures::{Accumulator, AdaptiveReport, Figures};
-use super::ident_figures::IdentAcc;
 use super::integrated::Integrated;
 use super::loop_conditions::{Actuator, LoopConditions, SensorNoise, Sensors};
-use super::scenario::{Drive, ProfileSpec, Scenario, SolverSettings};
+use super::pump_figures::{Accumulator, AdaptiveReport, Figures};
+use super::pump_ident_figures::IdentAcc;
+use super::pump_settings::{Drive, ProfileSpec, Scenario, SolverSettings};
 use super::sim::{describe, drive, start, Hooks, Instants};
 use super::trace::{Recorder, Sample};
 use crate::control::{CascadeState, Controller, Pi, RhonnCascade};

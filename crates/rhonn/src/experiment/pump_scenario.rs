@@ -5,7 +5,7 @@
 //! an error names the key the user wrote.
 
 use super::plant_scenario::{ControlSpec, PlantScenarioSpec};
-use super::scenario::{ControllerSpec, InitialSpec, MeasurementSpec, ScenarioSpec};
+use super::pump_settings::{ControllerSpec, InitialSpec, MeasurementSpec, ScenarioSpec};
 use crate::control::LoopSpec;
 use crate::error::{invalid, Error, Result};
 use crate::plant::PumpParamsSpec;

@@ -2,7 +2,7 @@
 //! along) in the event-locating solver, stopped at the sampling instants, where a hook
 //! acts (a controller measures and sets the held input, or a sample is taken); after
 //! every step a hook reads the step's dense output (figures, output samples). The
-//! pump's scenarios (`run.rs`) and every other plant's (`any_plant.rs`) run through it.
+//! pump's scenarios (`pump_run.rs`) and every other plant's (`any_plant.rs`) run through it.
 
 use super::integrated::Integrated;
 use crate::error::{Error, Result};

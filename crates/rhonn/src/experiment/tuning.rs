@@ -20,7 +20,7 @@
 
 use super::campaign::{apply, base_values, draw, Plan, Sampling};
 use super::pump_controllers::CascadePiGainsMpa;
-use super::scenario::{ControllerSpec, ScenarioSpec};
+use super::pump_settings::{ControllerSpec, ScenarioSpec};
 use super::{run_full, NoRecorder};
 use rayon::prelude::*;
 

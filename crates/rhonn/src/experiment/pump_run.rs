@@ -1,14 +1,14 @@
 //! Running a scenario: the plant in the event-locating solver, the sampled controller,
 //! the measurement, the output samples taken from the dense output, and the figures.
 
-pub use super::figures::*;
-use super::ident_figures::IdentAcc;
-pub use super::ident_figures::*;
 pub use super::integrated::{Alone, Integrated};
 use super::pump_controllers::Baseline;
+pub use super::pump_figures::*;
+use super::pump_ident_figures::IdentAcc;
+pub use super::pump_ident_figures::*;
 pub use super::pump_loop::solver_options;
 use super::pump_loop::{simulate, Ctl};
-use super::scenario::{AdaptiveSettings, Drive, Scenario};
+use super::pump_settings::{AdaptiveSettings, Drive, Scenario};
 use super::trace::{Column, NoRecorder, Recorder, Sample, Trace};
 use crate::error::Result;
 use crate::ident::{FrozenPair, IdentSettings, Identified, Mode};
@@ -28,11 +28,11 @@ fn report(sc: &Scenario, st: Stats, figures: Figures, identification: Option<Ide
             breakpoints: st.breakpoints,
         },
         findings: match (&figures.regulation, &sc.spec.controller) {
-            (Some(r), Some(c)) => super::figures::regulation_findings(
+            (Some(r), Some(c)) => super::pump_figures::regulation_findings(
                 match c {
-                    super::scenario::ControllerSpec::Pi { .. } => "the PI",
-                    super::scenario::ControllerSpec::CascadePi { .. } => "the cascade PI",
-                    super::scenario::ControllerSpec::RhonnAdaptive { .. } => "the adaptive controller",
+                    super::pump_settings::ControllerSpec::Pi { .. } => "the PI",
+                    super::pump_settings::ControllerSpec::CascadePi { .. } => "the cascade PI",
+                    super::pump_settings::ControllerSpec::RhonnAdaptive { .. } => "the adaptive controller",
                 },
                 r,
             ),
@@ -120,11 +120,11 @@ fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) ->
     let adaptive = adaptive.expect("an adaptive run reports its weights");
     let mut total = st;
     add_stats(&mut total, st_b);
-    let mut findings = super::figures::comparison(&fig, &fig_b, a.baseline.name());
+    let mut findings = super::pump_figures::comparison(&fig, &fig_b, a.baseline.name());
     let second_baseline = second.map(|(name, b, (st2, fig2, _))| {
         add_stats(&mut total, st2);
         let label = format!("{}-{name}", b.name());
-        findings.extend(super::figures::comparison(&fig, &fig2, &label));
+        findings.extend(super::pump_figures::comparison(&fig, &fig2, &label));
         BaselineReport {
             tuning: Some(name),
             ..BaselineReport::of(b, fig2)
@@ -490,5 +490,5 @@ impl Recorder for Collector {
 }
 
 #[cfg(test)]
-#[path = "run_tests.rs"]
+#[path = "pump_run_tests.rs"]
 mod tests;

@@ -1,9 +1,9 @@
 //! The figures of a pump run, accumulated step by step on the solver's dense output:
 //! the summary's types and the accumulator.
 
-use super::ident_figures::{IdentReport, GAUSS};
 use super::integrated::Integrated;
-use super::scenario::{ScenarioSpec, SolverSettings};
+use super::pump_ident_figures::{IdentReport, GAUSS};
+use super::pump_settings::{ScenarioSpec, SolverSettings};
 use crate::plant::{PumpSystem, P_LINE, STROKE};
 use crate::signal::Signal;
 use crate::units::*;
