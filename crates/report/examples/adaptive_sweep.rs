@@ -11,11 +11,11 @@
 use rayon::prelude::*;
 use rhonn::experiment::front::{nominal_optimal_points, points, wins};
 use rhonn::experiment::tuning::robustness_cases;
-use rhonn::experiment::{preset, ControllerSpec, ScenarioSpec};
+use rhonn::experiment::{preset, LoopSpec, ScenarioSpec};
 
 fn set(spec: &ScenarioSpec, k: &[f64; 8]) -> ScenarioSpec {
     let mut s = spec.clone();
-    if let Some(ControllerSpec::RhonnAdaptive { knobs, .. }) = &mut s.controller {
+    if let Some(LoopSpec::PumpRhonnAdaptive(knobs)) = s.controller.as_mut().map(|c| &mut c.controller) {
         knobs.lambda_per_s = Some(k[0]);
         knobs.stroke_gain = Some(k[1]);
         knobs.lead_s = Some(k[2]);

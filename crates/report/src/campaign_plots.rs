@@ -102,13 +102,12 @@ pub(crate) fn envelope_files<'a>(
 
 /// How plots name an adaptive scenario's baseline.
 fn baseline_label(spec: &ScenarioSpec) -> &'static str {
-    use rhonn::experiment::ControllerSpec::RhonnAdaptive;
-    let kind = match &spec.controller {
-        Some(RhonnAdaptive {
-            baseline,
-            baseline_kp_a_per_mpa,
-            ..
-        }) => rhonn::experiment::baseline_kind(baseline.as_deref(), *baseline_kp_a_per_mpa),
+    use rhonn::experiment::LoopSpec;
+    let kind = match spec.controller.as_ref() {
+        Some(c) if matches!(c.controller, LoopSpec::PumpRhonnAdaptive(_)) => match c.baseline {
+            Some(LoopSpec::Pi(_)) => "pi",
+            _ => "cascade-pi",
+        },
         _ => "pi",
     };
     if kind == "pi" {

@@ -402,7 +402,9 @@ fn adaptive_has_lower_iae_than_both_cascade_pi_tunings_where_the_goals_say() {
 fn integral_action_removes_the_steady_offset() {
     let share = |ki: f64| {
         let mut spec = preset::load("control-adaptive").unwrap();
-        if let Some(rhonn::experiment::ControllerSpec::RhonnAdaptive { knobs, .. }) = &mut spec.controller {
+        if let Some(rhonn::experiment::LoopSpec::PumpRhonnAdaptive(knobs)) =
+            spec.controller.as_mut().map(|c| &mut c.controller)
+        {
             knobs.integral_per_s2 = Some(ki);
         }
         let out = run_full(&spec.check().unwrap(), &mut NoRecorder).unwrap();
@@ -492,7 +494,8 @@ fn every_shipped_adaptive_setting_beats_the_cascade_front() {
     let no = nominal_optimal_points(&cases);
     let lag_20 = cases.iter().position(|(n, _)| n == "solenoid lag 20 ms").unwrap();
     let (name, mut without_bank) = cases[lag_20].clone();
-    if let Some(rhonn::experiment::ControllerSpec::RhonnAdaptive { knobs, .. }) = &mut without_bank.controller
+    if let Some(rhonn::experiment::LoopSpec::PumpRhonnAdaptive(knobs)) =
+        without_bank.controller.as_mut().map(|c| &mut c.controller)
     {
         knobs.actuator_memory_s = Some(0.0);
     }

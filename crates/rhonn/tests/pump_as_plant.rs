@@ -213,19 +213,14 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
     own.measurement.noise_std_mpa = 0.0;
     own.solver.rtol = Some(1e-8);
     own.solver.atol_p_line_pa = Some(1e-2);
-    if let Some(rhonn::experiment::ControllerSpec::RhonnAdaptive {
-        setpoint_mpa,
-        second_baseline,
-        ..
-    }) = own.controller.as_mut()
-    {
-        *setpoint_mpa =
+    if let Some(c) = own.controller.as_mut() {
+        c.setpoint =
             toml::from_str::<toml::Value>("s = { kind = \"steps\", initial = 10.0, steps = [[15.0, 5.0]] }")
                 .unwrap()["s"]
                 .clone()
                 .try_into()
                 .unwrap();
-        *second_baseline = None;
+        c.second_baseline = None;
     }
     if let Some(rhonn::signal::SignalSpec::Trapezoids { pulses, .. }) = own.demand_dm3_s.as_mut() {
         pulses.truncate(3);

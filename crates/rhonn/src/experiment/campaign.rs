@@ -70,10 +70,11 @@ pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
             .map(String::from),
         );
     }
-    if matches!(
-        spec.controller,
-        Some(super::pump_settings::ControllerSpec::RhonnAdaptive { .. })
-    ) {
+    let adaptive = spec
+        .controller
+        .as_ref()
+        .filter(|c| matches!(c.controller, crate::control::LoopSpec::PumpRhonnAdaptive(_)));
+    if adaptive.is_some() {
         v.extend(
             [
                 "baseline_ise_mpa2_s",
@@ -88,11 +89,7 @@ pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
             .map(String::from),
         );
     }
-    if let Some(super::pump_settings::ControllerSpec::RhonnAdaptive {
-        second_baseline: Some(_),
-        ..
-    }) = &spec.controller
-    {
+    if adaptive.is_some_and(|c| c.second_baseline.is_some()) {
         v.extend(SECOND_BASELINE_FIGURES.map(String::from));
     }
     if let Some(id) = &spec.identifier {

@@ -5,9 +5,10 @@
 //! knobs swept (`crates/report/examples/control_front.rs` prints and plots them).
 
 use super::pump_controllers::CascadePiGainsMpa;
-use super::pump_settings::{ControllerSpec, ScenarioSpec};
+use super::pump_settings::ScenarioSpec;
 use super::tuning::{grid, with_cascade_pi};
 use super::{run_full, NoRecorder};
+use crate::control::LoopSpec;
 use rayon::prelude::*;
 
 /// One setting's run.
@@ -29,8 +30,8 @@ pub struct FrontPoint {
 fn point(controller: &'static str, setting: String, spec: &ScenarioSpec) -> FrontPoint {
     // The front reads the controller's own figures: a second baseline would only cost a run.
     let mut spec = spec.clone();
-    if let Some(super::ControllerSpec::RhonnAdaptive { second_baseline, .. }) = &mut spec.controller {
-        *second_baseline = None;
+    if let Some(c) = &mut spec.controller {
+        c.second_baseline = None;
     }
     let r = spec
         .check()
@@ -113,8 +114,8 @@ pub fn adaptive_points(spec: &ScenarioSpec, lambdas_per_s: &[f64]) -> Vec<FrontP
         .par_iter()
         .filter_map(|&l| {
             let mut s = spec.clone();
-            match &mut s.controller {
-                Some(ControllerSpec::RhonnAdaptive { knobs, .. }) => knobs.lambda_per_s = Some(l),
+            match s.controller.as_mut().map(|c| &mut c.controller) {
+                Some(LoopSpec::PumpRhonnAdaptive(a)) => a.lambda_per_s = Some(l),
                 _ => return None,
             }
             Some(point("rhonn-adaptive", format!("lambda {l} 1/s"), &s))

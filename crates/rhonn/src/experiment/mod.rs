@@ -30,8 +30,8 @@ pub use plant_run::{
     PlantColumn, PlantRunOutput, PlantSummary, WEIGHT_QUANTITIES,
 };
 pub use plant_scenario::{
-    is_plant_scenario, ControlSpec, LoopSpec, PlantScenarioSpec, PlantSection, SensorNoiseSpec,
-    ValidationSpec, MAX_DELAY_PERIODS,
+    is_plant_scenario, ControlSpec, LoopSpec, PlantScenarioSpec, PlantSection, ProfileSpec, SensorNoiseSpec,
+    SolverSpec, ValidationSpec, MAX_DELAY_PERIODS,
 };
 pub use pump_controllers::{
     baseline_kind, Baseline, CascadePiGainsMpa, CascadePiSettings, PiSettings, NOMINAL_OPTIMAL, ROBUST,
@@ -41,7 +41,7 @@ pub use pump_run::{
     IdentReport, Integrated, ModelFile, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,
 };
 pub use pump_settings::{
-    AdaptiveSettings, ControllerSpec, Drive, InitialSpec, MeasurementSpec, ProfileSpec, Scenario,
-    ScenarioSpec, SolverSettings, SolverSpec, Q_L_MAX_DM3_S,
+    AdaptiveSettings, Drive, InitialSpec, MeasurementSpec, Scenario, ScenarioSpec, SolverSettings,
+    Q_L_MAX_DM3_S,
 };
 pub use trace::{BaselineSample, Column, NoRecorder, Recorder, Sample, Trace};

@@ -6,7 +6,6 @@
 
 use super::campaign_plan::CampaignSpec;
 use super::loop_conditions::{LoopConditions, SensorNoise};
-use super::pump_settings::SolverSpec;
 pub use crate::control::LoopSpec;
 use crate::error::{invalid, Error, Result};
 use crate::ident::IdentifierSpec;
@@ -127,6 +126,58 @@ pub struct ControlSpec {
     /// clipped to `input_range`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dither: Option<SignalSpec>,
+}
+
+/// Step-size control profile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ProfileSpec {
+    /// Hairer's DOPRI5 control (default): rtol 1e-6, atol 1 Pa and 1e-9 m, max step 100 ms.
+    #[default]
+    Hairer,
+    /// MATLAB ode45's defaults and step control: RelTol 1e-3, AbsTol 1e-6, MaxStep span/10.
+    Ode45,
+    /// Simulink's variable-step ode45: as `ode45` but MaxStep span/50.
+    SimulinkOde45,
+}
+
+/// Solver settings; unset fields take the profile's defaults.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SolverSpec {
+    /// Step-size control profile.
+    pub profile: ProfileSpec,
+    /// Relative tolerance (both states).
+    pub rtol: Option<f64>,
+    /// Absolute tolerance of the line pressure \[Pa\].
+    pub atol_p_line_pa: Option<f64>,
+    /// Absolute tolerance of the stroke \[m\].
+    pub atol_stroke_m: Option<f64>,
+    /// Largest step \[ms\].
+    pub max_step_ms: Option<f64>,
+}
+
+/// What a name that becomes a folder or file name may be: one plain path component.
+pub const FOLDER_NAME_RULE: &str =
+    "a name of letters, digits, '-', '_' and '.' that does not start with '.' \
+     (it names a folder inside the output folder: no separators, no `.` or `..`, not empty)";
+
+/// Check that `value` (the field `field` of a file) is one plain path component that stays
+/// inside the folder it is joined to: letters, digits, `-`, `_` and `.`, not empty and not
+/// starting with `.` (which also refuses `.` and `..`). A scenario received from someone
+/// else must never write outside the folder the user chose.
+pub fn check_folder_name(field: &str, value: &str) -> Result<()> {
+    let ok = !value.is_empty()
+        && !value.starts_with('.')
+        && value.len() <= 200
+        && value
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.');
+    if ok {
+        Ok(())
+    } else {
+        Err(invalid(field, format!("{value:?}"), FOLDER_NAME_RULE))
+    }
 }
 
 fn is_zero(v: &u32) -> bool {
@@ -265,7 +316,7 @@ impl PlantScenarioSpec {
 
     /// Name, duration and output interval.
     pub(crate) fn check_times(&self) -> Result<()> {
-        super::pump_settings::check_folder_name("name", &self.name)?;
+        check_folder_name("name", &self.name)?;
         if !(self.duration_s.is_finite() && self.duration_s > 0.0) {
             return Err(invalid("duration_s", self.duration_s, "finite and > 0"));
         }

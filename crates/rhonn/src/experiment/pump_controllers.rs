@@ -164,6 +164,40 @@ pub(super) struct BaselineKeys<'a> {
     pub stroke_gain: Option<f64>,
 }
 
+impl BaselineKeys<'static> {
+    /// The keys of an adaptive controller's `[control.baseline]` (`pump-cascade-pi`, or `pi`
+    /// on `p_line` without a bias: `pump_scenario::lower` refuses any other), all unset
+    /// without one (the default baseline).
+    pub(super) fn of(b: Option<&crate::control::LoopSpec>) -> Self {
+        use crate::control::LoopSpec;
+        let none = BaselineKeys {
+            kind: None,
+            kp_a_per_mpa: None,
+            ti_s: None,
+            kp_mm_per_mpa: None,
+            setpoint_weight: None,
+            stroke_gain: None,
+        };
+        match b {
+            Some(LoopSpec::PumpCascadePi(b)) => BaselineKeys {
+                kind: Some("cascade-pi"),
+                ti_s: Some(b.ti_s),
+                kp_mm_per_mpa: Some(b.kp_mm_per_mpa),
+                setpoint_weight: Some(b.setpoint_weight),
+                stroke_gain: Some(b.stroke_gain),
+                ..none
+            },
+            Some(LoopSpec::Pi(b)) => BaselineKeys {
+                kind: Some("pi"),
+                kp_a_per_mpa: Some(b.kp),
+                ti_s: Some(b.ti_s),
+                ..none
+            },
+            _ => none,
+        }
+    }
+}
+
 /// The kind of an adaptive controller's baseline: `kind` as written, else the one its keys
 /// imply (`"pi"` when the PI's gain `kp_a_per_mpa` is given, `"cascade-pi"` otherwise).
 /// The one statement of that rule: the check, the one format's writer and the report's

@@ -10,6 +10,7 @@ pub use super::pump_loop::solver_options;
 use super::pump_loop::{simulate, Ctl};
 use super::pump_settings::{AdaptiveSettings, Drive, Scenario};
 use super::trace::{Column, NoRecorder, Recorder, Sample, Trace};
+use crate::control::LoopSpec;
 use crate::error::Result;
 use crate::ident::{FrozenPair, IdentSettings, Identified, Mode};
 use crate::plant::{Input, PumpSystem, SignalRef, CURRENT_EFF, PLANT_DIM, P_LINE, STROKE};
@@ -27,15 +28,16 @@ fn report(sc: &Scenario, st: Stats, figures: Figures, identification: Option<Ide
             events: st.events,
             breakpoints: st.breakpoints,
         },
-        findings: match (&figures.regulation, &sc.spec.controller) {
-            (Some(r), Some(c)) => super::pump_figures::regulation_findings(
-                match c {
-                    super::pump_settings::ControllerSpec::Pi { .. } => "the PI",
-                    super::pump_settings::ControllerSpec::CascadePi { .. } => "the cascade PI",
-                    super::pump_settings::ControllerSpec::RhonnAdaptive { .. } => "the adaptive controller",
-                },
-                r,
-            ),
+        // Named by the scenario's controller (a baseline's run too, as it always was).
+        findings: match (
+            &figures.regulation,
+            sc.spec.controller.as_ref().map(|c| &c.controller),
+        ) {
+            (Some(r), Some(LoopSpec::Pi(_))) => super::pump_figures::regulation_findings("the PI", r),
+            (Some(r), Some(LoopSpec::PumpCascadePi(_))) => {
+                super::pump_figures::regulation_findings("the cascade PI", r)
+            }
+            (Some(r), Some(_)) => super::pump_figures::regulation_findings("the adaptive controller", r),
             _ => Vec::new(),
         },
         figures,

@@ -5,7 +5,7 @@
 //! an error names the key the user wrote.
 
 use super::plant_scenario::{ControlSpec, PlantScenarioSpec};
-use super::pump_settings::{ControllerSpec, InitialSpec, MeasurementSpec, ScenarioSpec};
+use super::pump_settings::{InitialSpec, MeasurementSpec, ScenarioSpec};
 use crate::control::LoopSpec;
 use crate::error::{invalid, Error, Result};
 use crate::plant::PumpParamsSpec;
@@ -64,7 +64,8 @@ pub fn lower(spec: &PlantScenarioSpec) -> Result<ScenarioSpec> {
         check_loop(c, &plant, spec.duration_s)?;
         plant.t_control_ms = c.period_s * 1e3;
         plant.transport_delay_periods = c.delay_periods;
-        out.controller = Some(controller(c)?);
+        check_controller(c)?;
+        out.controller = Some(c.clone());
     }
     out.plant = plant;
     Ok(out)
@@ -186,8 +187,8 @@ fn check_loop(c: &ControlSpec, plant: &PumpParamsSpec, duration_s: f64) -> Resul
     Ok(())
 }
 
-/// The pump's controller of `[control]`.
-fn controller(c: &ControlSpec) -> Result<ControllerSpec> {
+/// The pump's controller of `[control]`: its state, and its baseline's kind.
+fn check_controller(c: &ControlSpec) -> Result<()> {
     let state = c.controller.state();
     if state != "p_line" {
         return Err(invalid(
@@ -211,92 +212,24 @@ fn controller(c: &ControlSpec) -> Result<ControllerSpec> {
         }
         Ok(())
     };
-    let setpoint_mpa = c.setpoint.clone();
     match &c.controller {
-        LoopSpec::Pi(l) => {
-            alone("pi")?;
-            Ok(ControllerSpec::Pi {
-                setpoint_mpa,
-                kp_a_per_mpa: l.kp,
-                ti_s: l.ti_s,
-                bias_a: l.bias,
-                dither_a: c.dither.clone(),
-            })
-        }
-        LoopSpec::PumpCascadePi(l) => {
-            alone("pump-cascade-pi")?;
-            Ok(ControllerSpec::CascadePi {
-                setpoint_mpa,
-                kp_mm_per_mpa: Some(l.kp_mm_per_mpa),
-                ti_s: Some(l.ti_s),
-                setpoint_weight: Some(l.setpoint_weight),
-                stroke_gain: Some(l.stroke_gain),
-            })
-        }
-        LoopSpec::PumpRhonnAdaptive(l) => adaptive(c, l, setpoint_mpa),
+        LoopSpec::Pi(_) => alone("pi"),
+        LoopSpec::PumpCascadePi(_) => alone("pump-cascade-pi"),
+        LoopSpec::PumpRhonnAdaptive(_) => match &c.baseline {
+            None | Some(LoopSpec::PumpCascadePi(_)) => Ok(()),
+            Some(LoopSpec::Pi(b)) if b.bias.is_none() && b.state == "p_line" => Ok(()),
+            Some(other) => Err(invalid(
+                "control.baseline",
+                format!("kind \"{}\" on \"{}\"", other.name(), other.state()),
+                "beside the pump's adaptive controller: pump-cascade-pi, or pi on p_line without a bias (the balance current's)",
+            )),
+        },
         other => Err(invalid(
             "control.controller.kind",
             format!("\"{}\"", other.name()),
             "for the pump: pi, pump-rhonn-adaptive, pump-cascade-pi",
         )),
     }
-}
-
-/// The adaptive cascade with its baseline (`pump-cascade-pi` or `pi`) and second baseline.
-fn adaptive(
-    c: &ControlSpec,
-    l: &crate::control::PumpAdaptiveLoop,
-    setpoint_mpa: crate::signal::SignalSpec,
-) -> Result<ControllerSpec> {
-    // (kind, PI gain A/MPa, integral time s, cascade gain mm/MPa, weight, stroke gain)
-    type Keys = (
-        Option<String>,
-        Option<f64>,
-        Option<f64>,
-        Option<f64>,
-        Option<f64>,
-        Option<f64>,
-    );
-    let keys: Keys = match &c.baseline {
-        None => (None, None, None, None, None, None),
-        Some(LoopSpec::PumpCascadePi(b)) => (
-            Some("cascade-pi".into()),
-            None,
-            Some(b.ti_s),
-            Some(b.kp_mm_per_mpa),
-            Some(b.setpoint_weight),
-            Some(b.stroke_gain),
-        ),
-        Some(LoopSpec::Pi(b)) if b.bias.is_none() && b.state == "p_line" => {
-            (Some("pi".into()), Some(b.kp), Some(b.ti_s), None, None, None)
-        }
-        Some(other) => {
-            return Err(invalid(
-                "control.baseline",
-                format!("kind \"{}\" on \"{}\"", other.name(), other.state()),
-                "beside the pump's adaptive controller: pump-cascade-pi, or pi on p_line without a bias (the balance current's)",
-            ))
-        }
-    };
-    let (
-        baseline,
-        baseline_kp_a_per_mpa,
-        baseline_ti_s,
-        baseline_kp_mm_per_mpa,
-        baseline_setpoint_weight,
-        baseline_stroke_gain,
-    ) = keys;
-    Ok(ControllerSpec::RhonnAdaptive {
-        setpoint_mpa,
-        knobs: Box::new(l.knobs()),
-        baseline,
-        baseline_kp_a_per_mpa,
-        baseline_ti_s,
-        baseline_kp_mm_per_mpa,
-        baseline_setpoint_weight,
-        baseline_stroke_gain,
-        second_baseline: c.second_baseline.clone(),
-    })
 }
 
 /// The pump runner's field names as the one format writes them, for the errors of
@@ -432,96 +365,46 @@ pub(crate) fn serialize_raised<S: serde::Serializer>(
     serde::Serialize::serialize(&raise(spec), s)
 }
 
-/// `[control]` of the pump runner's controller `c`.
-fn raised_control(spec: &ScenarioSpec, c: &ControllerSpec) -> ControlSpec {
-    use super::pump_controllers::{baseline_kind, PI_BASELINE, ROBUST};
-    use crate::control::{PiLoop, PumpAdaptiveLoop, PumpCascadePiLoop};
+/// `[control]` of the pump runner's controller `c`: its range, period and delay the
+/// plant's, an adaptive controller's baseline written out (the robust cascade PI when unset).
+fn raised_control(spec: &ScenarioSpec, c: &ControlSpec) -> ControlSpec {
+    use super::pump_controllers::{baseline_kind, BaselineKeys, PI_BASELINE, ROBUST};
+    use crate::control::{PiLoop, PumpCascadePiLoop};
     let p_line = || "p_line".to_string();
-    let cascade = |kp: Option<f64>, ti: Option<f64>, w: Option<f64>, g: Option<f64>| {
-        LoopSpec::PumpCascadePi(PumpCascadePiLoop {
-            state: p_line(),
-            kp_mm_per_mpa: kp.unwrap_or(ROBUST.kp_mm_per_mpa),
-            ti_s: ti.unwrap_or(ROBUST.ti_s),
-            setpoint_weight: w.unwrap_or(ROBUST.setpoint_weight),
-            stroke_gain: g.unwrap_or(ROBUST.stroke_gain),
-        })
-    };
-    let (setpoint, controller, baseline, second, dither) = match c.clone() {
-        ControllerSpec::Pi {
-            setpoint_mpa,
-            kp_a_per_mpa,
-            ti_s,
-            bias_a,
-            dither_a,
-        } => {
-            let pi = PiLoop {
+    let adaptive = matches!(c.controller, LoopSpec::PumpRhonnAdaptive(_));
+    let baseline = adaptive.then(|| {
+        let k = BaselineKeys::of(c.baseline.as_ref());
+        if baseline_kind(k.kind, k.kp_a_per_mpa) == "pi" {
+            LoopSpec::Pi(PiLoop {
                 state: p_line(),
-                kp: kp_a_per_mpa,
-                ti_s,
-                bias: bias_a,
-            };
-            (setpoint_mpa, LoopSpec::Pi(pi), None, None, dither_a)
+                kp: k.kp_a_per_mpa.unwrap_or(PI_BASELINE[0]),
+                ti_s: k.ti_s.unwrap_or(PI_BASELINE[1]),
+                bias: None,
+            })
+        } else {
+            LoopSpec::PumpCascadePi(PumpCascadePiLoop {
+                state: p_line(),
+                kp_mm_per_mpa: k.kp_mm_per_mpa.unwrap_or(ROBUST.kp_mm_per_mpa),
+                ti_s: k.ti_s.unwrap_or(ROBUST.ti_s),
+                setpoint_weight: k.setpoint_weight.unwrap_or(ROBUST.setpoint_weight),
+                stroke_gain: k.stroke_gain.unwrap_or(ROBUST.stroke_gain),
+            })
         }
-        ControllerSpec::CascadePi {
-            setpoint_mpa,
-            kp_mm_per_mpa,
-            ti_s,
-            setpoint_weight,
-            stroke_gain,
-        } => (
-            setpoint_mpa,
-            cascade(kp_mm_per_mpa, ti_s, setpoint_weight, stroke_gain),
-            None,
-            None,
-            None,
-        ),
-        ControllerSpec::RhonnAdaptive {
-            setpoint_mpa,
-            knobs,
-            baseline,
-            baseline_kp_a_per_mpa,
-            baseline_ti_s,
-            baseline_kp_mm_per_mpa,
-            baseline_setpoint_weight,
-            baseline_stroke_gain,
-            second_baseline,
-        } => {
-            let l = PumpAdaptiveLoop::with_knobs(p_line(), *knobs);
-            let b = if baseline_kind(baseline.as_deref(), baseline_kp_a_per_mpa) == "pi" {
-                LoopSpec::Pi(PiLoop {
-                    state: p_line(),
-                    kp: baseline_kp_a_per_mpa.unwrap_or(PI_BASELINE[0]),
-                    ti_s: baseline_ti_s.unwrap_or(PI_BASELINE[1]),
-                    bias: None,
-                })
-            } else {
-                cascade(
-                    baseline_kp_mm_per_mpa,
-                    baseline_ti_s,
-                    baseline_setpoint_weight,
-                    baseline_stroke_gain,
-                )
-            };
-            (
-                setpoint_mpa,
-                LoopSpec::PumpRhonnAdaptive(l),
-                Some(b),
-                second_baseline,
-                None,
-            )
-        }
-    };
+    });
     ControlSpec {
         input: "current".into(),
         input_range: [0.0, spec.plant.i_max_a],
         output: p_line(),
-        setpoint,
+        setpoint: c.setpoint.clone(),
         period_s: spec.plant.t_control_ms / 1e3,
-        controller,
+        controller: c.controller.clone(),
         baseline,
-        second_baseline: second,
+        second_baseline: if adaptive { c.second_baseline.clone() } else { None },
         delay_periods: spec.plant.transport_delay_periods,
-        dither,
+        dither: match c.controller {
+            LoopSpec::Pi(_) => c.dither.clone(),
+            _ => None,
+        },
     }
 }
 

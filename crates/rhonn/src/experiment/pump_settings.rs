@@ -3,9 +3,10 @@
 //! accepts. Every failure names the field, the value and what is allowed (in the file's
 //! keys, see `pump_scenario::lower_checked`); unknown keys are errors.
 
+use super::plant_scenario::{check_folder_name, ControlSpec, ProfileSpec, SolverSpec};
 use super::pump_controllers::{
     check_baseline, check_cascade_pi, check_named_cascade_pi, check_pi, Baseline, BaselineKeys,
-    CascadePiGainsMpa, CascadePiSettings, PiSettings, ROBUST,
+    CascadePiGainsMpa, CascadePiSettings, PiSettings,
 };
 use crate::control::CascadeSettings;
 use crate::error::{invalid, Error, Result};
@@ -13,7 +14,7 @@ use crate::ident::{IdentSettings, IdentifierSpec};
 use crate::plant::{PumpParams, PumpParamsSpec};
 use crate::signal::{Signal, SignalSpec};
 use crate::units::*;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 /// The largest steady pump flow of the thesis, Q_l,max = 2.1 dm^3/s (its eq. (1)):
 /// demanded-flow peaks must stay below it.
@@ -47,99 +48,6 @@ pub struct MeasurementSpec {
     pub stroke_noise_std_mm: f64,
 }
 
-/// Step-size control profile.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ProfileSpec {
-    /// Hairer's DOPRI5 control (default): rtol 1e-6, atol 1 Pa and 1e-9 m, max step 100 ms.
-    #[default]
-    Hairer,
-    /// MATLAB ode45's defaults and step control: RelTol 1e-3, AbsTol 1e-6, MaxStep span/10.
-    Ode45,
-    /// Simulink's variable-step ode45: as `ode45` but MaxStep span/50.
-    SimulinkOde45,
-}
-
-/// Solver settings; unset fields take the profile's defaults.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct SolverSpec {
-    /// Step-size control profile.
-    pub profile: ProfileSpec,
-    /// Relative tolerance (both states).
-    pub rtol: Option<f64>,
-    /// Absolute tolerance of the line pressure \[Pa\].
-    pub atol_p_line_pa: Option<f64>,
-    /// Absolute tolerance of the stroke \[m\].
-    pub atol_stroke_m: Option<f64>,
-    /// Largest step \[ms\].
-    pub max_step_ms: Option<f64>,
-}
-
-/// A controller of the line pressure, tagged by `kind`.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ControllerSpec {
-    /// PI on the measured pressure, sampled every T, anti-windup at the current limits.
-    Pi {
-        /// Pressure set-point \[MPa\].
-        setpoint_mpa: SignalSpec,
-        /// Proportional gain \[A/MPa\].
-        kp_a_per_mpa: f64,
-        /// Integral time \[s\].
-        ti_s: f64,
-        /// Output offset \[A\] (default: the current whose steady stroke gives a pump
-        /// flow equal to the lubricating flow Q_0).
-        bias_a: Option<f64>,
-        /// An excitation added to the controller's output \[A\] (e.g. a PRBS), held over
-        /// each control period; the sum is clipped to the current range.
-        dither_a: Option<SignalSpec>,
-    },
-    /// RHONN indirect adaptive cascade (`rhonn::control::adaptive`: an affine RHONN of the
-    /// line pressure with the stroke as its input, and a stroke loop), with a PI
-    /// baseline run on an identical plant in the same run. Unset settings take the
-    /// defaults of `CascadeSettings` (tuned once, on the nominal plant).
-    RhonnAdaptive {
-        /// Pressure set-point \[MPa\].
-        setpoint_mpa: SignalSpec,
-        /// The cascade's settings (each unset one: `CascadeSettings::default`: lambda 100
-        /// 1/s, 10 while identifying for 2 s, stroke gain 3, lead 0.06 s, filter pole 70
-        /// 1/s, learning rates 1e4 and 5, ball fraction 0.5, no integral action).
-        knobs: Box<crate::control::AdaptiveKnobs>,
-        /// The baseline run beside it: `cascade-pi` (the same sensors; the default) or
-        /// `pi` (the pressure only; the default when `baseline_kp_a_per_mpa` is given).
-        baseline: Option<String>,
-        /// The PI baseline's proportional gain \[A/MPa\] (0.15).
-        baseline_kp_a_per_mpa: Option<f64>,
-        /// The baseline's integral time \[s\] (PI 0.15; cascade PI: the robust tuning).
-        baseline_ti_s: Option<f64>,
-        /// The cascade PI baseline's outer gain \[mm/MPa\] (the robust tuning).
-        baseline_kp_mm_per_mpa: Option<f64>,
-        /// The cascade PI baseline's set-point weight (the robust tuning).
-        baseline_setpoint_weight: Option<f64>,
-        /// The cascade PI baseline's stroke gain (the robust tuning).
-        baseline_stroke_gain: Option<f64>,
-        /// A second cascade PI run beside it, by its tuning's name: `nominal-optimal` or
-        /// `robust` (none by default).
-        second_baseline: Option<String>,
-    },
-    /// Cascade PI (`rhonn::control::CascadePi`): an outer PI on the measured pressure
-    /// with set-point weighting gives a stroke reference; an inner proportional loop on
-    /// the measured stroke with the pilot valve's static inverse as feed-forward gives the
-    /// current. Unset gains take the robust tuning.
-    CascadePi {
-        /// Pressure set-point \[MPa\].
-        setpoint_mpa: SignalSpec,
-        /// Outer proportional gain \[mm/MPa\].
-        kp_mm_per_mpa: Option<f64>,
-        /// Outer integral time \[s\].
-        ti_s: Option<f64>,
-        /// Set-point weight b of the proportional term, in [0, 1].
-        setpoint_weight: Option<f64>,
-        /// Inner stroke feedback gain g.
-        stroke_gain: Option<f64>,
-    },
-}
-
 /// The pump runner's settings, in display units (see each field): a scenario file of the
 /// pump lowered (`pump_scenario::lower`); written back in the one format by
 /// `pump_scenario::raise`, never as themselves.
@@ -163,8 +71,9 @@ pub struct ScenarioSpec {
     pub current_a: Option<SignalSpec>,
     /// Demanded flow \[dm^3/s\] (zero when absent).
     pub demand_dm3_s: Option<SignalSpec>,
-    /// Pressure controller; exclusive with `current_a`.
-    pub controller: Option<ControllerSpec>,
+    /// The pressure's controller (the one format's `[control]`, checked by
+    /// `pump_scenario::lower`); exclusive with `current_a`.
+    pub controller: Option<ControlSpec>,
     /// Measurement.
     pub measurement: MeasurementSpec,
     /// Solver settings.
@@ -264,29 +173,6 @@ pub struct Scenario {
     pub identifier: Option<IdentSettings>,
     /// Things the user should know (printed and written to the summary).
     pub warnings: Vec<String>,
-}
-
-/// What a name that becomes a folder or file name may be: one plain path component.
-pub const FOLDER_NAME_RULE: &str =
-    "a name of letters, digits, '-', '_' and '.' that does not start with '.' \
-     (it names a folder inside the output folder: no separators, no `.` or `..`, not empty)";
-
-/// Check that `value` (the field `field` of a file) is one plain path component that stays
-/// inside the folder it is joined to: letters, digits, `-`, `_` and `.`, not empty and not
-/// starting with `.` (which also refuses `.` and `..`). A scenario received from someone
-/// else must never write outside the folder the user chose.
-pub fn check_folder_name(field: &str, value: &str) -> Result<()> {
-    let ok = !value.is_empty()
-        && !value.starts_with('.')
-        && value.len() <= 200
-        && value
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.');
-    if ok {
-        Ok(())
-    } else {
-        Err(invalid(field, format!("{value:?}"), FOLDER_NAME_RULE))
-    }
 }
 
 impl ScenarioSpec {
@@ -458,88 +344,56 @@ impl ScenarioSpec {
                 }
                 Drive::OpenLoop(sig)
             }
-            (
-                None,
-                Some(ControllerSpec::Pi {
-                    setpoint_mpa,
-                    kp_a_per_mpa,
-                    ti_s,
-                    bias_a,
-                    dither_a,
-                }),
-            ) => {
-                let setpoint = self.check_setpoint(setpoint_mpa, params)?;
-                let mut pi = check_pi(*kp_a_per_mpa, *ti_s, *bias_a, setpoint, params, "controller.")?;
+            (None, Some(c)) => self.check_controller(c, params)?,
+        })
+    }
+
+    /// The pressure's controller of `[control]` (its kinds and keys checked by `lower`).
+    fn check_controller(&self, c: &ControlSpec, params: &PumpParams) -> Result<Drive> {
+        use crate::control::LoopSpec;
+        let setpoint = self.check_setpoint(&c.setpoint, params)?;
+        Ok(match &c.controller {
+            LoopSpec::Pi(l) => {
+                let mut pi = check_pi(l.kp, l.ti_s, l.bias, setpoint, params, "controller.")?;
                 let no_clip = crate::signal::spec_limits(f64::NEG_INFINITY, f64::INFINITY, None, None);
-                pi.dither = dither_a
+                pi.dither = c
+                    .dither
                     .as_ref()
                     .map(|d| d.build("controller.dither_a", 1.0, no_clip))
                     .transpose()?;
                 Drive::Pi(pi)
             }
-            (None, Some(spec @ ControllerSpec::RhonnAdaptive { .. })) => self.check_adaptive(spec, params)?,
-            (
-                None,
-                Some(ControllerSpec::CascadePi {
-                    setpoint_mpa,
-                    kp_mm_per_mpa,
-                    ti_s,
-                    setpoint_weight,
-                    stroke_gain,
-                }),
-            ) => {
-                let setpoint = self.check_setpoint(setpoint_mpa, params)?;
+            LoopSpec::PumpRhonnAdaptive(l) => {
+                let cascade = l.knobs().check("controller")?;
+                let baseline = check_baseline(BaselineKeys::of(c.baseline.as_ref()), &setpoint, params)?;
+                let second_baseline = match c.second_baseline.as_deref() {
+                    None => None,
+                    Some(name) => Some(check_named_cascade_pi(name, &setpoint, params)?),
+                };
+                Drive::Adaptive(Box::new(AdaptiveSettings {
+                    setpoint,
+                    cascade,
+                    baseline,
+                    second_baseline,
+                }))
+            }
+            LoopSpec::PumpCascadePi(l) => {
                 let g = CascadePiGainsMpa {
-                    kp_mm_per_mpa: kp_mm_per_mpa.unwrap_or(ROBUST.kp_mm_per_mpa),
-                    ti_s: ti_s.unwrap_or(ROBUST.ti_s),
-                    setpoint_weight: setpoint_weight.unwrap_or(ROBUST.setpoint_weight),
-                    stroke_gain: stroke_gain.unwrap_or(ROBUST.stroke_gain),
+                    kp_mm_per_mpa: l.kp_mm_per_mpa,
+                    ti_s: l.ti_s,
+                    setpoint_weight: l.setpoint_weight,
+                    stroke_gain: l.stroke_gain,
                 };
                 Drive::CascadePi(check_cascade_pi(g, setpoint, params, "controller.")?)
             }
+            other => {
+                return Err(invalid(
+                    "controller.kind",
+                    format!("\"{}\"", other.name()),
+                    "for the pump: pi, pump-rhonn-adaptive, pump-cascade-pi",
+                ))
+            }
         })
-    }
-
-    /// The `rhonn-adaptive` controller's settings.
-    fn check_adaptive(&self, spec: &ControllerSpec, params: &PumpParams) -> Result<Drive> {
-        let ControllerSpec::RhonnAdaptive {
-            setpoint_mpa,
-            knobs,
-            baseline: baseline_kind,
-            baseline_kp_a_per_mpa,
-            baseline_ti_s,
-            baseline_kp_mm_per_mpa,
-            baseline_setpoint_weight,
-            baseline_stroke_gain,
-            second_baseline,
-        } = spec
-        else {
-            return Err(invalid("controller.kind", "another kind", "rhonn-adaptive"));
-        };
-        let setpoint = self.check_setpoint(setpoint_mpa, params)?;
-        let cascade = knobs.check("controller")?;
-        let baseline = check_baseline(
-            BaselineKeys {
-                kind: baseline_kind.as_deref(),
-                kp_a_per_mpa: *baseline_kp_a_per_mpa,
-                ti_s: *baseline_ti_s,
-                kp_mm_per_mpa: *baseline_kp_mm_per_mpa,
-                setpoint_weight: *baseline_setpoint_weight,
-                stroke_gain: *baseline_stroke_gain,
-            },
-            &setpoint,
-            params,
-        )?;
-        let second_baseline = match second_baseline.as_deref() {
-            None => None,
-            Some(name) => Some(check_named_cascade_pi(name, &setpoint, params)?),
-        };
-        Ok(Drive::Adaptive(Box::new(AdaptiveSettings {
-            setpoint,
-            cascade,
-            baseline,
-            second_baseline,
-        })))
     }
 
     /// The solver's settings: the profile's defaults, then the file's values, checked.

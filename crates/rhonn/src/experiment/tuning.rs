@@ -20,7 +20,7 @@
 
 use super::campaign::{apply, base_values, draw, Plan, Sampling};
 use super::pump_controllers::CascadePiGainsMpa;
-use super::pump_settings::{ControllerSpec, ScenarioSpec};
+use super::pump_settings::ScenarioSpec;
 use super::{run_full, NoRecorder};
 use rayon::prelude::*;
 
@@ -147,19 +147,16 @@ impl TuningScore {
 /// `spec` (an adaptive scenario) with the cascade PI of `g` as its only controller.
 pub fn with_cascade_pi(spec: &ScenarioSpec, g: CascadePiGainsMpa) -> ScenarioSpec {
     let mut s = spec.clone();
-    let setpoint_mpa = match &s.controller {
-        Some(ControllerSpec::RhonnAdaptive { setpoint_mpa, .. })
-        | Some(ControllerSpec::CascadePi { setpoint_mpa, .. })
-        | Some(ControllerSpec::Pi { setpoint_mpa, .. }) => setpoint_mpa.clone(),
-        None => return s,
-    };
-    s.controller = Some(ControllerSpec::CascadePi {
-        setpoint_mpa,
-        kp_mm_per_mpa: Some(g.kp_mm_per_mpa),
-        ti_s: Some(g.ti_s),
-        setpoint_weight: Some(g.setpoint_weight),
-        stroke_gain: Some(g.stroke_gain),
-    });
+    if let Some(c) = &mut s.controller {
+        c.controller = crate::control::LoopSpec::PumpCascadePi(crate::control::PumpCascadePiLoop {
+            state: "p_line".into(),
+            kp_mm_per_mpa: g.kp_mm_per_mpa,
+            ti_s: g.ti_s,
+            setpoint_weight: g.setpoint_weight,
+            stroke_gain: g.stroke_gain,
+        });
+        (c.baseline, c.second_baseline, c.dither) = (None, None, None);
+    }
     s
 }
 
