@@ -102,18 +102,9 @@ pub(crate) fn envelope_files<'a>(
 
 /// How plots name an adaptive scenario's baseline.
 fn baseline_label(spec: &ScenarioSpec) -> &'static str {
-    use rhonn::experiment::LoopSpec;
-    let kind = match spec.controller.as_ref() {
-        Some(c) if matches!(c.controller, LoopSpec::PumpRhonnAdaptive(_)) => match c.baseline {
-            Some(LoopSpec::Pi(_)) => "pi",
-            _ => "cascade-pi",
-        },
-        _ => "pi",
-    };
-    if kind == "pi" {
-        "PI baseline"
-    } else {
-        "cascade PI baseline"
+    match spec.adaptive_baseline_kind() {
+        Some("cascade-pi") => "cascade PI baseline",
+        _ => "PI baseline",
     }
 }
 

@@ -183,6 +183,17 @@ impl ScenarioSpec {
         [p.beta_mpa, p.mu_1, p.mu_2, p.q_0_dm3_s, p.qdot_max_dm3_s2]
     }
 
+    /// The kind of the adaptive controller's baseline, `"pi"` or `"cascade-pi"`
+    /// ([`super::baseline_kind`] of its `[control.baseline]`); none without an adaptive
+    /// controller.
+    pub fn adaptive_baseline_kind(&self) -> Option<&'static str> {
+        let c = self.controller.as_ref()?;
+        matches!(c.controller, crate::control::LoopSpec::PumpRhonnAdaptive(_)).then(|| {
+            let k = BaselineKeys::of(c.baseline.as_ref());
+            super::pump_controllers::baseline_kind(k.kind, k.kp_a_per_mpa)
+        })
+    }
+
     fn check_setpoint(&self, setpoint_mpa: &SignalSpec, params: &PumpParams) -> Result<Signal> {
         let lim =
             crate::signal::spec_limits(params.p_min / PA_PER_MPA, params.p_max / PA_PER_MPA, None, None);
