@@ -29,7 +29,8 @@
 //! inputs alone; `K` steps ahead settles them on the `settle` samples up to each k and
 //! runs K samples on.
 
-use super::{lm, Model, ModelSpec};
+use super::lm::lm_with_columns;
+use super::{Model, ModelSpec};
 use crate::data::Record;
 use crate::error::{invalid, Error, Result};
 use rand::{Rng, SeedableRng};
@@ -593,28 +594,16 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
             (l.min(v), h.max(v))
         });
     let nm = co.n_model();
-    let residuals = |th: &[f64], out: &mut Vec<f64>| -> bool {
-        let p = co.params(th);
-        out.clear();
-        let mut buf = Vec::new();
-        for (q, (u, y)) in data.iter().enumerate() {
-            let hidden: Vec<f64> = (0..n - 1)
-                .map(|i| p.xmax[i] * logistic(th[nm + q * (n - 1) + i]))
-                .collect();
-            if simulate(&p, u, &hidden, y[0], y.len(), &mut buf).is_err() {
-                return false;
-            }
-            out.extend(buf[1..].iter().zip(&y[1..]).map(|(a, b)| a - b));
-        }
-        true
-    };
+    let fr = FreeRuns::new(co, &data);
+    let residuals = |th: &[f64], out: &mut Vec<f64>| fr.all(th, out);
+    let column = |th: &[f64], c: usize, r0: &[f64], out: &mut Vec<f64>| fr.column(th, c, r0, out);
     let run_starts = |range: std::ops::Range<usize>| -> Vec<(f64, usize, Vec<f64>)> {
         range
             .into_par_iter()
             .map(|s| {
                 let mut rng = ChaCha8Rng::seed_from_u64(spec.seed.wrapping_add(s as u64));
                 let mut th = random_start(co, ymin, ymax, data.len(), &mut rng);
-                let cost = lm(&mut th, spec.epochs, 1e-5, &residuals);
+                let cost = lm_with_columns(&mut th, spec.epochs, 1e-5, &residuals, &column);
                 (cost, s, th)
             })
             .collect()
@@ -743,6 +732,10 @@ impl super::kinds::ModelKind for Cascade {
         false
     }
 }
+
+#[path = "cascade_free_runs.rs"]
+mod free_runs;
+pub(crate) use free_runs::FreeRuns;
 
 #[cfg(test)]
 #[path = "cascade_tests.rs"]

@@ -281,3 +281,45 @@ fn the_starts_stop_early_when_none_of_the_first_is_valid() {
     // Fewer starts than the first stage: just those.
     assert_eq!(staged_starts(3, run, |_| true), vec![0, 1, 2]);
 }
+
+#[test]
+fn a_hidden_state_column_from_its_own_record_is_the_full_evaluation_bit_for_bit() {
+    // Three records of three neurons (two hidden states each): every Jacobian column,
+    // a model coordinate's or a hidden state's, equals the full evaluation at the moved
+    // point, so training does not depend on which one ran.
+    let (_, m) = shell(3, 60);
+    let co = Coords {
+        n: 3,
+        ni: 1,
+        free_exp: true,
+    };
+    let data: Vec<_> = [4u64, 5, 6]
+        .iter()
+        .map(|&s| normalised(&m, &record(s, 40 + s as usize, [2.0, 1.0]).0))
+        .collect();
+    let fr = FreeRuns::new(co, &data);
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let th = random_start(co, -1.5, 1.5, data.len(), &mut rng);
+    assert_eq!(th.len(), co.n_model() + 3 * 2);
+    let mut r0 = Vec::new();
+    assert!(fr.all(&th, &mut r0));
+    assert_eq!(r0.len(), 43 + 44 + 45);
+    let (mut full, mut col) = (Vec::new(), Vec::new());
+    for c in 0..th.len() {
+        let mut moved = th.clone();
+        moved[c] += 0.3;
+        assert!(fr.all(&moved, &mut full));
+        assert!(fr.column(&moved, c, &r0, &mut col));
+        assert_eq!(full, col, "column {c}");
+        if c >= co.n_model() {
+            // Only the moved state's record changed.
+            let q = (c - co.n_model()) / 2;
+            let at = [0, 43, 87, 132];
+            assert!((0..r0.len()).all(|i| (at[q]..at[q + 1]).contains(&i) || full[i] == r0[i]));
+            assert!(
+                (at[q]..at[q + 1]).any(|i| full[i] != r0[i]),
+                "column {c} moved nothing"
+            );
+        }
+    }
+}

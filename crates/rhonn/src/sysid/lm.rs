@@ -17,6 +17,24 @@ pub(super) fn lm(
     fd_rel: f64,
     resid: &(dyn Fn(&[f64], &mut Vec<f64>) -> bool + Sync),
 ) -> f64 {
+    lm_with_columns(theta, iters, fd_rel, resid, &|th, _, _, out| resid(th, out))
+}
+
+/// The residuals at `theta` moved in coordinate `p` alone, given the residuals `r0` at
+/// `theta` (false: not simulated): what a Jacobian column needs, for residuals of which a
+/// coordinate moves only a part (a record's hidden initial state moves that record's).
+pub(super) type Column<'a> = &'a (dyn Fn(&[f64], usize, &[f64], &mut Vec<f64>) -> bool + Sync);
+
+/// [`lm`] with each Jacobian column's residuals from `column`, which must give exactly
+/// what `resid` gives at the moved point (the same bits: the training does not depend on
+/// which is used).
+pub(super) fn lm_with_columns(
+    theta: &mut Vec<f64>,
+    iters: usize,
+    fd_rel: f64,
+    resid: &(dyn Fn(&[f64], &mut Vec<f64>) -> bool + Sync),
+    column: Column,
+) -> f64 {
     let np = theta.len();
     let mut r0 = Vec::new();
     if !resid(theta, &mut r0) {
@@ -36,7 +54,7 @@ pub(super) fn lm(
                 let mut th = theta.clone();
                 th[p] += h;
                 let mut r = Vec::new();
-                (resid(&th, &mut r) && r.len() == nr)
+                (column(&th, p, &r0, &mut r) && r.len() == nr)
                     .then(|| r.iter().zip(&r0).map(|(a, b)| (a - b) / h).collect())
             })
             .collect();
