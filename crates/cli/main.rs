@@ -162,7 +162,7 @@ fn cmd_campaign(
     threads: Option<usize>,
 ) -> Result<()> {
     let sc = preset::load_any(scenario)?;
-    let name = sc.name().to_string();
+    let name = sc.name.clone();
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(format!("campaign-{name}")));
     let reporter = progress::Reporter::new(&name);
     let zero = "--threads 0 is not allowed: give 1 or more";

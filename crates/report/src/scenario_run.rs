@@ -130,14 +130,13 @@ fn plant_lines(output: &PlantRunOutput) -> Vec<String> {
 /// `rhonn campaign` on a scenario into `dir` (resumes a folder left by
 /// an interrupted one): the pump's campaign (its tolerances, envelopes) or a plant's.
 pub fn run_scenario_campaign(
-    sc: &rhonn::experiment::preset::AnyScenario,
+    sc: &rhonn::experiment::PlantScenarioSpec,
     o: &crate::campaign::CampaignOptions,
     dir: &Path,
     progress: &(dyn Fn(crate::campaign::Progress) + Sync),
 ) -> Result<crate::campaign::CampaignOutcome> {
-    use rhonn::experiment::preset::AnyScenario;
-    match sc {
-        AnyScenario::Pump(spec) => crate::campaign::run_campaign(spec, o, dir, progress),
-        AnyScenario::Plant(spec) => crate::plant_campaign::run_plant_campaign(spec, o, dir, progress),
+    match sc.pump_settings()? {
+        Some(spec) => crate::campaign::run_campaign(&spec, o, dir, progress),
+        None => crate::plant_campaign::run_plant_campaign(sc, o, dir, progress),
     }
 }

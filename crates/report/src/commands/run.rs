@@ -21,14 +21,14 @@ pub fn run(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
 
 fn run_named(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
     let sc = preset::load_any(scenario)?;
-    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(sc.name()));
+    let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
     Ok(run_scenario(&sc, Some(&dir))?.1.unwrap_or_default())
 }
 
 /// Run `sc` and, given `out`, write its folder as `rhonn run` does (the folder checked
 /// before the run): the run, and what writing it told (`rhonn run`, Python's `rhonn.run`).
 pub fn run_scenario(
-    sc: &preset::AnyScenario,
+    sc: &rhonn::experiment::PlantScenarioSpec,
     out: Option<&Path>,
 ) -> Result<(rhonn::experiment::ScenarioRun, Option<Outcome>)> {
     if let Some(dir) = out {
@@ -36,7 +36,7 @@ pub fn run_scenario(
     }
     let run = sc.run()?;
     let written = out
-        .map(|dir| save_scenario_run(dir, sc.name(), &run))
+        .map(|dir| save_scenario_run(dir, &sc.name, &run))
         .transpose()?;
     Ok((run, written))
 }

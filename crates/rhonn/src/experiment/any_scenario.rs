@@ -1,13 +1,15 @@
-//! A scenario as one thing to run: [`AnyScenario::run`] gives a [`ScenarioRun`] whose
-//! columns and summary are read the same way whatever the plant, so the command line,
-//! Python and the report crate never ask which runner it was. (The pump's scenarios,
-//! written in the one format, run on the pump's own runner, every other plant's on the
-//! generic one; this is the one place that tells them apart.)
+//! A scenario of the one format as one thing to run: [`PlantScenarioSpec::run`] gives a
+//! [`ScenarioRun`] whose columns and summary are read the same way whatever the plant, so
+//! the command line, Python and the report crate never ask which runner it was. (The
+//! pump's scenarios run on the pump's own runner, lowered to its settings by
+//! [`PlantScenarioSpec::pump_settings`], every other plant's on the generic one; this is
+//! the one place that tells them apart.)
 
 use super::bench::{bench, bench_plant, BenchFigures};
 use super::plant_run::{run_plant_scenario, PlantRunOutput};
-use super::preset::AnyScenario;
+use super::plant_scenario::PlantScenarioSpec;
 use super::pump_run::{run_full, RunOutput};
+use super::pump_settings::ScenarioSpec;
 use super::trace::Trace;
 use crate::error::Result;
 use std::time::Duration;
@@ -31,11 +33,21 @@ pub enum ScenarioRun {
 /// Columns as `(name, SI values)`.
 pub type NamedColumns = Vec<(String, Vec<f64>)>;
 
-impl AnyScenario {
-    /// Run it (a pump scenario is checked first).
+impl PlantScenarioSpec {
+    /// The pump runner's settings of a pump scenario (`[plant] kind = "pump"`), checked;
+    /// `None` for any other plant, whose scenario runs as written.
+    pub fn pump_settings(&self) -> Result<Option<ScenarioSpec>> {
+        if self.plant.kind == "pump" {
+            super::pump_scenario::lower_checked(self).map(Some)
+        } else {
+            Ok(None)
+        }
+    }
+
+    /// Run it.
     pub fn run(&self) -> Result<ScenarioRun> {
-        match self {
-            AnyScenario::Pump(spec) => {
+        match self.pump_settings()? {
+            Some(spec) => {
                 let sc = spec.check()?;
                 let mut trace = Trace::default();
                 let output = run_full(&sc, &mut trace)?;
@@ -45,15 +57,15 @@ impl AnyScenario {
                     warnings: sc.warnings,
                 })
             }
-            AnyScenario::Plant(spec) => Ok(ScenarioRun::Plant(Box::new(run_plant_scenario(spec, None)?))),
+            None => Ok(ScenarioRun::Plant(Box::new(run_plant_scenario(self, None)?))),
         }
     }
 
     /// Time its runs for about `budget` (`rhonn bench`).
     pub fn bench(&self, budget: Duration) -> Result<BenchFigures> {
-        match self {
-            AnyScenario::Pump(spec) => bench(&spec.check()?, budget),
-            AnyScenario::Plant(spec) => bench_plant(spec, budget),
+        match self.pump_settings()? {
+            Some(spec) => bench(&spec.check()?, budget),
+            None => bench_plant(self, budget),
         }
     }
 }

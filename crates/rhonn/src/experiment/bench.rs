@@ -4,7 +4,6 @@
 
 use super::plant_run::run_plant_scenario;
 use super::plant_scenario::PlantScenarioSpec;
-use super::preset::AnyScenario;
 use super::pump_run::run;
 use super::pump_settings::Scenario;
 use super::trace::NoRecorder;
@@ -82,9 +81,9 @@ fn timed(
 }
 
 /// The median wall time \[s\] of `repeats` runs of `sc` (at least one), each made as
-/// `AnyScenario::run` makes it: Python's bench (`python/bench.py`) compares it with the
+/// `PlantScenarioSpec::run` makes it: Python's bench (`python/bench.py`) compares it with the
 /// same run called from Python.
-pub fn median_run_seconds(sc: &AnyScenario, repeats: usize) -> Result<f64> {
+pub fn median_run_seconds(sc: &PlantScenarioSpec, repeats: usize) -> Result<f64> {
     let mut times = (0..repeats.max(1))
         .map(|_| {
             let start = Instant::now();

@@ -14,7 +14,8 @@ use crate::signal::{Limits, Signal, SignalSpec};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-/// A scenario of any plant of the library (the pump too, beside its own richer format).
+/// A scenario of any plant of the library, the pump's too: the one scenario type, which
+/// `preset::load_any` reads and [`PlantScenarioSpec::run`] runs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlantScenarioSpec {

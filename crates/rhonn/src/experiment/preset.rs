@@ -50,49 +50,21 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ),
 ];
 
-/// A scenario of the one format: the pump's lowered to its own runner's settings, any
-/// other plant's as written.
-#[derive(Debug, Clone, PartialEq)]
-pub enum AnyScenario {
-    /// The pump's (`[plant] kind = "pump"`), lowered.
-    Pump(Box<ScenarioSpec>),
-    /// Any other plant's (`[plant] kind = "tanks"`, ...).
-    Plant(Box<PlantScenarioSpec>),
-}
-
-impl AnyScenario {
-    /// Its name.
-    pub fn name(&self) -> &str {
-        match self {
-            AnyScenario::Pump(s) => &s.name,
-            AnyScenario::Plant(s) => &s.name,
-        }
+/// A scenario from its TOML text in the one format (`source` names it in errors): the
+/// one scenario type of every plant. A pump scenario (`[plant] kind = "pump"`) is also
+/// lowered to its runner's settings here, so that every error of the file is given now,
+/// before anything runs.
+pub fn parse(text: &str, source: &str) -> Result<PlantScenarioSpec> {
+    let former = former_pump_keys(text);
+    if !former.is_empty() {
+        return Err(Error::Parse {
+            source_name: source.to_string(),
+            message: format!("{} and no `kind` in [plant]: the pump's former scenario format, now written in the one format every plant uses (`[plant] kind = \"pump\"`; the keys' mapping: docs/reference/scenarios.md, \"The pump\")", former.join(", ")),
+        });
     }
-    /// Its one-line description.
-    pub fn description(&self) -> &str {
-        match self {
-            AnyScenario::Pump(s) => &s.description,
-            AnyScenario::Plant(s) => &s.description,
-        }
-    }
-    /// A scenario from its TOML text; `source` names it in errors. The pump's
-    /// (`[plant] kind = "pump"`) is lowered to its own runner's settings and checked.
-    pub fn parse(text: &str, source: &str) -> Result<Self> {
-        let former = former_pump_keys(text);
-        if !former.is_empty() {
-            return Err(Error::Parse {
-                source_name: source.to_string(),
-                message: format!("{} and no `kind` in [plant]: the pump's former scenario format, now written in the one format every plant uses (`[plant] kind = \"pump\"`; the keys' mapping: docs/reference/scenarios.md, \"The pump\")", former.join(", ")),
-            });
-        }
-        let spec = PlantScenarioSpec::from_toml(text, source)?;
-        if spec.plant.kind == "pump" {
-            let lowered = super::pump_scenario::lower_checked(&spec)?;
-            Ok(AnyScenario::Pump(Box::new(lowered)))
-        } else {
-            Ok(AnyScenario::Plant(Box::new(spec)))
-        }
-    }
+    let spec = PlantScenarioSpec::from_toml(text, source)?;
+    spec.pump_settings()?;
+    Ok(spec)
 }
 
 /// The keys of the pump's former scenario format in `text` (a TOML text without
@@ -126,8 +98,8 @@ pub fn list() -> Vec<(&'static str, String)> {
     SHIPPED
         .iter()
         .map(|(name, text)| {
-            let spec = AnyScenario::parse(text, name).expect("shipped scenarios parse");
-            (*name, spec.description().to_string())
+            let spec = parse(text, name).expect("shipped scenarios parse");
+            (*name, spec.description)
         })
         .collect()
 }
@@ -156,29 +128,30 @@ fn text_of(name_or_path: &str) -> Result<String> {
 }
 
 /// A scenario of any plant by name or path (see [`load`]).
-pub fn load_any(name_or_path: &str) -> Result<AnyScenario> {
-    AnyScenario::parse(&text_of(name_or_path)?, name_or_path)
+pub fn load_any(name_or_path: &str) -> Result<PlantScenarioSpec> {
+    parse(&text_of(name_or_path)?, name_or_path)
 }
 
 /// A scenario given as TOML `text` (`name_or_path` names it in errors), or without a
 /// text by name or path (see [`load_any`]): Python's `rhonn.run(name, toml_text)`.
-pub fn load_or_parse(name_or_path: &str, text: Option<&str>) -> Result<AnyScenario> {
+pub fn load_or_parse(name_or_path: &str, text: Option<&str>) -> Result<PlantScenarioSpec> {
     match text {
-        Some(text) => AnyScenario::parse(text, name_or_path),
+        Some(text) => parse(text, name_or_path),
         None => load_any(name_or_path),
     }
 }
 
-/// A pump scenario by name or path; a scenario of another plant is an error saying so.
+/// A pump scenario by name or path, as its runner's settings; a scenario of another
+/// plant is an error saying so.
 pub fn load(name_or_path: &str) -> Result<ScenarioSpec> {
-    match load_any(name_or_path)? {
-        AnyScenario::Pump(s) => Ok(*s),
-        AnyScenario::Plant(s) => Err(crate::error::invalid(
+    let spec = load_any(name_or_path)?;
+    spec.pump_settings()?.ok_or_else(|| {
+        crate::error::invalid(
             "plant.kind",
-            format!("\"{}\" (scenario `{}`)", s.plant.kind, s.name),
+            format!("\"{}\" (scenario `{}`)", spec.plant.kind, spec.name),
             "the pump here: this call runs pump scenarios (use `load_any`)",
-        )),
-    }
+        )
+    })
 }
 
 #[cfg(test)]
@@ -188,17 +161,15 @@ mod tests {
     #[test]
     fn every_shipped_scenario_parses_and_checks() {
         for (name, _) in SHIPPED {
-            match load_any(name).unwrap() {
-                AnyScenario::Pump(spec) => {
-                    assert_eq!(spec.name, *name);
-                    spec.check().unwrap();
-                    assert!(!spec.description.is_empty());
+            let spec = load_any(name).unwrap();
+            assert_eq!(spec.name, *name);
+            assert!(!spec.description.is_empty());
+            match spec.pump_settings().unwrap() {
+                Some(pump) => {
+                    assert_eq!(pump.name, *name);
+                    pump.check().unwrap();
                 }
-                AnyScenario::Plant(spec) => {
-                    assert_eq!(spec.name, *name);
-                    spec.check_common().unwrap();
-                    assert!(!spec.description.is_empty());
-                }
+                None => spec.check_common().unwrap(),
             }
         }
     }
@@ -219,7 +190,7 @@ mod tests {
     #[test]
     fn unknown_keys_are_errors() {
         let text = SHIPPED[0].1.replace("duration_s", "duration_s = 1.0\ndurtion_s");
-        let e = AnyScenario::parse(&text, "x.toml").unwrap_err().to_string();
+        let e = parse(&text, "x.toml").unwrap_err().to_string();
         assert!(
             e.contains("x.toml") && e.contains("unknown field `durtion_s`"),
             "{e}"
@@ -229,7 +200,7 @@ mod tests {
     #[test]
     fn the_pumps_former_format_is_refused_with_the_way_out() {
         let old = "name = \"x\"\nduration_s = 1.0\noutput_interval_ms = 1.0\n[current_a]\nkind = \"constant\"\nvalue = 0.1\n";
-        let e = AnyScenario::parse(old, "old.toml").unwrap_err().to_string();
+        let e = parse(old, "old.toml").unwrap_err().to_string();
         assert!(
             e.contains("old.toml")
                 && e.contains("`output_interval_ms`, `[current_a]`")
@@ -237,7 +208,7 @@ mod tests {
             "{e}"
         );
         // Any other text without a kind: the reader's own error, with its line.
-        let e = AnyScenario::parse("name = \"x\"\nduration_s = 1.0\n[plant]\n", "t.toml")
+        let e = parse("name = \"x\"\nduration_s = 1.0\n[plant]\n", "t.toml")
             .unwrap_err()
             .to_string();
         assert!(e.contains("line 3") && e.contains("missing field `kind`"), "{e}");
