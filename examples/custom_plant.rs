@@ -8,7 +8,7 @@
 //!
 //! `cargo run --release --example custom_plant [OUT]` writes OUT/custom-plant-identify and
 //! OUT/custom-plant-cascade (default OUT: `out`).
-use rhonn::experiment::{run_plant_scenario_on, PlantScenarioSpec};
+use rhonn::experiment::{run_plant_scenario_on, ScenarioSpec};
 use rhonn::plant::{Input, Plant, Quantity};
 use std::path::Path;
 
@@ -83,7 +83,7 @@ baseline = { kind = "cascade", inner_range = [0.0, 900.0], outer = { kind = "pi"
 pub fn run(out: &Path) -> Result<Vec<std::path::PathBuf>, Box<dyn std::error::Error>> {
     let mut files = Vec::new();
     for (text, source) in [(IDENTIFY, "IDENTIFY"), (CASCADE, "CASCADE")] {
-        let spec = PlantScenarioSpec::from_toml(text, source)?;
+        let spec = ScenarioSpec::from_toml(text, source)?;
         let output = run_plant_scenario_on(&Oven(Input::Held(0.0)), &spec)?;
         for f in &output.summary.findings {
             println!("{}: {f}", spec.name);

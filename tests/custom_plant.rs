@@ -8,7 +8,7 @@
 mod custom_plant;
 
 use custom_plant::{Oven, CASCADE};
-use rhonn::experiment::{run_plant_scenario_on, PlantScenarioSpec};
+use rhonn::experiment::{run_plant_scenario_on, ScenarioSpec};
 use rhonn::plant::Input;
 
 #[test]
@@ -49,7 +49,7 @@ fn a_users_plant_is_run_and_written_as_a_shipped_one() {
 fn a_controller_at_its_limit_short_of_the_set_point_is_warned_about() {
     let oven = Oven(Input::Held(0.0));
     let run = |text: &str| {
-        let spec = PlantScenarioSpec::from_toml(text, "test").unwrap();
+        let spec = ScenarioSpec::from_toml(text, "test").unwrap();
         run_plant_scenario_on(&oven, &spec).unwrap().summary.findings
     };
     // The shipped cascade reaches its set-points: no warning.
@@ -86,7 +86,7 @@ fn a_controller_at_its_limit_short_of_the_set_point_is_warned_about() {
 fn a_users_plant_takes_sensor_noise_a_delay_and_a_dither() {
     let oven = Oven(Input::Held(0.0));
     let figures = |text: &str| {
-        let spec = PlantScenarioSpec::from_toml(text, "test").unwrap();
+        let spec = ScenarioSpec::from_toml(text, "test").unwrap();
         run_plant_scenario_on(&oven, &spec).unwrap()
     };
     let clean = figures(CASCADE);

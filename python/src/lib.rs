@@ -13,11 +13,11 @@ use arrays::{columns_dict, record};
 use errors::{report_err, rhonn_err};
 use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
-use rhonn::experiment::PlantScenarioSpec;
+use rhonn::experiment::ScenarioSpec;
 use std::path::PathBuf;
 
 /// A scenario given as a shipped name, a path, or TOML text.
-fn scenario(name_or_path: &str, toml_text: Option<&str>) -> PyResult<PlantScenarioSpec> {
+fn scenario(name_or_path: &str, toml_text: Option<&str>) -> PyResult<ScenarioSpec> {
     rhonn::experiment::preset::load_or_parse(name_or_path, toml_text).map_err(rhonn_err)
 }
 

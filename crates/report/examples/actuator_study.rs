@@ -11,9 +11,9 @@
 use rayon::prelude::*;
 use rhonn::experiment::front::{nominal_optimal_points, points, wins};
 use rhonn::experiment::tuning::robustness_cases;
-use rhonn::experiment::{preset, LoopSpec, ScenarioSpec};
+use rhonn::experiment::{preset, LoopSpec, PumpSettings};
 
-fn with_actuator(spec: &ScenarioSpec, memory_s: f64, lag_scale_s: f64) -> ScenarioSpec {
+fn with_actuator(spec: &PumpSettings, memory_s: f64, lag_scale_s: f64) -> PumpSettings {
     let mut s = spec.clone();
     if let Some(LoopSpec::PumpRhonnAdaptive(knobs)) = s.controller.as_mut().map(|c| &mut c.controller) {
         knobs.actuator_memory_s = Some(memory_s);

@@ -11,9 +11,9 @@
 use rayon::prelude::*;
 use rhonn::experiment::front::{nominal_optimal_points, points, wins};
 use rhonn::experiment::tuning::robustness_cases;
-use rhonn::experiment::{preset, LoopSpec, ScenarioSpec};
+use rhonn::experiment::{preset, LoopSpec, PumpSettings};
 
-fn set(spec: &ScenarioSpec, k: &[f64; 8]) -> ScenarioSpec {
+fn set(spec: &PumpSettings, k: &[f64; 8]) -> PumpSettings {
     let mut s = spec.clone();
     if let Some(LoopSpec::PumpRhonnAdaptive(knobs)) = s.controller.as_mut().map(|c| &mut c.controller) {
         knobs.lambda_per_s = Some(k[0]);

@@ -14,7 +14,7 @@ use rhonn::experiment::campaign::{
     envelope_grid, figure_names, run_one, statistics, Envelope, FigureStats, Plan, RunRow, RunTraces,
     Sampling, TOLERANCES,
 };
-use rhonn::experiment::ScenarioSpec;
+use rhonn::experiment::PumpSettings;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -60,7 +60,7 @@ pub struct CampaignFile {
 }
 
 /// `runs.csv`'s header for a scenario.
-fn header(spec: &ScenarioSpec) -> Vec<String> {
+fn header(spec: &PumpSettings) -> Vec<String> {
     let mut h = vec!["run".to_string()];
     h.extend(TOLERANCES.iter().map(|t| t.name.to_string()));
     h.push("status".into());
@@ -70,7 +70,7 @@ fn header(spec: &ScenarioSpec) -> Vec<String> {
 }
 
 /// `traces.csv`'s header: the run, the series, then the envelope grid's times [s].
-fn traces_header(spec: &ScenarioSpec) -> Vec<String> {
+fn traces_header(spec: &PumpSettings) -> Vec<String> {
     let mut h = vec!["run".to_string(), "series".to_string()];
     h.extend(envelope_grid(spec).1.iter().map(|t| t.to_string()));
     h
@@ -91,7 +91,7 @@ fn trace_records(index: u64, tr: &RunTraces) -> Vec<Vec<String>> {
     out
 }
 
-fn record(spec: &ScenarioSpec, r: &RunRow) -> Vec<String> {
+fn record(spec: &PumpSettings, r: &RunRow) -> Vec<String> {
     let mut v = vec![r.index.to_string()];
     v.extend(r.values.iter().map(|x| x.to_string()));
     match &r.outcome {
@@ -179,7 +179,7 @@ struct CampaignSummary<'a> {
 fn finish(
     dir: &Path,
     file: &CampaignFile,
-    spec: &ScenarioSpec,
+    spec: &PumpSettings,
     mut rows: Vec<Row>,
     notes: Vec<String>,
 ) -> Result<CampaignOutcome> {
@@ -293,7 +293,7 @@ pub fn parse_shard(s: &str) -> Result<[u64; 2]> {
 /// `histograms.svg` and the envelope's files, all or nothing. The same call on the same
 /// folder resumes an interrupted campaign. `progress` is called after every run.
 pub fn run_campaign(
-    spec: &ScenarioSpec,
+    spec: &PumpSettings,
     o: &CampaignOptions,
     dir: &Path,
     progress: &(dyn Fn(Progress) + Sync),
@@ -328,7 +328,7 @@ pub fn run_campaign(
 
 /// A campaign of a pump scenario (its own runner).
 struct PumpCampaign {
-    spec: ScenarioSpec,
+    spec: PumpSettings,
     plan: Plan,
     file: CampaignFile,
     sampling: Sampling,
@@ -352,7 +352,7 @@ impl CampaignKind for PumpCampaign {
         f.runs
     }
     fn from_file(f: &CampaignFile) -> Result<Self> {
-        let written = rhonn::experiment::PlantScenarioSpec::from_toml(&f.scenario_toml, "campaign.json")?;
+        let written = rhonn::experiment::ScenarioSpec::from_toml(&f.scenario_toml, "campaign.json")?;
         let spec = rhonn::experiment::pump_scenario::lower(&written)?;
         Ok(PumpCampaign {
             plan: Plan::of(&spec)?,

@@ -4,14 +4,14 @@
 use crate::Result;
 use rhonn::experiment::campaign::Envelope;
 use rhonn::experiment::campaign::RunRow;
-use rhonn::experiment::ScenarioSpec;
+use rhonn::experiment::PumpSettings;
 
 /// The envelope files of a campaign of `scenario` that kept traces: traces.csv (its
 /// `header`, then the `traces` rows), envelope.csv and envelope.svg (None without
 /// traces).
 #[allow(clippy::type_complexity)]
 pub(crate) fn envelope_files<'a>(
-    spec: &ScenarioSpec,
+    spec: &PumpSettings,
     scenario: &str,
     header: Vec<String>,
     traces: impl Iterator<Item = &'a Vec<String>>,
@@ -101,7 +101,7 @@ pub(crate) fn envelope_files<'a>(
 }
 
 /// How plots name an adaptive scenario's baseline.
-fn baseline_label(spec: &ScenarioSpec) -> &'static str {
+fn baseline_label(spec: &PumpSettings) -> &'static str {
     match spec.adaptive_baseline_kind() {
         Some("cascade-pi") => "cascade PI baseline",
         _ => "PI baseline",

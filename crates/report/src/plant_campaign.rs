@@ -14,7 +14,7 @@ use crate::campaign_options::{CampaignOptions, CampaignOutcome, Progress};
 use crate::campaign_runner::{self, CampaignKind, Done};
 use crate::{write_json, Error};
 use rhonn::experiment::campaign::{draw_parameters, quantile_sorted, FigureStats};
-use rhonn::experiment::{nominal_plant_parameters, run_plant_scenario, PlantScenarioSpec};
+use rhonn::experiment::{nominal_plant_parameters, run_plant_scenario, ScenarioSpec};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::Path;
@@ -69,9 +69,7 @@ fn row(
 /// The plant's parameters a campaign draws, their values in the scenario (nominal unless it
 /// sets them) and their tolerances.
 #[allow(clippy::type_complexity)]
-fn drawn_parameters(
-    spec: &PlantScenarioSpec,
-) -> Result<(&'static [rhonn::plant::Parameter], Vec<f64>, Vec<f64>)> {
+fn drawn_parameters(spec: &ScenarioSpec) -> Result<(&'static [rhonn::plant::Parameter], Vec<f64>, Vec<f64>)> {
     let params = nominal_plant_parameters(&spec.plant.kind)?;
     let base = params
         .iter()
@@ -83,7 +81,7 @@ fn drawn_parameters(
 
 /// Run (or resume) a campaign of the plant scenario `spec` in `dir` (see the module).
 pub fn run_plant_campaign(
-    spec: &PlantScenarioSpec,
+    spec: &ScenarioSpec,
     o: &CampaignOptions,
     dir: &Path,
     progress: &(dyn Fn(Progress) + Sync),
@@ -118,7 +116,7 @@ pub fn run_plant_campaign(
 
 /// A campaign of a plant scenario: what every run shares.
 struct PlantCampaign {
-    spec: PlantScenarioSpec,
+    spec: ScenarioSpec,
     file: PlantCampaignFile,
     n_params: usize,
     base: Vec<f64>,
@@ -144,7 +142,7 @@ impl CampaignKind for PlantCampaign {
         f.runs
     }
     fn from_file(f: &PlantCampaignFile) -> Result<Self> {
-        let spec = PlantScenarioSpec::from_toml(&f.scenario_toml, "campaign.json")?;
+        let spec = ScenarioSpec::from_toml(&f.scenario_toml, "campaign.json")?;
         let (params, base, tol) = drawn_parameters(&spec)?;
         let nominal = run_plant_scenario(&spec, None)?;
         Ok(PlantCampaign {
@@ -346,7 +344,7 @@ fn finish(
 
 /// The worst runs of the campaign's rows (see `worst_runs::describe_plant`).
 fn worst_runs(
-    spec: &PlantScenarioSpec,
+    spec: &ScenarioSpec,
     rows: &[(u64, Vec<String>)],
     fig_names: &[String],
     n_params: usize,

@@ -8,7 +8,7 @@
 use crate::{Band, EnvelopePlot, Result, Series};
 use rayon::prelude::*;
 use rhonn::experiment::campaign::Envelope;
-use rhonn::experiment::{run_plant_scenario, PlantColumn, PlantRunOutput, PlantScenarioSpec};
+use rhonn::experiment::{run_plant_scenario, PlantColumn, PlantRunOutput, ScenarioSpec};
 
 /// At most this many instants on the envelope's grid.
 const POINTS: usize = 600;
@@ -26,7 +26,7 @@ pub struct PlantEnvelope {
 /// The envelope of `rows` (runs.csv rows: index, status, `n_params` drawn values, figures)
 /// of a control scenario; None for other scenarios or when no kept run finished.
 pub fn plant_envelope(
-    spec: &PlantScenarioSpec,
+    spec: &ScenarioSpec,
     rows: &[(u64, Vec<String>)],
     n_params: usize,
     envelope_runs: u64,

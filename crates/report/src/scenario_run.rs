@@ -130,7 +130,7 @@ fn plant_lines(output: &PlantRunOutput) -> Vec<String> {
 /// `rhonn campaign` on a scenario into `dir` (resumes a folder left by
 /// an interrupted one): the pump's campaign (its tolerances, envelopes) or a plant's.
 pub fn run_scenario_campaign(
-    sc: &rhonn::experiment::PlantScenarioSpec,
+    sc: &rhonn::experiment::ScenarioSpec,
     o: &crate::campaign::CampaignOptions,
     dir: &Path,
     progress: &(dyn Fn(crate::campaign::Progress) + Sync),

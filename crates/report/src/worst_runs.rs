@@ -4,7 +4,7 @@
 //! `rhonn run` reruns with every plot.
 
 use rhonn::experiment::campaign::{apply, RunRow, TOLERANCES};
-use rhonn::experiment::ScenarioSpec;
+use rhonn::experiment::PumpSettings;
 use serde::Serialize;
 
 /// How many runs are listed.
@@ -119,7 +119,7 @@ fn list(
 }
 
 /// The worst runs of a pump campaign, with their scenario files' text.
-pub fn describe(spec: &ScenarioSpec, names: &[String], rows: &[RunRow]) -> Result<Listed, toml::ser::Error> {
+pub fn describe(spec: &PumpSettings, names: &[String], rows: &[RunRow]) -> Result<Listed, toml::ser::Error> {
     let key = key_figure(names);
     let runs: Vec<Candidate> = rows
         .iter()
@@ -164,7 +164,7 @@ pub fn plant_key_figure(names: &[String]) -> Option<(usize, bool)> {
 /// [`describe`] for a plant campaign: the scenario with the plant's parameters set to
 /// the run's.
 pub fn describe_plant(
-    spec: &rhonn::experiment::PlantScenarioSpec,
+    spec: &rhonn::experiment::ScenarioSpec,
     param_names: &[&str],
     larger_is_worse: Option<bool>,
     runs: &[Candidate],

@@ -5,7 +5,7 @@
 
 use rhonn::control::AffineNeuron;
 use rhonn::experiment::campaign::{apply, draw, Plan, Sampling};
-use rhonn::experiment::{preset, run_full, NoRecorder, RunOutput, ScenarioSpec, Trace};
+use rhonn::experiment::{preset, run_full, NoRecorder, PumpSettings, RunOutput, Trace};
 use rhonn::net::Sigmoid;
 
 fn features(x: f64) -> ([f64; 2], [f64; 2]) {
@@ -165,7 +165,7 @@ fn the_projection_keeps_the_gain_weights_in_their_ball() {
     );
 }
 
-fn run_case(f: impl Fn(&mut ScenarioSpec)) -> RunOutput {
+fn run_case(f: impl Fn(&mut PumpSettings)) -> RunOutput {
     let mut spec = preset::load("control-adaptive").unwrap();
     f(&mut spec);
     run_full(&spec.check().unwrap(), &mut NoRecorder).unwrap()
@@ -231,7 +231,7 @@ fn nominal_plant_adaptive_beats_the_cascade_pi_in_the_same_run() {
 
 #[test]
 fn fast_unmodeled_dynamics_and_a_delay_adaptive_stays_above_p_min_and_beats_the_robust_cascade_pi() {
-    type Change = Box<dyn Fn(&mut ScenarioSpec)>;
+    type Change = Box<dyn Fn(&mut PumpSettings)>;
     let cases: [(&str, Change); 3] = [
         ("lag 1 ms", Box::new(|s| s.plant.solenoid_lag_ms = 1.0)),
         ("lag 5 ms", Box::new(|s| s.plant.solenoid_lag_ms = 5.0)),

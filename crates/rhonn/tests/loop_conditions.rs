@@ -1,7 +1,7 @@
 //! Sensor noise, a transport delay and a dither on a plant other than the pump: the
 //! tanks' control scenario with `[measurement]` noise and `control.delay_periods`.
 
-use rhonn::experiment::{run_plant_scenario, PlantRunOutput, PlantScenarioSpec};
+use rhonn::experiment::{run_plant_scenario, PlantRunOutput, ScenarioSpec};
 
 fn tanks_control() -> String {
     std::fs::read_to_string(concat!(
@@ -18,7 +18,7 @@ fn run(extra: &str, tail: &str) -> PlantRunOutput {
         .replace("duration_s = 2400.0", "duration_s = 900.0")
         .replace("period_s = 1.0\n", &format!("period_s = 1.0\n{extra}\n"))
         + tail;
-    let spec = PlantScenarioSpec::from_toml(&text, "tanks-noisy.toml").unwrap();
+    let spec = ScenarioSpec::from_toml(&text, "tanks-noisy.toml").unwrap();
     run_plant_scenario(&spec, None).unwrap()
 }
 
@@ -103,12 +103,12 @@ fn bad_conditions_are_errors_naming_the_field_and_what_is_allowed() {
         ),
     ];
     for (tail, field, allowed) in cases {
-        let spec = PlantScenarioSpec::from_toml(&(base.clone() + tail), "t.toml").unwrap();
+        let spec = ScenarioSpec::from_toml(&(base.clone() + tail), "t.toml").unwrap();
         let e = run_plant_scenario(&spec, None).unwrap_err().to_string();
         assert!(e.contains(field) && e.contains(allowed), "{e}");
     }
     let text = base.replace("period_s = 1.0\n", "period_s = 1.0\ndelay_periods = 100001\n");
-    let spec = PlantScenarioSpec::from_toml(&text, "t.toml").unwrap();
+    let spec = ScenarioSpec::from_toml(&text, "t.toml").unwrap();
     let e = run_plant_scenario(&spec, None).unwrap_err().to_string();
     assert!(e.contains("control.delay_periods") && e.contains("100000"), "{e}");
     // Noise on an identification: refused, saying why.
@@ -118,7 +118,7 @@ fn bad_conditions_are_errors_naming_the_field_and_what_is_allowed() {
     ))
     .unwrap()
         + "\n[measurement]\nnoise_std = { h1 = 1.0 }\n";
-    let spec = PlantScenarioSpec::from_toml(&ident, "t.toml").unwrap();
+    let spec = ScenarioSpec::from_toml(&ident, "t.toml").unwrap();
     let e = run_plant_scenario(&spec, None).unwrap_err().to_string();
     assert!(
         e.contains("measurement") && e.contains("only with a [control] section"),

@@ -2,7 +2,7 @@
 //! the generic runner (`run_plant_scenario`), and its PI loop follows the pump's own
 //! runner (`regulated-pi`'s settings) step for step.
 
-use rhonn::experiment::{preset, run, run_plant_scenario, PlantScenarioSpec, Trace};
+use rhonn::experiment::{preset, run, run_plant_scenario, ScenarioSpec, Trace};
 use rhonn::plant::PumpParams;
 
 /// `regulated-pi` written as a plant scenario: the same PI (0.15 A/MPa, 0.08 s, the
@@ -44,7 +44,7 @@ bias = {bias_a}
 fn a_pump_scenario_through_the_generic_runner_follows_the_pumps_own_runner() {
     let p = PumpParams::default();
     let bias = p.k_a * p.q_0 / (p.k_l * p.omega * p.phi);
-    let spec: PlantScenarioSpec = toml::from_str(&pi_scenario(bias)).unwrap();
+    let spec: ScenarioSpec = toml::from_str(&pi_scenario(bias)).unwrap();
     let out = run_plant_scenario(&spec, None).unwrap();
     let col = |name: &str| {
         out.trajectory
@@ -112,7 +112,7 @@ law = { kind = "sigma-switching", gamma = [1e4, 30.0], m = [1e10, 10.0], sigma =
 
 #[test]
 fn thesis_ch5_through_the_generic_runner_learns_the_thesis_weights() {
-    let spec: PlantScenarioSpec = toml::from_str(THESIS_CH5_AS_PLANT).unwrap();
+    let spec: ScenarioSpec = toml::from_str(THESIS_CH5_AS_PLANT).unwrap();
     let out = run_plant_scenario(&spec, None).unwrap();
     assert_eq!(out.summary.plant, "pump");
     let generic: Vec<f64> = out
@@ -146,7 +146,7 @@ fn thesis_ch5_through_the_generic_runner_learns_the_thesis_weights() {
 
 #[test]
 fn the_pumps_parameters_are_its_plant_parameters() {
-    let mut spec: PlantScenarioSpec = toml::from_str(THESIS_CH5_AS_PLANT).unwrap();
+    let mut spec: ScenarioSpec = toml::from_str(THESIS_CH5_AS_PLANT).unwrap();
     spec.duration_s = 2.0;
     spec.plant.parameters.insert("beta_mpa".into(), 1000.0);
     let out = run_plant_scenario(&spec, None).unwrap();
@@ -197,7 +197,7 @@ baseline = {{ kind = "pump-cascade-pi", state = "p_line", kp_mm_per_mpa = 0.15, 
 fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_format() {
     let p = PumpParams::default();
     let bias = p.k_a * p.q_0 / (p.k_l * p.omega * p.phi);
-    let spec: PlantScenarioSpec = toml::from_str(&adaptive_scenario(bias)).unwrap();
+    let spec: ScenarioSpec = toml::from_str(&adaptive_scenario(bias)).unwrap();
     let out = run_plant_scenario(&spec, None).unwrap();
     let col = |name: &str| {
         out.trajectory
@@ -267,7 +267,7 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
         .replace("input = \"current\"", "input = \"voltage\"")
         .replace("state = \"p_line\"", "state = \"h2\"")
         .replace("demand = ", "voltage = ");
-    let spec: PlantScenarioSpec = toml::from_str(&tanks).unwrap();
+    let spec: ScenarioSpec = toml::from_str(&tanks).unwrap();
     let e = run_plant_scenario(&spec, None).unwrap_err().to_string();
     assert!(
         e.contains("control.controller.state") && e.contains("stroke"),

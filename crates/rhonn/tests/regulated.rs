@@ -3,7 +3,7 @@
 
 use rhonn::experiment::{preset, run, NoRecorder, Summary, Trace};
 
-fn simulate(edit: impl FnOnce(&mut rhonn::experiment::ScenarioSpec)) -> (Trace, Summary) {
+fn simulate(edit: impl FnOnce(&mut rhonn::experiment::PumpSettings)) -> (Trace, Summary) {
     let mut spec = preset::load("regulated-pi").unwrap();
     edit(&mut spec);
     let sc = spec.check().unwrap();
@@ -98,7 +98,7 @@ fn measurement_noise_is_seeded() {
 fn what_a_parallel_campaign_shares_is_send_sync_and_clone() {
     fn check<T: Send + Sync + Clone>() {}
     check::<rhonn::experiment::Scenario>();
-    check::<rhonn::experiment::ScenarioSpec>();
+    check::<rhonn::experiment::PumpSettings>();
     check::<rhonn::experiment::Summary>();
     check::<rhonn::sysid::Model>();
     check::<rhonn::ident::Identifier>();

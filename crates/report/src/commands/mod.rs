@@ -67,7 +67,7 @@ pub fn toml_of_json(json: &str) -> crate::Result<String> {
 /// core; 0 is refused with the door's own words `zero`), then its `report.html`; what to
 /// tell the user.
 pub fn campaign(
-    sc: &rhonn::experiment::PlantScenarioSpec,
+    sc: &rhonn::experiment::ScenarioSpec,
     opts: &crate::campaign::CampaignOptions,
     dir: &Path,
     (threads, zero): (Option<usize>, &str),

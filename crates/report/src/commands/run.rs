@@ -28,7 +28,7 @@ fn run_named(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
 /// Run `sc` and, given `out`, write its folder as `rhonn run` does (the folder checked
 /// before the run): the run, and what writing it told (`rhonn run`, Python's `rhonn.run`).
 pub fn run_scenario(
-    sc: &rhonn::experiment::PlantScenarioSpec,
+    sc: &rhonn::experiment::ScenarioSpec,
     out: Option<&Path>,
 ) -> Result<(rhonn::experiment::ScenarioRun, Option<Outcome>)> {
     if let Some(dir) = out {

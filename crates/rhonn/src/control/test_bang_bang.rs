@@ -67,7 +67,7 @@ impl LoopSettings for BangBangLoop {
 
 #[cfg(test)]
 mod tests {
-    use crate::experiment::{run_plant_scenario, PlantScenarioSpec};
+    use crate::experiment::{run_plant_scenario, ScenarioSpec};
 
     /// The tanks' scenario with the baseline's inner loop replaced by the new kind: it
     /// runs, is named in the figures, regulates within its band, and its errors name
@@ -78,7 +78,7 @@ mod tests {
             "inner = { kind = \"pi\", state = \"h1\", kp = 0.2, ti_s = 10.0 }",
             "inner = { kind = \"test-bang-bang\", state = \"h1\", band = 2.0 }",
         );
-        let spec = PlantScenarioSpec::from_toml(&text, "t.toml").unwrap();
+        let spec = ScenarioSpec::from_toml(&text, "t.toml").unwrap();
         let out = run_plant_scenario(&spec, None).unwrap();
         let [a, b] = out.summary.control.unwrap();
         assert_eq!((a.controller, b.controller), ("rhonn-cascade", "pi-cascade"));
@@ -93,7 +93,7 @@ mod tests {
         assert!(b.final_error.abs() < 5.0, "{} mm", b.final_error);
         assert!(b.time_input_switching_s > 100.0, "{}", b.time_input_switching_s);
         let bad = text.replace("band = 2.0", "band = -2.0");
-        let spec = PlantScenarioSpec::from_toml(&bad, "t.toml").unwrap();
+        let spec = ScenarioSpec::from_toml(&bad, "t.toml").unwrap();
         let e = run_plant_scenario(&spec, None).unwrap_err().to_string();
         assert!(e.contains("control.baseline.inner.band"), "{e}");
     }

@@ -1,15 +1,15 @@
-//! A scenario of the one format as one thing to run: [`PlantScenarioSpec::run`] gives a
+//! A scenario of the one format as one thing to run: [`ScenarioSpec::run`] gives a
 //! [`ScenarioRun`] whose columns and summary are read the same way whatever the plant, so
 //! the command line, Python and the report crate never ask which runner it was. (The
 //! pump's scenarios run on the pump's own runner, lowered to its settings by
-//! [`PlantScenarioSpec::pump_settings`], every other plant's on the generic one; this is
+//! [`ScenarioSpec::pump_settings`], every other plant's on the generic one; this is
 //! the one place that tells them apart.)
 
 use super::bench::{bench, bench_plant, BenchFigures};
 use super::plant_run::{run_plant_scenario, PlantRunOutput};
-use super::plant_scenario::PlantScenarioSpec;
+use super::plant_scenario::ScenarioSpec;
 use super::pump_run::{run_full, RunOutput};
-use super::pump_settings::ScenarioSpec;
+use super::pump_settings::PumpSettings;
 use super::trace::Trace;
 use crate::error::Result;
 use std::time::Duration;
@@ -33,10 +33,10 @@ pub enum ScenarioRun {
 /// Columns as `(name, SI values)`.
 pub type NamedColumns = Vec<(String, Vec<f64>)>;
 
-impl PlantScenarioSpec {
+impl ScenarioSpec {
     /// The pump runner's settings of a pump scenario (`[plant] kind = "pump"`), checked;
     /// `None` for any other plant, whose scenario runs as written.
-    pub fn pump_settings(&self) -> Result<Option<ScenarioSpec>> {
+    pub fn pump_settings(&self) -> Result<Option<PumpSettings>> {
         if self.plant.kind == "pump" {
             super::pump_scenario::lower_checked(self).map(Some)
         } else {

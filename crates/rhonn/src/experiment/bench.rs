@@ -3,7 +3,7 @@
 //! benches in `benches/` are the finer instrument.
 
 use super::plant_run::run_plant_scenario;
-use super::plant_scenario::PlantScenarioSpec;
+use super::plant_scenario::ScenarioSpec;
 use super::pump_run::run;
 use super::pump_settings::Scenario;
 use super::trace::NoRecorder;
@@ -39,7 +39,7 @@ pub fn bench(sc: &Scenario, budget: Duration) -> Result<BenchFigures> {
 }
 
 /// [`bench()`] for a plant scenario (`[plant] kind`).
-pub fn bench_plant(spec: &PlantScenarioSpec, budget: Duration) -> Result<BenchFigures> {
+pub fn bench_plant(spec: &ScenarioSpec, budget: Duration) -> Result<BenchFigures> {
     run_plant_scenario(spec, None)?;
     timed(&spec.name, None, budget, || {
         run_plant_scenario(spec, None).map(|_| ())
@@ -81,9 +81,9 @@ fn timed(
 }
 
 /// The median wall time \[s\] of `repeats` runs of `sc` (at least one), each made as
-/// `PlantScenarioSpec::run` makes it: Python's bench (`python/bench.py`) compares it with the
+/// `ScenarioSpec::run` makes it: Python's bench (`python/bench.py`) compares it with the
 /// same run called from Python.
-pub fn median_run_seconds(sc: &PlantScenarioSpec, repeats: usize) -> Result<f64> {
+pub fn median_run_seconds(sc: &ScenarioSpec, repeats: usize) -> Result<f64> {
     let mut times = (0..repeats.max(1))
         .map(|_| {
             let start = Instant::now();

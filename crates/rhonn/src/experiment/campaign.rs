@@ -6,7 +6,7 @@
 //! files, the resume and the merge.
 
 use super::pump_run::{run_full, Summary};
-use super::pump_settings::ScenarioSpec;
+use super::pump_settings::PumpSettings;
 use super::trace::NoRecorder;
 use crate::error::Result;
 use crate::signal::SignalSpec;
@@ -16,14 +16,14 @@ use serde::Serialize;
 pub use super::campaign_plan::*;
 
 /// The scenario's values of the uncertain parameters (display units, [`TOLERANCES`] order).
-pub fn base_values(spec: &ScenarioSpec) -> [f64; 5] {
+pub fn base_values(spec: &PumpSettings) -> [f64; 5] {
     spec.uncertain_values()
 }
 
 impl Plan {
     /// The plan of `spec`: its `[campaign]` overrides, the thesis's tolerances elsewhere
     /// ([`Plan::new`]).
-    pub fn of(spec: &ScenarioSpec) -> Result<Plan> {
+    pub fn of(spec: &PumpSettings) -> Result<Plan> {
         Plan::new(spec.campaign.as_ref(), spec.uncertain_values())
     }
 }
@@ -32,7 +32,7 @@ impl Plan {
 /// units); the slew's ratio to the scenario's value scales the demand trapezoids' slew
 /// too. The noise and PRBS seeds are the scenario's, so runs differ only by their
 /// parameters.
-pub fn apply(spec: &ScenarioSpec, values: &[f64; 5]) -> ScenarioSpec {
+pub fn apply(spec: &PumpSettings, values: &[f64; 5]) -> PumpSettings {
     let mut s = spec.clone();
     let slew_ratio = values[4] / spec.plant.qdot_max_dm3_s2;
     s.plant.beta_mpa = values[0];
@@ -47,7 +47,7 @@ pub fn apply(spec: &ScenarioSpec, values: &[f64; 5]) -> ScenarioSpec {
 }
 
 /// The names of the figures a run of `spec` reports, in `runs.csv` order.
-pub fn figure_names(spec: &ScenarioSpec) -> Vec<String> {
+pub fn figure_names(spec: &PumpSettings) -> Vec<String> {
     let mut v: Vec<String> = [
         "p_line_min_mpa",
         "p_line_max_mpa",
@@ -179,7 +179,7 @@ pub const ENVELOPE_POINTS: usize = 600;
 
 /// The envelope's time grid of a scenario: every `stride`-th output sample, so that the
 /// grid has at most [`ENVELOPE_POINTS`] points. Returns `(stride, times [s])`.
-pub fn envelope_grid(spec: &ScenarioSpec) -> (usize, Vec<f64>) {
+pub fn envelope_grid(spec: &PumpSettings) -> (usize, Vec<f64>) {
     let n_out = (spec.duration_s / (spec.output_interval_ms / 1000.0))
         .round()
         .max(1.0) as u64;
@@ -236,7 +236,7 @@ impl super::trace::Recorder for PressureSampler {
 /// Run index `index` of a campaign over `spec` with parameters drawn from `plan`;
 /// with `traces`, also the run's pressure on the [`envelope_grid`] (successful runs).
 pub fn run_one(
-    spec: &ScenarioSpec,
+    spec: &PumpSettings,
     plan: &Plan,
     seed: u64,
     index: u64,

@@ -1,6 +1,6 @@
 use super::*;
 
-fn spec() -> ScenarioSpec {
+fn spec() -> PumpSettings {
     crate::experiment::preset::load("thesis-ch3").unwrap()
 }
 

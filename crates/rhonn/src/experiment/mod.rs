@@ -30,7 +30,7 @@ pub use plant_run::{
     PlantColumn, PlantRunOutput, PlantSummary, WEIGHT_QUANTITIES,
 };
 pub use plant_scenario::{
-    is_plant_scenario, ControlSpec, LoopSpec, PlantScenarioSpec, PlantSection, ProfileSpec, SensorNoiseSpec,
+    is_plant_scenario, ControlSpec, LoopSpec, PlantSection, ProfileSpec, ScenarioSpec, SensorNoiseSpec,
     SolverSpec, ValidationSpec, MAX_DELAY_PERIODS,
 };
 pub use pump_controllers::{
@@ -41,7 +41,7 @@ pub use pump_run::{
     IdentReport, Integrated, ModelFile, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,
 };
 pub use pump_settings::{
-    AdaptiveSettings, Drive, InitialSpec, MeasurementSpec, Scenario, ScenarioSpec, SolverSettings,
+    AdaptiveSettings, Drive, InitialSpec, MeasurementSpec, PumpSettings, Scenario, SolverSettings,
     Q_L_MAX_DM3_S,
 };
 pub use trace::{BaselineSample, Column, NoRecorder, Recorder, Sample, Trace};

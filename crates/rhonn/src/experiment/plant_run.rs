@@ -1,10 +1,10 @@
-//! Running a [`PlantScenarioSpec`] on any [`Plant`]: an online identification (then its
+//! Running a [`ScenarioSpec`] on any [`Plant`]: an online identification (then its
 //! frozen model's free run on other inputs), or a controller and its baseline on
 //! identical plants. Produces columns (SI) and a summary (display units) that the
 //! report crate writes as trajectory.csv, validation.csv, summary.json and plots.
 
 use super::any_plant::{closed_loop_with, identify, IdentRun, LoopRun};
-use super::plant_scenario::{configure, drive, loop_conditions, signal, state_index, PlantScenarioSpec};
+use super::plant_scenario::{configure, drive, loop_conditions, signal, state_index, ScenarioSpec};
 use crate::control::LoopContext;
 use crate::error::{invalid, Error, Result};
 use crate::plant::{with_kind, Plant, Quantity, WithPlant};
@@ -143,7 +143,7 @@ fn activity_finding(a: &LoopFigures, b: &LoopFigures, unit: &str) -> String {
 fn conditions_finding<P: Plant>(
     plant: &P,
     c: &super::plant_scenario::ControlSpec,
-    spec: &PlantScenarioSpec,
+    spec: &ScenarioSpec,
     qu: &Quantity,
 ) -> Option<String> {
     let mut parts = Vec::new();
@@ -268,9 +268,9 @@ pub const WEIGHT_QUANTITIES: [Quantity; 3] = [
 
 /// Run `spec` with its parameters replaced by `parameters` (display units, in the
 /// plant's order) when given: a campaign's draw.
-pub fn run_plant_scenario(spec: &PlantScenarioSpec, parameters: Option<&[f64]>) -> Result<PlantRunOutput> {
+pub fn run_plant_scenario(spec: &ScenarioSpec, parameters: Option<&[f64]>) -> Result<PlantRunOutput> {
     spec.check_common()?;
-    struct Run<'a>(&'a PlantScenarioSpec, Option<&'a [f64]>);
+    struct Run<'a>(&'a ScenarioSpec, Option<&'a [f64]>);
     impl WithPlant for Run<'_> {
         type Output = PlantRunOutput;
         fn with<P: Plant>(self, nominal: P) -> Result<PlantRunOutput> {
@@ -283,7 +283,7 @@ pub fn run_plant_scenario(spec: &PlantScenarioSpec, parameters: Option<&[f64]>) 
 /// Run `spec` on your own `plant` (any [`Plant`]; `spec.plant.kind` only names it): the
 /// same experiment, figures and findings as a shipped plant's scenario, for
 /// `rhonn_report::write_plant_run` to write as `rhonn run` does (`examples/custom_plant.rs`).
-pub fn run_plant_scenario_on<P: Plant>(plant: &P, spec: &PlantScenarioSpec) -> Result<PlantRunOutput> {
+pub fn run_plant_scenario_on<P: Plant>(plant: &P, spec: &ScenarioSpec) -> Result<PlantRunOutput> {
     spec.check_common()?;
     run_on(plant, spec, None)
 }
@@ -300,11 +300,7 @@ pub fn nominal_plant_parameters(kind: &str) -> Result<&'static [crate::plant::Pa
     with_kind(kind, Parameters)
 }
 
-fn run_on<P: Plant>(
-    nominal: &P,
-    spec: &PlantScenarioSpec,
-    parameters: Option<&[f64]>,
-) -> Result<PlantRunOutput> {
+fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>) -> Result<PlantRunOutput> {
     let (mut plant, x0) = configure(nominal, &spec.plant)?;
     if let Some(v) = parameters {
         plant = plant.with_parameters(v)?;
@@ -396,7 +392,7 @@ fn control_input<P: Plant>(plant: &P, c: &super::plant_scenario::ControlSpec) ->
 fn run_control<P: Plant>(
     plant: P,
     x0: &[f64],
-    spec: &PlantScenarioSpec,
+    spec: &ScenarioSpec,
     mut summary: PlantSummary,
 ) -> Result<PlantRunOutput> {
     let c = spec
@@ -558,7 +554,7 @@ fn loop_columns<P: Plant>(
 fn run_identification<P: Plant>(
     plant: P,
     x0: &[f64],
-    spec: &PlantScenarioSpec,
+    spec: &ScenarioSpec,
     ident: &crate::ident::IdentifierSpec,
     mut summary: PlantSummary,
 ) -> Result<PlantRunOutput> {

@@ -15,10 +15,10 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// A scenario of any plant of the library, the pump's too: the one scenario type, which
-/// `preset::load_any` reads and [`PlantScenarioSpec::run`] runs.
+/// `preset::load_any` reads and [`ScenarioSpec::run`] runs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct PlantScenarioSpec {
+pub struct ScenarioSpec {
     /// Name: the output folder's (one plain path component).
     pub name: String,
     /// One line on what it shows.
@@ -280,7 +280,7 @@ pub(crate) fn configure<P: Plant>(nominal: &P, section: &PlantSection) -> Result
     Ok((plant, x0))
 }
 
-impl PlantScenarioSpec {
+impl ScenarioSpec {
     /// Parse a scenario file's text; `source` names it in errors.
     pub fn from_toml(text: &str, source: &str) -> Result<Self> {
         toml::from_str(text).map_err(|e| Error::Parse {
@@ -379,7 +379,7 @@ pub fn is_plant_scenario(text: &str) -> bool {
 /// the delay and the dither of `control` on input `qu` in `range` (SI).
 pub(crate) fn loop_conditions<P: Plant>(
     plant: &P,
-    spec: &PlantScenarioSpec,
+    spec: &ScenarioSpec,
     control: &ControlSpec,
     qu: &Quantity,
     range: (f64, f64),

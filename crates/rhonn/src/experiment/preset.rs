@@ -1,8 +1,8 @@
 //! The scenarios shipped with rhonn (the TOML files in the repository's `scenarios/`
 //! folder, compiled in), and loading a scenario by name or path.
 
-use super::plant_scenario::{is_plant_scenario, PlantScenarioSpec};
-use super::pump_settings::ScenarioSpec;
+use super::plant_scenario::{is_plant_scenario, ScenarioSpec};
+use super::pump_settings::PumpSettings;
 use crate::error::{Error, Result};
 use std::path::Path;
 
@@ -54,7 +54,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
 /// one scenario type of every plant. A pump scenario (`[plant] kind = "pump"`) is also
 /// lowered to its runner's settings here, so that every error of the file is given now,
 /// before anything runs.
-pub fn parse(text: &str, source: &str) -> Result<PlantScenarioSpec> {
+pub fn parse(text: &str, source: &str) -> Result<ScenarioSpec> {
     let former = former_pump_keys(text);
     if !former.is_empty() {
         return Err(Error::Parse {
@@ -62,7 +62,7 @@ pub fn parse(text: &str, source: &str) -> Result<PlantScenarioSpec> {
             message: format!("{} and no `kind` in [plant]: the pump's former scenario format, now written in the one format every plant uses (`[plant] kind = \"pump\"`; the keys' mapping: docs/reference/scenarios.md, \"The pump\")", former.join(", ")),
         });
     }
-    let spec = PlantScenarioSpec::from_toml(text, source)?;
+    let spec = ScenarioSpec::from_toml(text, source)?;
     spec.pump_settings()?;
     Ok(spec)
 }
@@ -128,13 +128,13 @@ fn text_of(name_or_path: &str) -> Result<String> {
 }
 
 /// A scenario of any plant by name or path (see [`load`]).
-pub fn load_any(name_or_path: &str) -> Result<PlantScenarioSpec> {
+pub fn load_any(name_or_path: &str) -> Result<ScenarioSpec> {
     parse(&text_of(name_or_path)?, name_or_path)
 }
 
 /// A scenario given as TOML `text` (`name_or_path` names it in errors), or without a
 /// text by name or path (see [`load_any`]): Python's `rhonn.run(name, toml_text)`.
-pub fn load_or_parse(name_or_path: &str, text: Option<&str>) -> Result<PlantScenarioSpec> {
+pub fn load_or_parse(name_or_path: &str, text: Option<&str>) -> Result<ScenarioSpec> {
     match text {
         Some(text) => parse(text, name_or_path),
         None => load_any(name_or_path),
@@ -143,7 +143,7 @@ pub fn load_or_parse(name_or_path: &str, text: Option<&str>) -> Result<PlantScen
 
 /// A pump scenario by name or path, as its runner's settings; a scenario of another
 /// plant is an error saying so.
-pub fn load(name_or_path: &str) -> Result<ScenarioSpec> {
+pub fn load(name_or_path: &str) -> Result<PumpSettings> {
     let spec = load_any(name_or_path)?;
     spec.pump_settings()?.ok_or_else(|| {
         crate::error::invalid(

@@ -3,7 +3,7 @@
 
 use super::integrated::Integrated;
 use super::pump_ident_figures::{IdentReport, GAUSS};
-use super::pump_settings::{ScenarioSpec, SolverSettings};
+use super::pump_settings::{PumpSettings, SolverSettings};
 use crate::plant::{PumpSystem, P_LINE, STROKE};
 use crate::signal::Signal;
 use crate::units::*;
@@ -101,7 +101,7 @@ pub struct Summary {
     pub rhonn_version: &'static str,
     /// The scenario as run (written in the one format, `pump_scenario::raise`).
     #[serde(serialize_with = "super::pump_scenario::serialize_raised")]
-    pub scenario: ScenarioSpec,
+    pub scenario: PumpSettings,
     /// Solver settings and counters.
     pub solver: SolverReport,
     /// The run's figures.

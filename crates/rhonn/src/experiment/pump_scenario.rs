@@ -1,11 +1,11 @@
 //! A scenario of the one format whose plant is the pump (`[plant] kind = "pump"`),
-//! lowered to the settings the pump's own runner takes ([`ScenarioSpec`], then checked
+//! lowered to the settings the pump's own runner takes ([`PumpSettings`], then checked
 //! into a [`super::Scenario`]): the runner that samples the dense output, reports the
 //! pressure regulation and draws the thesis's figures. Every key is the one format's;
 //! an error names the key the user wrote.
 
-use super::plant_scenario::{ControlSpec, PlantScenarioSpec};
-use super::pump_settings::{InitialSpec, MeasurementSpec, ScenarioSpec};
+use super::plant_scenario::{ControlSpec, ScenarioSpec};
+use super::pump_settings::{InitialSpec, MeasurementSpec, PumpSettings};
 use crate::control::LoopSpec;
 use crate::error::{invalid, Error, Result};
 use crate::plant::PumpParamsSpec;
@@ -14,7 +14,7 @@ use crate::plant::PumpParamsSpec;
 const INPUTS: &str = "current (A, open loop), demand (dm^3/s)";
 
 /// `spec` (its plant the pump) as the pump runner's settings.
-pub fn lower(spec: &PlantScenarioSpec) -> Result<ScenarioSpec> {
+pub fn lower(spec: &ScenarioSpec) -> Result<PumpSettings> {
     spec.check_times()?;
     if spec.validation.is_some() {
         return Err(invalid(
@@ -24,7 +24,7 @@ pub fn lower(spec: &PlantScenarioSpec) -> Result<ScenarioSpec> {
         ));
     }
     let mut plant = plant_parameters(spec)?;
-    let mut out = ScenarioSpec {
+    let mut out = PumpSettings {
         name: spec.name.clone(),
         description: spec.description.clone(),
         duration_s: spec.duration_s,
@@ -72,7 +72,7 @@ pub fn lower(spec: &PlantScenarioSpec) -> Result<ScenarioSpec> {
 }
 
 /// `[plant]`'s parameters (the pump's names, display units) over the thesis's table.
-fn plant_parameters(spec: &PlantScenarioSpec) -> Result<PumpParamsSpec> {
+fn plant_parameters(spec: &ScenarioSpec) -> Result<PumpParamsSpec> {
     let nominal =
         toml::Table::try_from(PumpParamsSpec::default()).map_err(|e| Error::Argument(e.to_string()))?;
     let mut table = toml::Table::new();
@@ -129,7 +129,7 @@ fn initial(values: &[f64]) -> Result<InitialSpec> {
 }
 
 /// `[measurement]`: noise on the pressure \[MPa\] and the stroke \[mm\].
-fn measurement(spec: &PlantScenarioSpec) -> Result<MeasurementSpec> {
+fn measurement(spec: &ScenarioSpec) -> Result<MeasurementSpec> {
     let mut m = MeasurementSpec::default();
     for (name, std) in spec.measurement.iter().flat_map(|m| &m.noise_std) {
         match name.as_str() {
@@ -233,7 +233,7 @@ fn check_controller(c: &ControlSpec) -> Result<()> {
 }
 
 /// The pump runner's field names as the one format writes them, for the errors of
-/// [`ScenarioSpec::check`] on a lowered scenario (first matching prefix wins).
+/// [`PumpSettings::check`] on a lowered scenario (first matching prefix wins).
 const FIELDS: &[(&str, &str)] = &[
     ("controller.setpoint_mpa", "control.setpoint"),
     ("controller.dither_a", "control.dither"),
@@ -282,7 +282,7 @@ fn one_format_field(field: &str) -> String {
 }
 
 /// [`lower`], then the pump runner's checks, their errors naming the one format's keys.
-pub fn lower_checked(spec: &PlantScenarioSpec) -> Result<ScenarioSpec> {
+pub fn lower_checked(spec: &ScenarioSpec) -> Result<PumpSettings> {
     let named = |e: Error| match e {
         Error::Invalid {
             value,
@@ -308,7 +308,7 @@ pub fn lower_checked(spec: &PlantScenarioSpec) -> Result<ScenarioSpec> {
 /// files): [`lower`] of the result checks into the same [`super::Scenario`]. Parameters
 /// at the thesis's values are left out; a cascade PI's unset gains are written as the
 /// robust tuning they default to.
-pub fn raise(spec: &ScenarioSpec) -> PlantScenarioSpec {
+pub fn raise(spec: &PumpSettings) -> ScenarioSpec {
     use super::plant_scenario::{PlantSection, SensorNoiseSpec};
     use std::collections::BTreeMap;
     let nominal = toml::Table::try_from(PumpParamsSpec::default()).unwrap_or_default();
@@ -337,7 +337,7 @@ pub fn raise(spec: &ScenarioSpec) -> PlantScenarioSpec {
             seed: spec.seed,
         }
     });
-    PlantScenarioSpec {
+    ScenarioSpec {
         name: spec.name.clone(),
         description: spec.description.clone(),
         duration_s: spec.duration_s,
@@ -359,7 +359,7 @@ pub fn raise(spec: &ScenarioSpec) -> PlantScenarioSpec {
 
 /// `spec` serialised as [`raise`] writes it (summary.json's echo of the scenario).
 pub(crate) fn serialize_raised<S: serde::Serializer>(
-    spec: &ScenarioSpec,
+    spec: &PumpSettings,
     s: S,
 ) -> std::result::Result<S::Ok, S::Error> {
     serde::Serialize::serialize(&raise(spec), s)
@@ -367,7 +367,7 @@ pub(crate) fn serialize_raised<S: serde::Serializer>(
 
 /// `[control]` of the pump runner's controller `c`: its range, period and delay the
 /// plant's, an adaptive controller's baseline written out (the robust cascade PI when unset).
-fn raised_control(spec: &ScenarioSpec, c: &ControlSpec) -> ControlSpec {
+fn raised_control(spec: &PumpSettings, c: &ControlSpec) -> ControlSpec {
     use super::pump_controllers::{baseline_kind, BaselineKeys, PI_BASELINE, ROBUST};
     use crate::control::{PiLoop, PumpCascadePiLoop};
     let p_line = || "p_line".to_string();
@@ -431,7 +431,7 @@ mod tests {
                 assert_eq!(a, b, "{name}");
                 // And through the file's text.
                 let text = toml::to_string(&raise(&s)).unwrap();
-                let reread = PlantScenarioSpec::from_toml(&text, name).unwrap();
+                let reread = ScenarioSpec::from_toml(&text, name).unwrap();
                 assert_eq!(
                     lower_checked(&reread).unwrap().check().unwrap().drive,
                     a.drive,
@@ -445,7 +445,7 @@ mod tests {
 
     #[test]
     fn errors_name_the_keys_of_the_one_format() {
-        let base = PlantScenarioSpec::from_toml(
+        let base = ScenarioSpec::from_toml(
             crate::experiment::preset::SHIPPED
                 .iter()
                 .find(|(n, _)| *n == "regulated-pi")
@@ -454,7 +454,7 @@ mod tests {
             "regulated-pi",
         )
         .unwrap();
-        let err = |edit: &dyn Fn(&mut PlantScenarioSpec)| {
+        let err = |edit: &dyn Fn(&mut ScenarioSpec)| {
             let mut s = base.clone();
             edit(&mut s);
             lower_checked(&s).unwrap_err().to_string()

@@ -1,4 +1,4 @@
-//! The pump runner's settings ([`ScenarioSpec`]: what a `[plant] kind = "pump"` scenario
+//! The pump runner's settings ([`PumpSettings`]: what a `[plant] kind = "pump"` scenario
 //! file lowers to, `pump_scenario::lower`), checked once into a [`Scenario`] that the runner
 //! accepts. Every failure names the field, the value and what is allowed (in the file's
 //! keys, see `pump_scenario::lower_checked`); unknown keys are errors.
@@ -52,7 +52,7 @@ pub struct MeasurementSpec {
 /// pump lowered (`pump_scenario::lower`); written back in the one format by
 /// `pump_scenario::raise`, never as themselves.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ScenarioSpec {
+pub struct PumpSettings {
     /// Short name (used for the default output folder).
     pub name: String,
     /// One line saying what the scenario shows.
@@ -152,7 +152,7 @@ pub struct SolverSettings {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scenario {
     /// The spec it came from (echoed in summaries).
-    pub spec: ScenarioSpec,
+    pub spec: PumpSettings,
     /// Parameters (SI).
     pub params: PumpParams,
     /// P_l(0) \[Pa\], x(0) \[m\].
@@ -175,7 +175,7 @@ pub struct Scenario {
     pub warnings: Vec<String>,
 }
 
-impl ScenarioSpec {
+impl PumpSettings {
     /// The values of the uncertain parameters a campaign draws (display units, in the
     /// order of the pump's tolerance table).
     pub fn uncertain_values(&self) -> [f64; 5] {

@@ -20,7 +20,7 @@
 
 use super::campaign::{apply, base_values, draw, Plan, Sampling};
 use super::pump_controllers::CascadePiGainsMpa;
-use super::pump_settings::ScenarioSpec;
+use super::pump_settings::PumpSettings;
 use super::{run_full, NoRecorder};
 use rayon::prelude::*;
 
@@ -145,7 +145,7 @@ impl TuningScore {
 }
 
 /// `spec` (an adaptive scenario) with the cascade PI of `g` as its only controller.
-pub fn with_cascade_pi(spec: &ScenarioSpec, g: CascadePiGainsMpa) -> ScenarioSpec {
+pub fn with_cascade_pi(spec: &PumpSettings, g: CascadePiGainsMpa) -> PumpSettings {
     let mut s = spec.clone();
     if let Some(c) = &mut s.controller {
         c.controller = crate::control::LoopSpec::PumpCascadePi(crate::control::PumpCascadePiLoop {
@@ -160,7 +160,7 @@ pub fn with_cascade_pi(spec: &ScenarioSpec, g: CascadePiGainsMpa) -> ScenarioSpe
     s
 }
 
-fn simulate(spec: &ScenarioSpec) -> TuningRun {
+fn simulate(spec: &PumpSettings) -> TuningRun {
     let figures = spec
         .check()
         .and_then(|sc| run_full(&sc, &mut NoRecorder))
@@ -181,7 +181,7 @@ fn simulate(spec: &ScenarioSpec) -> TuningRun {
 }
 
 /// Score one gain set on `spec`'s set-points, demand and noise.
-pub fn score(spec: &ScenarioSpec, gains: CascadePiGainsMpa) -> TuningScore {
+pub fn score(spec: &PumpSettings, gains: CascadePiGainsMpa) -> TuningScore {
     let doubled = CascadePiGainsMpa {
         kp_mm_per_mpa: 2.0 * gains.kp_mm_per_mpa,
         stroke_gain: 2.0 * gains.stroke_gain,
@@ -242,7 +242,7 @@ pub fn full_grid() -> Vec<CascadePiGainsMpa> {
 /// ([`Margins::kept`]); the margins are measured in order of nominal IAE until a gain set
 /// qualifies (each measurement is 1,344 short simulations).
 pub fn search(
-    spec: &ScenarioSpec,
+    spec: &PumpSettings,
     gains: &[CascadePiGainsMpa],
 ) -> (Vec<TuningScore>, Option<TuningScore>, Option<TuningScore>) {
     let scores: Vec<TuningScore> = gains.par_iter().map(|g| score(spec, *g)).collect();
@@ -267,7 +267,7 @@ pub fn search(
 /// The plants of the robustness study, each as the scenario `spec` changed: nominal,
 /// solenoid lags of 1, 5 and 20 ms, a one-period transport delay, and the 32 corners of
 /// the thesis's uncertainty box.
-pub fn robustness_cases(spec: &ScenarioSpec) -> crate::Result<Vec<(String, ScenarioSpec)>> {
+pub fn robustness_cases(spec: &PumpSettings) -> crate::Result<Vec<(String, PumpSettings)>> {
     let (plan, base) = (Plan::of(spec)?, base_values(spec));
     let mut v = vec![("nominal".to_string(), spec.clone())];
     for lag in [1.0, 5.0, 20.0] {
