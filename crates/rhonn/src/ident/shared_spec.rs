@@ -32,6 +32,7 @@ const FIT_TO_ONLINE: &[(&str, Option<&str>)] = &[
     ("gain", None),
     ("horizon", None),
     ("max_terms", None),
+    ("term_selection", None),
     ("pump", None),
 ];
 

@@ -134,20 +134,37 @@ fn fit_pruned(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs: 
     let full = fit_terms(spec, records, inputs, outputs, None)?;
     match spec.max_terms {
         Some(keep) if spec.kind == Kind::Rhonn && full.terms.len() > keep => {
-            // Prune by weight magnitude: the terms work on normalised signals, so their
-            // weights are comparable; keep the `keep` largest (largest over the outputs),
-            // in their original order, and train again.
             let nphi = n_phi(spec, inputs.len(), outputs.len());
-            let mut rank: Vec<(usize, f64)> = (0..full.terms.len())
-                .map(|q| {
-                    (
-                        q,
-                        full.weights.iter().map(|w| w[nphi + q].abs()).fold(0.0, f64::max),
-                    )
-                })
-                .collect();
-            rank.sort_by(|a, b| b.1.total_cmp(&a.1));
-            let mut kept: Vec<usize> = rank[..keep].iter().map(|r| r.0).collect();
+            let nt = full.terms.len();
+            let mut kept: Vec<usize> = match spec.term_selection {
+                TermSelection::Weight => {
+                    // Prune by weight magnitude: the terms work on normalised signals, so
+                    // their weights are comparable; keep the `keep` largest (largest over
+                    // the outputs).
+                    let mut rank: Vec<(usize, f64)> = (0..nt)
+                        .map(|q| {
+                            (
+                                q,
+                                full.weights.iter().map(|w| w[nphi + q].abs()).fold(0.0, f64::max),
+                            )
+                        })
+                        .collect();
+                    rank.sort_by(|a, b| b.1.total_cmp(&a.1));
+                    rank[..keep].iter().map(|r| r.0).collect()
+                }
+                TermSelection::ErrorReduction => {
+                    // The linear regressors and the bias (the last feature) in from the
+                    // start, the terms by error reduction ratio.
+                    let (rows, targets) = regression_rows(&full, records);
+                    let fixed: Vec<usize> = (0..nphi).chain([nphi + nt]).collect();
+                    let terms: Vec<usize> = (nphi..nphi + nt).collect();
+                    super::term_selection::by_error_reduction(&rows, &targets, &fixed, &terms, keep)
+                        .into_iter()
+                        .map(|c| c - nphi)
+                        .collect()
+                }
+            };
+            // In their original order, and train again.
             kept.sort_unstable();
             let terms = kept.iter().map(|&q| full.terms[q].clone()).collect();
             fit_terms(spec, records, inputs, outputs, Some(terms))
@@ -252,26 +269,11 @@ fn blank_model(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs:
     })
 }
 
-/// Train the weights of a lagged model (`arx` or `rhonn`) whose terms are set.
-pub(super) fn fit_weights(model: &mut Model, records: &[Record]) -> Result<()> {
-    let spec = model.spec.clone();
-    let spec = &spec;
-    let no = model.no();
-    let lag = spec.max_lag();
-    if model.terms.len() > crate::net::MAX_TERMS {
-        return Err(invalid(
-            "model.degree",
-            spec.degree,
-            format!(
-                "a structure with at most {} high-order terms (this one gives {}: lower degree, max_factors or the lags)",
-                crate::net::MAX_TERMS,
-                model.terms.len()
-            ),
-        ));
-    }
-    let nf = model.n_features();
+/// The regression rows of a lagged model over `records` and the normalised outputs they
+/// predict (series-parallel: lagged measured outputs).
+fn regression_rows(model: &Model, records: &[Record]) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+    let (no, lag, nf) = (model.no(), model.spec.max_lag(), model.n_features());
     let t = model.terms();
-    // The regression rows (series-parallel: lagged measured outputs).
     let mut rows: Vec<Vec<f64>> = Vec::new();
     let mut targets: Vec<Vec<f64>> = vec![Vec::new(); no];
     for r in records {
@@ -285,6 +287,25 @@ pub(super) fn fit_weights(model: &mut Model, records: &[Record]) -> Result<()> {
             }
         }
     }
+    (rows, targets)
+}
+
+/// Train the weights of a lagged model (`arx` or `rhonn`) whose terms are set.
+pub(super) fn fit_weights(model: &mut Model, records: &[Record]) -> Result<()> {
+    let spec = model.spec.clone();
+    let spec = &spec;
+    if model.terms.len() > crate::net::MAX_TERMS {
+        return Err(invalid(
+            "model.degree",
+            spec.degree,
+            format!(
+                "a structure with at most {} high-order terms (this one gives {}: lower degree, max_factors or the lags)",
+                crate::net::MAX_TERMS,
+                model.terms.len()
+            ),
+        ));
+    }
+    let (rows, targets) = regression_rows(model, records);
     let weights = match spec.law {
         Estimator::BatchLs | Estimator::SimulationError | Estimator::MultiStep => {
             batch_ls(&rows, &targets, spec.ridge)?

@@ -37,6 +37,7 @@ mod predict;
 pub mod pump_grey;
 pub mod select;
 mod select_cascade;
+mod term_selection;
 mod train;
 mod wiener_hammerstein;
 use checks::ensure_finite_model;
@@ -142,6 +143,25 @@ impl Activation {
     }
 }
 
+/// How `max_terms` chooses the high-order terms a lagged `rhonn` model keeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum TermSelection {
+    /// The largest weights of a fit with every term (default).
+    #[default]
+    Weight,
+    /// Orthogonal forward regression by error reduction ratio (FROLS): with the linear
+    /// regressors and the bias in, the term that explains the most of what is left of
+    /// the outputs, then the next, `max_terms` times.
+    ErrorReduction,
+}
+
+impl TermSelection {
+    pub(crate) fn is_weight(&self) -> bool {
+        *self == TermSelection::Weight
+    }
+}
+
 /// A model structure as `--model SPEC.toml` writes it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -187,6 +207,9 @@ pub struct ModelSpec {
     /// Keep at most this many high-order terms: train with all, keep those with the
     /// largest weights, train again (default: keep all).
     pub max_terms: Option<usize>,
+    /// How `max_terms` chooses the terms: `weight` (default) or `error-reduction`.
+    #[serde(skip_serializing_if = "TermSelection::is_weight")]
+    pub term_selection: TermSelection,
     /// The high-order terms take only the first this-many lags of each output and of
     /// each input (and every filtered input): a long linear history (the memory of an
     /// unmeasured state, such as the pump's stroke in the current's past) with a small
@@ -227,6 +250,7 @@ impl Default for ModelSpec {
             input_filters_s: vec![],
             output_lag_start: 1,
             max_terms: None,
+            term_selection: TermSelection::Weight,
             nonlinear_lags: None,
             neurons: 2,
             free_exponents: true,
@@ -310,6 +334,13 @@ impl ModelSpec {
         int_in("output_lag_start", self.output_lag_start, 1, 1000)?;
         if let Some(m) = self.max_terms {
             int_in("max_terms", m, 1, crate::net::MAX_TERMS)?;
+        }
+        if self.term_selection == TermSelection::ErrorReduction && self.max_terms.is_none() {
+            return Err(invalid(
+                "model.term_selection",
+                "\"error-reduction\"",
+                "with `max_terms = N` (it chooses which N high-order terms of a `rhonn` model to keep)",
+            ));
         }
         if let Some(m) = self.nonlinear_lags {
             int_in("nonlinear_lags", m, 1, 50)?;

@@ -377,6 +377,45 @@ fn pruning_keeps_the_terms_that_matter() {
 }
 
 #[test]
+fn error_reduction_keeps_the_term_that_explains_the_output() {
+    // The same record: forward regression by error reduction ratio, one term kept out of
+    // nine, keeps the product tanh(y(k-1)) u(k-1) and runs free on another record.
+    let (i, o) = names();
+    let spec = ModelSpec {
+        na: 1,
+        nb: 1,
+        nk: 1,
+        max_terms: Some(1),
+        term_selection: TermSelection::ErrorReduction,
+        ..Default::default()
+    };
+    let m = fit(&spec, &[record(14, 800, true)], &i, &o).unwrap();
+    assert_eq!(m.terms, vec![vec![[0, 1], [1, 1]]]);
+    let val = record(15, 300, true);
+    let (p, first) = m.predict(&val, None).unwrap();
+    assert!(m.figures(&val, &p, first)[0].fit_percent > 90.0);
+    // model.json names it; the default is not written (files as before).
+    assert!(serde_json::to_string(&m.spec)
+        .unwrap()
+        .contains("\"term_selection\":\"error-reduction\""));
+    assert!(!serde_json::to_string(&ModelSpec::default())
+        .unwrap()
+        .contains("term_selection"));
+    // Without max_terms there is nothing to choose: refused, naming the key.
+    let e = ModelSpec {
+        max_terms: None,
+        ..spec
+    }
+    .check()
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("model.term_selection") && e.contains("max_terms"),
+        "{e}"
+    );
+}
+
+#[test]
 fn recursive_laws_approach_batch_least_squares() {
     let (i, o) = names();
     let data = [record(7, 600, false)];
