@@ -3,9 +3,9 @@
 //! benches in `benches/` are the finer instrument.
 
 use super::plant_run::run_plant_scenario;
-use super::plant_scenario::ScenarioSpec;
 use super::pump_run::run;
 use super::pump_settings::Scenario;
+use super::scenario::ScenarioSpec;
 use super::trace::NoRecorder;
 use crate::error::Result;
 use rayon::prelude::*;

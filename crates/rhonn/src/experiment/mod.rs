@@ -1,7 +1,6 @@
 //! Experiments: scenario files, running them, recording what they produce.
 
 pub mod any_plant;
-mod any_scenario;
 mod bench;
 pub mod campaign;
 mod campaign_plan;
@@ -9,7 +8,6 @@ pub mod front;
 mod integrated;
 mod loop_conditions;
 mod plant_run;
-mod plant_scenario;
 pub mod preset;
 mod pump_controllers;
 mod pump_figures;
@@ -18,20 +16,17 @@ mod pump_loop;
 mod pump_run;
 pub mod pump_scenario;
 mod pump_settings;
+mod scenario;
+mod scenario_run;
 pub mod sim;
 mod trace;
 pub mod tuning;
 
-pub use any_scenario::{NamedColumns, ScenarioRun};
 pub use bench::{bench, bench_plant, median_run_seconds, BenchFigures};
 pub use loop_conditions::{LoopConditions, SensorNoise};
 pub use plant_run::{
     nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on, IdentStateFigures, LoopFigures,
     PlantColumn, PlantRunOutput, PlantSummary, WEIGHT_QUANTITIES,
-};
-pub use plant_scenario::{
-    is_plant_scenario, ControlSpec, LoopSpec, PlantSection, ProfileSpec, ScenarioSpec, SensorNoiseSpec,
-    SolverSpec, ValidationSpec, MAX_DELAY_PERIODS,
 };
 pub use pump_controllers::{
     baseline_kind, Baseline, CascadePiGainsMpa, CascadePiSettings, PiSettings, NOMINAL_OPTIMAL, ROBUST,
@@ -44,4 +39,9 @@ pub use pump_settings::{
     AdaptiveSettings, Drive, InitialSpec, MeasurementSpec, PumpSettings, Scenario, SolverSettings,
     Q_L_MAX_DM3_S,
 };
+pub use scenario::{
+    is_plant_scenario, ControlSpec, LoopSpec, PlantSection, ProfileSpec, ScenarioSpec, SensorNoiseSpec,
+    SolverSpec, ValidationSpec, MAX_DELAY_PERIODS,
+};
+pub use scenario_run::{NamedColumns, ScenarioRun};
 pub use trace::{BaselineSample, Column, NoRecorder, Recorder, Sample, Trace};

@@ -4,7 +4,7 @@
 //! report crate writes as trajectory.csv, validation.csv, summary.json and plots.
 
 use super::any_plant::{closed_loop_with, identify, IdentRun, LoopRun};
-use super::plant_scenario::{configure, drive, loop_conditions, signal, state_index, ScenarioSpec};
+use super::scenario::{configure, drive, loop_conditions, signal, state_index, ScenarioSpec};
 use crate::control::LoopContext;
 use crate::error::{invalid, Error, Result};
 use crate::plant::{with_kind, Plant, Quantity, WithPlant};
@@ -142,7 +142,7 @@ fn activity_finding(a: &LoopFigures, b: &LoopFigures, unit: &str) -> String {
 /// The loop's conditions in words, when it is not clean: what both controllers faced.
 fn conditions_finding<P: Plant>(
     plant: &P,
-    c: &super::plant_scenario::ControlSpec,
+    c: &super::scenario::ControlSpec,
     spec: &ScenarioSpec,
     qu: &Quantity,
 ) -> Option<String> {
@@ -360,7 +360,7 @@ fn all_finite(columns: &[PlantColumn], file: &str) -> Result<()> {
 }
 
 /// The input `c` drives (its index) and its range in SI, checked.
-fn control_input<P: Plant>(plant: &P, c: &super::plant_scenario::ControlSpec) -> Result<(usize, (f64, f64))> {
+fn control_input<P: Plant>(plant: &P, c: &super::scenario::ControlSpec) -> Result<(usize, (f64, f64))> {
     let k = plant
         .inputs()
         .iter()

@@ -1,8 +1,8 @@
 //! The scenarios shipped with rhonn (the TOML files in the repository's `scenarios/`
 //! folder, compiled in), and loading a scenario by name or path.
 
-use super::plant_scenario::{is_plant_scenario, ScenarioSpec};
 use super::pump_settings::PumpSettings;
+use super::scenario::{is_plant_scenario, ScenarioSpec};
 use crate::error::{Error, Result};
 use std::path::Path;
 

@@ -5,10 +5,10 @@
 
 use super::integrated::Integrated;
 use super::loop_conditions::{Actuator, LoopConditions, SensorNoise, Sensors};
-use super::plant_scenario::ProfileSpec;
 use super::pump_figures::{Accumulator, AdaptiveReport, Figures};
 use super::pump_ident_figures::IdentAcc;
 use super::pump_settings::{Drive, Scenario, SolverSettings};
+use super::scenario::ProfileSpec;
 use super::sim::{describe, drive, start, Hooks, Instants};
 use super::trace::{Recorder, Sample};
 use crate::control::{CascadeState, Controller, Pi, RhonnCascade};

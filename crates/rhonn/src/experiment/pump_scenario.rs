@@ -4,8 +4,8 @@
 //! pressure regulation and draws the thesis's figures. Every key is the one format's;
 //! an error names the key the user wrote.
 
-use super::plant_scenario::{ControlSpec, ScenarioSpec};
 use super::pump_settings::{InitialSpec, MeasurementSpec, PumpSettings};
+use super::scenario::{ControlSpec, ScenarioSpec};
 use crate::control::LoopSpec;
 use crate::error::{invalid, Error, Result};
 use crate::plant::PumpParamsSpec;
@@ -309,7 +309,7 @@ pub fn lower_checked(spec: &ScenarioSpec) -> Result<PumpSettings> {
 /// at the thesis's values are left out; a cascade PI's unset gains are written as the
 /// robust tuning they default to.
 pub fn raise(spec: &PumpSettings) -> ScenarioSpec {
-    use super::plant_scenario::{PlantSection, SensorNoiseSpec};
+    use super::scenario::{PlantSection, SensorNoiseSpec};
     use std::collections::BTreeMap;
     let nominal = toml::Table::try_from(PumpParamsSpec::default()).unwrap_or_default();
     let given = toml::Table::try_from(spec.plant.clone()).unwrap_or_default();

@@ -3,11 +3,11 @@
 //! accepts. Every failure names the field, the value and what is allowed (in the file's
 //! keys, see `pump_scenario::lower_checked`); unknown keys are errors.
 
-use super::plant_scenario::{check_folder_name, ControlSpec, ProfileSpec, SolverSpec};
 use super::pump_controllers::{
     check_baseline, check_cascade_pi, check_named_cascade_pi, check_pi, Baseline, BaselineKeys,
     CascadePiGainsMpa, CascadePiSettings, PiSettings,
 };
+use super::scenario::{check_folder_name, ControlSpec, ProfileSpec, SolverSpec};
 use crate::control::CascadeSettings;
 use crate::error::{invalid, Error, Result};
 use crate::ident::{IdentSettings, IdentifierSpec};

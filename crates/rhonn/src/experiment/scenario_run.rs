@@ -7,9 +7,9 @@
 
 use super::bench::{bench, bench_plant, BenchFigures};
 use super::plant_run::{run_plant_scenario, PlantRunOutput};
-use super::plant_scenario::ScenarioSpec;
 use super::pump_run::{run_full, RunOutput};
 use super::pump_settings::PumpSettings;
+use super::scenario::ScenarioSpec;
 use super::trace::Trace;
 use crate::error::Result;
 use std::time::Duration;
