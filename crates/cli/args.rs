@@ -247,6 +247,10 @@ pub enum Command {
         /// Print the table as JSON (summary.json's text) instead of text.
         #[arg(long)]
         json: bool,
+        /// Train this model spec (as `rhonn fit --model`) in place of the default
+        /// selection's choice; the table's fit column is then `rhonn fit (--model)`.
+        #[arg(long, value_name = "SPEC.toml")]
+        model: Option<PathBuf>,
     },
     /// Time whole runs without I/O and print a table (or JSON).
     ///

@@ -79,11 +79,13 @@ fn dispatch(cli: Cli) -> Result<()> {
             data_dir,
             out,
             json,
+            model,
         } => cmd_benchmark(commands::BenchmarkRequest {
             names,
             data_dir,
             out,
             json,
+            model,
         })?,
         Command::Bench {
             scenarios,

@@ -22,6 +22,9 @@ pub struct BenchmarkRequest {
     pub out: PathBuf,
     /// Print the table as JSON instead of text.
     pub json: bool,
+    /// A model spec (`rhonn fit --model`'s) trained in place of the default selection's
+    /// choice (`rhonn fit (--model)` in the table).
+    pub model: Option<PathBuf>,
 }
 
 /// One row of the table: one output of one test set.
@@ -39,6 +42,10 @@ pub struct Row {
     pub scored_from: usize,
     /// Samples scored.
     pub samples: usize,
+    /// How the fit column's model was made when it is not the default selection's choice
+    /// (`rhonn fit (--model)`); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit_method: Option<String>,
     /// Free-run RMS error of rhonn fit's default model, its structure and training time.
     pub fit_rmse: f64,
     /// See `fit_rmse`.
@@ -89,6 +96,7 @@ fn rows_of(b: &BenchmarkOutcome) -> Vec<Row> {
                 unit: b.units.get(out).cloned().unwrap_or_default(),
                 scored_from: ts.scored_from,
                 samples: ts.samples,
+                fit_method: (m(0).method != "rhonn fit (default)").then(|| m(0).method.clone()),
                 fit_rmse: m(0).tests[k].rmse[j],
                 fit_structure: m(0).structure.clone(),
                 fit_time_s: m(0).train_time_s,
@@ -132,7 +140,18 @@ pub fn benchmark(req: &BenchmarkRequest, progress: &(dyn Fn(&str) + Sync)) -> Re
             req.data_dir.display()
         )));
     }
-    // Every benchmark is read (and its errors found) before any is run.
+    // The spec and every benchmark are read (and their errors found) before any is run.
+    let model = match &req.model {
+        Some(p) => {
+            let source = p.display().to_string();
+            let specs = super::fit::model_specs(Some(&super::read_text(p)?), &source)?;
+            let name = p
+                .file_name()
+                .map_or(source.clone(), |f| f.to_string_lossy().into_owned());
+            Some((specs, name))
+        }
+        None => None,
+    };
     let loaded = names
         .iter()
         .map(|n| crate::benchmark_data::load(&req.data_dir, n))
@@ -141,7 +160,10 @@ pub fn benchmark(req: &BenchmarkRequest, progress: &(dyn Fn(&str) + Sync)) -> Re
         let mut o = Outcome::default();
         let mut rows = Vec::new();
         for b in &loaded {
-            let res = rhonn::benchmark::run(b, progress)
+            let given = model
+                .as_ref()
+                .map(|(specs, name)| (specs.as_slice(), name.as_str()));
+            let res = rhonn::benchmark::run_with(b, given, progress)
                 .map_err(|e| super::context(format!("benchmark {}", b.name))(e.into()))?;
             o.files.extend(write_one(&req.out.join(&b.name), b, &res)?);
             o.notes
@@ -174,7 +196,12 @@ fn table_lines(rows: &[Row]) -> Vec<String> {
          and is scored from its end, or without a window from the latest first prediction: scored_from in \
          benchmark.csv); the best of each row in *stars*"
             .to_string(),
-        "benchmark | test | output | rhonn fit (default) | rhonn identify (default) | ARX (lags by CV) | published best | training time fit / online / ARX".to_string(),
+        format!(
+            "benchmark | test | output | {} | rhonn identify (default) | ARX (lags by CV) | published best | training time fit / online / ARX",
+            rows.first()
+                .and_then(|r| r.fit_method.as_deref())
+                .unwrap_or("rhonn fit (default)")
+        ),
     ];
     for r in rows {
         let best = r.fit_rmse.min(r.online_rmse).min(r.arx_rmse);

@@ -30,7 +30,8 @@ pub struct TestScore {
 /// One model of a row.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MethodResult {
-    /// `rhonn fit (default)`, `rhonn identify (default)` or `ARX (lags by CV)`.
+    /// `rhonn fit (default)` (`rhonn fit (--model)` with a given model), `rhonn identify
+    /// (default)` or `ARX (lags by CV)`.
     pub method: String,
     /// Its structure, in words.
     pub structure: String,
@@ -103,25 +104,25 @@ fn fitted_run(m: &FittedModel) -> impl Fn(&Record) -> Result<(Vec<Vec<f64>>, usi
 }
 
 /// rhonn fit's default: the structure selected by cross-validation on train, trained
-/// beside the selection's best ARX.
+/// beside the selection's best ARX; or, given `model` (a spec's structures and its name),
+/// that structure trained on train as `rhonn fit --model` trains it.
 fn fit_default(
     b: &Benchmark,
+    model: Option<(&[sysid::ModelSpec], &str)>,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<(FittedModel, String, f64, Vec<String>)> {
     let (ins, outs) = (&b.spec.inputs, &b.spec.outputs);
     let start = Instant::now();
     let opts = sysid::select::SelectOptions::default();
-    let run = sysid::fit_records(
-        sysid::FitStructure::Select(&opts),
-        &b.train,
-        ins,
-        outs,
-        "the sample time",
-        progress,
-    )?;
-    let structure = match &run.summary.selection {
-        Some(sel) => sel.candidates[sel.chosen].name.clone(),
-        None => String::new(),
+    let structure = match model {
+        Some((specs, _)) => sysid::FitStructure::Given(specs.to_vec()),
+        None => sysid::FitStructure::Select(&opts),
+    };
+    let run = sysid::fit_records(structure, &b.train, ins, outs, "the sample time", progress)?;
+    let structure = match (&run.summary.selection, model) {
+        (_, Some((_, name))) => name.to_string(),
+        (Some(sel), None) => sel.candidates[sel.chosen].name.clone(),
+        (None, None) => String::new(),
     };
     Ok((
         run.fitted,
@@ -148,11 +149,29 @@ fn online_default(b: &Benchmark) -> Result<(OnlineModel, BankSelection, f64)> {
 /// Run the benchmark: the three models on train, each run free on every test set.
 /// `progress` hears a line per stage.
 pub fn run(b: &Benchmark, progress: &(dyn Fn(&str) + Sync)) -> Result<BenchmarkOutcome> {
+    run_with(b, None, progress)
+}
+
+/// [`run`] with rhonn fit's model given (`rhonn benchmark --model SPEC.toml`): the spec's
+/// structures and the name the table gives them, in place of the selection's choice.
+pub fn run_with(
+    b: &Benchmark,
+    model: Option<(&[sysid::ModelSpec], &str)>,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<BenchmarkOutcome> {
     b.check()?;
     let (ins, outs) = (&b.spec.inputs, &b.spec.outputs);
-    progress(&format!("{}: rhonn fit (structure selected on train)", b.name));
+    progress(&format!(
+        "{}: rhonn fit ({})",
+        b.name,
+        if model.is_some() {
+            "the given model"
+        } else {
+            "structure selected on train"
+        }
+    ));
     let named = |l: &str| progress(&format!("{}: rhonn fit: {l}", b.name));
-    let (fitted, fit_structure, fit_s, warnings) = fit_default(b, &named)?;
+    let (fitted, fit_structure, fit_s, warnings) = fit_default(b, model, &named)?;
     progress(&format!("{}: rhonn identify (online selection)", b.name));
     let (online, online_selection, online_s) = online_default(b)?;
     let online_structure = online_selection.candidates[online_selection.chosen].name.clone();
@@ -207,7 +226,15 @@ pub fn run(b: &Benchmark, progress: &(dyn Fn(&str) + Sync)) -> Result<BenchmarkO
         runs[2].push(a);
     }
     let names = [
-        ("rhonn fit (default)", fit_structure, fit_s),
+        (
+            if model.is_some() {
+                "rhonn fit (--model)"
+            } else {
+                "rhonn fit (default)"
+            },
+            fit_structure,
+            fit_s,
+        ),
         ("rhonn identify (default)", online_structure, online_s),
         (
             "ARX (lags by CV)",

@@ -14,7 +14,7 @@ use crate::error::{invalid, Result};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-pub use methods::{run, BenchmarkOutcome, MethodResult, TestScore};
+pub use methods::{run, run_with, BenchmarkOutcome, MethodResult, TestScore};
 
 /// A benchmark's protocol, as `benchmark.toml` writes it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
