@@ -676,11 +676,7 @@ impl super::kinds::ModelKind for Cascade {
         ) {
             return Err(invalid(
                 "model.law",
-                match spec.law {
-                    Estimator::Rls => "rls",
-                    Estimator::Gradient => "gradient",
-                    _ => "multi-step",
-                },
+                spec.law.name(),
                 "simulation-error (a `cascade` model is always trained on its free-run error)",
             ));
         }

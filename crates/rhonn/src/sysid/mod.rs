@@ -124,6 +124,19 @@ pub enum Estimator {
     MultiStep,
 }
 
+impl Estimator {
+    /// Its name in a spec file (`batch-ls`, ...), as errors quote it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Estimator::BatchLs => "batch-ls",
+            Estimator::Rls => "rls",
+            Estimator::Gradient => "gradient",
+            Estimator::SimulationError => "simulation-error",
+            Estimator::MultiStep => "multi-step",
+        }
+    }
+}
+
 /// What the high-order terms of a lagged `rhonn` model take of each lagged output.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]

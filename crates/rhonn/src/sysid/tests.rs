@@ -509,3 +509,25 @@ fn a_polynomial_rhonn_extrapolates_a_cubic_spring_where_the_sigmoid_saturates() 
     assert!(text.contains("\"activation\":\"identity\""), "{text}");
     assert!(!serde_json::to_string(&sig).unwrap().contains("activation"));
 }
+
+#[test]
+fn a_law_a_kind_does_not_train_with_is_named_as_the_spec_writes_it() {
+    for (kind, law, allowed) in [
+        (Kind::Pump, Estimator::BatchLs, "multi-step"),
+        (Kind::WienerHammerstein, Estimator::MultiStep, "simulation-error"),
+        (Kind::Cascade, Estimator::Rls, "simulation-error"),
+    ] {
+        let e = ModelSpec {
+            kind,
+            law,
+            ..Default::default()
+        }
+        .check()
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains(&format!("`model.law` = {}", law.name())) && e.contains(allowed),
+            "{e}"
+        );
+    }
+}

@@ -654,7 +654,7 @@ impl super::kinds::ModelKind for WienerHammerstein {
         ) {
             return Err(invalid(
                 "model.law",
-                format!("{:?}", spec.law).to_lowercase(),
+                spec.law.name(),
                 "simulation-error (a `wiener-hammerstein` model is always trained on its free-run error)",
             ));
         }

@@ -122,7 +122,7 @@ impl PumpGreySpec {
         if law != Estimator::MultiStep {
             return Err(invalid(
                 "model.law",
-                format!("{law:?}"),
+                law.name(),
                 "multi-step (a `pump` model is trained on its K-step error)",
             ));
         }
