@@ -37,6 +37,27 @@ fn rms_in_csv(p: &Path, y: &str, hat: &str, from: usize) -> f64 {
     (e.iter().map(|v| v * v).sum::<f64>() / e.len() as f64).sqrt()
 }
 
+/// `rhonn predict` in `dir` of the model.json of the benchmark folder `ced` on its file
+/// `csv`, seeing the drives' window of 4 outputs, into `dir/p`: its summary.json.
+fn predict_in_window(dir: &Path, ced: &Path, csv: &str) -> serde_json::Value {
+    let p = rhonn(
+        dir,
+        &[
+            "predict",
+            "--model",
+            ced.join("model.json").to_str().unwrap(),
+            "--data",
+            ced.join(csv).to_str().unwrap(),
+            "--out",
+            "p",
+            "--init-window",
+            "4",
+        ],
+    );
+    assert!(p.status.success(), "{}", stderr(&p));
+    json(&dir.join("p/summary.json"))
+}
+
 #[test]
 fn two_benchmarks_give_the_table_the_files_and_models_that_predict_their_figures() {
     let d = tempfile::tempdir().unwrap();
@@ -105,22 +126,7 @@ fn two_benchmarks_give_the_table_the_files_and_models_that_predict_their_figures
     // model.json it wrote, on the test record it wrote (free_run_1.csv: test 2), seeing
     // the same 4 outputs.
     let ced = b.join("coupled-electric-drives");
-    let p = rhonn(
-        d.path(),
-        &[
-            "predict",
-            "--model",
-            ced.join("model.json").to_str().unwrap(),
-            "--data",
-            ced.join("free_run_1.csv").to_str().unwrap(),
-            "--out",
-            "p",
-            "--init-window",
-            "4",
-        ],
-    );
-    assert!(p.status.success(), "{}", stderr(&p));
-    let summary = json(&d.path().join("p/summary.json"));
+    let summary = predict_in_window(d.path(), &ced, "free_run_1.csv");
     assert_eq!(summary["init_window"], 4);
     let row = &rows[2];
     assert_eq!(row["test"], "test 2");
@@ -178,21 +184,7 @@ fn a_given_model_takes_the_fit_column_and_the_drives_frols_spec_beats_the_defaul
     let m = json(&ced.join("model.json"));
     assert_eq!(m["model"]["spec"]["term_selection"], "error-reduction");
     assert_eq!(m["model"]["terms"].as_array().unwrap().len(), 2);
-    let p = rhonn(
-        d.path(),
-        &[
-            "predict",
-            "--model",
-            ced.join("model.json").to_str().unwrap(),
-            "--data",
-            ced.join("free_run_0.csv").to_str().unwrap(),
-            "--out",
-            "p",
-            "--init-window",
-            "4",
-        ],
-    );
-    assert!(p.status.success(), "{}", stderr(&p));
+    predict_in_window(d.path(), &ced, "free_run_0.csv");
     let predicted = rms_in_csv(&d.path().join("p/prediction.csv"), "y", "y_hat", 4);
     assert!(
         (predicted - fit[0]).abs() <= 1e-9 * fit[0],

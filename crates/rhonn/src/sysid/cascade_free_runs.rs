@@ -27,7 +27,8 @@ impl<'a> FreeRuns<'a> {
         FreeRuns { co, data, starts_at }
     }
 
-    /// Record `q`'s residuals at coordinates `th` into `buf` (false: not simulated).
+    /// Record `q`'s residuals at coordinates `th` into `buf`, its first sample's (zero: the
+    /// free run starts at the measurement) included (false: not simulated).
     fn record(&self, p: &Params, th: &[f64], q: usize, buf: &mut Vec<f64>) -> bool {
         let (n, nm) = (self.co.n, self.co.n_model());
         let (u, y) = &self.data[q];
@@ -40,7 +41,6 @@ impl<'a> FreeRuns<'a> {
         for (a, b) in buf.iter_mut().zip(y) {
             *a -= b;
         }
-        buf.remove(0);
         true
     }
 
@@ -53,7 +53,7 @@ impl<'a> FreeRuns<'a> {
             if !self.record(&p, th, q, &mut buf) {
                 return false;
             }
-            out.extend_from_slice(&buf);
+            out.extend_from_slice(&buf[1..]);
         }
         true
     }
@@ -76,7 +76,7 @@ impl<'a> FreeRuns<'a> {
         }
         out.clear();
         out.extend_from_slice(r0);
-        out[self.starts_at[q]..self.starts_at[q] + buf.len()].copy_from_slice(&buf);
+        out[self.starts_at[q]..self.starts_at[q] + buf.len() - 1].copy_from_slice(&buf[1..]);
         true
     }
 }
