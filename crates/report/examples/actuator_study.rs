@@ -11,11 +11,11 @@
 use rayon::prelude::*;
 use rhonn::experiment::front::{nominal_optimal_points, points, wins};
 use rhonn::experiment::tuning::robustness_cases;
-use rhonn::experiment::{preset, LoopSpec, PumpSettings};
+use rhonn::experiment::{preset, LoopSpec, ScenarioSpec};
 
-fn with_actuator(spec: &PumpSettings, memory_s: f64, lag_scale_s: f64) -> PumpSettings {
+fn with_actuator(spec: &ScenarioSpec, memory_s: f64, lag_scale_s: f64) -> ScenarioSpec {
     let mut s = spec.clone();
-    if let Some(LoopSpec::PumpRhonnAdaptive(knobs)) = s.controller.as_mut().map(|c| &mut c.controller) {
+    if let Some(LoopSpec::PumpRhonnAdaptive(knobs)) = s.control.as_mut().map(|c| &mut c.controller) {
         knobs.actuator_memory_s = Some(memory_s);
         knobs.lag_scale_s = Some(lag_scale_s);
     }
@@ -30,7 +30,7 @@ fn main() {
         "control-adaptive-gentle",
         "control-adaptive-fast",
     ] {
-        let cases = robustness_cases(&preset::load(name).unwrap()).unwrap();
+        let cases = robustness_cases(&preset::load_any(name).unwrap()).unwrap();
         let no = nominal_optimal_points(&cases);
         let settings = [
             (0.0, 0.0),

@@ -11,11 +11,11 @@
 use rayon::prelude::*;
 use rhonn::experiment::front::{nominal_optimal_points, points, wins};
 use rhonn::experiment::tuning::robustness_cases;
-use rhonn::experiment::{preset, LoopSpec, PumpSettings};
+use rhonn::experiment::{preset, LoopSpec, ScenarioSpec};
 
-fn set(spec: &PumpSettings, k: &[f64; 8]) -> PumpSettings {
+fn set(spec: &ScenarioSpec, k: &[f64; 8]) -> ScenarioSpec {
     let mut s = spec.clone();
-    if let Some(LoopSpec::PumpRhonnAdaptive(knobs)) = s.controller.as_mut().map(|c| &mut c.controller) {
+    if let Some(LoopSpec::PumpRhonnAdaptive(knobs)) = s.control.as_mut().map(|c| &mut c.controller) {
         knobs.lambda_per_s = Some(k[0]);
         knobs.stroke_gain = Some(k[1]);
         knobs.lead_s = Some(k[2]);
@@ -29,7 +29,7 @@ fn set(spec: &PumpSettings, k: &[f64; 8]) -> PumpSettings {
 }
 
 fn main() {
-    let spec = preset::load("control-adaptive").unwrap();
+    let spec = preset::load_any("control-adaptive").unwrap();
     let cases = robustness_cases(&spec).unwrap();
     let no = nominal_optimal_points(&cases);
     let n: usize = std::env::args().nth(1).map_or(200, |a| a.parse().unwrap());

@@ -29,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .nth(1)
             .unwrap_or_else(|| "out/control-front".into()),
     );
-    let spec = preset::load("control-adaptive")?;
+    let spec = preset::load_any("control-adaptive")?;
     let gains = cascade_grid();
     let cascade = cascade_points(&spec, &gains);
     let mut adaptive = adaptive_points(&spec, &[40.0, 50.0, 70.0, 100.0, 140.0, 200.0]);
@@ -38,7 +38,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|n| {
             Ok((
                 n.to_string(),
-                points("rhonn-adaptive", vec![(n.to_string(), preset::load(n)?)]).remove(0),
+                points("rhonn-adaptive", vec![(n.to_string(), preset::load_any(n)?)]).remove(0),
             ))
         })
         .collect::<Result<_, rhonn::Error>>()?;
@@ -64,7 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let no = nominal_optimal_points(&cases);
     println!("the 37 plants of the robustness study: wins = lower IAE at no more current total variation than the nominal-optimal cascade PI");
     for name in SHIPPED {
-        let shipped_spec = preset::load(name)?;
+        let shipped_spec = preset::load_any(name)?;
         let cases = robustness_cases(&shipped_spec)?;
         let a = points("rhonn-adaptive", cases);
         let wins = wins(&a, &no);

@@ -11,10 +11,8 @@ use crate::campaign_plots::{envelope_files, histograms};
 use crate::campaign_runner::{self, CampaignKind, Done};
 use crate::Error;
 use rhonn::experiment::campaign::{
-    envelope_grid, figure_names, run_one, statistics, Envelope, FigureStats, Plan, RunRow, RunTraces,
-    Sampling, TOLERANCES,
+    statistics, Envelope, FigureStats, Plan, PumpCampaign, RunRow, RunTraces, Sampling, TOLERANCES,
 };
-use rhonn::experiment::PumpSettings;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -60,19 +58,19 @@ pub struct CampaignFile {
 }
 
 /// `runs.csv`'s header for a scenario.
-fn header(spec: &PumpSettings) -> Vec<String> {
+fn header(spec: &PumpCampaign) -> Vec<String> {
     let mut h = vec!["run".to_string()];
     h.extend(TOLERANCES.iter().map(|t| t.name.to_string()));
     h.push("status".into());
     h.push("error".into());
-    h.extend(figure_names(spec));
+    h.extend(spec.figure_names());
     h
 }
 
 /// `traces.csv`'s header: the run, the series, then the envelope grid's times [s].
-fn traces_header(spec: &PumpSettings) -> Vec<String> {
+fn traces_header(spec: &PumpCampaign) -> Vec<String> {
     let mut h = vec!["run".to_string(), "series".to_string()];
-    h.extend(envelope_grid(spec).1.iter().map(|t| t.to_string()));
+    h.extend(spec.envelope_grid().1.iter().map(|t| t.to_string()));
     h
 }
 
@@ -91,7 +89,7 @@ fn trace_records(index: u64, tr: &RunTraces) -> Vec<Vec<String>> {
     out
 }
 
-fn record(spec: &PumpSettings, r: &RunRow) -> Vec<String> {
+fn record(spec: &PumpCampaign, r: &RunRow) -> Vec<String> {
     let mut v = vec![r.index.to_string()];
     v.extend(r.values.iter().map(|x| x.to_string()));
     match &r.outcome {
@@ -103,7 +101,7 @@ fn record(spec: &PumpSettings, r: &RunRow) -> Vec<String> {
         Err(e) => {
             v.push("failed".into());
             v.push(e.clone());
-            v.extend(figure_names(spec).iter().map(|_| String::new()));
+            v.extend(spec.figure_names().iter().map(|_| String::new()));
         }
     }
     v
@@ -179,7 +177,7 @@ struct CampaignSummary<'a> {
 fn finish(
     dir: &Path,
     file: &CampaignFile,
-    spec: &PumpSettings,
+    spec: &PumpCampaign,
     mut rows: Vec<Row>,
     notes: Vec<String>,
 ) -> Result<CampaignOutcome> {
@@ -193,7 +191,7 @@ fn finish(
         }
         w.flush().map_err(csv::Error::from)?;
     }
-    let (_, grid) = envelope_grid(spec);
+    let (_, grid) = spec.envelope_grid();
     let env = envelopes(&rows, grid.len());
     let env_files = envelope_files(
         spec,
@@ -205,7 +203,7 @@ fn finish(
     )?;
     let envelope_runs = env.iter().map(|(n, _, k)| (n.clone(), *k)).collect();
     let rows: Vec<RunRow> = rows.into_iter().map(|r| r.row).collect();
-    let names = figure_names(spec);
+    let names = spec.figure_names();
     let mut failures: Vec<(String, usize)> = Vec::new();
     for r in &rows {
         if let Err(e) = &r.outcome {
@@ -225,7 +223,7 @@ fn finish(
         runs_ok: ok,
         runs_failed: rows.len() - ok,
         failures,
-        plan: Plan::of(spec)?,
+        plan: spec.plan(),
         figures: statistics(&names, &rows),
         envelope_runs,
         findings: crate::worst_runs::findings(key, &worst_runs),
@@ -293,19 +291,21 @@ pub fn parse_shard(s: &str) -> Result<[u64; 2]> {
 /// `histograms.svg` and the envelope's files, all or nothing. The same call on the same
 /// folder resumes an interrupted campaign. `progress` is called after every run.
 pub fn run_campaign(
-    spec: &PumpSettings,
+    spec: &PumpCampaign,
     o: &CampaignOptions,
     dir: &Path,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<CampaignOutcome> {
     let spec = spec.clone();
-    spec.check()?;
-    let plan = Plan::of(&spec)?;
-    let runs = if o.corners { plan.corner_runs() } else { o.runs };
+    let runs = if o.corners {
+        spec.plan().corner_runs()
+    } else {
+        o.runs
+    };
     let indices = o.shard_indices(runs)?;
     let file = CampaignFile {
-        scenario_toml: rhonn::experiment::pump_scenario::raise(&spec).to_toml(),
-        scenario: spec.name.clone(),
+        scenario_toml: spec.scenario().to_toml(),
+        scenario: spec.name().to_string(),
         seed: o.seed,
         runs,
         sampling: if o.corners { "corners" } else { "random" }.into(),
@@ -313,28 +313,26 @@ pub fn run_campaign(
         shard: o.shard,
         indices,
     };
-    let c = PumpCampaign {
+    let c = PumpKind {
         sampling: if o.corners {
             Sampling::Corners
         } else {
             Sampling::Random
         },
         spec,
-        plan,
         file,
     };
     campaign_runner::run(&c, indices, dir, progress)
 }
 
 /// A campaign of a pump scenario (its own runner).
-struct PumpCampaign {
-    spec: PumpSettings,
-    plan: Plan,
+struct PumpKind {
+    spec: PumpCampaign,
     file: CampaignFile,
     sampling: Sampling,
 }
 
-impl CampaignKind for PumpCampaign {
+impl CampaignKind for PumpKind {
     type Row = RunRow;
     type File = CampaignFile;
     const FILE_IS: &'static str = "a campaign file";
@@ -353,9 +351,13 @@ impl CampaignKind for PumpCampaign {
     }
     fn from_file(f: &CampaignFile) -> Result<Self> {
         let written = rhonn::experiment::ScenarioSpec::from_toml(&f.scenario_toml, "campaign.json")?;
-        let spec = rhonn::experiment::pump_scenario::lower(&written)?;
-        Ok(PumpCampaign {
-            plan: Plan::of(&spec)?,
+        let spec = PumpCampaign::of(&written)?.ok_or_else(|| {
+            Error::Campaign(format!(
+                "campaign.json: its scenario `{}` is not the pump's (plant.kind {:?})",
+                written.name, written.plant.kind
+            ))
+        })?;
+        Ok(PumpKind {
             spec,
             file: f.clone(),
             sampling: if f.sampling == "corners" {
@@ -366,7 +368,7 @@ impl CampaignKind for PumpCampaign {
         })
     }
     fn scenario(&self) -> &str {
-        &self.spec.name
+        self.spec.name()
     }
     fn header(&self) -> Vec<String> {
         header(&self.spec)
@@ -384,7 +386,7 @@ impl CampaignKind for PumpCampaign {
     }
     fn run(&self, i: u64) -> Row {
         let keep = i < self.file.envelope_runs;
-        let (row, tr) = run_one(&self.spec, &self.plan, self.file.seed, i, self.sampling, keep);
+        let (row, tr) = self.spec.run_one(self.file.seed, i, self.sampling, keep);
         Done {
             index: i,
             fields: record(&self.spec, &row),
@@ -406,7 +408,7 @@ pub fn merge_campaigns(dirs: &[PathBuf], out: &Path) -> Result<CampaignOutcome> 
     {
         return crate::plant_campaign::merge_plant_campaigns(dirs, out);
     }
-    campaign_runner::merge::<PumpCampaign>(dirs, out)
+    campaign_runner::merge::<PumpKind>(dirs, out)
 }
 
 #[cfg(test)]
@@ -417,8 +419,9 @@ mod tests {
     #[test]
     fn a_campaign_is_a_library_call_that_reports_progress_and_resumes() {
         let d = tempfile::tempdir().unwrap();
-        let mut spec = rhonn::experiment::preset::load("thesis-ch3").unwrap();
-        spec.duration_s = 0.5;
+        let mut sc = rhonn::experiment::preset::load_any("thesis-ch3").unwrap();
+        sc.duration_s = 0.5;
+        let spec = PumpCampaign::of(&sc).unwrap().unwrap();
         let o = CampaignOptions {
             runs: 6,
             seed: 2,

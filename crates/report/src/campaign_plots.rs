@@ -3,15 +3,15 @@
 
 use crate::Result;
 use rhonn::experiment::campaign::Envelope;
+use rhonn::experiment::campaign::PumpCampaign;
 use rhonn::experiment::campaign::RunRow;
-use rhonn::experiment::PumpSettings;
 
 /// The envelope files of a campaign of `scenario` that kept traces: traces.csv (its
 /// `header`, then the `traces` rows), envelope.csv and envelope.svg (None without
 /// traces).
 #[allow(clippy::type_complexity)]
 pub(crate) fn envelope_files<'a>(
-    spec: &PumpSettings,
+    spec: &PumpCampaign,
     scenario: &str,
     header: Vec<String>,
     traces: impl Iterator<Item = &'a Vec<String>>,
@@ -30,12 +30,7 @@ pub(crate) fn envelope_files<'a>(
     }
     w.flush().map_err(csv::Error::from)?;
     drop(w);
-    let sc = spec.check()?;
-    let p_ref: Option<Vec<f64>> = sc.drive.setpoint().map(|sp| {
-        grid.iter()
-            .map(|&t| sp.eval(t) / rhonn::units::PA_PER_MPA)
-            .collect()
-    });
+    let p_ref = spec.setpoint_mpa(grid)?;
     let mut w = csv::Writer::from_writer(&mut env_buf);
     let mut h = vec!["t".to_string()];
     for (name, _, _) in env {
@@ -85,7 +80,7 @@ pub(crate) fn envelope_files<'a>(
     }
     lines.push(crate::Series {
         label: "P_min".into(),
-        y: vec![spec.plant.p_min_mpa; grid.len()],
+        y: vec![spec.p_min_mpa(); grid.len()],
         dashed: true,
     });
     let n_tr = env[0].2;
@@ -101,7 +96,7 @@ pub(crate) fn envelope_files<'a>(
 }
 
 /// How plots name an adaptive scenario's baseline.
-fn baseline_label(spec: &PumpSettings) -> &'static str {
+fn baseline_label(spec: &PumpCampaign) -> &'static str {
     match spec.adaptive_baseline_kind() {
         Some("cascade-pi") => "cascade PI baseline",
         _ => "PI baseline",

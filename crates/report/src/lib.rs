@@ -6,7 +6,7 @@ temporary name in the output folder and renamed only when all of them are comple
 
 ```no_run
 use rhonn::experiment::{preset, Trace};
-let scenario = preset::load("thesis-ch3")?.check()?;
+let scenario = preset::load_any("thesis-ch3")?.pump_run()?;
 let mut trace = Trace::default();
 let output = rhonn::experiment::run_full(&scenario, &mut trace)?;
 rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &output)?;

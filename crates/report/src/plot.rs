@@ -585,8 +585,8 @@ pub fn plot_run(trace: &Trace, summary: &Summary) -> Vec<(String, String)> {
             .column(name)
             .map(|v| v.iter().map(|x| x / k).collect::<Vec<_>>())
     };
-    let name = &summary.scenario.name;
-    let p_min = summary.scenario.plant.p_min_mpa;
+    let name = summary.scenario_name();
+    let p_min = summary.p_min_mpa();
     let adaptive = trace.column("p_line_pi").is_some();
     // The baseline by name: "cascade PI baseline" or "PI baseline".
     let base = match summary.control.as_ref().map(|c| c.baseline.controller) {
@@ -696,7 +696,7 @@ pub fn plot_identification(
     validation: Option<&Trace>,
     summary: &Summary,
 ) -> Vec<(String, String)> {
-    let name = &summary.scenario.name;
+    let name = summary.scenario_name();
     let Some(t) = trace.column("t") else { return vec![] };
     let mut out = Vec::new();
     let mut errors = Vec::new();

@@ -39,7 +39,9 @@ fn pump_lines(output: &RunOutput) -> Vec<String> {
     let l = &mut lines;
     l.push(format!(
         "{}: {} s simulated, {} samples",
-        summary.scenario.name, f.duration_s, f.samples
+        summary.scenario_name(),
+        f.duration_s,
+        f.samples
     ));
     l.push(format!(
         "  line pressure: final {:.3} MPa, min {:.3} MPa, max {:.3} MPa; below P_min for {:.3} s ({:.3} s after the first second)",
@@ -135,7 +137,7 @@ pub fn run_scenario_campaign(
     dir: &Path,
     progress: &(dyn Fn(crate::campaign::Progress) + Sync),
 ) -> Result<crate::campaign::CampaignOutcome> {
-    match sc.pump_settings()? {
+    match rhonn::experiment::campaign::PumpCampaign::of(sc)? {
         Some(spec) => crate::campaign::run_campaign(&spec, o, dir, progress),
         None => crate::plant_campaign::run_plant_campaign(sc, o, dir, progress),
     }

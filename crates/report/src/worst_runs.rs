@@ -3,8 +3,7 @@
 //! (`worst-run-<index>.toml`: the campaign's scenario with the run's parameters) that
 //! `rhonn run` reruns with every plot.
 
-use rhonn::experiment::campaign::{apply, RunRow, TOLERANCES};
-use rhonn::experiment::PumpSettings;
+use rhonn::experiment::campaign::{PumpCampaign, RunRow, TOLERANCES};
 use serde::Serialize;
 
 /// How many runs are listed.
@@ -119,7 +118,7 @@ fn list(
 }
 
 /// The worst runs of a pump campaign, with their scenario files' text.
-pub fn describe(spec: &PumpSettings, names: &[String], rows: &[RunRow]) -> Result<Listed, toml::ser::Error> {
+pub fn describe(spec: &PumpCampaign, names: &[String], rows: &[RunRow]) -> Result<Listed, toml::ser::Error> {
     let key = key_figure(names);
     let runs: Vec<Candidate> = rows
         .iter()
@@ -135,13 +134,11 @@ pub fn describe(spec: &PumpSettings, names: &[String], rows: &[RunRow]) -> Resul
         .collect();
     let ranked = rank(&runs, key.map(|_| true));
     let param_names: Vec<&str> = TOLERANCES.iter().map(|p| p.name).collect();
-    let listed = list(&spec.name, &param_names, &ranked, |c, description| {
+    let listed = list(spec.name(), &param_names, &ranked, |c, description| {
         let mut values = [0.0; 5];
         values.copy_from_slice(&c.values);
-        let mut run_spec = apply(spec, &values);
-        run_spec.name = format!("{}-run-{}", spec.name, c.index);
-        run_spec.description = description;
-        toml::to_string(&rhonn::experiment::pump_scenario::raise(&run_spec))
+        let name = format!("{}-run-{}", spec.name(), c.index);
+        toml::to_string(&spec.run_scenario(&values, name, description))
     })?;
     Ok((key.map(|(_, k)| k), listed))
 }
@@ -268,7 +265,8 @@ mod tests {
             row(2, Ok(vec![9.0, 5.0])),
             row(3, Ok(vec![0.5, f64::NAN])),
         ];
-        let spec = rhonn::experiment::preset::load("control-adaptive").unwrap();
+        let sc = rhonn::experiment::preset::load_any("control-adaptive").unwrap();
+        let spec = PumpCampaign::of(&sc).unwrap().unwrap();
         let (key, w) = describe(&spec, &names, &rows).unwrap();
         assert_eq!(key, Some("iae_mpa_s"));
         assert_eq!(w.iter().map(|(r, _)| r.run).collect::<Vec<_>>(), [1, 2, 0]);

@@ -11,7 +11,7 @@ use std::hint::black_box;
 
 fn bench_runs(c: &mut Criterion) {
     for name in ["thesis-ch3", "regulated-pi"] {
-        let sc = preset::load(name).unwrap().check().unwrap();
+        let sc = preset::load_any(name).unwrap().pump_run().unwrap();
         let s = run(&sc, &mut NoRecorder).unwrap();
         eprintln!(
             "{name}: {} rhs evaluations, {} accepted / {} rejected steps, {} events",
@@ -30,10 +30,10 @@ fn bench_runs(c: &mut Criterion) {
     }
     // thesis-ch5: the training run (plant + identifier, 40 s), then the whole job with
     // the two frozen-weight validation runs.
-    let mut spec = preset::load("thesis-ch5").unwrap();
+    let mut spec = preset::load_any("thesis-ch5").unwrap();
     spec.identifier.as_mut().unwrap().validate = false;
-    let train = spec.check().unwrap();
-    let full = preset::load("thesis-ch5").unwrap().check().unwrap();
+    let train = spec.pump_run().unwrap();
+    let full = preset::load_any("thesis-ch5").unwrap().pump_run().unwrap();
     for (label, sc) in [
         ("thesis-ch5 training", &train),
         ("thesis-ch5 training + 2 validations", &full),
@@ -220,7 +220,7 @@ fn bench_control(c: &mut Criterion) {
             })
         },
     );
-    let sc = preset::load("control-adaptive").unwrap().check().unwrap();
+    let sc = preset::load_any("control-adaptive").unwrap().pump_run().unwrap();
     let s = run(&sc, &mut NoRecorder).unwrap();
     eprintln!(
         "control-adaptive: {} rhs evaluations (both plants)",
@@ -416,7 +416,11 @@ fn bench_online_bank(c: &mut Criterion) {
 /// The pump-identify record (current and demand in, measured pressure out), simulated.
 fn pump_identify_record() -> rhonn::data::Record {
     let mut tr = Trace::default();
-    rhonn::experiment::run_full(&preset::load("pump-identify").unwrap().check().unwrap(), &mut tr).unwrap();
+    rhonn::experiment::run_full(
+        &preset::load_any("pump-identify").unwrap().pump_run().unwrap(),
+        &mut tr,
+    )
+    .unwrap();
     let col = |n: &str| tr.column(n).unwrap().to_vec();
     rhonn::data::Record {
         source: "pump-identify".into(),

@@ -16,12 +16,12 @@ fn main() -> Result<(), rhonn::Error> {
     println!("| plant | IAE adaptive | IAE cascade PI nominal-optimal | IAE cascade PI robust | within 1 % adaptive / nom.-opt. / robust | largest overshoot adaptive / nom.-opt. / robust | below P_min after 1 s adaptive / nom.-opt. / robust |");
     println!("|---|---|---|---|---|---|---|");
     let (mut beats_opt, mut beats_robust, mut n) = (0, 0, 0);
-    for (name, spec) in robustness_cases(&preset::load("control-adaptive")?)? {
-        let out = run_full(&spec.check()?, &mut NoRecorder)?;
+    for (name, spec) in robustness_cases(&preset::load_any("control-adaptive")?)? {
+        let out = run_full(&spec.pump_run()?, &mut NoRecorder)?;
         let fa = &out.summary.figures;
         let c = out.summary.control.as_ref().expect("an adaptive run");
         let fr = &c.baseline.figures;
-        let opt = with_cascade_pi(&spec, NOMINAL_OPTIMAL).check()?;
+        let opt = with_cascade_pi(&spec, NOMINAL_OPTIMAL).pump_run()?;
         let fo = run_full(&opt, &mut NoRecorder)?.summary.figures;
         let [ra, ro, rr] = [fa, &fo, fr].map(|f| f.regulation.clone().expect("a regulated run"));
         beats_opt += (ra.iae_mpa_s < ro.iae_mpa_s) as usize;

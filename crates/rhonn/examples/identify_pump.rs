@@ -4,7 +4,7 @@
 use rhonn::experiment::{preset, run_full, Trace};
 
 fn main() -> Result<(), rhonn::Error> {
-    let scenario = preset::load("thesis-ch5")?.check()?;
+    let scenario = preset::load_any("thesis-ch5")?.pump_run()?;
     let mut trace = Trace::default();
     let out = run_full(&scenario, &mut trace)?;
     let id = out

@@ -5,7 +5,7 @@ use rhonn::experiment::{preset, run, Trace};
 
 fn main() -> Result<(), rhonn::Error> {
     let name = std::env::args().nth(1).unwrap_or_else(|| "thesis-ch3".into());
-    let scenario = preset::load(&name)?.check()?;
+    let scenario = preset::load_any(&name)?.pump_run()?;
     let mut trace = Trace::default();
     let summary = run(&scenario, &mut trace)?;
     println!("{} samples", trace.len());

@@ -126,7 +126,7 @@ fn main() -> Result<(), rhonn::Error> {
         show_margins("nominal-optimal", NOMINAL_OPTIMAL)?;
         return show_margins("robust", ROBUST);
     }
-    let spec = preset::load("control-adaptive")?;
+    let spec = preset::load_any("control-adaptive")?;
     let grid = full_grid();
     let (_, optimal, robust) = search(&spec, &grid);
     println!(

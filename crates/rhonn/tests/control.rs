@@ -4,8 +4,8 @@
 //! the thesis's uncertainty box.
 
 use rhonn::control::AffineNeuron;
-use rhonn::experiment::campaign::{apply, draw, Plan, Sampling};
-use rhonn::experiment::{preset, run_full, NoRecorder, PumpSettings, RunOutput, Trace};
+use rhonn::experiment::campaign::{draw, PumpCampaign, Sampling};
+use rhonn::experiment::{preset, run_full, NoRecorder, RunOutput, ScenarioSpec, Trace};
 use rhonn::net::Sigmoid;
 
 fn features(x: f64) -> ([f64; 2], [f64; 2]) {
@@ -165,10 +165,15 @@ fn the_projection_keeps_the_gain_weights_in_their_ball() {
     );
 }
 
-fn run_case(f: impl Fn(&mut PumpSettings)) -> RunOutput {
-    let mut spec = preset::load("control-adaptive").unwrap();
+/// `s` with the pump's solenoid lag set to `ms`.
+fn lag(s: &mut ScenarioSpec, ms: f64) {
+    s.plant.parameters.insert("solenoid_lag_ms".into(), ms);
+}
+
+fn run_case(f: impl Fn(&mut ScenarioSpec)) -> RunOutput {
+    let mut spec = preset::load_any("control-adaptive").unwrap();
     f(&mut spec);
-    run_full(&spec.check().unwrap(), &mut NoRecorder).unwrap()
+    run_full(&spec.pump_run().unwrap(), &mut NoRecorder).unwrap()
 }
 
 /// (ISE, settled max deviation, time below P_min after 1 s, bounded) of both controllers.
@@ -195,9 +200,9 @@ fn figures(out: &RunOutput) -> ([f64; 3], [f64; 3], bool, bool) {
 
 #[test]
 fn nominal_plant_adaptive_beats_the_cascade_pi_in_the_same_run() {
-    let mut spec = preset::load("control-adaptive").unwrap();
+    let mut spec = preset::load_any("control-adaptive").unwrap();
     spec.duration_s = 60.0;
-    let sc = spec.check().unwrap();
+    let sc = spec.pump_run().unwrap();
     let mut trace = Trace::default();
     let out = run_full(&sc, &mut trace).unwrap();
     for col in [
@@ -231,13 +236,13 @@ fn nominal_plant_adaptive_beats_the_cascade_pi_in_the_same_run() {
 
 #[test]
 fn fast_unmodeled_dynamics_and_a_delay_adaptive_stays_above_p_min_and_beats_the_robust_cascade_pi() {
-    type Change = Box<dyn Fn(&mut PumpSettings)>;
+    type Change = Box<dyn Fn(&mut ScenarioSpec)>;
     let cases: [(&str, Change); 3] = [
-        ("lag 1 ms", Box::new(|s| s.plant.solenoid_lag_ms = 1.0)),
-        ("lag 5 ms", Box::new(|s| s.plant.solenoid_lag_ms = 5.0)),
+        ("lag 1 ms", Box::new(|s| lag(s, 1.0))),
+        ("lag 5 ms", Box::new(|s| lag(s, 5.0))),
         (
             "delay 1 period",
-            Box::new(|s| s.plant.transport_delay_periods = 1),
+            Box::new(|s| s.control.as_mut().unwrap().delay_periods = 1),
         ),
     ];
     for (name, f) in cases {
@@ -253,7 +258,7 @@ fn fast_unmodeled_dynamics_and_a_delay_adaptive_stays_above_p_min_and_beats_the_
 fn a_slow_solenoid_20_ms_adaptive_stays_bounded_and_beats_the_cascade_pi() {
     // Documented in the README: with a 20 ms lag the adaptive controller spends about
     // 1.2 s below P_min (the PI: 21 s); it stays bounded and has the lower ISE.
-    let out = run_case(|s| s.plant.solenoid_lag_ms = 20.0);
+    let out = run_case(|s| lag(s, 20.0));
     let (a, b, ba, _) = figures(&out);
     assert!(ba);
     assert!(
@@ -269,8 +274,12 @@ fn every_corner_of_the_uncertainty_box_bounded_and_lower_ise_than_the_cascade_pi
     for k in 0..32u64 {
         // Bit j of k picks the sign of tolerance j (beta, mu_1, mu_2, Q_0, slew).
         let out = run_case(|s| {
-            let plan = Plan::of(s).expect("the preset's plan");
-            *s = apply(s, &draw(&plan, 0, k, Sampling::Corners));
+            let c = PumpCampaign::of(s).unwrap().expect("a pump scenario");
+            *s = c.run_scenario(
+                &draw(&c.plan(), 0, k, Sampling::Corners),
+                s.name.clone(),
+                s.description.clone(),
+            );
         });
         let (a, b, ba, _) = figures(&out);
         assert!(ba, "corner {k}: adaptive unbounded");
@@ -306,7 +315,7 @@ fn every_corner_of_the_uncertainty_box_bounded_and_lower_ise_than_the_cascade_pi
 fn the_tuning_search_picks_both_shipped_cascade_pi_tunings() {
     use rhonn::experiment::tuning::{grid, search, worst_margins, MIN_PHASE_MARGIN_DEG};
     use rhonn::experiment::{CascadePiGainsMpa, NOMINAL_OPTIMAL, ROBUST};
-    let spec = preset::load("control-adaptive").unwrap();
+    let spec = preset::load_any("control-adaptive").unwrap();
     let g = grid(
         &[0.15, 0.2, 0.75, 1.0],
         &[0.05, 0.07],
@@ -350,11 +359,11 @@ fn the_tuning_search_picks_both_shipped_cascade_pi_tunings() {
 #[test]
 fn adaptive_has_lower_iae_than_both_cascade_pi_tunings_where_the_goals_say() {
     use rhonn::experiment::tuning::robustness_cases;
-    let cases = robustness_cases(&preset::load("control-adaptive").unwrap()).unwrap();
+    let cases = robustness_cases(&preset::load_any("control-adaptive").unwrap()).unwrap();
     assert_eq!(cases.len(), 37);
     let mut corners_won = 0;
     for (name, spec) in &cases {
-        let out = run_full(&spec.check().unwrap(), &mut NoRecorder).unwrap();
+        let out = run_full(&spec.pump_run().unwrap(), &mut NoRecorder).unwrap();
         let ra = out.summary.figures.regulation.clone().unwrap();
         let c = out.summary.control.as_ref().unwrap();
         assert_eq!(c.baseline.controller, "cascade-pi");
@@ -401,13 +410,13 @@ fn adaptive_has_lower_iae_than_both_cascade_pi_tunings_where_the_goals_say() {
 #[test]
 fn integral_action_removes_the_steady_offset() {
     let share = |ki: f64| {
-        let mut spec = preset::load("control-adaptive").unwrap();
+        let mut spec = preset::load_any("control-adaptive").unwrap();
         if let Some(rhonn::experiment::LoopSpec::PumpRhonnAdaptive(knobs)) =
-            spec.controller.as_mut().map(|c| &mut c.controller)
+            spec.control.as_mut().map(|c| &mut c.controller)
         {
             knobs.integral_per_s2 = Some(ki);
         }
-        let out = run_full(&spec.check().unwrap(), &mut NoRecorder).unwrap();
+        let out = run_full(&spec.pump_run().unwrap(), &mut NoRecorder).unwrap();
         out.summary.figures.regulation.unwrap().within_1pct_percent
     };
     let (without, with) = (share(0.0), share(1000.0));
@@ -468,7 +477,7 @@ fn every_shipped_adaptive_setting_beats_the_cascade_front() {
         best_iae_within, cascade_grid, cascade_points, nominal_optimal_points, points, wins,
     };
     use rhonn::experiment::tuning::robustness_cases;
-    let spec = preset::load("control-adaptive").unwrap();
+    let spec = preset::load_any("control-adaptive").unwrap();
     let gains = cascade_grid();
     let cascade = cascade_points(&spec, &gains);
     for name in [
@@ -476,7 +485,11 @@ fn every_shipped_adaptive_setting_beats_the_cascade_front() {
         "control-adaptive-gentle",
         "control-adaptive-fast",
     ] {
-        let a = points("rhonn-adaptive", vec![(name.into(), preset::load(name).unwrap())]).remove(0);
+        let a = points(
+            "rhonn-adaptive",
+            vec![(name.into(), preset::load_any(name).unwrap())],
+        )
+        .remove(0);
         let b = best_iae_within(&cascade, a.current_total_variation_a).expect("a cascade at that activity");
         assert!(
             a.iae_mpa_s <= 0.8 * b.iae_mpa_s,
@@ -495,7 +508,7 @@ fn every_shipped_adaptive_setting_beats_the_cascade_front() {
     let lag_20 = cases.iter().position(|(n, _)| n == "solenoid lag 20 ms").unwrap();
     let (name, mut without_bank) = cases[lag_20].clone();
     if let Some(rhonn::experiment::LoopSpec::PumpRhonnAdaptive(knobs)) =
-        without_bank.controller.as_mut().map(|c| &mut c.controller)
+        without_bank.control.as_mut().map(|c| &mut c.controller)
     {
         knobs.actuator_memory_s = Some(0.0);
     }
@@ -520,10 +533,10 @@ fn every_shipped_adaptive_setting_beats_the_cascade_front() {
 #[test]
 fn monte_carlo_the_adaptive_wins_on_iae_and_activity_in_95_percent_of_runs() {
     use rayon::prelude::*;
-    use rhonn::experiment::campaign::{figure_names, run_one};
-    let spec = preset::load("control-adaptive").unwrap();
-    let plan = Plan::of(&spec).unwrap();
-    let names = figure_names(&spec);
+    let spec = PumpCampaign::of(&preset::load_any("control-adaptive").unwrap())
+        .unwrap()
+        .unwrap();
+    let names = spec.figure_names();
     let at = |n: &str| {
         names
             .iter()
@@ -537,12 +550,7 @@ fn monte_carlo_the_adaptive_wins_on_iae_and_activity_in_95_percent_of_runs() {
     );
     let rows: Vec<Vec<f64>> = (0..300u64)
         .into_par_iter()
-        .map(|k| {
-            run_one(&spec, &plan, 1, k, Sampling::Random, false)
-                .0
-                .outcome
-                .unwrap()
-        })
+        .map(|k| spec.run_one(1, k, Sampling::Random, false).0.outcome.unwrap())
         .collect();
     let wins = rows
         .iter()
@@ -559,9 +567,9 @@ fn monte_carlo_the_adaptive_wins_on_iae_and_activity_in_95_percent_of_runs() {
 fn control_adaptive_compares_with_both_cascade_tunings_in_one_run() {
     use rhonn::experiment::tuning::with_cascade_pi;
     use rhonn::experiment::{Trace, NOMINAL_OPTIMAL};
-    let spec = preset::load("control-adaptive").unwrap();
+    let spec = preset::load_any("control-adaptive").unwrap();
     let mut trace = Trace::default();
-    let out = run_full(&spec.check().unwrap(), &mut trace).unwrap();
+    let out = run_full(&spec.pump_run().unwrap(), &mut trace).unwrap();
     let c = out.summary.control.as_ref().unwrap();
     let second = c.second_baseline.as_ref().unwrap();
     assert_eq!(
@@ -569,7 +577,7 @@ fn control_adaptive_compares_with_both_cascade_tunings_in_one_run() {
         ("cascade-pi", Some("nominal-optimal"))
     );
     let alone = run_full(
-        &with_cascade_pi(&spec, NOMINAL_OPTIMAL).check().unwrap(),
+        &with_cascade_pi(&spec, NOMINAL_OPTIMAL).pump_run().unwrap(),
         &mut NoRecorder,
     )
     .unwrap();

@@ -86,9 +86,9 @@ fn a_users_loop_learns_a_nonlinear_plant_sample_by_sample_and_errors_are_clear()
 
 /// The pump-identify record (PI with dither, demand trapezoids, 0.05 MPa noise), 60 s.
 fn pump_record() -> Record {
-    let spec = preset::load("pump-identify").unwrap();
+    let spec = preset::load_any("pump-identify").unwrap();
     let mut tr = Trace::default();
-    run_full(&spec.check().unwrap(), &mut tr).unwrap();
+    run_full(&spec.pump_run().unwrap(), &mut tr).unwrap();
     let col = |n: &str| tr.column(n).unwrap().to_vec();
     Record {
         source: "pump-identify".into(),

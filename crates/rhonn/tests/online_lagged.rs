@@ -196,9 +196,9 @@ fn lagged_settings_are_checked() {
 /// The pump-identify record (PI with dither, demand trapezoids, 0.05 MPa noise), 60 s,
 /// or pump-validate.
 fn pump(name: &str) -> Record {
-    let spec = preset::load(name).unwrap();
+    let spec = preset::load_any(name).unwrap();
     let mut tr = Trace::default();
-    run_full(&spec.check().unwrap(), &mut tr).unwrap();
+    run_full(&spec.pump_run().unwrap(), &mut tr).unwrap();
     let col = |n: &str| tr.column(n).unwrap().to_vec();
     Record {
         source: name.into(),

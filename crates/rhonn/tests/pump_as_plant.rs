@@ -58,15 +58,16 @@ fn a_pump_scenario_through_the_generic_runner_follows_the_pumps_own_runner() {
     assert_eq!(t.len(), 4000);
 
     // The pump's own runner on the same settings.
-    let mut own = preset::load("regulated-pi").unwrap();
+    let mut own = preset::load_any("regulated-pi").unwrap();
     own.duration_s = 20.0;
     // ode45's default tolerances there (rtol 1e-3); the generic runner's are 1e-7.
-    own.solver.rtol = Some(1e-8);
-    own.solver.atol_p_line_pa = Some(1e-2);
-    if let Some(rhonn::signal::SignalSpec::Trapezoids { pulses, .. }) = own.demand_dm3_s.as_mut() {
+    let solver = own.solver.get_or_insert_with(Default::default);
+    solver.rtol = Some(1e-8);
+    solver.atol_p_line_pa = Some(1e-2);
+    if let Some(rhonn::signal::SignalSpec::Trapezoids { pulses, .. }) = own.input.get_mut("demand") {
         pulses.truncate(2);
     }
-    let sc = own.check().unwrap();
+    let sc = own.pump_run().unwrap();
     let mut trace = Trace::default();
     run(&sc, &mut trace).unwrap();
     let p_own = trace.column("p_line").unwrap();
@@ -124,7 +125,7 @@ fn thesis_ch5_through_the_generic_runner_learns_the_thesis_weights() {
         .map(|s| s.final_weight_norm)
         .collect();
     let own = rhonn::experiment::run_full(
-        &preset::load("thesis-ch5").unwrap().check().unwrap(),
+        &preset::load_any("thesis-ch5").unwrap().pump_run().unwrap(),
         &mut Trace::default(),
     )
     .unwrap()
@@ -208,12 +209,15 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
             .clone()
     };
     // The pump's own runner on the same settings, without noise, at tight tolerances.
-    let mut own = preset::load("control-adaptive").unwrap();
+    let mut own = preset::load_any("control-adaptive").unwrap();
     own.duration_s = 20.0;
-    own.measurement.noise_std_mpa = 0.0;
-    own.solver.rtol = Some(1e-8);
-    own.solver.atol_p_line_pa = Some(1e-2);
-    if let Some(c) = own.controller.as_mut() {
+    if let Some(m) = own.measurement.as_mut() {
+        m.noise_std.insert("p_line".into(), 0.0);
+    }
+    let solver = own.solver.get_or_insert_with(Default::default);
+    solver.rtol = Some(1e-8);
+    solver.atol_p_line_pa = Some(1e-2);
+    if let Some(c) = own.control.as_mut() {
         c.setpoint =
             toml::from_str::<toml::Value>("s = { kind = \"steps\", initial = 10.0, steps = [[15.0, 5.0]] }")
                 .unwrap()["s"]
@@ -222,11 +226,11 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
                 .unwrap();
         c.second_baseline = None;
     }
-    if let Some(rhonn::signal::SignalSpec::Trapezoids { pulses, .. }) = own.demand_dm3_s.as_mut() {
+    if let Some(rhonn::signal::SignalSpec::Trapezoids { pulses, .. }) = own.input.get_mut("demand") {
         pulses.truncate(3);
     }
     let mut trace = Trace::default();
-    let own_out = run(&own.check().unwrap(), &mut trace).unwrap();
+    let own_out = run(&own.pump_run().unwrap(), &mut trace).unwrap();
     let (t, p_adaptive, p_pi) = (col("t"), col("p_line"), col("p_line_baseline"));
     let (p_own, p_own_pi) = (
         trace.column("p_line").unwrap(),

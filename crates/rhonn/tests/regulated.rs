@@ -3,10 +3,10 @@
 
 use rhonn::experiment::{preset, run, NoRecorder, Summary, Trace};
 
-fn simulate(edit: impl FnOnce(&mut rhonn::experiment::PumpSettings)) -> (Trace, Summary) {
-    let mut spec = preset::load("regulated-pi").unwrap();
+fn simulate(edit: impl FnOnce(&mut rhonn::experiment::ScenarioSpec)) -> (Trace, Summary) {
+    let mut spec = preset::load_any("regulated-pi").unwrap();
     edit(&mut spec);
-    let sc = spec.check().unwrap();
+    let sc = spec.pump_run().unwrap();
     let mut trace = Trace::default();
     let s = run(&sc, &mut trace).unwrap();
     (trace, s)
@@ -40,7 +40,7 @@ fn figures_agree_with_the_trace_sampled_every_millisecond() {
         reg.max_abs_deviation_settled_mpa
     );
     // A summary-only run gives the same figures.
-    let sc = preset::load("regulated-pi").unwrap().check().unwrap();
+    let sc = preset::load_any("regulated-pi").unwrap().pump_run().unwrap();
     assert_eq!(run(&sc, &mut NoRecorder).unwrap().figures, s.figures);
 }
 
@@ -77,8 +77,10 @@ fn pressure_stays_in_the_valid_range_after_start_up_and_current_in_its_limits() 
 fn measurement_noise_is_seeded() {
     let noisy = |seed: u64| {
         simulate(|s| {
-            s.measurement.noise_std_mpa = 0.05;
-            s.seed = seed;
+            s.measurement = Some(rhonn::experiment::SensorNoiseSpec {
+                noise_std: [("p_line".to_string(), 0.05)].into(),
+                seed,
+            });
         })
     };
     let (a, sa) = noisy(7);
@@ -98,7 +100,7 @@ fn measurement_noise_is_seeded() {
 fn what_a_parallel_campaign_shares_is_send_sync_and_clone() {
     fn check<T: Send + Sync + Clone>() {}
     check::<rhonn::experiment::Scenario>();
-    check::<rhonn::experiment::PumpSettings>();
+    check::<rhonn::experiment::ScenarioSpec>();
     check::<rhonn::experiment::Summary>();
     check::<rhonn::sysid::Model>();
     check::<rhonn::ident::Identifier>();

@@ -5,17 +5,19 @@ use rhonn::signal::SignalSpec;
 
 /// A current step from 0.2 A to 0.6 A at t = 0.5 s, with a solenoid lag of `lag_ms`.
 fn step_response(lag_ms: f64) -> Trace {
-    let mut spec = preset::load("thesis-ch3").unwrap();
+    let mut spec = preset::load_any("thesis-ch3").unwrap();
     spec.duration_s = 1.0;
-    spec.initial.stroke_mm = 4.3;
-    spec.initial.p_line_mpa = 25.0;
-    spec.current_a = Some(SignalSpec::Steps {
-        initial: 0.2,
-        steps: vec![[0.5, 0.6]],
-    });
-    spec.plant.solenoid_lag_ms = lag_ms;
+    spec.plant.initial = vec![25.0, 4.3];
+    spec.input.insert(
+        "current".into(),
+        SignalSpec::Steps {
+            initial: 0.2,
+            steps: vec![[0.5, 0.6]],
+        },
+    );
+    spec.plant.parameters.insert("solenoid_lag_ms".into(), lag_ms);
     let mut tr = Trace::default();
-    run_full(&spec.check().unwrap(), &mut tr).unwrap();
+    run_full(&spec.pump_run().unwrap(), &mut tr).unwrap();
     tr
 }
 
@@ -45,20 +47,23 @@ fn a_solenoid_lag_delays_the_stroke_by_about_its_time_constant() {
 #[test]
 fn the_thesis_identifier_stays_bounded_under_solenoid_lags() {
     for lag in [1.0, 5.0, 20.0] {
-        let mut spec = preset::load("thesis-ch5").unwrap();
-        spec.plant.solenoid_lag_ms = lag;
+        let mut spec = preset::load_any("thesis-ch5").unwrap();
+        spec.plant.parameters.insert("solenoid_lag_ms".into(), lag);
         // An exciting current: a PRBS between 0.2 and 0.7 A, so that the lag matters.
-        spec.current_a = Some(SignalSpec::Prbs {
-            start_s: 0.0,
-            end_s: 40.0,
-            bit_s: 0.3,
-            low: 0.2,
-            high: 0.7,
-            seed: 3,
-        });
+        spec.input.insert(
+            "current".into(),
+            SignalSpec::Prbs {
+                start_s: 0.0,
+                end_s: 40.0,
+                bit_s: 0.3,
+                low: 0.2,
+                high: 0.7,
+                seed: 3,
+            },
+        );
         spec.identifier.as_mut().unwrap().validate = false;
         let mut tr = Trace::default();
-        let out = run_full(&spec.check().unwrap(), &mut tr).unwrap();
+        let out = run_full(&spec.pump_run().unwrap(), &mut tr).unwrap();
         let id = out.summary.identification.unwrap();
         for (k, f) in id.training.iter().enumerate() {
             assert!(

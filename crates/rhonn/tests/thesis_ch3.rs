@@ -16,7 +16,7 @@ fn reference() -> Vec<[f64; 3]> {
 }
 
 fn simulate() -> (Trace, rhonn::experiment::Summary) {
-    let sc = preset::load("thesis-ch3").unwrap().check().unwrap();
+    let sc = preset::load_any("thesis-ch3").unwrap().pump_run().unwrap();
     let mut trace = Trace::default();
     let summary = run(&sc, &mut trace).unwrap();
     (trace, summary)
@@ -95,12 +95,12 @@ fn tells_the_story_of_the_thesis() {
 
 #[test]
 fn ode45_compatible_profile_is_coarser_and_cheaper_but_close() {
-    let mut spec = preset::load("thesis-ch3").unwrap();
-    spec.solver = rhonn::experiment::SolverSpec {
+    let mut spec = preset::load_any("thesis-ch3").unwrap();
+    spec.solver = Some(rhonn::experiment::SolverSpec {
         profile: rhonn::experiment::ProfileSpec::Ode45,
         ..Default::default()
-    };
-    let sc = spec.check().unwrap();
+    });
+    let sc = spec.pump_run().unwrap();
     assert_eq!(sc.solver.rtol, 1e-3);
     assert_eq!(sc.solver.max_step_s, 4.0);
     let mut trace = Trace::default();

@@ -13,7 +13,7 @@ fn reference() -> Vec<Vec<f64>> {
 }
 
 fn identify() -> (Trace, RunOutput) {
-    let sc = preset::load("thesis-ch5").unwrap().check().unwrap();
+    let sc = preset::load_any("thesis-ch5").unwrap().pump_run().unwrap();
     let mut trace = Trace::default();
     let out = run_full(&sc, &mut trace).unwrap();
     (trace, out)
@@ -137,12 +137,12 @@ fn figures_integrated_on_the_dense_output_agree_with_the_sample_formulas() {
 #[test]
 fn each_epoch_starts_from_the_final_weights_of_the_previous_one() {
     let run_epochs = |epochs: usize| {
-        let mut spec = preset::load("thesis-ch5").unwrap();
+        let mut spec = preset::load_any("thesis-ch5").unwrap();
         let id = spec.identifier.as_mut().unwrap();
         id.epochs = epochs;
         id.validate = false;
         let mut tr = Trace::default();
-        let out = run_full(&spec.check().unwrap(), &mut tr).unwrap();
+        let out = run_full(&spec.pump_run().unwrap(), &mut tr).unwrap();
         (tr, out)
     };
     let (t1, o1) = run_epochs(1);

@@ -7,6 +7,7 @@
 
 use super::pump_run::{run_full, Summary};
 use super::pump_settings::PumpSettings;
+use super::scenario::ScenarioSpec;
 use super::trace::NoRecorder;
 use crate::error::Result;
 use crate::signal::SignalSpec;
@@ -15,15 +16,112 @@ use serde::Serialize;
 
 pub use super::campaign_plan::*;
 
+/// A pump scenario made ready for a campaign: its settings read once (`[plant] kind =
+/// "pump"`) and its plan (the `[campaign]` distributions over the thesis's tolerances).
+/// What a campaign's files need of the scenario is asked of it, so that every door holds
+/// the one format's [`ScenarioSpec`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct PumpCampaign {
+    spec: PumpSettings,
+    plan: Plan,
+}
+
+impl PumpCampaign {
+    /// The campaign of a pump scenario, checked; `None` for any other plant's.
+    pub fn of(scenario: &ScenarioSpec) -> Result<Option<PumpCampaign>> {
+        let Some(spec) = scenario.pump_settings()? else {
+            return Ok(None);
+        };
+        spec.check()?;
+        Ok(Some(PumpCampaign {
+            plan: Plan::of(&spec)?,
+            spec,
+        }))
+    }
+
+    /// The scenario's name.
+    pub fn name(&self) -> &str {
+        &self.spec.name
+    }
+
+    /// Its plan: each uncertain parameter's distribution.
+    pub fn plan(&self) -> Plan {
+        self.plan
+    }
+
+    /// The scenario's values of the uncertain parameters (display units, [`TOLERANCES`] order).
+    pub fn base_values(&self) -> [f64; 5] {
+        base_values(&self.spec)
+    }
+
+    /// The scenario as its runner reads it, in the one format (`campaign.json`'s copy):
+    /// parameters at the thesis's values left out, defaults written out.
+    pub fn scenario(&self) -> ScenarioSpec {
+        super::pump_scenario::raise(&self.spec)
+    }
+
+    /// The scenario of a run with the uncertain parameters at `values` ([`TOLERANCES`]
+    /// order, display units), named `name` (a worst run's file).
+    pub fn run_scenario(&self, values: &[f64; 5], name: String, description: String) -> ScenarioSpec {
+        let mut run = apply(&self.spec, values);
+        run.name = name;
+        run.description = description;
+        super::pump_scenario::raise(&run)
+    }
+
+    /// The names of the figures a run reports, in `runs.csv` order.
+    pub fn figure_names(&self) -> Vec<String> {
+        figure_names(&self.spec)
+    }
+
+    /// The envelope's time grid: `(stride, times [s])` ([`ENVELOPE_POINTS`] at most).
+    pub fn envelope_grid(&self) -> (usize, Vec<f64>) {
+        envelope_grid(&self.spec)
+    }
+
+    /// Run `index` of the campaign of `seed` (with `traces`, its pressures on the
+    /// envelope's grid too).
+    pub fn run_one(
+        &self,
+        seed: u64,
+        index: u64,
+        sampling: Sampling,
+        traces: bool,
+    ) -> (RunRow, Option<RunTraces>) {
+        run_one(&self.spec, &self.plan, seed, index, sampling, traces)
+    }
+
+    /// The set-point on `grid` \[MPa\] (None for an open-loop scenario).
+    pub fn setpoint_mpa(&self, grid: &[f64]) -> Result<Option<Vec<f64>>> {
+        let sc = self.spec.check()?;
+        Ok(sc.drive.setpoint().map(|sp| {
+            grid.iter()
+                .map(|&t| sp.eval(t) / crate::units::PA_PER_MPA)
+                .collect()
+        }))
+    }
+
+    /// P_min \[MPa\].
+    pub fn p_min_mpa(&self) -> f64 {
+        self.spec.plant.p_min_mpa
+    }
+
+    /// The kind of the adaptive controller's baseline, `"pi"` or `"cascade-pi"` (None
+    /// without an adaptive controller).
+    pub fn adaptive_baseline_kind(&self) -> Option<&'static str> {
+        self.spec.adaptive_baseline_kind()
+    }
+}
+
 /// The scenario's values of the uncertain parameters (display units, [`TOLERANCES`] order).
-pub fn base_values(spec: &PumpSettings) -> [f64; 5] {
+pub(crate) fn base_values(spec: &PumpSettings) -> [f64; 5] {
     spec.uncertain_values()
 }
 
 impl Plan {
     /// The plan of `spec`: its `[campaign]` overrides, the thesis's tolerances elsewhere
     /// ([`Plan::new`]).
-    pub fn of(spec: &PumpSettings) -> Result<Plan> {
+    pub(crate) fn of(spec: &PumpSettings) -> Result<Plan> {
         Plan::new(spec.campaign.as_ref(), spec.uncertain_values())
     }
 }
@@ -32,7 +130,7 @@ impl Plan {
 /// units); the slew's ratio to the scenario's value scales the demand trapezoids' slew
 /// too. The noise and PRBS seeds are the scenario's, so runs differ only by their
 /// parameters.
-pub fn apply(spec: &PumpSettings, values: &[f64; 5]) -> PumpSettings {
+pub(crate) fn apply(spec: &PumpSettings, values: &[f64; 5]) -> PumpSettings {
     let mut s = spec.clone();
     let slew_ratio = values[4] / spec.plant.qdot_max_dm3_s2;
     s.plant.beta_mpa = values[0];
@@ -47,7 +145,7 @@ pub fn apply(spec: &PumpSettings, values: &[f64; 5]) -> PumpSettings {
 }
 
 /// The names of the figures a run of `spec` reports, in `runs.csv` order.
-pub fn figure_names(spec: &PumpSettings) -> Vec<String> {
+pub(crate) fn figure_names(spec: &PumpSettings) -> Vec<String> {
     let mut v: Vec<String> = [
         "p_line_min_mpa",
         "p_line_max_mpa",
@@ -179,7 +277,7 @@ pub const ENVELOPE_POINTS: usize = 600;
 
 /// The envelope's time grid of a scenario: every `stride`-th output sample, so that the
 /// grid has at most [`ENVELOPE_POINTS`] points. Returns `(stride, times [s])`.
-pub fn envelope_grid(spec: &PumpSettings) -> (usize, Vec<f64>) {
+pub(crate) fn envelope_grid(spec: &PumpSettings) -> (usize, Vec<f64>) {
     let n_out = (spec.duration_s / (spec.output_interval_ms / 1000.0))
         .round()
         .max(1.0) as u64;
@@ -235,7 +333,7 @@ impl super::trace::Recorder for PressureSampler {
 
 /// Run index `index` of a campaign over `spec` with parameters drawn from `plan`;
 /// with `traces`, also the run's pressure on the [`envelope_grid`] (successful runs).
-pub fn run_one(
+pub(crate) fn run_one(
     spec: &PumpSettings,
     plan: &Plan,
     seed: u64,

@@ -1,7 +1,7 @@
 use super::*;
 
 fn spec() -> PumpSettings {
-    crate::experiment::preset::load("thesis-ch3").unwrap()
+    crate::experiment::preset::load_pump("thesis-ch3")
 }
 
 #[test]

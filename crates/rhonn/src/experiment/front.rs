@@ -5,7 +5,7 @@
 //! knobs swept (`crates/report/examples/control_front.rs` prints and plots them).
 
 use super::pump_controllers::CascadePiGainsMpa;
-use super::pump_settings::PumpSettings;
+use super::scenario::ScenarioSpec;
 use super::tuning::{grid, with_cascade_pi};
 use super::{run_full, NoRecorder};
 use crate::control::LoopSpec;
@@ -27,14 +27,14 @@ pub struct FrontPoint {
     pub within_1pct_percent: f64,
 }
 
-fn point(controller: &'static str, setting: String, spec: &PumpSettings) -> FrontPoint {
+fn point(controller: &'static str, setting: String, spec: &ScenarioSpec) -> FrontPoint {
     // The front reads the controller's own figures: a second baseline would only cost a run.
     let mut spec = spec.clone();
-    if let Some(c) = &mut spec.controller {
+    if let Some(c) = &mut spec.control {
         c.second_baseline = None;
     }
     let r = spec
-        .check()
+        .pump_run()
         .and_then(|sc| run_full(&sc, &mut NoRecorder))
         .ok()
         .and_then(|out| out.summary.figures.regulation);
@@ -60,7 +60,7 @@ pub fn cascade_grid() -> Vec<CascadePiGainsMpa> {
 
 /// Each cascade PI gain set of `gains` as the only controller of `spec` (an adaptive
 /// scenario: its set-points, demand, noise, seed and plant), on every core.
-pub fn cascade_points(spec: &PumpSettings, gains: &[CascadePiGainsMpa]) -> Vec<FrontPoint> {
+pub fn cascade_points(spec: &ScenarioSpec, gains: &[CascadePiGainsMpa]) -> Vec<FrontPoint> {
     gains
         .par_iter()
         .map(|g| {
@@ -84,7 +84,7 @@ impl FrontPoint {
 /// The nominal-optimal cascade PI on each of `cases` (a name and an adaptive scenario, e.g.
 /// the robustness study's), on every core: the baseline each case's adaptive run is judged
 /// against.
-pub fn nominal_optimal_points(cases: &[(String, PumpSettings)]) -> Vec<FrontPoint> {
+pub fn nominal_optimal_points(cases: &[(String, ScenarioSpec)]) -> Vec<FrontPoint> {
     let pi = cases
         .iter()
         .map(|(n, s)| (n.clone(), with_cascade_pi(s, super::NOMINAL_OPTIMAL)))
@@ -99,7 +99,7 @@ pub fn wins(runs: &[FrontPoint], baselines: &[FrontPoint]) -> usize {
 
 /// Each of `variants` (a setting in words and its scenario) run for `controller`, on every
 /// core.
-pub fn points(controller: &'static str, variants: Vec<(String, PumpSettings)>) -> Vec<FrontPoint> {
+pub fn points(controller: &'static str, variants: Vec<(String, ScenarioSpec)>) -> Vec<FrontPoint> {
     variants
         .into_par_iter()
         .map(|(setting, s)| point(controller, setting, &s))
@@ -109,12 +109,12 @@ pub fn points(controller: &'static str, variants: Vec<(String, PumpSettings)>) -
 /// `spec`'s adaptive controller with its closed-loop pole set to each of `lambdas_per_s`
 /// (the rest of its settings as they are), on every core. A scenario without an adaptive
 /// controller gives no points.
-pub fn adaptive_points(spec: &PumpSettings, lambdas_per_s: &[f64]) -> Vec<FrontPoint> {
+pub fn adaptive_points(spec: &ScenarioSpec, lambdas_per_s: &[f64]) -> Vec<FrontPoint> {
     lambdas_per_s
         .par_iter()
         .filter_map(|&l| {
             let mut s = spec.clone();
-            match s.controller.as_mut().map(|c| &mut c.controller) {
+            match s.control.as_mut().map(|c| &mut c.controller) {
                 Some(LoopSpec::PumpRhonnAdaptive(a)) => a.lambda_per_s = Some(l),
                 _ => return None,
             }

@@ -14,7 +14,7 @@ mod pump_figures;
 mod pump_ident_figures;
 mod pump_loop;
 mod pump_run;
-pub mod pump_scenario;
+mod pump_scenario;
 mod pump_settings;
 mod scenario;
 mod scenario_run;
@@ -35,10 +35,7 @@ pub use pump_run::{
     run, run_full, solver_options, AdaptiveReport, Alone, BaselineReport, ControlReport, Figures,
     IdentReport, Integrated, ModelFile, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,
 };
-pub use pump_settings::{
-    AdaptiveSettings, Drive, InitialSpec, MeasurementSpec, PumpSettings, Scenario, SolverSettings,
-    Q_L_MAX_DM3_S,
-};
+pub use pump_settings::{AdaptiveSettings, Drive, Scenario, SolverSettings, Q_L_MAX_DM3_S};
 pub use scenario::{
     is_plant_scenario, ControlSpec, LoopSpec, PlantSection, ProfileSpec, ScenarioSpec, SensorNoiseSpec,
     SolverSpec, ValidationSpec, MAX_DELAY_PERIODS,

@@ -1,7 +1,6 @@
 //! The scenarios shipped with rhonn (the TOML files in the repository's `scenarios/`
 //! folder, compiled in), and loading a scenario by name or path.
 
-use super::pump_settings::PumpSettings;
 use super::scenario::{is_plant_scenario, ScenarioSpec};
 use crate::error::{Error, Result};
 use std::path::Path;
@@ -127,7 +126,9 @@ fn text_of(name_or_path: &str) -> Result<String> {
     })
 }
 
-/// A scenario of any plant by name or path (see [`load`]).
+/// A scenario of any plant, the pump's too: a shipped scenario by name, or a TOML file
+/// by path (a name with a `/` or ending in `.toml` is always a path; otherwise a shipped
+/// name wins over a file of that name).
 pub fn load_any(name_or_path: &str) -> Result<ScenarioSpec> {
     parse(&text_of(name_or_path)?, name_or_path)
 }
@@ -141,17 +142,13 @@ pub fn load_or_parse(name_or_path: &str, text: Option<&str>) -> Result<ScenarioS
     }
 }
 
-/// A pump scenario by name or path, as its runner's settings; a scenario of another
-/// plant is an error saying so.
-pub fn load(name_or_path: &str) -> Result<PumpSettings> {
-    let spec = load_any(name_or_path)?;
-    spec.pump_settings()?.ok_or_else(|| {
-        crate::error::invalid(
-            "plant.kind",
-            format!("\"{}\" (scenario `{}`)", spec.plant.kind, spec.name),
-            "the pump here: this call runs pump scenarios (use `load_any`)",
-        )
-    })
+/// A shipped pump scenario as its runner's settings (the crate's own tests).
+#[cfg(test)]
+pub(crate) fn load_pump(name: &str) -> super::pump_settings::PumpSettings {
+    load_any(name)
+        .and_then(|s| s.pump_settings())
+        .expect("a shipped scenario")
+        .expect("a pump scenario")
 }
 
 #[cfg(test)]
@@ -176,12 +173,12 @@ mod tests {
 
     #[test]
     fn unknown_names_list_the_shipped_ones() {
-        let e = load("thesis-ch9").unwrap_err().to_string();
+        let e = load_any("thesis-ch9").unwrap_err().to_string();
         assert_eq!(
             e,
             "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5, pump-identify, pump-validate, control-adaptive, control-adaptive-gentle, control-adaptive-fast, tanks-identify, tanks-control)"
         );
-        assert!(load("nope/x.toml")
+        assert!(load_any("nope/x.toml")
             .unwrap_err()
             .to_string()
             .contains("its folder nope does not exist"));

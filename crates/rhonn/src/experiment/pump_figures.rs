@@ -101,7 +101,7 @@ pub struct Summary {
     pub rhonn_version: &'static str,
     /// The scenario as run (written in the one format, `pump_scenario::raise`).
     #[serde(serialize_with = "super::pump_scenario::serialize_raised")]
-    pub scenario: PumpSettings,
+    pub(crate) scenario: PumpSettings,
     /// Solver settings and counters.
     pub solver: SolverReport,
     /// The run's figures.
@@ -118,6 +118,23 @@ pub struct Summary {
     /// A regulated run's figures in words (an adaptive run compares in `control`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub findings: Vec<String>,
+}
+
+impl Summary {
+    /// The scenario's name.
+    pub fn scenario_name(&self) -> &str {
+        &self.scenario.name
+    }
+
+    /// The scenario as run, in the one format (what summary.json echoes).
+    pub fn scenario(&self) -> super::ScenarioSpec {
+        super::pump_scenario::raise(&self.scenario)
+    }
+
+    /// The plant's lowest allowed line pressure, P_min \[MPa\].
+    pub fn p_min_mpa(&self) -> f64 {
+        self.scenario.plant.p_min_mpa
+    }
 }
 
 /// A regulated run's tracking and its actuator's activity, in words.

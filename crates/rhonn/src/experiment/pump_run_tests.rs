@@ -52,7 +52,7 @@ fn differences(sc: &Scenario) -> (f64, f64) {
 
 #[test]
 fn shared_validations_agree_with_each_mode_run_alone_on_the_thesis_preset() {
-    let sc = preset::load("thesis-ch5").unwrap().check().unwrap();
+    let sc = preset::load_pump("thesis-ch5").check().unwrap();
     let (worst, median) = differences(&sc);
     eprintln!("thesis preset: worst {worst:e}, median {median:e} of the range");
     // Both integrate the same equations to rtol 1e-6: they differ by the solvers'
@@ -70,7 +70,7 @@ fn shared_validations_agree_for_a_filtered_regressor_law_with_products_and_an_in
     // The filtered-regressor laws keep x_hat = w^T zeta in training; frozen, the
     // shared run integrates x_hat itself. Products of factors and an input take the
     // general regressor path.
-    let mut spec = preset::load("thesis-ch5").unwrap();
+    let mut spec = preset::load_pump("thesis-ch5");
     spec.duration_s = 8.0;
     let id = spec.identifier.as_mut().unwrap();
     id.state_scale = Some(vec![10e6, 1e-3]);

@@ -411,7 +411,7 @@ fn raised_control(spec: &PumpSettings, c: &ControlSpec) -> ControlSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::experiment::preset::{load, SHIPPED};
+    use crate::experiment::preset::{load_pump, SHIPPED};
 
     #[test]
     fn every_shipped_pump_scenario_raised_and_lowered_again_runs_the_same() {
@@ -420,7 +420,7 @@ mod tests {
             if !text.contains("kind = \"pump\"") {
                 continue;
             }
-            let spec = load(name).unwrap();
+            let spec = load_pump(name);
             let mut perturbed = spec.clone();
             perturbed.plant.beta_mpa *= 1.1;
             for s in [spec, perturbed] {

@@ -22,7 +22,7 @@ pub const Q_L_MAX_DM3_S: f64 = 2.1;
 
 /// Initial state, display units.
 #[derive(Debug, Clone, PartialEq)]
-pub struct InitialSpec {
+pub(crate) struct InitialSpec {
     /// P_l(0) \[MPa\] (2).
     pub p_line_mpa: f64,
     /// x(0) \[mm\] (0).
@@ -40,7 +40,7 @@ impl Default for InitialSpec {
 
 /// Measurement of the line pressure.
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct MeasurementSpec {
+pub(crate) struct MeasurementSpec {
     /// Standard deviation of the white Gaussian noise on the measured pressure \[MPa\] (0).
     pub noise_std_mpa: f64,
     /// Standard deviation of the white Gaussian noise on the measured stroke \[mm\] (0;
@@ -52,7 +52,7 @@ pub struct MeasurementSpec {
 /// pump lowered (`pump_scenario::lower`); written back in the one format by
 /// `pump_scenario::raise`, never as themselves.
 #[derive(Debug, Clone, PartialEq)]
-pub struct PumpSettings {
+pub(crate) struct PumpSettings {
     /// Short name (used for the default output folder).
     pub name: String,
     /// One line saying what the scenario shows.
@@ -151,8 +151,8 @@ pub struct SolverSettings {
 /// A validated scenario: only this type runs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scenario {
-    /// The spec it came from (echoed in summaries).
-    pub spec: PumpSettings,
+    /// The settings it came from (echoed in summaries).
+    pub(crate) spec: PumpSettings,
     /// Parameters (SI).
     pub params: PumpParams,
     /// P_l(0) \[Pa\], x(0) \[m\].
@@ -173,6 +173,13 @@ pub struct Scenario {
     pub identifier: Option<IdentSettings>,
     /// Things the user should know (printed and written to the summary).
     pub warnings: Vec<String>,
+}
+
+impl Scenario {
+    /// The scenario's name.
+    pub fn name(&self) -> &str {
+        &self.spec.name
+    }
 }
 
 impl PumpSettings {

@@ -8,7 +8,7 @@
 use super::bench::{bench, bench_plant, BenchFigures};
 use super::plant_run::{run_plant_scenario, PlantRunOutput};
 use super::pump_run::{run_full, RunOutput};
-use super::pump_settings::PumpSettings;
+use super::pump_settings::{PumpSettings, Scenario};
 use super::scenario::ScenarioSpec;
 use super::trace::Trace;
 use crate::error::Result;
@@ -36,11 +36,25 @@ pub type NamedColumns = Vec<(String, Vec<f64>)>;
 impl ScenarioSpec {
     /// The pump runner's settings of a pump scenario (`[plant] kind = "pump"`), checked;
     /// `None` for any other plant, whose scenario runs as written.
-    pub fn pump_settings(&self) -> Result<Option<PumpSettings>> {
+    pub(crate) fn pump_settings(&self) -> Result<Option<PumpSettings>> {
         if self.plant.kind == "pump" {
             super::pump_scenario::lower_checked(self).map(Some)
         } else {
             Ok(None)
+        }
+    }
+
+    /// A pump scenario checked into the run its runner takes ([`super::run_full`], for
+    /// a run without recording every sample or with a recorder of one's own); an error
+    /// naming `plant.kind` for any other plant.
+    pub fn pump_run(&self) -> Result<Scenario> {
+        match self.pump_settings()? {
+            Some(spec) => spec.check(),
+            None => Err(crate::error::invalid(
+                "plant.kind",
+                format!("{:?}", self.plant.kind),
+                "\"pump\" (other plants run with `run` or `run_plant_scenario`)",
+            )),
         }
     }
 

@@ -18,9 +18,9 @@
 //! and a loop one of them calls unstable (kp 1 mm/MPa at 10 MPa: a pole at |z| = 1.014)
 //! is well damped in the simulated pump.
 
-use super::campaign::{apply, base_values, draw, Plan, Sampling};
+use super::campaign::{draw, PumpCampaign, Sampling};
 use super::pump_controllers::CascadePiGainsMpa;
-use super::pump_settings::PumpSettings;
+use super::scenario::ScenarioSpec;
 use super::{run_full, NoRecorder};
 use rayon::prelude::*;
 
@@ -145,9 +145,9 @@ impl TuningScore {
 }
 
 /// `spec` (an adaptive scenario) with the cascade PI of `g` as its only controller.
-pub fn with_cascade_pi(spec: &PumpSettings, g: CascadePiGainsMpa) -> PumpSettings {
+pub fn with_cascade_pi(spec: &ScenarioSpec, g: CascadePiGainsMpa) -> ScenarioSpec {
     let mut s = spec.clone();
-    if let Some(c) = &mut s.controller {
+    if let Some(c) = &mut s.control {
         c.controller = crate::control::LoopSpec::PumpCascadePi(crate::control::PumpCascadePiLoop {
             state: "p_line".into(),
             kp_mm_per_mpa: g.kp_mm_per_mpa,
@@ -160,9 +160,25 @@ pub fn with_cascade_pi(spec: &PumpSettings, g: CascadePiGainsMpa) -> PumpSetting
     s
 }
 
-fn simulate(spec: &PumpSettings) -> TuningRun {
+/// `spec` with the pump's solenoid lag set to `lag_ms` \[ms\].
+fn with_solenoid_lag(spec: &ScenarioSpec, lag_ms: f64) -> ScenarioSpec {
+    let mut s = spec.clone();
+    s.plant.parameters.insert("solenoid_lag_ms".into(), lag_ms);
+    s
+}
+
+/// `spec` with its command reaching the plant `periods` control periods late.
+fn with_delay(spec: &ScenarioSpec, periods: u32) -> ScenarioSpec {
+    let mut s = spec.clone();
+    if let Some(c) = &mut s.control {
+        c.delay_periods = periods;
+    }
+    s
+}
+
+fn simulate(spec: &ScenarioSpec) -> TuningRun {
     let figures = spec
-        .check()
+        .pump_run()
         .and_then(|sc| run_full(&sc, &mut NoRecorder))
         .ok()
         .and_then(|out| out.summary.figures.regulation);
@@ -181,16 +197,14 @@ fn simulate(spec: &PumpSettings) -> TuningRun {
 }
 
 /// Score one gain set on `spec`'s set-points, demand and noise.
-pub fn score(spec: &PumpSettings, gains: CascadePiGainsMpa) -> TuningScore {
+pub fn score(spec: &ScenarioSpec, gains: CascadePiGainsMpa) -> TuningScore {
     let doubled = CascadePiGainsMpa {
         kp_mm_per_mpa: 2.0 * gains.kp_mm_per_mpa,
         stroke_gain: 2.0 * gains.stroke_gain,
         ..gains
     };
-    let mut lag = with_cascade_pi(spec, gains);
-    lag.plant.solenoid_lag_ms = 5.0;
-    let mut delay = with_cascade_pi(spec, gains);
-    delay.plant.transport_delay_periods = 1;
+    let lag = with_solenoid_lag(&with_cascade_pi(spec, gains), 5.0);
+    let delay = with_delay(&with_cascade_pi(spec, gains), 1);
     TuningScore {
         gains,
         nominal: simulate(&with_cascade_pi(spec, gains)),
@@ -242,7 +256,7 @@ pub fn full_grid() -> Vec<CascadePiGainsMpa> {
 /// ([`Margins::kept`]); the margins are measured in order of nominal IAE until a gain set
 /// qualifies (each measurement is 1,344 short simulations).
 pub fn search(
-    spec: &PumpSettings,
+    spec: &ScenarioSpec,
     gains: &[CascadePiGainsMpa],
 ) -> (Vec<TuningScore>, Option<TuningScore>, Option<TuningScore>) {
     let scores: Vec<TuningScore> = gains.par_iter().map(|g| score(spec, *g)).collect();
@@ -267,19 +281,22 @@ pub fn search(
 /// The plants of the robustness study, each as the scenario `spec` changed: nominal,
 /// solenoid lags of 1, 5 and 20 ms, a one-period transport delay, and the 32 corners of
 /// the thesis's uncertainty box.
-pub fn robustness_cases(spec: &PumpSettings) -> crate::Result<Vec<(String, PumpSettings)>> {
-    let (plan, base) = (Plan::of(spec)?, base_values(spec));
+pub fn robustness_cases(spec: &ScenarioSpec) -> crate::Result<Vec<(String, ScenarioSpec)>> {
+    let Some(campaign) = PumpCampaign::of(spec)? else {
+        return Err(crate::error::invalid(
+            "plant.kind",
+            format!("{:?}", spec.plant.kind),
+            "\"pump\" (the robustness study varies the pump's parameters)",
+        ));
+    };
+    let base = campaign.base_values();
     let mut v = vec![("nominal".to_string(), spec.clone())];
     for lag in [1.0, 5.0, 20.0] {
-        let mut s = spec.clone();
-        s.plant.solenoid_lag_ms = lag;
-        v.push((format!("solenoid lag {lag} ms"), s));
+        v.push((format!("solenoid lag {lag} ms"), with_solenoid_lag(spec, lag)));
     }
-    let mut s = spec.clone();
-    s.plant.transport_delay_periods = 1;
-    v.push(("transport delay 1 period".into(), s));
+    v.push(("transport delay 1 period".into(), with_delay(spec, 1)));
     for k in 0..32u64 {
-        let f = draw(&plan, 0, k, Sampling::Corners);
+        let f = draw(&campaign.plan(), 0, k, Sampling::Corners);
         let pct = |j: usize| 100.0 * (f[j] / base[j] - 1.0);
         v.push((
             format!(
@@ -290,7 +307,7 @@ pub fn robustness_cases(spec: &PumpSettings) -> crate::Result<Vec<(String, PumpS
                 pct(3),
                 pct(4)
             ),
-            apply(spec, &f),
+            campaign.run_scenario(&f, spec.name.clone(), spec.description.clone()),
         ));
     }
     Ok(v)
