@@ -208,7 +208,7 @@ const SECOND_BASELINE_FIGURES: [&str; 5] = [
     "second_baseline_current_total_variation_a",
 ];
 
-/// The figures of a run, in [`figure_names`] order.
+/// The figures of a run, in [`PumpCampaign::figure_names`] order.
 pub fn figure_values(summary: &Summary) -> Vec<f64> {
     let f = &summary.figures;
     let mut v = vec![

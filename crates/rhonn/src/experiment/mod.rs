@@ -28,14 +28,12 @@ pub use plant_run::{
     nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on, IdentStateFigures, LoopFigures,
     PlantColumn, PlantRunOutput, PlantSummary, WEIGHT_QUANTITIES,
 };
-pub use pump_controllers::{
-    baseline_kind, Baseline, CascadePiGainsMpa, CascadePiSettings, PiSettings, NOMINAL_OPTIMAL, ROBUST,
-};
+pub use pump_controllers::{CascadePiGainsMpa, NOMINAL_OPTIMAL, ROBUST};
 pub use pump_run::{
     run, run_full, solver_options, AdaptiveReport, Alone, BaselineReport, ControlReport, Figures,
     IdentReport, Integrated, ModelFile, Regulation, RunOutput, SolverReport, StateFigures, Summary, SETTLE_S,
 };
-pub use pump_settings::{AdaptiveSettings, Drive, Scenario, SolverSettings, Q_L_MAX_DM3_S};
+pub use pump_settings::{Scenario, SolverSettings};
 pub use scenario::{
     is_plant_scenario, ControlSpec, LoopSpec, PlantSection, ProfileSpec, ScenarioSpec, SensorNoiseSpec,
     SolverSpec, ValidationSpec, MAX_DELAY_PERIODS,

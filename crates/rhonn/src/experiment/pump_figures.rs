@@ -185,7 +185,7 @@ pub struct BaselineReport {
 
 impl BaselineReport {
     /// The baseline's settings and (empty) figures.
-    pub fn of(b: &super::Baseline, figures: Figures) -> Self {
+    pub fn of(b: &super::pump_controllers::Baseline, figures: Figures) -> Self {
         let mut r = BaselineReport {
             controller: b.name(),
             tuning: None,
@@ -197,11 +197,11 @@ impl BaselineReport {
             figures,
         };
         match b {
-            super::Baseline::Pi(s) => {
+            super::pump_controllers::Baseline::Pi(s) => {
                 r.kp_a_per_mpa = Some(s.kp * crate::units::PA_PER_MPA);
                 r.ti_s = s.ti_s;
             }
-            super::Baseline::CascadePi(s) => {
+            super::pump_controllers::Baseline::CascadePi(s) => {
                 let g = s.gains_mpa();
                 r.kp_mm_per_mpa = Some(g.kp_mm_per_mpa);
                 r.ti_s = g.ti_s;

@@ -154,23 +154,23 @@ pub struct Scenario {
     /// The settings it came from (echoed in summaries).
     pub(crate) spec: PumpSettings,
     /// Parameters (SI).
-    pub params: PumpParams,
+    pub(crate) params: PumpParams,
     /// P_l(0) \[Pa\], x(0) \[m\].
-    pub initial: [f64; 2],
+    pub(crate) initial: [f64; 2],
     /// Current source.
-    pub drive: Drive,
+    pub(crate) drive: Drive,
     /// Demanded flow \[m^3/s\].
-    pub demand: Signal,
+    pub(crate) demand: Signal,
     /// Noise standard deviation \[Pa\].
-    pub noise_std_pa: f64,
+    pub(crate) noise_std_pa: f64,
     /// Noise on the measured stroke \[m\].
-    pub stroke_noise_std_m: f64,
+    pub(crate) stroke_noise_std_m: f64,
     /// Output interval \[s\].
-    pub output_interval_s: f64,
+    pub(crate) output_interval_s: f64,
     /// Solver.
     pub solver: SolverSettings,
     /// Identifier.
-    pub identifier: Option<IdentSettings>,
+    pub(crate) identifier: Option<IdentSettings>,
     /// Things the user should know (printed and written to the summary).
     pub warnings: Vec<String>,
 }
@@ -191,7 +191,7 @@ impl PumpSettings {
     }
 
     /// The kind of the adaptive controller's baseline, `"pi"` or `"cascade-pi"`
-    /// ([`super::baseline_kind`] of its `[control.baseline]`); none without an adaptive
+    /// ([`super::pump_controllers::baseline_kind`] of its `[control.baseline]`); none without an adaptive
     /// controller.
     pub fn adaptive_baseline_kind(&self) -> Option<&'static str> {
         let c = self.controller.as_ref()?;
