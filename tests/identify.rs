@@ -414,6 +414,23 @@ fn tanks_online(spec: &str) -> (serde_json::Value, f64, f64, f64) {
         (p - free).abs() < 1e-12 && (p10 - ahead).abs() < 1e-12,
         "{p} {p10}"
     );
+    if s["model"]["structure"] == "cascade" {
+        // A hand-edited cascade whose output offset (its last weight) is 1e300: finite and
+        // valid, but its free run's error overflows. Refused, nothing written (it was
+        // written with a null error and exit 0).
+        let mut m = read("id/model.json");
+        let w = m["weights"][0].as_array_mut().unwrap();
+        *w.last_mut().unwrap() = serde_json::json!(1e300);
+        std::fs::write(d.path().join("huge.json"), m.to_string()).unwrap();
+        let o = rhonn(
+            d.path(),
+            &["predict", "--model", "huge.json", "--data", val, "--out", "q"],
+        );
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{e}");
+        assert!(e.contains("huge.json") && e.contains("not finite"), "{e}");
+        assert!(!d.path().join("q").exists());
+    }
     (s, free, ahead, arx)
 }
 

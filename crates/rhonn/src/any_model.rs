@@ -179,6 +179,10 @@ impl AnyModel {
                     }
                 };
                 let figures = online_prediction_figures(rec, &rows, &m.outputs, from);
+                crate::sysid::ensure_finite_errors(
+                    figures.iter().map(|f| (f.output.as_str(), f.rms_error)),
+                    &rec.source,
+                )?;
                 Ok(AnyPrediction::Online { rows, figures })
             }
         }

@@ -187,15 +187,21 @@ pub(super) fn ensure_finite_model(m: &Model, records: &[Record]) -> Result<()> {
 /// An error when any figure (RMS error, fit, NRMSE) of a prediction on `source` is NaN or
 /// infinite: a prediction that overflowed must not be written as a result.
 pub fn ensure_finite_figures(figures: &[OutputFigures], source: &str) -> Result<()> {
-    match figures
-        .iter()
-        // The fit and NRMSE of a constant output are undefined, not an overflow: only the
-        // error itself must be finite.
-        .find(|f| !f.rms_error.is_finite())
-    {
+    ensure_finite_errors(figures.iter().map(|f| (f.output.as_str(), f.rms_error)), source)
+}
+
+/// [`ensure_finite_figures`] for any prediction's `(output, rms error)` pairs (an online
+/// model's too).
+pub fn ensure_finite_errors<'a>(
+    errors: impl IntoIterator<Item = (&'a str, f64)>,
+    source: &str,
+) -> Result<()> {
+    // The fit and NRMSE of a constant output are undefined, not an overflow: only the
+    // error itself must be finite.
+    match errors.into_iter().find(|(_, e)| !e.is_finite()) {
         None => Ok(()),
-        Some(f) => Err(Error::NotFinite {
-            what: format!("the prediction of `{}` on {source}", f.output),
+        Some((output, _)) => Err(Error::NotFinite {
+            what: format!("the prediction of `{output}` on {source}"),
             cause: "it overflows on these data (a free run that diverges, or data far outside the \
                     training range); nothing was written"
                 .into(),

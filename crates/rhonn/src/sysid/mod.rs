@@ -41,7 +41,9 @@ mod term_selection;
 mod train;
 mod wiener_hammerstein;
 use checks::ensure_finite_model;
-pub use checks::{data_warnings, decorrelation_lag, ensure_finite_figures, free_run_at_bound};
+pub use checks::{
+    data_warnings, decorrelation_lag, ensure_finite_errors, ensure_finite_figures, free_run_at_bound,
+};
 pub use estimate::fit;
 pub(crate) use estimate::lagged_terms;
 pub use fitted::{fit_ensemble, fit_with_baseline, parse_spec_file, FittedModel};
