@@ -107,6 +107,39 @@ fn the_chain_holds_a_full_neuron_and_passes_its_share_of_the_overflow_on() {
 }
 
 #[test]
+fn the_solvers_right_hand_side_reuses_activations_bit_for_bit() {
+    let p = Params {
+        b: vec![1.0],
+        k: vec![0.3, 0.2],
+        alpha: vec![0.55, 1.3],
+        g: vec![0.25],
+        o: vec![0.4],
+        xmax: vec![2.0, 3.0],
+        c: 0.0,
+    };
+    let u = vec![vec![0.7; 4]];
+    let mut sys = Chain::new(&p, &u);
+    sys.update_modes(0.5, &[0.0, 0.0]);
+    // Fresh levels, the same again, one level kept, both below the linear piece, at 0,
+    // at a bound, and a NaN: each as `derivative` gives it.
+    for x in [
+        [0.8, 1.7],
+        [0.8, 1.7],
+        [0.8, 2.9],
+        [5e-4, 2.9],
+        [0.0, 0.0],
+        [2.0, 3.0],
+        [f64::NAN, 1.0],
+        [0.8, 1.7],
+    ] {
+        let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
+        sys.rhs(0.5, &x, &mut a);
+        derivative(&p, sys.inflow, &x, &mut b);
+        assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "{x:?}");
+    }
+}
+
+#[test]
 fn stored_parameters_round_trip_through_the_coordinates() {
     let co = Coords {
         n: 3,
