@@ -14,7 +14,7 @@ and the run's figures.
 
 ```
 use rhonn::experiment::{preset, run, Trace};
-let scenario = preset::load("thesis-ch3")?.check()?;
+let scenario = preset::load_any("thesis-ch3")?.pump_run()?;
 let mut trace = Trace::default();
 let summary = run(&scenario, &mut trace)?;
 // The stroke follows phi I / K_a and holds 17.23 mm at 0.8 A.

@@ -209,7 +209,7 @@ fn pump_alone(sc: &Scenario) -> Alone<PumpSystem> {
 ///
 /// ```
 /// use rhonn::experiment::{preset, run, Trace};
-/// let sc = preset::load("thesis-ch3").unwrap().check().unwrap();
+/// let sc = preset::load_any("thesis-ch3").unwrap().pump_run().unwrap();
 /// let mut trace = Trace::default();
 /// let summary = run(&sc, &mut trace).unwrap();
 /// assert!((summary.figures.final_stroke_mm - 1.01).abs() < 0.05);
