@@ -155,3 +155,24 @@ def test_online_identifier_refuses_what_it_used_to_take_silently():
     b = rhonn.OnlineIdentifier(["u"], ["y"], dt=1.0)
     for k in range(5):
         np.testing.assert_array_equal(a.update(float(k), 0.5 * k, [0.1 * k]), b.update(float(k), [0.5 * k], [0.1 * k]))
+
+
+def test_a_model_whose_free_run_overflows_raises(tmp_path, root, rhonn_bin, tanks):
+    """An online cascade whose output offset is 1e300 (finite, a valid model) predicts
+    outputs whose error overflows: an exception, as `rhonn predict` refuses it."""
+    import json
+    import subprocess
+
+    _, val = tanks
+    subprocess.run(
+        [rhonn_bin, "identify", "--data", str(root / "data/cascaded-tanks/estimation.csv"), "--inputs", "u",
+         "--outputs", "y", "--model", str(root / "models/tanks-online-cascade.toml"), "--out",
+         str(tmp_path / "id")],
+        check=True, capture_output=True, cwd=root,
+    )
+    m = json.loads((tmp_path / "id/model.json").read_text())
+    m["weights"][0][-1] = 1e300
+    (tmp_path / "huge.json").write_text(json.dumps(m))
+    model = rhonn.load(tmp_path / "huge.json")
+    with pytest.raises((ValueError, RuntimeError), match="prediction of `y`.*not finite"):
+        model.predict(val["u"], val["y"])
