@@ -103,7 +103,8 @@ pub enum Command {
         /// 3-fold cross-validation over contiguous thirds of the training records, over
         /// ARX, lagged RHONN (least squares and free-run trained, sigmoid or polynomial
         /// terms), for one input and one output Wiener-Hammerstein block structures and,
-        /// for one output, continuous-time cascade structures; the choice is never worse
+        /// for one output, continuous-time cascade structures, then the means of the best 2
+        /// and of the best 3 (ensembles, judged from the folds' own free runs); the choice is never worse
         /// than the best ARX on the folds (another structure replaces it only when it is
         /// better on every fold), and summary.json's `selection` says by how much. `none`:
         /// a RHONN with na = nb = 2, nk = 1, degree 2, batch least squares.

@@ -33,7 +33,7 @@ fn one(train_rec: &Record, test_rec: &Record) -> Result<(String, f64, f64, f64),
     let sel = select(recs, &inputs, &outputs, &SelectOptions::default(), &|_| {})?;
     let name = sel.candidates[sel.chosen].name.clone();
     let arx = &sel.candidates[sel.best_arx].model;
-    let (fitted, _) = train_beside(&[sel.chosen_spec().clone()], Some(arx), recs, &inputs, &outputs)?;
+    let (fitted, _) = train_beside(&sel.chosen_specs(), Some(arx), recs, &inputs, &outputs)?;
     let seconds = start.elapsed().as_secs_f64();
     let p = predict(&fitted, test_rec, None)?;
     let fit = p.figures[0].fit_percent;

@@ -2,6 +2,7 @@
 //! units), the spec file's parser, and fitting with the baseline or an ensemble.
 
 use super::*;
+use rayon::prelude::*;
 
 /// What `rhonn fit` writes to `model.json`: the model (with an ensemble's further
 /// members) and, for a RHONN, an ARX baseline trained on the same data: the one with the
@@ -140,11 +141,17 @@ pub fn fit_ensemble(
     let spec = specs
         .first()
         .ok_or_else(|| invalid("members", "[]", "at least one model structure"))?;
-    let model = fit(spec, records, inputs, outputs)?;
-    let members = specs[1..]
-        .iter()
+    // Every member at once (each fit is deterministic: the same models in any order); the
+    // first member's error first.
+    let fits: Vec<Result<Model>> = specs
+        .par_iter()
         .map(|s| fit(s, records, inputs, outputs))
-        .collect::<Result<Vec<_>>>()?;
+        .collect();
+    let mut fitted = fits.into_iter().collect::<Result<Vec<_>>>()?.into_iter();
+    let model = fitted
+        .next()
+        .ok_or_else(|| invalid("members", "[]", "at least one model structure"))?;
+    let members: Vec<Model> = fitted.collect();
     if let Some(b) = baseline.filter(|b| b.kind != Kind::Arx) {
         return Err(invalid("baseline.kind", format!("{:?}", b.kind), "arx"));
     }

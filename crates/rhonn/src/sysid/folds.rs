@@ -28,23 +28,50 @@ pub(super) fn folds(records: &[Record], k: usize) -> Vec<(Vec<Record>, Vec<Recor
         .collect()
 }
 
-/// A model's RMS error on the held-out parts `test`, divided by each output's training
-/// standard deviation and averaged over parts and outputs.
-pub(super) fn held_out_error(m: &Model, test: &[Record], steps: Option<usize>) -> Result<f64> {
-    let mut total = 0.0;
-    let mut count = 0.0;
-    for r in test {
-        if r.len()
-            < m.spec
+/// One part's prediction of every output and its first predicted sample.
+pub(super) type PartRun = (Vec<Vec<f64>>, usize);
+
+/// A model's predictions on the held-out parts: per part, the prediction of every output
+/// and its first predicted sample (None for a part shorter than the model's lags need), and
+/// the outputs' training standard deviations the errors are divided by.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct HeldOut {
+    pub parts: Vec<Option<PartRun>>,
+    pub output_sd: Vec<f64>,
+}
+
+/// `m`'s predictions on the held-out parts `test` (free run, or `steps` ahead).
+pub(super) fn held_out_runs(m: &Model, test: &[Record], steps: Option<usize>) -> Result<HeldOut> {
+    let parts = test
+        .iter()
+        .map(|r| {
+            let needed = m
+                .spec
                 .max_lag()
                 .saturating_add(steps.unwrap_or(1))
-                .saturating_add(2)
-        {
-            continue;
-        }
-        let (pred, first) = m.predict(r, steps)?;
-        for (j, (y, yh)) in r.outputs.iter().zip(&pred).enumerate() {
-            let e = metrics::rms_error(&y[first..], &yh[first..]) / m.output_norm[j].1;
+                .saturating_add(2);
+            if r.len() < needed {
+                Ok(None)
+            } else {
+                m.predict(r, steps).map(Some)
+            }
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(HeldOut {
+        parts,
+        output_sd: m.output_norm.iter().map(|n| n.1).collect(),
+    })
+}
+
+/// The RMS error of the predictions `h` on the held-out parts `test`, divided by each
+/// output's training standard deviation and averaged over parts and outputs.
+pub(super) fn held_out_score(h: &HeldOut, test: &[Record]) -> Result<f64> {
+    let mut total = 0.0;
+    let mut count = 0.0;
+    for (r, part) in test.iter().zip(&h.parts) {
+        let Some((pred, first)) = part else { continue };
+        for (j, (y, yh)) in r.outputs.iter().zip(pred).enumerate() {
+            let e = metrics::rms_error(&y[*first..], &yh[*first..]) / h.output_sd[j];
             if !e.is_finite() {
                 return Err(invalid("prediction", e, "a finite error"));
             }
@@ -60,4 +87,11 @@ pub(super) fn held_out_error(m: &Model, test: &[Record], steps: Option<usize>) -
         ));
     }
     Ok(total / count)
+}
+
+/// A model's RMS error on the held-out parts `test`, divided by each output's training
+/// standard deviation and averaged over parts and outputs.
+#[cfg(test)]
+pub(super) fn held_out_error(m: &Model, test: &[Record], steps: Option<usize>) -> Result<f64> {
+    held_out_score(&held_out_runs(m, test, steps)?, test)
 }

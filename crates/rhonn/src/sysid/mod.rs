@@ -37,6 +37,7 @@ mod predict;
 pub mod pump_grey;
 pub mod select;
 mod select_cascade;
+mod select_ensemble;
 mod term_selection;
 mod train;
 mod wiener_hammerstein;

@@ -17,9 +17,9 @@
 //! best ARX on the folds, and the selection says by how much it is better.
 
 use super::fold_queue::{self, Outcome};
-use super::folds::{folds, held_out_error};
-use super::select_cascade;
+use super::folds::{folds, held_out_runs, held_out_score, HeldOut};
 use super::{fit, Activation, Estimator, Kind, ModelSpec};
+use super::{select_cascade, select_ensemble};
 use crate::data::Record;
 use crate::error::{invalid, Result};
 use serde::Serialize;
@@ -36,6 +36,8 @@ pub struct SelectOptions {
     pub time_budget_s: f64,
     /// Include the continuous-time cascade candidate (one output only; the slowest).
     pub cascade: bool,
+    /// Include the ensembles of the best candidates (`select_ensemble`; default true).
+    pub ensembles: bool,
 }
 
 impl Default for SelectOptions {
@@ -45,6 +47,7 @@ impl Default for SelectOptions {
             folds: 3,
             time_budget_s: 40.0,
             cascade: true,
+            ensembles: true,
         }
     }
 }
@@ -68,8 +71,12 @@ impl SelectOptions {
 pub struct CandidateScore {
     /// A short name, e.g. "rhonn na 2 nb 2".
     pub name: String,
-    /// The structure.
+    /// The structure (an ensemble's first member).
     pub model: ModelSpec,
+    /// An ensemble's members, the best first: its prediction is the mean of theirs
+    /// (`select_ensemble`). Empty for a single structure.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub members: Vec<ModelSpec>,
     /// Normalised RMS error per fold (empty when it failed or was skipped).
     pub fold_scores: Vec<f64>,
     /// Their mean (None when it failed or was skipped).
@@ -119,9 +126,19 @@ pub struct Selection {
 }
 
 impl Selection {
-    /// The chosen structure.
+    /// The chosen structure (an ensemble's first member).
     pub fn chosen_spec(&self) -> &ModelSpec {
         &self.candidates[self.chosen].model
+    }
+
+    /// The chosen structures: an ensemble's members, or the one chosen.
+    pub fn chosen_specs(&self) -> Vec<ModelSpec> {
+        let c = &self.candidates[self.chosen];
+        if c.members.is_empty() {
+            vec![c.model.clone()]
+        } else {
+            c.members.clone()
+        }
     }
 }
 
@@ -252,7 +269,8 @@ pub fn candidates(no: usize, cascade: bool) -> Vec<(String, ModelSpec)> {
     c
 }
 
-/// One candidate on one fold: its normalised RMS error on the held-out parts.
+/// One candidate on one fold: its normalised RMS error on the held-out parts and its
+/// predictions there.
 fn score_fold(
     spec: &ModelSpec,
     train: &[Record],
@@ -260,9 +278,10 @@ fn score_fold(
     inputs: &[String],
     outputs: &[String],
     steps: Option<usize>,
-) -> Result<f64> {
+) -> Result<(f64, HeldOut)> {
     let m = fit(spec, train, inputs, outputs)?;
-    held_out_error(&m, test, steps)
+    let runs = held_out_runs(&m, test, steps)?;
+    Ok((held_out_score(&runs, test)?, runs))
 }
 
 /// Select a structure for `outputs` from `inputs` on `records` (see the module's docs);
@@ -338,8 +357,9 @@ pub(super) fn select_from(
         let (train, test) = &parts[f];
         score_fold(&list[queued[q]].1, train, test, inputs, outputs, opts.steps_ahead)
     };
-    let on_done =
-        |q: usize, results: &[Result<f64>], seconds: f64| said(queued[q], seconds, &Judged::of(results));
+    let on_done = |q: usize, results: &[Result<(f64, HeldOut)>], seconds: f64| {
+        said(queued[q], seconds, &Judged::of(results))
+    };
     let outcomes = fold_queue::run(
         queued.len(),
         parts.len(),
@@ -351,7 +371,7 @@ pub(super) fn select_from(
     let mut judged: Vec<Option<Judged>> = (0..total).map(|_| None).collect();
     for (&c, outcome) in queued.iter().zip(outcomes) {
         if let Outcome::Ran(results) = outcome {
-            judged[c] = Some(Judged::of(&results));
+            judged[c] = Some(Judged::of_owned(results));
         }
     }
     for c in (0..total).filter(|c| !queued.contains(c)) {
@@ -373,6 +393,7 @@ pub(super) fn select_from(
                 score: Some(cs.score),
                 failed: None,
                 note: cs.note,
+                runs: cs.runs,
             },
             Err(e) => Judged {
                 failed: Some(e.to_string()),
@@ -382,7 +403,8 @@ pub(super) fn select_from(
         said(c, t0.elapsed().as_secs_f64(), &j);
         judged[c] = Some(j);
     }
-    let scores = list
+    let mut runs = Vec::with_capacity(total);
+    let mut scores: Vec<CandidateScore> = list
         .into_iter()
         .zip(judged)
         .map(|((name, spec), j)| {
@@ -397,9 +419,11 @@ pub(super) fn select_from(
                 }),
                 ..Judged::default()
             });
+            runs.push(j.runs);
             CandidateScore {
                 name,
                 model: spec,
+                members: Vec::new(),
                 fold_scores: j.fold_scores,
                 score: j.score,
                 failed: j.failed,
@@ -407,6 +431,20 @@ pub(super) fn select_from(
             }
         })
         .collect();
+    let tests: Vec<&[Record]> = parts.iter().map(|(_, t)| t.as_slice()).collect();
+    let ensembles = if opts.ensembles {
+        select_ensemble::ensembles(&scores, &runs, &tests)
+    } else {
+        Vec::new()
+    };
+    for e in ensembles {
+        let what = e.score.map_or_else(
+            || e.failed.clone().unwrap_or_default(),
+            |s| format!("{s:.4} (normalised RMS error on the folds)"),
+        );
+        progress(&format!("{}: {what}", e.name));
+        scores.push(e);
+    }
     finish(scores, opts, start.elapsed().as_secs_f64())
 }
 
@@ -417,14 +455,17 @@ struct Judged {
     score: Option<f64>,
     failed: Option<String>,
     note: Option<String>,
+    /// The predictions on each fold's held-out parts (for the ensembles).
+    runs: Vec<HeldOut>,
 }
 
 impl Judged {
-    /// The fold scores and their mean, or the first fold's error.
-    fn of(results: &[Result<f64>]) -> Judged {
+    /// The fold scores and their mean, or the first fold's error (without the
+    /// predictions: what the progress line says).
+    fn of(results: &[Result<(f64, HeldOut)>]) -> Judged {
         match results
             .iter()
-            .map(|r| r.as_ref().copied())
+            .map(|r| r.as_ref().map(|(s, _)| *s))
             .collect::<std::result::Result<Vec<f64>, _>>()
         {
             Ok(f) => Judged {
@@ -437,6 +478,18 @@ impl Judged {
                 ..Judged::default()
             },
         }
+    }
+
+    /// [`Judged::of`] with the predictions.
+    fn of_owned(results: Vec<Result<(f64, HeldOut)>>) -> Judged {
+        let mut j = Judged::of(&results);
+        if j.score.is_some() {
+            j.runs = results
+                .into_iter()
+                .filter_map(|r| r.ok().map(|(_, h)| h))
+                .collect();
+        }
+        j
     }
 }
 
@@ -554,227 +607,5 @@ fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, seconds: f64) -
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// `n` samples of y(k) = 0.6 y(k-1) + 0.3 u(k-1) + `c` tanh(y(k-1)) u(k-1) under a
-    /// random staircase input.
-    fn record(seed: u64, n: usize, c: f64) -> Record {
-        let mut s = seed;
-        let (mut u, mut y) = (vec![0.0; n], vec![0.0; n]);
-        let mut level = 0.0;
-        for k in 0..n {
-            if k % 9 == 0 {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                level = ((s >> 33) as f64 / (1u64 << 31) as f64) * 2.0 - 1.0;
-            }
-            u[k] = level;
-            if k > 0 {
-                y[k] = 0.6 * y[k - 1] + 0.3 * u[k - 1] + c * y[k - 1].tanh() * u[k - 1];
-            }
-        }
-        Record {
-            source: format!("r{seed}"),
-            t: (0..n).map(|k| k as f64).collect(),
-            inputs: vec![u],
-            outputs: vec![y],
-        }
-    }
-
-    fn names() -> (Vec<String>, Vec<String>) {
-        (vec!["u".into()], vec!["y".into()])
-    }
-
-    #[test]
-    fn a_nonlinear_record_gets_a_nonlinear_model_better_than_every_arx() {
-        let (i, o) = names();
-        let lines = std::sync::Mutex::new(Vec::new());
-        let opts = SelectOptions {
-            cascade: false,
-            ..Default::default()
-        };
-        let sel = select(&[record(1, 900, 0.4)], &i, &o, &opts, &|l| {
-            lines.lock().unwrap().push(l.to_string())
-        })
-        .unwrap();
-        let chosen = &sel.candidates[sel.chosen];
-        assert_ne!(chosen.model.kind, Kind::Arx, "{:?}", sel.findings);
-        let arx = sel.candidates[sel.best_arx].score.unwrap();
-        assert!(
-            chosen.score.unwrap() < 0.5 * arx,
-            "{} vs ARX {arx}",
-            chosen.score.unwrap()
-        );
-        for c in sel.candidates.iter().filter(|c| c.model.kind == Kind::Arx) {
-            assert!(c.score.unwrap() >= arx);
-        }
-        // A line when each candidate starts and one when it ends.
-        assert_eq!(lines.lock().unwrap().len(), 2 * sel.candidates.len());
-        assert!(sel.findings[0].starts_with("chose "), "{:?}", sel.findings);
-    }
-
-    #[test]
-    fn progress_names_each_candidate_as_it_starts_then_with_its_score() {
-        let (i, o) = names();
-        let opts = SelectOptions {
-            cascade: false,
-            ..Default::default()
-        };
-        let lines = std::sync::Mutex::new(Vec::new());
-        let sel = select(&[record(2, 600, 0.3)], &i, &o, &opts, &|l| {
-            lines.lock().unwrap().push(l.to_string())
-        })
-        .unwrap();
-        let lines = lines.into_inner().unwrap();
-        let n = sel.candidates.len();
-        assert_eq!(lines.len(), 2 * n, "{lines:?}");
-        // The folds of two candidates may run at once (sysid::fold_queue), so their lines
-        // interleave; each candidate says it runs, in candidate order, and later says its
-        // score, once each.
-        let running: Vec<usize> = lines
-            .iter()
-            .enumerate()
-            .filter(|(_, l)| l.ends_with(": running"))
-            .map(|(at, _)| at)
-            .collect();
-        assert_eq!(running.len(), n, "{lines:?}");
-        for (k, &at) in running.iter().enumerate() {
-            let head = format!("candidate {}/{n}, {}", k + 1, sel.candidates[k].name);
-            assert!(lines[at].starts_with(&head), "{lines:?}");
-            let done: Vec<usize> = (0..lines.len())
-                .filter(|&j| lines[j].starts_with(&format!("{head} (")) && !lines[j].ends_with(": running"))
-                .collect();
-            assert_eq!(done.len(), 1, "{head}: {lines:?}");
-            assert!(done[0] > at, "{lines:?}");
-        }
-    }
-
-    #[test]
-    fn a_linear_record_is_never_given_a_model_worse_than_the_best_arx() {
-        let (i, o) = names();
-        let opts = SelectOptions {
-            cascade: false,
-            ..Default::default()
-        };
-        let sel = select(
-            &[record(2, 600, 0.0), record(3, 400, 0.0)],
-            &i,
-            &o,
-            &opts,
-            &|_| {},
-        )
-        .unwrap();
-        let best = sel
-            .candidates
-            .iter()
-            .filter_map(|c| c.score)
-            .fold(f64::INFINITY, f64::min);
-        assert_eq!(sel.candidates[sel.chosen].score.unwrap(), best);
-        assert!(best <= sel.candidates[sel.best_arx].score.unwrap());
-    }
-
-    #[test]
-    fn a_spent_time_budget_skips_the_nonlinear_candidates_and_says_so() {
-        let (i, o) = names();
-        let opts = SelectOptions {
-            time_budget_s: 1e-9,
-            steps_ahead: Some(3),
-            ..Default::default()
-        };
-        let sel = select(&[record(4, 600, 0.4)], &i, &o, &opts, &|_| {}).unwrap();
-        assert_eq!(sel.chosen, sel.best_arx);
-        assert_eq!(sel.judged_by, "3 samples ahead");
-        assert!(sel
-            .candidates
-            .iter()
-            .any(|c| c.failed.as_deref().is_some_and(|f| f.starts_with("skipped"))));
-        assert!(
-            sel.findings.iter().any(|f| f.contains("time budget")),
-            "{:?}",
-            sel.findings
-        );
-        assert!(
-            sel.findings
-                .iter()
-                .any(|f| f.contains("no other structure beat the best ARX on every fold")),
-            "{:?}",
-            sel.findings
-        );
-    }
-
-    #[test]
-    fn bad_options_are_errors() {
-        let (i, o) = names();
-        let r = [record(5, 300, 0.4)];
-        for opts in [
-            SelectOptions {
-                folds: 1,
-                ..Default::default()
-            },
-            SelectOptions {
-                time_budget_s: f64::NAN,
-                ..Default::default()
-            },
-        ] {
-            assert!(select(&r, &i, &o, &opts, &|_| {}).is_err());
-        }
-    }
-
-    #[test]
-    fn a_polynomial_is_chosen_only_when_it_beats_the_bounded_structures_by_the_margin() {
-        let scored = |name: &str, kind: Kind, activation: Activation, score: f64| CandidateScore {
-            name: name.into(),
-            model: ModelSpec {
-                kind,
-                activation,
-                ..Default::default()
-            },
-            fold_scores: vec![score; 3],
-            score: Some(score),
-            failed: None,
-            note: None,
-        };
-        let list = |poly: f64| {
-            vec![
-                scored("arx", Kind::Arx, Activation::Tanh, 0.5),
-                scored("rhonn", Kind::Rhonn, Activation::Tanh, 0.2),
-                scored("polynomial", Kind::Rhonn, Activation::Identity, poly),
-            ]
-        };
-        let opts = SelectOptions::default();
-        // 0.75 of the bounded one's score: not enough.
-        let s = finish(list(0.15), &opts, 1.0).unwrap();
-        assert_eq!(s.candidates[s.chosen].name, "rhonn");
-        assert!(
-            s.findings
-                .iter()
-                .any(|f| f.contains("polynomial scored 0.1500, not below 0.5 x")),
-            "{:?}",
-            s.findings
-        );
-        // At most half: chosen.
-        let s = finish(list(0.1), &opts, 1.0).unwrap();
-        assert_eq!(s.candidates[s.chosen].name, "polynomial");
-        assert!(!s.findings.iter().any(|f| f.contains("not below")));
-        // A lower mean with one fold above the ARX's: the next structure that wins every fold.
-        let mut l = list(0.5);
-        l[1].fold_scores = vec![0.1, 0.1, 0.55];
-        l[1].score = Some(0.25);
-        l.push(scored("steady", Kind::Rhonn, Activation::Tanh, 0.3));
-        let s = finish(l.clone(), &opts, 1.0).unwrap();
-        assert_eq!(s.candidates[s.chosen].name, "steady");
-        assert!(
-            s.findings
-                .iter()
-                .any(|f| f.contains("rhonn scored 0.2500 on average") && f.contains("not on every fold")),
-            "{:?}",
-            s.findings
-        );
-        // None that wins every fold: the ARX.
-        l.pop();
-        let s = finish(l, &opts, 1.0).unwrap();
-        assert_eq!(s.candidates[s.chosen].name, "arx");
-    }
-}
+#[path = "select_tests.rs"]
+mod tests;

@@ -18,7 +18,7 @@
 
 use super::cascade::EARLY_STARTS;
 use super::estimate::fit_cascade;
-use super::folds::held_out_error;
+use super::folds::{held_out_runs, held_out_score, HeldOut};
 use super::{Model, ModelSpec};
 use crate::data::Record;
 use crate::error::Result;
@@ -36,6 +36,8 @@ pub(super) struct CascadeScore {
     pub score: f64,
     /// Said when the candidate stopped after the probe.
     pub note: Option<String>,
+    /// The predictions on each fold's held-out parts.
+    pub runs: Vec<HeldOut>,
 }
 
 /// `spec` fitted on every fold's training parts: the model and its training cost, or the
@@ -52,19 +54,24 @@ fn fit_folds(
         .collect()
 }
 
-/// Each fold's held-out error, the mean, or the first error.
+/// Each fold's held-out error, the mean and the held-out predictions, or the first error.
 fn errors(
     models: &[&Model],
     parts: &[(Vec<Record>, Vec<Record>)],
     steps: Option<usize>,
-) -> Result<(Vec<f64>, f64)> {
-    let f = models
+) -> Result<(Vec<f64>, f64, Vec<HeldOut>)> {
+    let runs = models
         .iter()
         .zip(parts)
-        .map(|(m, (_, test))| held_out_error(m, test, steps))
+        .map(|(m, (_, test))| held_out_runs(m, test, steps))
+        .collect::<Result<Vec<HeldOut>>>()?;
+    let f = runs
+        .iter()
+        .zip(parts)
+        .map(|(h, (_, test))| held_out_score(h, test))
         .collect::<Result<Vec<f64>>>()?;
     let mean = f.iter().sum::<f64>() / f.len() as f64;
-    Ok((f, mean))
+    Ok((f, mean, runs))
 }
 
 /// The seeded starts of `spec` in the order they are tried: the probe (a quarter), the
@@ -129,13 +136,14 @@ pub(super) fn score(
             else {
                 continue;
             };
-            let Ok((fold_scores, score)) = errors(&models, parts, steps) else {
+            let Ok((fold_scores, score, runs)) = errors(&models, parts, steps) else {
                 continue;
             };
             if score > PROBE_RATIO * best {
                 return Ok(CascadeScore {
                     fold_scores,
                     score,
+                    runs,
                     note: Some(format!(
                         "stopped after the first {} of {} starts: their fold error, {score:.4}, is more than \
                          {PROBE_RATIO} x the best bounded candidate's, {best:.4}",
@@ -150,17 +158,18 @@ pub(super) fn score(
         .into_iter()
         .map(|r| r.map(|(m, _)| m))
         .collect::<Result<Vec<Model>>>()?;
-    let (fold_scores, score) = errors(&models.iter().collect::<Vec<_>>(), parts, steps)?;
+    let (fold_scores, score, runs) = errors(&models.iter().collect::<Vec<_>>(), parts, steps)?;
     Ok(CascadeScore {
         fold_scores,
         score,
         note: None,
+        runs,
     })
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::folds::folds;
+    use super::super::folds::{folds, held_out_error};
     use super::super::{fit, Estimator, Kind};
     use super::*;
 

@@ -188,7 +188,7 @@ pub fn fit_records(
         FitStructure::Given(specs) => (specs, None),
         FitStructure::Select(opts) => {
             let sel = super::select::select(records, inputs, outputs, opts, progress)?;
-            (vec![sel.chosen_spec().clone()], Some(sel))
+            (sel.chosen_specs(), Some(sel))
         }
     };
     let (selection_findings, selection_warnings) = selection.as_ref().map_or((Vec::new(), Vec::new()), |s| {
@@ -274,6 +274,7 @@ pub fn best_arx(
     use super::select::{candidates, select_from, SelectOptions};
     let opts = SelectOptions {
         cascade: false,
+        ensembles: false,
         ..SelectOptions::default()
     };
     let list: Vec<(String, ModelSpec)> = candidates(outputs.len(), false)

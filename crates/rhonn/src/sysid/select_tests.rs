@@ -1,0 +1,254 @@
+//! Tests of the structure selection.
+
+use super::*;
+
+/// `n` samples of y(k) = 0.6 y(k-1) + 0.3 u(k-1) + `c` tanh(y(k-1)) u(k-1) under a
+/// random staircase input.
+fn record(seed: u64, n: usize, c: f64) -> Record {
+    let mut s = seed;
+    let (mut u, mut y) = (vec![0.0; n], vec![0.0; n]);
+    let mut level = 0.0;
+    for k in 0..n {
+        if k % 9 == 0 {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            level = ((s >> 33) as f64 / (1u64 << 31) as f64) * 2.0 - 1.0;
+        }
+        u[k] = level;
+        if k > 0 {
+            y[k] = 0.6 * y[k - 1] + 0.3 * u[k - 1] + c * y[k - 1].tanh() * u[k - 1];
+        }
+    }
+    Record {
+        source: format!("r{seed}"),
+        t: (0..n).map(|k| k as f64).collect(),
+        inputs: vec![u],
+        outputs: vec![y],
+    }
+}
+
+fn names() -> (Vec<String>, Vec<String>) {
+    (vec!["u".into()], vec!["y".into()])
+}
+
+#[test]
+fn a_nonlinear_record_gets_a_nonlinear_model_better_than_every_arx() {
+    let (i, o) = names();
+    let lines = std::sync::Mutex::new(Vec::new());
+    let opts = SelectOptions {
+        cascade: false,
+        ..Default::default()
+    };
+    let sel = select(&[record(1, 900, 0.4)], &i, &o, &opts, &|l| {
+        lines.lock().unwrap().push(l.to_string())
+    })
+    .unwrap();
+    let chosen = &sel.candidates[sel.chosen];
+    assert_ne!(chosen.model.kind, Kind::Arx, "{:?}", sel.findings);
+    let arx = sel.candidates[sel.best_arx].score.unwrap();
+    assert!(
+        chosen.score.unwrap() < 0.5 * arx,
+        "{} vs ARX {arx}",
+        chosen.score.unwrap()
+    );
+    for c in sel.candidates.iter().filter(|c| c.model.kind == Kind::Arx) {
+        assert!(c.score.unwrap() >= arx);
+    }
+    // A line when each candidate starts and one when it ends; one for each ensemble.
+    let ensembles = sel.candidates.iter().filter(|c| !c.members.is_empty()).count();
+    assert_eq!(ensembles, 2, "{:?}", sel.candidates);
+    assert_eq!(
+        lines.lock().unwrap().len(),
+        2 * (sel.candidates.len() - ensembles) + ensembles
+    );
+    assert!(sel.findings[0].starts_with("chose "), "{:?}", sel.findings);
+}
+
+#[test]
+fn progress_names_each_candidate_as_it_starts_then_with_its_score() {
+    let (i, o) = names();
+    let opts = SelectOptions {
+        cascade: false,
+        ..Default::default()
+    };
+    let lines = std::sync::Mutex::new(Vec::new());
+    let sel = select(&[record(2, 600, 0.3)], &i, &o, &opts, &|l| {
+        lines.lock().unwrap().push(l.to_string())
+    })
+    .unwrap();
+    let lines = lines.into_inner().unwrap();
+    // The ensembles, judged from the others' predictions, last: one line each, with
+    // their score.
+    let n = sel.candidates.iter().filter(|c| c.members.is_empty()).count();
+    assert_eq!(lines.len(), 2 * n + (sel.candidates.len() - n), "{lines:?}");
+    for (c, l) in sel.candidates[n..].iter().zip(&lines[2 * n..]) {
+        assert_eq!(
+            *l,
+            format!(
+                "{}: {:.4} (normalised RMS error on the folds)",
+                c.name,
+                c.score.unwrap()
+            )
+        );
+    }
+    // The folds of two candidates may run at once (sysid::fold_queue), so their lines
+    // interleave; each candidate says it runs, in candidate order, and later says its
+    // score, once each.
+    let running: Vec<usize> = lines
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.ends_with(": running"))
+        .map(|(at, _)| at)
+        .collect();
+    assert_eq!(running.len(), n, "{lines:?}");
+    for (k, &at) in running.iter().enumerate() {
+        let head = format!("candidate {}/{n}, {}", k + 1, sel.candidates[k].name);
+        assert!(lines[at].starts_with(&head), "{lines:?}");
+        let done: Vec<usize> = (0..lines.len())
+            .filter(|&j| lines[j].starts_with(&format!("{head} (")) && !lines[j].ends_with(": running"))
+            .collect();
+        assert_eq!(done.len(), 1, "{head}: {lines:?}");
+        assert!(done[0] > at, "{lines:?}");
+    }
+}
+
+#[test]
+fn a_linear_record_is_never_given_a_model_worse_than_the_best_arx() {
+    let (i, o) = names();
+    let opts = SelectOptions {
+        cascade: false,
+        ..Default::default()
+    };
+    let sel = select(
+        &[record(2, 600, 0.0), record(3, 400, 0.0)],
+        &i,
+        &o,
+        &opts,
+        &|_| {},
+    )
+    .unwrap();
+    let best = sel
+        .candidates
+        .iter()
+        .filter_map(|c| c.score)
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(sel.candidates[sel.chosen].score.unwrap(), best);
+    assert!(best <= sel.candidates[sel.best_arx].score.unwrap());
+}
+
+#[test]
+fn a_spent_time_budget_skips_the_nonlinear_candidates_and_says_so() {
+    let (i, o) = names();
+    let opts = SelectOptions {
+        time_budget_s: 1e-9,
+        steps_ahead: Some(3),
+        ..Default::default()
+    };
+    let sel = select(&[record(4, 600, 0.4)], &i, &o, &opts, &|_| {}).unwrap();
+    assert_eq!(sel.chosen, sel.best_arx);
+    assert_eq!(sel.judged_by, "3 samples ahead");
+    assert!(sel
+        .candidates
+        .iter()
+        .any(|c| c.failed.as_deref().is_some_and(|f| f.starts_with("skipped"))));
+    assert!(
+        sel.findings.iter().any(|f| f.contains("time budget")),
+        "{:?}",
+        sel.findings
+    );
+    assert!(
+        sel.findings
+            .iter()
+            .any(|f| f.contains("no other structure beat the best ARX on every fold")),
+        "{:?}",
+        sel.findings
+    );
+}
+
+#[test]
+fn bad_options_are_errors() {
+    let (i, o) = names();
+    let r = [record(5, 300, 0.4)];
+    for opts in [
+        SelectOptions {
+            folds: 1,
+            ..Default::default()
+        },
+        SelectOptions {
+            time_budget_s: f64::NAN,
+            ..Default::default()
+        },
+    ] {
+        assert!(select(&r, &i, &o, &opts, &|_| {}).is_err());
+    }
+}
+
+#[test]
+fn a_polynomial_is_chosen_only_when_it_beats_the_bounded_structures_by_the_margin() {
+    let scored = |name: &str, kind: Kind, activation: Activation, score: f64| CandidateScore {
+        name: name.into(),
+        model: ModelSpec {
+            kind,
+            activation,
+            ..Default::default()
+        },
+        members: Vec::new(),
+        fold_scores: vec![score; 3],
+        score: Some(score),
+        failed: None,
+        note: None,
+    };
+    let list = |poly: f64| {
+        vec![
+            scored("arx", Kind::Arx, Activation::Tanh, 0.5),
+            scored("rhonn", Kind::Rhonn, Activation::Tanh, 0.2),
+            scored("polynomial", Kind::Rhonn, Activation::Identity, poly),
+        ]
+    };
+    let opts = SelectOptions::default();
+    // 0.75 of the bounded one's score: not enough.
+    let s = finish(list(0.15), &opts, 1.0).unwrap();
+    assert_eq!(s.candidates[s.chosen].name, "rhonn");
+    assert!(
+        s.findings
+            .iter()
+            .any(|f| f.contains("polynomial scored 0.1500, not below 0.5 x")),
+        "{:?}",
+        s.findings
+    );
+    // At most half: chosen.
+    let s = finish(list(0.1), &opts, 1.0).unwrap();
+    assert_eq!(s.candidates[s.chosen].name, "polynomial");
+    assert!(!s.findings.iter().any(|f| f.contains("not below")));
+    // A lower mean with one fold above the ARX's: the next structure that wins every fold.
+    let mut l = list(0.5);
+    l[1].fold_scores = vec![0.1, 0.1, 0.55];
+    l[1].score = Some(0.25);
+    l.push(scored("steady", Kind::Rhonn, Activation::Tanh, 0.3));
+    let s = finish(l.clone(), &opts, 1.0).unwrap();
+    assert_eq!(s.candidates[s.chosen].name, "steady");
+    assert!(
+        s.findings
+            .iter()
+            .any(|f| f.contains("rhonn scored 0.2500 on average") && f.contains("not on every fold")),
+        "{:?}",
+        s.findings
+    );
+    // None that wins every fold: the ARX.
+    l.pop();
+    let s = finish(l, &opts, 1.0).unwrap();
+    assert_eq!(s.candidates[s.chosen].name, "arx");
+}
+
+#[test]
+fn the_arx_baseline_is_one_arx_never_an_ensemble() {
+    let (i, o) = names();
+    let (fitted, sel) = super::super::best_arx(&[record(4, 600, 0.3)], &i, &o).unwrap();
+    assert!(sel
+        .candidates
+        .iter()
+        .all(|c| c.model.kind == Kind::Arx && c.members.is_empty()));
+    assert!(fitted.members.is_empty());
+    assert_eq!(fitted.model.spec.kind, Kind::Arx);
+}
