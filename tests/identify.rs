@@ -520,11 +520,11 @@ fn without_a_model_the_bank_picks_online_and_beats_the_offline_arx_on_the_tanks(
         b["arx_rms_error"].as_f64().unwrap(),
     );
     assert!(online < arx, "online {online} V, ARX {arx} V");
-    // The README's figure (the winner, the cascade, trained for its 8 passes): 0.2363 V,
+    // The README's figure (the winner, the cascade, trained for its 8 passes): 0.2368 V,
     // within 1.5 x rhonn fit's default (0.222 V); both scored from sample 5, after the 5
     // outputs the cascade's free run reads (the ARX's 4 lags would allow sample 4).
     assert_eq!(b["from_sample"].as_u64(), Some(5), "{b}");
-    assert!((online - 0.2363).abs() < 0.01, "{online}");
+    assert!((online - 0.2368).abs() < 0.01, "{online}");
     // Normalised by the warm-up window (the first half of estimation.csv), said so.
     assert_eq!(sel["warmup"].as_u64(), Some(512), "{sel}");
     assert!(online < 1.5 * 0.222, "{online}");

@@ -206,3 +206,32 @@ def test_warnings_are_warnings_and_an_online_model_has_no_baseline(tanks):
         ident.update(t, u, y)
     with pytest.raises(ValueError, match="no ARX baseline"):
         ident.freeze().predict(val["u"], val["y"], baseline=True)
+
+
+def test_an_ensemble_the_selection_chooses_is_the_commands(tmp_path, root, rhonn_bin):
+    """DaISy's hair dryer (its benchmark train file): the default selection chooses an
+    ensemble (the mean of its best candidates); `rhonn.fit` gives the command's model.json,
+    every member's weights included, and its prediction is the members' mean."""
+    import gzip
+
+    with gzip.open(root / "data/benchmarks/daisy-hair-dryer/train.csv.gz", "rt") as f:
+        text = f.read()
+    csv_path = tmp_path / "train.csv"
+    csv_path.write_text(text)
+    subprocess.run(
+        [rhonn_bin, "fit", "--data", str(csv_path), "--inputs", "u_heater_V", "--outputs", "y_outlet_temp_V",
+         "--out", str(tmp_path / "fit")],
+        check=True, capture_output=True, cwd=root,
+    )
+    cli = json.loads((tmp_path / "fit/model.json").read_text())
+    cli_summary = json.loads((tmp_path / "fit/summary.json").read_text())
+    sel = cli_summary["selection"]
+    chosen = sel["candidates"][sel["chosen"]]
+    assert chosen["name"].startswith("mean of the best"), chosen["name"]
+    assert len(cli["members"]) == len(chosen["members"]) - 1 >= 1
+    d = read_csv(csv_path)
+    m = rhonn.fit(d["u_heater_V"], d["y_outlet_temp_V"], dt=0.08, inputs=["u_heater_V"], outputs=["y_outlet_temp_V"])
+    py = json.loads(m.to_json())
+    assert py["model"]["weights"] == cli["model"]["weights"]
+    assert [x["weights"] for x in py["members"]] == [x["weights"] for x in cli["members"]]
+    assert m.summary["training"] == _without_sources(cli_summary["training"])

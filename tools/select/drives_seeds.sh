@@ -49,7 +49,7 @@ SPEC
     line="seed $seed:"
     for r in 1 2; do
         rms=$("$bin" predict --model "$tmp/m$k/model.json" --data "$tmp/test$r.csv" --init-window 4 \
-             --out "$tmp/p$k-$r" | grep -o 'rms error [0-9.]*' | head -1)
+             --out "$tmp/p$k-$r" | grep -o 'rms error [0-9.]*' | sed -n 1p)
         line="$line test $r free-run $rms;"
     done
     echo "$line"

@@ -12,8 +12,8 @@ for k in $(seq 0 9); do
     seed=$((k * 1000 + 1))
     { grep -v '^seed' models/cascaded-tanks.toml; echo "seed = $seed"; } > "$tmp/spec.toml"
     "$bin" fit --data data/cascaded-tanks/estimation.csv --inputs u --outputs y \
-        --model "$tmp/spec.toml" --out "$tmp/m" > /dev/null 2>&1
-    rms=$("$bin" predict --model "$tmp/m/model.json" --data data/cascaded-tanks/validation.csv \
-        --out "$tmp/p" | grep -o 'rms error [0-9.]*' | head -1)
+        --model "$tmp/spec.toml" --out "$tmp/m$k" > /dev/null 2>&1
+    rms=$("$bin" predict --model "$tmp/m$k/model.json" --data data/cascaded-tanks/validation.csv \
+        --out "$tmp/p$k" | grep -o 'rms error [0-9.]*' | sed -n 1p)
     echo "seed $seed: free-run $rms V"
 done

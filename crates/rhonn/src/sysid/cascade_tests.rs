@@ -356,3 +356,25 @@ fn a_hidden_state_column_from_its_own_record_is_the_full_evaluation_bit_for_bit(
         }
     }
 }
+
+#[test]
+fn the_activation_is_the_power_to_a_few_units_in_the_last_place() {
+    // Levels from the linear piece's edge to far above the output's range, every exponent
+    // of the learned range.
+    let mut worst: f64 = 0.0;
+    for i in 0..=400 {
+        let x = LINEAR_BELOW * 10f64.powf(i as f64 * 7.0 / 400.0);
+        for j in 0..=26 {
+            let a = EXPONENT_RANGE.0 + (EXPONENT_RANGE.1 - EXPONENT_RANGE.0) * j as f64 / 26.0;
+            let rel = (activation(x, a) - x.powf(a)).abs() / x.powf(a);
+            worst = worst.max(rel);
+        }
+    }
+    assert!(worst < 16.0 * f64::EPSILON, "{worst:e}");
+    assert!(worst > 0.0, "the power itself: this test would not see a change");
+    // Continuous at the linear piece's edge, 0 at and below 0.
+    let a = 0.5;
+    assert!((activation(LINEAR_BELOW, a) - activation(LINEAR_BELOW * (1.0 - 1e-12), a)).abs() < 1e-12);
+    assert_eq!(activation(0.0, a), 0.0);
+    assert_eq!(activation(-1.0, a), 0.0);
+}
