@@ -13,13 +13,16 @@ use std::collections::BTreeSet;
 use std::path::Path;
 use util::{rhonn, stderr};
 
-/// Subtrees of a summary.json that echo settings or hold data, not figures.
-const NOT_FIGURES: [&str; 12] = [
+/// Subtrees of a summary.json that echo settings or hold data, not figures (`members`: an
+/// ensemble's structures, each a `model`; the fit's own figures of them are named at the
+/// summary's top level too).
+const NOT_FIGURES: [&str; 13] = [
     "plan",
     "spec",
     "scenario",
     "solver",
     "model",
+    "members",
     "parameters",
     "campaign",
     "rhonn_version",

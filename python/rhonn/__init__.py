@@ -217,7 +217,8 @@ def fit(
     select : "auto" or "none", optional
         ``"auto"``: choose the structure by cross-validation on the recordings
         (``summary["selection"]`` says what was chosen and how it compares with the best
-        ARX); ``"none"``: the fixed default structure. None (the default): ``"auto"``
+        ARX; the choice may be an ensemble, the mean of the best 2 or 3 candidates, whose
+        members ``summary["members"]`` lists); ``"none"``: the fixed default structure. None (the default): ``"auto"``
         when no ``model`` is given, as ``rhonn fit`` without ``--model`` does.
     select_steps_ahead : int, optional
         With the selection: judge the candidates K samples ahead instead of in free run

@@ -211,13 +211,16 @@ def test_warnings_are_warnings_and_an_online_model_has_no_baseline(tanks):
 def test_an_ensemble_the_selection_chooses_is_the_commands(tmp_path, root, rhonn_bin):
     """DaISy's hair dryer (its benchmark train file): the default selection chooses an
     ensemble (the mean of its best candidates); `rhonn.fit` gives the command's model.json,
-    every member's weights included, and its prediction is the members' mean."""
+    every member's weights included, and the same training figures and members in its summary."""
     import gzip
 
     with gzip.open(root / "data/benchmarks/daisy-hair-dryer/train.csv.gz", "rt") as f:
         text = f.read()
+    # `rhonn fit` reads the time from a column `t`; the benchmark's file names it `t_s`.
+    head, body = text.split("\n", 1)
+    assert head == "k,t_s,u_heater_V,y_outlet_temp_V", head
     csv_path = tmp_path / "train.csv"
-    csv_path.write_text(text)
+    csv_path.write_text("k,t,u_heater_V,y_outlet_temp_V\n" + body)
     subprocess.run(
         [rhonn_bin, "fit", "--data", str(csv_path), "--inputs", "u_heater_V", "--outputs", "y_outlet_temp_V",
          "--out", str(tmp_path / "fit")],
@@ -235,3 +238,5 @@ def test_an_ensemble_the_selection_chooses_is_the_commands(tmp_path, root, rhonn
     assert py["model"]["weights"] == cli["model"]["weights"]
     assert [x["weights"] for x in py["members"]] == [x["weights"] for x in cli["members"]]
     assert m.summary["training"] == _without_sources(cli_summary["training"])
+    assert m.summary["members"] == cli_summary["members"]
+    assert len(m.summary["members"]) == len(chosen["members"])

@@ -46,6 +46,10 @@ pub(super) struct Member {
     alive: bool,
     /// The output it estimated for the latest sample before seeing it (normalised).
     prior: f64,
+    /// The parameters it was given (a stored model's), used until it learns: its
+    /// coordinates (logarithms, logits) do not always map back to the very same numbers,
+    /// and a model read from its file runs as the one that wrote it, bit for bit.
+    exact: Option<Params>,
 }
 
 /// The cascade engine with its scaling and the checks of a sample.
@@ -175,7 +179,7 @@ impl CascadeOnline {
             } else {
                 m.predict(co, set, &self.u_last, h, !learn_params, &mut self.work);
             }
-            m.prior = co.params(&m.th).output(&m.x);
+            m.prior = m.params(co).output(&m.x);
             if m.alive && !first && measure {
                 m.correct(co, yn, set.measurement_var, learn);
             }
@@ -281,7 +285,7 @@ impl CascadeOnline {
     pub(super) fn set_estimate(&mut self, y: &[f64]) {
         let yn = (y[0] - self.scaling.y_offset[0]) / self.scaling.y_scale[0];
         for m in self.members.iter_mut().filter(|m| m.alive) {
-            let p = self.co.params(&m.th);
+            let p = m.params(self.co);
             let n = m.x.len();
             m.x[n - 1] = p.measured_level(yn);
             m.shadow[n - 1] = m.x[n - 1];
@@ -291,13 +295,15 @@ impl CascadeOnline {
     /// The best filter's parameters as `model.json` stores a cascade's (normalised units:
     /// `b` per input, `k`, `alpha`, `g`, `o`, `xmax` per neuron, `c`), as one vector.
     pub(super) fn weights(&self) -> Vec<Vec<f64>> {
-        vec![self.co.params(&self.members[self.best].th).stored()]
+        vec![self.members[self.best].params(self.co).stored()]
     }
 
     /// One filter with these parameters (checked by the caller's [`Self::check_weights`]).
     pub(super) fn set_weights(&mut self, w: &[Vec<f64>]) {
         let p = Params::from_stored(self.co.n, self.co.ni, &w[0]);
-        self.members = vec![Member::new(&self.set, self.co, self.co.coords(&p))];
+        let mut m = Member::new(&self.set, self.co, self.co.coords(&p));
+        m.exact = Some(p);
+        self.members = vec![m];
         self.best = 0;
     }
 
@@ -356,14 +362,20 @@ impl Member {
             count: 0,
             alive: true,
             prior: 0.0,
+            exact: None,
         }
+    }
+
+    /// Its parameters: the exact ones it was given, or those of its coordinates.
+    fn params(&self, co: Coords) -> Params {
+        self.exact.clone().unwrap_or_else(|| co.params(&self.th))
     }
 
     /// A record starts at the measured output `yn`: the measured level there, the hidden
     /// ones in balance with it, the levels' covariance wide and apart from the
     /// parameters'.
     fn start_record(&mut self, co: Coords, yn: f64) {
-        let p = co.params(&self.th);
+        let p = self.params(co);
         p.balanced_levels(p.measured_level(yn), &mut self.x);
         let n = co.n;
         for i in 0..self.p.nrows() {
@@ -401,7 +413,7 @@ impl Member {
         };
         // The parameters once for the step and the levels' columns; a parameter's column
         // needs its own.
-        let base = co.params(&self.th);
+        let base = self.params(co);
         let f0 = step(&base, &self.x, work);
         let mut jac = DMatrix::<f64>::identity(d, d);
         for c in 0..d {
@@ -443,7 +455,7 @@ impl Member {
     fn correct(&mut self, co: Coords, yn: f64, r: f64, learn: bool) {
         let (n, d) = (co.n, self.p.nrows());
         let (a, c) = (n - 1, d - 1);
-        let params = co.params(&self.th);
+        let params = self.params(co);
         let e = yn - params.output(&self.x);
         // The output is the last level plus the offset `c` (the last coordinate); with the
         // parameters known (not learning) the offset carries no uncertainty.
@@ -471,7 +483,11 @@ impl Member {
         for i in n..d {
             self.th[i - n] += k[i] * e;
         }
-        let params = co.params(&self.th);
+        if learn {
+            // The coordinates moved: the given parameters are no longer its.
+            self.exact = None;
+        }
+        let params = self.params(co);
         for (i, x) in self.x.iter_mut().enumerate() {
             *x = x.clamp(0.0, params.level_bound(i));
         }
@@ -500,7 +516,7 @@ impl Member {
             self.shadow.copy_from_slice(&self.x);
             return;
         }
-        let p = co.params(&self.th);
+        let p = self.params(co);
         p.step(p.inflow(u), &mut self.shadow, h, set.substeps, work);
         if yn.is_finite() {
             let e = p.output(&self.shadow) - yn;

@@ -431,21 +431,52 @@ pub(super) fn select_from(
             }
         })
         .collect();
-    let tests: Vec<&[Record]> = parts.iter().map(|(_, t)| t.as_slice()).collect();
-    let ensembles = if opts.ensembles {
-        select_ensemble::ensembles(&scores, &runs, &tests)
-    } else {
-        Vec::new()
-    };
-    for e in ensembles {
+    if opts.ensembles {
+        let tests: Vec<&[Record]> = parts.iter().map(|(_, t)| t.as_slice()).collect();
+        append_ensembles(&mut scores, &runs, &tests, progress);
+    }
+    finish(scores, opts, start.elapsed().as_secs_f64())
+}
+
+/// Judge the ensembles of the candidates `scored` (`select_ensemble`; `runs`: each one's
+/// held-out predictions per fold) and append them, each one's score said to `progress`.
+fn append_ensembles(
+    scored: &mut Vec<CandidateScore>,
+    runs: &[Vec<HeldOut>],
+    tests: &[&[Record]],
+    progress: &(dyn Fn(&str) + Sync),
+) {
+    let entries: Vec<select_ensemble::Entry> = scored
+        .iter()
+        .zip(runs)
+        .map(|(c, runs)| select_ensemble::Entry {
+            name: &c.name,
+            model: &c.model,
+            score: c.score,
+            full: c.note.is_none() && c.members.is_empty(),
+            runs,
+        })
+        .collect();
+    let found: Vec<CandidateScore> = select_ensemble::ensembles(&entries, tests)
+        .into_iter()
+        .map(|e| CandidateScore {
+            name: e.name,
+            model: scored[e.members[0]].model.clone(),
+            members: e.members.iter().map(|&i| scored[i].model.clone()).collect(),
+            fold_scores: e.fold_scores,
+            score: e.score,
+            failed: e.failed,
+            note: None,
+        })
+        .collect();
+    for e in found {
         let what = e.score.map_or_else(
             || e.failed.clone().unwrap_or_default(),
             |s| format!("{s:.4} (normalised RMS error on the folds)"),
         );
         progress(&format!("{}: {what}", e.name));
-        scores.push(e);
+        scored.push(e);
     }
-    finish(scores, opts, start.elapsed().as_secs_f64())
 }
 
 /// What the folds said of one candidate.

@@ -7,15 +7,37 @@
 //! score 0.378 on the folds against the best one's 0.453. An ensemble is a candidate like
 //! the others: chosen only when it beats the best ARX on every fold and every candidate on
 //! the mean. Its members are the best candidates by score that ran in full and have bounded
-//! terms (a polynomial must win by a margin on its own, see [`super::select`]); a free run
+//! terms (a polynomial must win by a margin on its own, as the selection asks of it); a free run
 //! of the ensemble is the mean of its members' free runs, as `FittedModel::predict` makes
 //! it once trained on every record.
 
 use super::folds::{held_out_score, HeldOut, PartRun};
-use super::select::CandidateScore;
-use super::{Activation, Kind};
+use super::{Activation, Kind, ModelSpec};
 use crate::data::Record;
 use crate::error::Result;
+
+/// What an ensemble needs of one candidate of the selection.
+pub(super) struct Entry<'a> {
+    pub name: &'a str,
+    pub model: &'a ModelSpec,
+    /// Its fold score (None: failed or skipped).
+    pub score: Option<f64>,
+    /// Judged in full (not a cascade stopped after its probe, not itself an ensemble).
+    pub full: bool,
+    /// Its predictions on each fold's held-out parts.
+    pub runs: &'a [HeldOut],
+}
+
+/// One ensemble: its members (indices into the entries, the best first), its name and
+/// what the folds said.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Ensemble {
+    pub name: String,
+    pub members: Vec<usize>,
+    pub fold_scores: Vec<f64>,
+    pub score: Option<f64>,
+    pub failed: Option<String>,
+}
 
 /// Ensemble sizes tried: the best 2 and the best 3.
 pub(super) const SIZES: [usize; 2] = [2, 3];
@@ -54,22 +76,17 @@ fn mean_of(members: &[&HeldOut]) -> HeldOut {
 }
 
 /// May candidate `c` be an ensemble's member: judged in full, with bounded terms.
-fn may_join(c: &CandidateScore) -> bool {
+fn may_join(c: &Entry) -> bool {
     c.score.is_some()
-        && c.note.is_none()
-        && c.members.is_empty()
+        && c.full
         && !(c.model.kind == Kind::Rhonn && c.model.activation == Activation::Identity)
 }
 
-/// The ensembles of the best candidates of `scored` (each with its held-out predictions
-/// per fold in `runs`), judged on the folds' held-out parts `tests`.
-pub(super) fn ensembles(
-    scored: &[CandidateScore],
-    runs: &[Vec<HeldOut>],
-    tests: &[&[Record]],
-) -> Vec<CandidateScore> {
+/// The ensembles of the best of the candidates `scored`, judged on the folds' held-out
+/// parts `tests`.
+pub(super) fn ensembles(scored: &[Entry], tests: &[&[Record]]) -> Vec<Ensemble> {
     let mut order: Vec<usize> = (0..scored.len())
-        .filter(|&i| may_join(&scored[i]) && runs[i].len() == tests.len())
+        .filter(|&i| may_join(&scored[i]) && scored[i].runs.len() == tests.len())
         .collect();
     order.sort_by(|&a, &b| {
         scored[a]
@@ -86,11 +103,11 @@ pub(super) fn ensembles(
                 .iter()
                 .enumerate()
                 .map(|(f, test)| {
-                    let fold: Vec<&HeldOut> = members.iter().map(|&i| &runs[i][f]).collect();
+                    let fold: Vec<&HeldOut> = members.iter().map(|&i| &scored[i].runs[f]).collect();
                     held_out_score(&mean_of(&fold), test)
                 })
                 .collect();
-            let names: Vec<&str> = members.iter().map(|&i| scored[i].name.as_str()).collect();
+            let names: Vec<&str> = members.iter().map(|&i| scored[i].name).collect();
             let (fold_scores, score, failed) = match judged {
                 Ok(f) => {
                     let s = f.iter().sum::<f64>() / f.len() as f64;
@@ -98,14 +115,12 @@ pub(super) fn ensembles(
                 }
                 Err(e) => (Vec::new(), None, Some(e.to_string())),
             };
-            CandidateScore {
+            Ensemble {
                 name: format!("mean of the best {k}: {}", names.join("; ")),
-                model: scored[members[0]].model.clone(),
-                members: members.iter().map(|&i| scored[i].model.clone()).collect(),
+                members: members.to_vec(),
                 fold_scores,
                 score,
                 failed,
-                note: None,
             }
         })
         .collect()
@@ -114,7 +129,7 @@ pub(super) fn ensembles(
 #[cfg(test)]
 mod tests {
     use super::super::folds::{folds, held_out_runs};
-    use super::super::{fit, FittedModel, ModelSpec};
+    use super::super::{fit, FittedModel};
     use super::*;
 
     /// `n` samples of a saturating first-order system under a staircase input.
@@ -182,58 +197,60 @@ mod tests {
         }
     }
 
-    /// A candidate of `kind` and `activation` whose held-out prediction on the one part of
-    /// each of 2 folds is the output plus `offset`.
-    fn scored(
-        name: &str,
+    /// A candidate of `kind` and `activation` (its name, model, score, whether judged in
+    /// full) and its held-out predictions on the one part of each of 2 folds: the output
+    /// plus `offset`.
+    fn candidate(
         kind: Kind,
         activation: Activation,
-        score: f64,
         offset: f64,
         test: &Record,
-    ) -> (CandidateScore, Vec<HeldOut>) {
-        let c = CandidateScore {
-            name: name.into(),
-            model: ModelSpec {
-                kind,
-                activation,
-                ..Default::default()
-            },
-            members: Vec::new(),
-            fold_scores: vec![score; 2],
-            score: Some(score),
-            failed: None,
-            note: None,
-        };
+    ) -> (ModelSpec, Vec<HeldOut>) {
         let pred: Vec<f64> = test.outputs[0].iter().map(|y| y + offset).collect();
         let h = HeldOut {
             parts: vec![Some((vec![pred], 1))],
             output_sd: vec![2.0],
         };
-        (c, vec![h.clone(), h])
+        (
+            ModelSpec {
+                kind,
+                activation,
+                ..Default::default()
+            },
+            vec![h.clone(), h],
+        )
     }
 
     #[test]
     fn the_members_are_the_best_full_bounded_candidates_and_their_mean_is_judged() {
         let test = record(40);
         let (t, b) = (Kind::Rhonn, Activation::Tanh);
-        let list = vec![
-            scored("arx", Kind::Arx, b, 0.5, 0.3, &test),
-            scored("over", t, b, 0.2, 1.0, &test),
-            scored("polynomial", t, Activation::Identity, 0.05, 0.0, &test),
-            scored("stopped", Kind::Cascade, b, 0.1, 0.0, &test),
-            scored("under", t, b, 0.3, -1.0, &test),
-            scored("failed", t, b, 0.0, 0.0, &test),
+        // name, kind, activation, score, judged in full, offset of its predictions
+        let list = [
+            ("arx", Kind::Arx, b, Some(0.5), true, 0.3),
+            ("over", t, b, Some(0.2), true, 1.0),
+            ("polynomial", t, Activation::Identity, Some(0.05), true, 0.0),
+            ("stopped", Kind::Cascade, b, Some(0.1), false, 0.0),
+            ("under", t, b, Some(0.3), true, -1.0),
+            ("failed", t, b, None, true, 0.0),
         ];
-        let (mut cands, runs): (Vec<_>, Vec<_>) = list.into_iter().unzip();
-        cands[3].note = Some("stopped after the probe".into());
-        cands[5].score = None;
-        cands[5].failed = Some("diverged".into());
+        let made: Vec<_> = list.iter().map(|c| candidate(c.1, c.2, c.5, &test)).collect();
+        let entries: Vec<Entry> = list
+            .iter()
+            .zip(&made)
+            .map(|(c, (model, runs))| Entry {
+                name: c.0,
+                model,
+                score: c.3,
+                full: c.4,
+                runs,
+            })
+            .collect();
         let tests: Vec<&[Record]> = vec![std::slice::from_ref(&test); 2];
-        let e = ensembles(&cands, &runs, &tests);
+        let e = ensembles(&entries, &tests);
         assert_eq!(e.len(), 2);
         assert_eq!(e[0].name, "mean of the best 2: over; under");
-        assert_eq!(e[0].members.len(), 2);
+        assert_eq!(e[0].members, vec![1, 4]);
         // +1 and -1 cancel: the mean is the output.
         assert!(
             e[0].fold_scores.iter().all(|s| s.abs() < 1e-15),
@@ -241,9 +258,10 @@ mod tests {
             e[0].fold_scores
         );
         assert_eq!(e[1].name, "mean of the best 3: over; under; arx");
+        assert_eq!(e[1].members, vec![1, 4, 0]);
         let s = e[1].score.unwrap();
         assert!((s - 0.1 / 2.0).abs() < 1e-12, "{s}");
         // Fewer than 2 members: none.
-        assert!(ensembles(&cands[1..4], &runs[1..4], &tests).is_empty());
+        assert!(ensembles(&entries[1..4], &tests).is_empty());
     }
 }
