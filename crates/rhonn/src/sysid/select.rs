@@ -3,7 +3,8 @@
 //! lagged RHONN (least squares and free-run trained; polynomial ones, `activation =
 //! "identity"`, chosen only by a margin), for one input and one output
 //! Wiener-Hammerstein block structures, and for one output continuous-time cascade
-//! structures, judged by the free-run error or the error K samples ahead.
+//! structures, then the means of the best 2 and of the best 3 (`select_ensemble`), judged
+//! by the free-run error or the error K samples ahead.
 //!
 //! Every record is cut into `folds` contiguous parts; fold f trains on every other part
 //! (each a record of its own) and is judged on part f of every record. A candidate's score
