@@ -2,15 +2,30 @@
 # The Python package's tests: a venv (target/py-venv) with maturin, pytest and numpy,
 # `pip install ./python` (maturin builds the extension through pip, as a user would),
 # then pytest on python/tests. Needs python3 (3.9+) with venv and pip, and PyPI.
+# `python/test.sh install` does the first part only and `python/test.sh run` the
+# pytest part (test-all.sh installs while the Rust tests build, and runs pytest beside
+# them); without an argument, both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+step=${1:-all}
+case "$step" in
+all | install | run) ;;
+*)
+    echo "python/test.sh: unknown step '$step' (allowed: install, run, or none for both)" >&2
+    exit 2
+    ;;
+esac
 PY=${PYTHON:-python3}
 VENV=target/py-venv
-if [ ! -x "$VENV/bin/python" ]; then
-    "$PY" -m venv "$VENV"
+if [ "$step" != run ]; then
+    if [ ! -x "$VENV/bin/python" ]; then
+        "$PY" -m venv "$VENV"
+    fi
+    "$VENV/bin/python" -m pip install --quiet --upgrade pip
+    "$VENV/bin/python" -m pip install --quiet maturin pytest numpy
+    "$VENV/bin/python" -m pip install --quiet ./python
 fi
-"$VENV/bin/python" -m pip install --quiet --upgrade pip
-"$VENV/bin/python" -m pip install --quiet maturin pytest numpy
+[ "$step" = install ] && exit 0
 # test-all.sh hands over the binary its `cargo test --release` built (RHONN_BIN): no second
 # build. Run alone, this builds it.
 if [ -z "${RHONN_BIN:-}" ]; then
@@ -18,7 +33,6 @@ if [ -z "${RHONN_BIN:-}" ]; then
     RHONN_BIN="$PWD/target/release/rhonn"
 fi
 export RHONN_BIN
-"$VENV/bin/python" -m pip install --quiet ./python
 # From the tests' folder, so that `import rhonn` is the installed package, not the source.
 cd python/tests
 "../../$VENV/bin/python" -m pytest -q .

@@ -2,7 +2,7 @@
 //! its baseline, consistent with each other (switching is part of saturation, which is part
 //! of the run), agree with the trajectory's input column, and the findings compare them.
 
-mod util;
+use crate::util;
 
 use util::{rhonn, stderr};
 

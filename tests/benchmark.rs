@@ -5,7 +5,7 @@
 //! parts of Silverbox and Wiener-Hammerstein: the polynomial RHONN and the block structure
 //! run free below the published GRU figures.
 
-mod util;
+use crate::util;
 
 use std::path::{Path, PathBuf};
 use util::{files_in, rhonn, stderr};

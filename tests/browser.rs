@@ -4,7 +4,7 @@
 //! screenshot of it is written (`target/report-screenshots/`). Without a Chromium on the
 //! machine the test says so on stderr and checks the pages' HTML only.
 
-mod util;
+use crate::util;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

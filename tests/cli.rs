@@ -1,6 +1,6 @@
 //! The real `rhonn` binary in a temporary folder: files written, exit codes, error text.
 
-mod util;
+use crate::util;
 
 use std::path::Path;
 use std::process::Command;

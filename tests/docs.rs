@@ -6,7 +6,7 @@
 //! the scenario reference's TOML blocks are scenarios `rhonn run` accepts. (The guides' Rust
 //! blocks are doctests of `rhonn-report` and `rhonn-core`.)
 
-mod util;
+use crate::util;
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};

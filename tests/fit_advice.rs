@@ -1,7 +1,7 @@
 //! What `rhonn fit` tells a user about their data before and while it fits: warnings
 //! that name the problem and the option to try, `--resample`, `--units`.
 
-mod util;
+use crate::util;
 
 use util::{rhonn, stderr};
 

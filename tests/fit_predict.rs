@@ -1,7 +1,7 @@
 //! `rhonn fit` and `rhonn predict` from the command line: files, figures against the ARX
 //! baseline, bad data, cascade models, and the measured benchmarks (cascaded tanks, pump).
 
-mod util;
+use crate::util;
 
 use std::path::Path;
 use util::{files_in, rhonn, stderr};

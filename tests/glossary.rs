@@ -5,7 +5,7 @@
 //! "Glossary of the figures". Settings echoed back (scenario, solver, model,
 //! parameters) are documented with the scenarios, not here.
 
-mod util;
+use crate::util;
 
 // The same matching as the report's "what it is" column.
 use rhonn_report::glossary::matches;

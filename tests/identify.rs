@@ -1,7 +1,7 @@
 //! `rhonn identify` from the command line: the files it writes, its figures on the
 //! measured cascaded tanks, and clear errors for bad recordings.
 
-mod util;
+use crate::util;
 
 use std::path::{Path, PathBuf};
 use util::{files_in, rhonn, stderr};

@@ -2,7 +2,7 @@
 //! panicked or wrote NaN with exit 0, data changed without a word, valid data refused, stale
 //! files in a reused folder, and errors that pointed the wrong way.
 
-mod util;
+use crate::util;
 
 use std::path::{Path, PathBuf};
 use util::{files_in, rhonn, stderr};

@@ -1,6 +1,6 @@
 //! One test per reported bug, named after what went wrong, with the report's words above it.
 
-mod util;
+use crate::util;
 
 use std::path::Path;
 use util::{files_in, rhonn, stderr};

@@ -1,7 +1,7 @@
 //! The second plant from the command line: `tanks-identify` and `tanks-control` run,
 //! list, show, bench and campaign (with resume) from the scenario alone.
 
-mod util;
+use crate::util;
 
 use util::{files_in, rhonn, stderr};
 

@@ -1,7 +1,7 @@
 //! A campaign lists its worst runs with their drawn parameters and a scenario file per
 //! run; `rhonn run` of that file reruns the run: the same figures as in runs.csv.
 
-mod util;
+use crate::util;
 
 use util::{rhonn, stderr};
 

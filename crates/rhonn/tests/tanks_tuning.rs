@@ -1,7 +1,7 @@
 //! How the controllers of `scenarios/tanks-control.toml` were tuned: a grid search for
 //! the lowest IAE on the scenario's nominal plant and set-points, for the RHONN adaptive
 //! cascade and for the PI cascade with the same sensors. Run by hand (it prints the
-//! best of each): `cargo test --release -p rhonn --test tanks_tuning -- --ignored --nocapture`.
+//! best of each): `cargo test --release -p rhonn --test integration tanks_tuning -- --ignored --nocapture`.
 //! And the lowest IAE any causal controller can reach there (a test).
 
 use rhonn::control::{Cascade, Controller, IndirectSettings, Pi, RhonnIndirect};

@@ -1,0 +1,23 @@
+//! The command's integration tests in one binary: each file here is a module of it (one
+//! link instead of sixteen, and the tests of every file share one harness's threads:
+//! `./test-all.sh`'s time on a 2-core machine). Run one file's tests with its module
+//! name: `cargo test --release --test integration benchmark::`.
+
+mod util;
+
+mod activity;
+mod benchmark;
+mod browser;
+mod cli;
+mod custom_plant;
+mod docs;
+mod fit_advice;
+mod fit_predict;
+mod glossary;
+mod identify;
+mod integrity;
+mod mutation;
+mod regression;
+mod shape;
+mod tanks_cli;
+mod worst_runs;
