@@ -130,23 +130,12 @@ fn folders(d: &Path) -> Vec<(&'static str, PathBuf)> {
             {"run": "thesis-ch5 training", "tool": "rhonn", "median_s": 0.001, "rhs_evaluations": 11100}]"#,
     )
     .unwrap();
-    let runs: [(&str, Vec<&str>); 7] = [
+    // The default fit of `est` is the one the tests share (`util::tanks_default_fit`), copied
+    // in as this folder's `fit`.
+    util::copy_dir(util::tanks_default_fit(), &d.join("fit"));
+    let runs: [(&str, Vec<&str>); 6] = [
         ("run", vec!["run", "thesis-ch5", "--out", "run"]),
         ("control", vec!["run", "control-adaptive", "--out", "control"]),
-        (
-            "fit",
-            vec![
-                "fit",
-                "--data",
-                est,
-                "--inputs",
-                "u",
-                "--outputs",
-                "y",
-                "--out",
-                "fit",
-            ],
-        ),
         (
             "predict",
             vec![
@@ -207,15 +196,15 @@ fn folders(d: &Path) -> Vec<(&'static str, PathBuf)> {
             ],
         ),
     ];
-    runs.into_iter()
-        .map(|(name, args)| {
+    std::iter::once(("fit", d.join("fit")))
+        .chain(runs.into_iter().map(|(name, args)| {
             let o = rhonn(d, &args);
             assert!(o.status.success(), "{name}: {}", stderr(&o));
             (
                 name,
                 d.join(args[args.iter().position(|a| *a == "--out").unwrap() + 1]),
             )
-        })
+        }))
         .collect()
 }
 

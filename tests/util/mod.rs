@@ -55,3 +55,63 @@ pub fn user_docs(root: &Path) -> Vec<(String, String)> {
         })
         .collect()
 }
+
+/// The folder of `rhonn fit` with the default selection on the cascaded tanks' estimation
+/// record, made once per test process and shared by the tests that read a default fit's
+/// files (the fit costs about 20 CPU-seconds; the test command's time on 2 cores). No
+/// test writes into it: one that needs the folder as its own copies it ([`copy_dir`]).
+/// It lives in Cargo's folder for integration tests' files, named by the process; the
+/// folders of earlier processes that have ended are removed first.
+pub fn tanks_default_fit() -> &'static Path {
+    static FIT: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+    FIT.get_or_init(|| {
+        let base = Path::new(env!("CARGO_TARGET_TMPDIR"));
+        let prefix = "tanks-default-fit-";
+        for e in std::fs::read_dir(base).into_iter().flatten().flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let ended = name
+                .strip_prefix(prefix)
+                .and_then(|pid| pid.parse::<u32>().ok())
+                .is_some_and(|pid| {
+                    Path::new("/proc").is_dir() && !Path::new(&format!("/proc/{pid}")).exists()
+                });
+            if ended {
+                let _ = std::fs::remove_dir_all(e.path());
+            }
+        }
+        let dir = base.join(format!("{prefix}{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cascaded-tanks/estimation.csv");
+        let o = rhonn(
+            &dir,
+            &[
+                "fit",
+                "--data",
+                data.to_str().unwrap(),
+                "--inputs",
+                "u",
+                "--outputs",
+                "y",
+                "--out",
+                "fit",
+            ],
+        );
+        assert!(o.status.success(), "the shared tanks fit: {}", stderr(&o));
+        dir.join("fit")
+    })
+}
+
+/// Copy the files of folder `from` (and its folders) into `to`, made if missing.
+pub fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let p = e.unwrap().path();
+        let target = to.join(p.file_name().unwrap());
+        if p.is_dir() {
+            copy_dir(&p, &target);
+        } else {
+            std::fs::copy(&p, target).unwrap();
+        }
+    }
+}
