@@ -5,16 +5,16 @@
 
 #[path = "../examples/custom_plant.rs"]
 #[allow(dead_code)]
-mod custom_plant;
+mod example;
 
-use custom_plant::{Oven, CASCADE};
+use example::{Oven, CASCADE};
 use rhonn::experiment::{run_plant_scenario_on, ScenarioSpec};
 use rhonn::plant::Input;
 
 #[test]
 fn a_users_plant_is_run_and_written_as_a_shipped_one() {
     let d = tempfile::tempdir().unwrap();
-    let files = custom_plant::run(d.path()).unwrap();
+    let files = example::run(d.path()).unwrap();
     for (run, extra) in [
         ("custom-plant-identify", &["validation.csv", "validation.svg"][..]),
         ("custom-plant-cascade", &[][..]),
