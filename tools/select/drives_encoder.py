@@ -198,7 +198,7 @@ def main(args):
         name = f"poles {na} numerator {nb} delay {nk} degree {degree}"
         rest, encoded, with_members = [], [], []
         for f, (fit_parts, held, member_runs) in enumerate(folds):
-            block = Block(fit(fit_parts, f"{TMP}/f{f}wh{o}", spec))
+            block = Block(fit(fit_parts, f"{TMP}/f{f}wh{o}", spec)["model"])
             sd = block.yn[1]
             theta, enc = train_encoder(block, fit_parts, joint)
             at_rest = runs(block, block.theta, None, held)
@@ -207,7 +207,7 @@ def main(args):
             encoded.append(np.mean([rms(p, y, SETTLE) / sd for p, (_, y) in zip(mine, held)]))
             ens = [np.mean([r[i] for r in member_runs] + [mine[i]], axis=0) for i in range(len(held))]
             with_members.append(np.mean([rms(p, y, SETTLE) / sd for p, (_, y) in zip(ens, held)]))
-        block = Block(fit(train, f"{TMP}/all{o}", spec))
+        block = Block(fit(train, f"{TMP}/all{o}", spec)["model"])
         theta, enc = train_encoder(block, train, joint)
         mine = runs(block, theta, enc, test)
         at_rest = runs(block, block.theta, None, test)
