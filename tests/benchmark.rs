@@ -61,29 +61,16 @@ fn predict_in_window(dir: &Path, ced: &Path, csv: &str) -> serde_json::Value {
 #[test]
 fn two_benchmarks_give_the_table_the_files_and_models_that_predict_their_figures() {
     let d = tempfile::tempdir().unwrap();
-    let data = repo().join("data/benchmarks");
-    let o = rhonn(
-        d.path(),
-        &[
-            "benchmark",
-            "daisy-hair-dryer",
-            "coupled-electric-drives",
-            "--data-dir",
-            data.to_str().unwrap(),
-            "--out",
-            "b",
-        ],
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = String::from_utf8_lossy(&o.stdout);
+    // `rhonn benchmark daisy-hair-dryer coupled-electric-drives`, run once for the tests
+    // that read it (`util::two_benchmarks`).
+    let (b, out) = util::two_benchmarks();
     assert!(out.contains("coupled-electric-drives | test 2 | y |"), "{out}");
     assert!(
         out.contains("0.089 (GP-NARX, Champneys et al., arXiv 2405.10779)"),
         "{out}"
     );
-    let b = d.path().join("b");
     assert_eq!(
-        files_in(&b),
+        files_in(b),
         [
             "benchmark.csv",
             "coupled-electric-drives",

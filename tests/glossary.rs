@@ -140,21 +140,12 @@ fn the_glossary_names_every_figure_the_outputs_write() {
             "identify",
         ],
     ];
-    let benchmarks = root.join("data/benchmarks");
-    let o = rhonn(
-        d.path(),
-        &[
-            "benchmark",
-            "daisy-hair-dryer",
-            "--data-dir",
-            benchmarks.to_str().unwrap(),
-            "--out",
-            "benchmark",
-        ],
-    );
-    assert!(o.status.success(), "benchmark: {}", stderr(&o));
-    read_summary(&d.path().join("benchmark"));
-    read_summary(&d.path().join("benchmark/daisy-hair-dryer"));
+    // The benchmark run the tests share (`util::two_benchmarks`): the hair dryer and the
+    // coupled drives.
+    let (benchmark, _) = util::two_benchmarks();
+    read_summary(benchmark);
+    read_summary(&benchmark.join("daisy-hair-dryer"));
+    read_summary(&benchmark.join("coupled-electric-drives"));
     let o = rhonn(
         d.path(),
         &["bench", "thesis-ch3", "--seconds", "0.05", "--out", "bench"],
