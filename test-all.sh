@@ -64,10 +64,12 @@ fi
 # build waits for theirs (cargo's lock on target/) and reuses its crates.
 background python-install "Python install (python/test.sh install)" python/test.sh install
 rust="Rust (cargo test --workspace --release)"
-# rhonn-python (no Rust tests; pytest checks it) stays in: its crates build here in the
-# build's idle stretches, and leaving it out changes the features the shared crates are
-# built with, so that the Python install rebuilt them after this build (61 s more).
-targets=(--workspace --release --locked --lib --bins --tests)
+# `--tests`: the targets whose manifest says `test = true` (every library's and binary's unit
+# tests, the integration tests), not the examples, nor rhonn-python (`test = false`: pytest
+# checks it; the Python install builds its extension). Every package stays selected
+# (`--workspace`, no `--exclude`): leaving one out changes the features the shared crates are
+# built with, and the Python install then rebuilt them (61 s more).
+targets=(--workspace --release --locked --tests)
 part "$rust: build" cargo test "${targets[@]}" --no-run
 finish python-install
 # The binary the Rust tests built (the same crates the Python extension's build reused).
