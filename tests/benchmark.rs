@@ -76,6 +76,7 @@ fn two_benchmarks_give_the_table_the_files_and_models_that_predict_their_figures
             "coupled-electric-drives",
             "daisy-hair-dryer",
             "report.html",
+            "rhonn-manifest.json",
             "summary.json"
         ]
     );

@@ -18,6 +18,7 @@ fn run_thesis_ch3_writes_csv_summary_and_plots() {
             "inputs.svg",
             "pressure.svg",
             "report.html",
+            "rhonn-manifest.json",
             "stroke.svg",
             "summary.json",
             "trajectory.csv"

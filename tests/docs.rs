@@ -34,7 +34,7 @@ fn blocks(text: &str, lang: &str) -> Vec<Vec<String>> {
             b.push(line.to_string());
         }
     }
-    out.retain(|b| b.first().map_or(true, |l| l != "\u{0}skip"));
+    out.retain(|b| b.first().is_none_or(|l| l != "\u{0}skip"));
     out
 }
 

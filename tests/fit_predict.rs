@@ -25,13 +25,14 @@ fn write_record(path: &Path, seed: u64, n: usize) {
 }
 
 /// The files `rhonn predict` writes for a model of `rhonn fit`.
-const PREDICTION_FILES: [&str; 7] = [
+const PREDICTION_FILES: [&str; 8] = [
     "prediction.csv",
     "prediction.svg",
     "prediction_zoom.svg",
     "report.html",
     "residual_histogram.svg",
     "residuals.svg",
+    "rhonn-manifest.json",
     "summary.json",
 ];
 #[test]
@@ -62,6 +63,7 @@ fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
         [
             "model.json",
             "report.html",
+            "rhonn-manifest.json",
             "summary.json",
             "training_0.svg",
             "training_1.svg"
@@ -121,6 +123,8 @@ fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
     let text = std::fs::read_to_string(d.path().join("m/model.json")).unwrap();
     let mut j: serde_json::Value = serde_json::from_str(&text).unwrap();
     j["model"]["sample_time_s"] = serde_json::json!(1e300);
+    // The baseline's with it: the two were fitted together (an edit of one alone is refused).
+    j["baseline"]["sample_time_s"] = serde_json::json!(1e300);
     std::fs::write(d.path().join("big.json"), j.to_string()).unwrap();
     let o = rhonn(
         d.path(),
@@ -138,6 +142,7 @@ fn fit_then_predict_on_unseen_data_writes_model_prediction_and_figures() {
     // A grid of nanoseconds: refused naming the key, not a crash filling the memory (found
     // by a mutation run: 8e11 samples were allocated), from the model and from --resample.
     j["model"]["sample_time_s"] = serde_json::json!(1e-9);
+    j["baseline"]["sample_time_s"] = j["model"]["sample_time_s"].clone();
     std::fs::write(d.path().join("fine.json"), j.to_string()).unwrap();
     let o = rhonn(
         d.path(),

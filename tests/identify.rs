@@ -44,6 +44,7 @@ fn tanks_identified_online_then_frozen_writes_every_file_and_the_figures_of_the_
             "report.html",
             "residual_histogram.svg",
             "residuals.svg",
+            "rhonn-manifest.json",
             "summary.json",
             "validation.csv",
             "validation.svg",
@@ -142,7 +143,13 @@ fn tanks_identified_online_then_frozen_writes_every_file_and_the_figures_of_the_
         );
         assert_eq!(
             files_in(&d.path().join("p")),
-            ["prediction.csv", "prediction.svg", "report.html", "summary.json"]
+            [
+                "prediction.csv",
+                "prediction.svg",
+                "report.html",
+                "rhonn-manifest.json",
+                "summary.json"
+            ]
         );
     }
     // A hand-edited model: a weight vector too short, a weight that is not a number.
@@ -210,9 +217,10 @@ fn bad_recordings_name_the_file_line_and_column_and_write_nothing() {
     assert!(e.contains("missing.csv") && e.contains("no column `y`"), "{e}");
     let e = identify_err(p, "back.csv", "t,u,y\n0,1,2\n2,1,2\n1,1,2\n");
     assert!(e.contains("back.csv, line 4, column `t`"), "{e}");
-    let e = identify_err(p, "gap.csv", "t,u,y\n0,1,2\n1,1,2\n2,1,2\n3,1,2\n9,1,2\n10,1,2\n");
+    // Missing rows, more than the one rule for gaps fills (1 % of the samples).
+    let e = identify_err(p, "gap.csv", "t,u,y\n0,1,2\n1,1,3\n3,1,2\n4,1,3\n5,1,2\n");
     assert!(
-        e.contains("gap.csv, line 6, column `t`") && e.contains("samples every 1 s"),
+        e.contains("gap.csv, column `t`: 1 samples missing") && e.contains("at most 1 %"),
         "{e}"
     );
     let e = identify_err(p, "one.csv", "t,u,y\n0,1,2\n");
@@ -631,4 +639,52 @@ fn a_spec_of_fit_works_in_identify_and_the_reverse_or_names_the_keys_that_differ
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(e.contains("cont.toml") && e.contains("online only"), "{e}");
+}
+
+/// Issue 56: a file with one glitch (y = 1e10 at row 500) is learned as the clean file is,
+/// the glitch skipped and said, and the ARX baseline is not poisoned by it either.
+#[test]
+fn a_glitch_in_a_recording_is_skipped_and_said_not_learned() {
+    let d = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("data/cascaded-tanks/estimation.csv")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let mut cells: Vec<String> = lines[501].split(',').map(str::to_string).collect();
+    cells[2] = "1e10".into();
+    lines[501] = cells.join(",");
+    std::fs::write(d.path().join("glitch.csv"), lines.join("\n") + "\n").unwrap();
+    let rms = |data: &Path, out: &str| {
+        let o = rhonn(
+            d.path(),
+            &[
+                "identify",
+                "--data",
+                data.to_str().unwrap(),
+                "--model",
+                root.join("models/tanks-online-lagged.toml").to_str().unwrap(),
+                "--validate",
+                root.join("data/cascaded-tanks/validation.csv").to_str().unwrap(),
+                "--inputs",
+                "u",
+                "--outputs",
+                "y",
+                "--out",
+                out,
+            ],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.path().join(out).join("summary.json")).unwrap())
+                .unwrap();
+        let frozen = s["validation"][0]["free_run_rms_error"].as_f64().unwrap();
+        let arx = s["baseline_arx"]["records"][0]["arx_rms_error"].as_f64();
+        (frozen, arx, stderr(&o))
+    };
+    let (clean, clean_arx, e) = rms(&root.join("data/cascaded-tanks/estimation.csv"), "clean");
+    assert!(!e.contains("skipped"), "{e}");
+    let (glitched, glitched_arx, e) = rms(&d.path().join("glitch.csv"), "glitched");
+    assert!(e.contains("t = 2000 s was skipped") && e.contains("1e10"), "{e}");
+    assert!((glitched / clean - 1.0).abs() <= 0.05, "{clean} vs {glitched}");
+    let (a, b) = (clean_arx.unwrap(), glitched_arx.unwrap());
+    assert!(b < 2.0 * a, "the ARX baseline learned the glitch: {a} vs {b}");
 }

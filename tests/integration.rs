@@ -13,6 +13,7 @@ mod custom_plant;
 mod docs;
 mod fit_advice;
 mod fit_predict;
+mod folders;
 mod glossary;
 mod identify;
 mod integrity;

@@ -381,9 +381,11 @@ fn a_reused_folder_keeps_no_stale_file_and_a_file_as_out_is_refused_first() {
 }
 
 #[test]
-fn a_missing_row_and_an_infinite_bias_are_named_as_what_they_are() {
+fn a_missing_row_is_filled_and_said_and_an_infinite_bias_is_named() {
     let d = tempfile::tempdir().unwrap();
-    // One row fewer: `t` moves by 8 s where the record samples every 4 s.
+    // One row fewer: `t` moves by 8 s where the record samples every 4 s. `identify`
+    // follows `rhonn fit`'s one rule for gaps (issue 56; it refused such a file before):
+    // one missing sample of 1,024 is filled by interpolation, and said.
     let gap = edited(d.path(), "gap.csv", |r| {
         r.remove(500);
     });
@@ -397,16 +399,16 @@ fn a_missing_row_and_an_infinite_bias_are_named_as_what_they_are() {
             "u",
             "--outputs",
             "y",
+            "--model",
+            s(&model("tanks-online-lagged.toml")),
             "--out",
             "g",
         ],
     );
-    assert_eq!(o.status.code(), Some(2));
+    assert!(o.status.success(), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(
-        e.contains("gap.csv, line 502, column `t`")
-            && e.contains("moves by 8 s")
-            && e.contains("1 missing sample"),
+        e.contains("gap.csv: the times are not uniform") && e.contains("1 output values interpolated"),
         "{e}"
     );
     // A PI's bias must be a finite number within its loop's output range.
@@ -600,4 +602,186 @@ fn a_column_named_twice_is_refused() {
             assert!(!d.path().join("o").exists());
         }
     }
+}
+
+/// Issue 56: one rule for gaps in every command. A jump of 3.9e7 s splits the record in
+/// `fit` and `identify` (no value made up across it; before: 9,751,024 rows, 99.99 %
+/// interpolated) and is refused by `predict`, which runs over one record; 100 rows
+/// removed (10 % of the samples) are refused by all three with the count; a
+/// `--resample` 4,000 times finer than the data is refused at once.
+#[test]
+fn a_long_gap_splits_the_record_and_many_missing_rows_are_refused_in_every_command() {
+    let d = tempfile::tempdir().unwrap();
+    let jump = edited(d.path(), "jump.csv", |r| {
+        for row in r.iter_mut().skip(600) {
+            row[0] = format!("{}", row[0].parse::<f64>().unwrap() + 3.9e7);
+        }
+    });
+    let removed = edited(d.path(), "removed.csv", |r| {
+        let kept: Vec<Vec<String>> = r
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| k % 10 != 5)
+            .map(|(_, x)| x.clone())
+            .collect();
+        *r = kept;
+    });
+    let fit = |data: &Path, out: &str, extra: &[&str]| {
+        let mut a = vec![
+            "fit",
+            "--data",
+            s(data),
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--select",
+            "none",
+            "--out",
+            out,
+        ];
+        a.extend(extra);
+        rhonn(d.path(), &a)
+    };
+    let identify = |data: &Path, out: &str| {
+        rhonn(
+            d.path(),
+            &[
+                "identify",
+                "--data",
+                s(data),
+                "--inputs",
+                "u",
+                "--outputs",
+                "y",
+                "--model",
+                s(&model("tanks-online-lagged.toml")),
+                "--out",
+                out,
+            ],
+        )
+    };
+    let o = fit(&jump, "fj", &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("jump.csv: split into 2 records at 1 gap(s)"),
+        "{}",
+        stderr(&o)
+    );
+    let sum: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("fj/summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        sum["training"]["free_run"].as_array().unwrap().len(),
+        2,
+        "two records"
+    );
+    let o = identify(&jump, "ij");
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("split into 2 records"), "{}", stderr(&o));
+    let o = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "fj/model.json",
+            "--data",
+            s(&jump),
+            "--out",
+            "pj",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("predict each part as its own file"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!d.path().join("pj").exists());
+    for o in [
+        fit(&removed, "fr", &[]),
+        identify(&removed, "ir"),
+        rhonn(
+            d.path(),
+            &[
+                "predict",
+                "--model",
+                "fj/model.json",
+                "--data",
+                s(&removed),
+                "--out",
+                "pr",
+            ],
+        ),
+    ] {
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains("removed.csv, column `t`: 102 samples missing in 102 short gaps")
+                && e.contains("at most 1 %"),
+            "{e}"
+        );
+    }
+    let o = fit(&data("estimation.csv"), "fs", &["--resample", "0.001"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("10 times its 1024 rows"), "{}", stderr(&o));
+    for out in ["fr", "ir", "pr", "fs"] {
+        assert!(!d.path().join(out).exists(), "{out} written");
+    }
+}
+
+/// Issue 56: model.json's fields are all read or refused: a newer or unreadable
+/// `rhonn_version`, a baseline whose signals or grid an edit moved away from the model's,
+/// and a file far larger than any model (refused before it is parsed).
+#[test]
+fn a_model_file_s_version_baseline_and_size_are_checked_not_ignored() {
+    let d = tempfile::tempdir().unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "fit",
+            "--data",
+            s(&data("estimation.csv")),
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--select",
+            "none",
+            "--out",
+            "m",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("m/model.json")).unwrap()).unwrap();
+    let refused = |m: &serde_json::Value, want: &[&str]| {
+        let o = predict(d.path(), m, "p");
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(want.iter().all(|w| e.contains(w)), "{want:?}: {e}");
+        assert!(!d.path().join("p").exists());
+    };
+    for (v, want) in [
+        ("99.0.0", "written by a newer rhonn"),
+        ("0.2.0", "written by a newer rhonn"),
+        ("banana", "MAJOR.MINOR.PATCH"),
+    ] {
+        let mut e = m.clone();
+        e["rhonn_version"] = v.into();
+        refused(&e, &["rhonn_version", want]);
+    }
+    for (field, value) in [
+        ("sample_time_s", serde_json::json!(8.0)),
+        ("inputs", serde_json::json!(["v"])),
+        ("outputs", serde_json::json!(["z"])),
+    ] {
+        let mut e = m.clone();
+        e["baseline"][field] = value;
+        refused(&e, &["baseline", "the model's own"]);
+    }
+    let mut e = m.clone();
+    e["padding"] = serde_json::json!("x".repeat(17 << 20));
+    refused(&e, &["at most 16 MB"]);
+    let o = predict(d.path(), &m, "ok");
+    assert!(o.status.success(), "{}", stderr(&o));
 }

@@ -26,6 +26,7 @@ fn tanks_scenarios_are_listed_and_run_like_the_pumps() {
         [
             "inputs.svg",
             "report.html",
+            "rhonn-manifest.json",
             "states.svg",
             "summary.json",
             "trajectory.csv",
@@ -53,6 +54,7 @@ fn tanks_scenarios_are_listed_and_run_like_the_pumps() {
         [
             "inputs.svg",
             "report.html",
+            "rhonn-manifest.json",
             "states.svg",
             "summary.json",
             "trajectory.csv",

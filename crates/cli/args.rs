@@ -188,6 +188,10 @@ pub enum Command {
         /// Output folder.
         #[arg(long, value_name = "DIR", required = true)]
         out: PathBuf,
+        /// Replace a different model.json already in --out (without it, that is refused
+        /// and nothing is written).
+        #[arg(long)]
+        force: bool,
     },
     /// Run a trained model on data and compare.
     ///

@@ -209,6 +209,7 @@ fn cmd_identify(c: Command) -> Result<()> {
         steps_ahead,
         units,
         out,
+        force,
     } = c
     else {
         return Ok(());
@@ -223,6 +224,7 @@ fn cmd_identify(c: Command) -> Result<()> {
         steps_ahead,
         units,
         out,
+        force,
     };
     let busy = progress::Busy::start(format!("identifying online on {} record(s)", req.data.len()));
     let o = commands::identify(&req);

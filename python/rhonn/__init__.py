@@ -115,7 +115,16 @@ def run(scenario: Union[str, "os.PathLike[str]", Mapping[str, Any]], *, out: Opt
 
 
 def _matrix(name: str, a: ArrayLike) -> np.ndarray:
-    """A float64 C-contiguous (n, k) array from ``a`` ((n,) is one column)."""
+    """A float64 C-contiguous (n, k) array from ``a`` ((n,) is one column). A masked array
+    with any value masked is refused: ``np.asarray`` would read the values under the mask."""
+    if np.ma.isMaskedArray(a):
+        masked = int(np.ma.getmaskarray(a).sum())
+        if masked:
+            raise ValueError(
+                f"{name} is a masked array with {masked} masked value(s): rhonn reads every value, "
+                f"so fill them ({name}.filled(...)) or drop those rows first"
+            )
+        a = np.ma.getdata(a)
     arr = np.asarray(a)
     if arr.dtype.kind not in "fiub":
         raise TypeError(f"{name} must hold real numbers, not {arr.dtype}")
@@ -384,9 +393,11 @@ class Model:
             )[1]
         )
 
-    def save(self, path: PathLike) -> None:
-        """Write ``model.json`` (read by ``rhonn predict`` and ``rhonn.load``)."""
-        self._inner.save(os.fspath(path))
+    def save(self, path: PathLike, *, force: bool = False) -> None:
+        """Write ``model.json`` (read by ``rhonn predict`` and ``rhonn.load``), whole or not
+        at all. A different file already at ``path`` is replaced only with ``force=True``
+        (else ``OSError``), as ``rhonn fit --force``."""
+        self._inner.save(os.fspath(path), bool(force))
 
     def to_json(self) -> str:
         """The model as model.json's text."""
@@ -474,6 +485,13 @@ class OnlineIdentifier(_OnlineIdentifier):
     candidate's figures, and ``freeze()`` keeps the winner. Fed the records
     ``rhonn identify --epochs 1`` learns (``reset()`` between records) with
     ``samples`` their total length, it gives the command's selection and model.
+
+    A sensor glitch does not poison it: a value more than 100 ranges beyond the range seen
+    so far (after 20 samples) is skipped, not learned, and the lags restart after it (3
+    such samples in a row are a new range, learned); a step in ``t`` longer than 3 sample
+    times restarts the lags instead of learning across the gap; values beyond 1e150 raise
+    ``ValueError`` (as in files). ``notes`` says what was skipped, as ``rhonn identify``
+    does for a file.
 
     Parameters
     ----------

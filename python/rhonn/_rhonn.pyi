@@ -48,7 +48,7 @@ class Model:
         baseline: bool = False,
         init_window: Optional[int] = None,
     ) -> Tuple[npt.NDArray[np.float64], str]: ...
-    def save(self, path: str) -> None: ...
+    def save(self, path: str, force: bool = False) -> None: ...
     def to_json(self) -> str: ...
     @staticmethod
     def from_json(text: str) -> Model: ...
@@ -56,6 +56,7 @@ class Model:
 class OnlineIdentifier:
     weights: npt.NDArray[np.float64]
     term_names: List[str]
+    notes: List[str]
     def __new__(
         cls,
         inputs: Sequence[str],

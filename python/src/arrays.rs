@@ -7,21 +7,11 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rhonn::data::Record;
 
-/// The columns of a 2-D array (n, k); `name` names the argument (values are checked by
-/// the library).
+/// The columns of a 2-D array (n, k) (its shape checked by the library); `name` names
+/// the argument.
 pub fn columns(name: &str, a: &PyReadonlyArray2<'_, f64>, k: usize) -> PyResult<Vec<Vec<f64>>> {
     let v = a.as_array();
-    let (n, cols) = v.dim();
-    if n == 0 {
-        return Err(value_error(format!(
-            "{name} is empty: give at least one sample (row)"
-        )));
-    }
-    if cols != k {
-        return Err(value_error(format!(
-            "{name} has {cols} columns; {k} are needed (one per signal)"
-        )));
-    }
+    rhonn::data::check_shape(name, v.dim(), k).map_err(crate::errors::rhonn_err)?;
     Ok((0..k).map(|j| v.column(j).to_vec()).collect())
 }
 
@@ -87,12 +77,6 @@ pub fn record(
     inputs: &[String],
     outputs: &[String],
 ) -> PyResult<Record> {
-    let (n, ny) = (u.as_array().dim().0, y.as_array().dim().0);
-    if ny != n {
-        return Err(value_error(format!(
-            "u has {n} rows and y {ny}: give one row per sample in both"
-        )));
-    }
     let (u, y) = (columns("u", u, inputs.len())?, columns("y", y, outputs.len())?);
     Record::sampled(source, dt, u, y).map_err(crate::errors::rhonn_err)
 }

@@ -12,7 +12,9 @@ mod online;
 use arrays::{columns_dict, record};
 use errors::{report_err, rhonn_err};
 use numpy::PyReadonlyArray2;
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
+use rhonn::cancel::{Waited, Worker};
 use rhonn::experiment::ScenarioSpec;
 use std::path::PathBuf;
 
@@ -30,14 +32,28 @@ fn json_to_toml(json: &str) -> PyResult<String> {
 /// A run's trajectory (name -> SI array), validation columns, and summary.json's text.
 type RunResult = (Py<PyAny>, Option<Py<PyAny>>, String);
 
+/// `f` on a worker thread (`rhonn::cancel::Worker`); Ctrl-C is checked every 50 ms, and
+/// raises KeyboardInterrupt at once while the library stops at its next check.
+fn interruptible<T: Send + 'static>(py: Python<'_>, f: impl FnOnce() -> T + Send + 'static) -> PyResult<T> {
+    let w = Worker::start(f);
+    loop {
+        match py.detach(|| w.wait(std::time::Duration::from_millis(50))) {
+            Waited::Done(v) => return Ok(v),
+            Waited::Running => py.check_signals().inspect_err(|_| rhonn::cancel::request())?,
+            Waited::Lost => return Err(PyRuntimeError::new_err("the call's worker thread panicked")),
+        }
+    }
+}
+
 /// Run a scenario; write its folder too when `out` is given.
 #[pyfunction]
 #[pyo3(signature = (name, toml_text=None, out=None))]
 fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>) -> PyResult<RunResult> {
     let sc = scenario(name, toml_text)?;
-    let (run, _) = py
-        .detach(|| rhonn_report::commands::run_scenario(&sc, out.as_deref()))
-        .map_err(report_err)?;
+    let (run, _) = interruptible(py, move || {
+        rhonn_report::commands::run_scenario(&sc, out.as_deref())
+    })?
+    .map_err(report_err)?;
     let summary = rhonn_report::scenario_run::summary_json(&run).map_err(report_err)?;
     let (traj, val) = run.into_columns();
     let traj = columns_dict(py, traj.into_iter())?;
@@ -45,10 +61,8 @@ fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>
     Ok((traj, val, summary))
 }
 
-/// Fit a model to recordings given as arrays (`us[k]`: (n, m), `ys[k]`: (n, p), one pair
-/// per recording, sampled every `dt` s). `spec`: a model spec's TOML text and what names
-/// it; `select`: choose the structure by cross-validation, judged `select_steps_ahead`
-/// samples ahead within `time_budget_s`.
+/// Fit a model to recordings (`us[k]`: (n, m), `ys[k]`: (n, p), sampled every `dt` s);
+/// `spec`: TOML text and what names it; `select`: (select_steps_ahead, time_budget_s).
 #[pyfunction]
 #[pyo3(signature = (us, ys, dt, inputs, outputs, spec=None, select=None))]
 #[allow(clippy::too_many_arguments)]
@@ -68,15 +82,15 @@ fn fit(
         .enumerate()
         .map(|(k, (u, y))| record(&format!("recording {k}"), dt, u, y, &inputs, &outputs))
         .collect::<PyResult<Vec<_>>>()?;
-    let spec = spec.as_ref().map(|(t, s)| (t.as_str(), s.as_str()));
-    let (fitted, summary, notes) = py
-        .detach(|| rhonn_report::commands::fit_in_memory(&recs, &inputs, &outputs, spec, select))
-        .map_err(report_err)?;
+    let (fitted, summary, notes) = interruptible(py, move || {
+        let spec = spec.as_ref().map(|(t, s)| (t.as_str(), s.as_str()));
+        rhonn_report::commands::fit_in_memory(&recs, &inputs, &outputs, spec, select)
+    })?
+    .map_err(report_err)?;
     Ok(model::Model(fitted, Some(summary), notes))
 }
 
-/// Run a Monte Carlo campaign into `out` (resumes a folder left by an interrupted one);
-/// returns the folder. `threads`: worker threads (None: every core).
+/// A Monte Carlo campaign into `out` (resuming one); `threads` None: every core.
 #[pyfunction]
 #[pyo3(signature = (name, runs, seed, out, toml_text=None, threads=None, corners=false, envelope_runs=1000))]
 #[allow(clippy::too_many_arguments)]
@@ -95,14 +109,15 @@ fn campaign(
     let sc = scenario(name, toml_text)?;
     let opts = CampaignOptions::whole(runs, seed, corners, envelope_runs);
     let zero = "threads = 0 is not allowed: give 1 or more, or None for every core";
-    py.detach(|| rhonn_report::commands::campaign(&sc, &opts, &out, (threads, zero), &|_| {}))
-        .map_err(report_err)?;
-    Ok(out.display().to_string())
+    let shown = out.display().to_string();
+    interruptible(py, move || {
+        rhonn_report::commands::campaign(&sc, &opts, &out, (threads, zero), &|_| {})
+    })?
+    .map_err(report_err)?;
+    Ok(shown)
 }
 
-/// For the bench (`python/bench.py`): the median seconds of `repeats` runs of a
-/// scenario made from Rust exactly as `run` makes them, without the conversion to Python
-/// objects.
+/// For `python/bench.py`: the median seconds of `repeats` runs of a scenario from Rust.
 #[pyfunction]
 fn _rust_run_seconds(py: Python<'_>, name: &str, repeats: usize) -> PyResult<f64> {
     let sc = scenario(name, None)?;

@@ -53,8 +53,9 @@ impl Model {
     }
 
     /// Write the model as `model.json` (the format `rhonn predict` and `rhonn.load` read).
-    fn save(&self, path: PathBuf) -> PyResult<()> {
-        any_model::save(&self.0, &path).map_err(report_err)
+    #[pyo3(signature = (path, force=false))]
+    fn save(&self, path: PathBuf, force: bool) -> PyResult<()> {
+        any_model::save(&self.0, &path, force).map_err(report_err)
     }
 
     /// The model as model.json's text.

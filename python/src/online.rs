@@ -61,8 +61,7 @@ impl OnlineIdentifier {
         })
     }
 
-    /// Take the sample `(t, u, y)` (t in s, strictly after the last one); returns the
-    /// estimate of `y(t)` made before seeing `y` (the first sample returns `y`).
+    /// Take the sample `(t, u, y)`; returns the estimate of `y(t)` made before seeing `y`.
     fn update<'py>(
         &mut self,
         py: Python<'py>,
@@ -76,9 +75,8 @@ impl OnlineIdentifier {
         Ok(PyArray1::from_slice(py, est))
     }
 
-    /// Stop adapting and return the frozen model (`Model.predict`, `Model.save`); the
-    /// identifier stays frozen until `resume()`. Choosing online: the winner so far
-    /// becomes the identifier (the other candidates are dropped).
+    /// Stop adapting and return the frozen model, frozen until `resume()`. Choosing
+    /// online: the winner so far becomes the identifier (the others are dropped).
     fn freeze(&mut self) -> PyResult<Model> {
         let m = self.session.freeze().map_err(rhonn_err)?;
         Ok(Model(AnyModel::Online(Box::new(m)), None, Vec::new()))
@@ -102,22 +100,26 @@ impl OnlineIdentifier {
         PyArray2::from_vec2(py, &w).map_err(|e| value_error(e.to_string()))
     }
 
+    /// What the guard skipped (glitches) or restarted over (gaps in time).
+    #[getter]
+    fn notes(&self) -> Vec<String> {
+        self.session.notes()
+    }
+
     /// Each term's name, in weight order (choosing online: the leading candidate's).
     #[getter]
     fn term_names(&self) -> PyResult<Vec<String>> {
         self.session.term_names().map_err(rhonn_err)
     }
 
-    /// Choosing online: every candidate's prequential figures and the winner so far, as
-    /// JSON (`rhonn identify`'s `selection` in summary.json); None with a given model.
+    /// Choosing online: the selection so far as JSON (summary.json's); None with a model.
     #[getter]
     fn _selection_json(&self) -> PyResult<Option<String>> {
         self.session.selection_json().map_err(rhonn_err)
     }
 
-    /// For the bench (`python/bench.py`): the same updates as `update` on the rows of `t`,
-    /// `u` (n, m) and `y` (n, p), made from Rust on a copy of this identifier (which stays
-    /// as it was); returns the seconds per update.
+    /// For `python/bench.py`: `update` on the rows of `t`, `u` (n, m) and `y` (n, p), from
+    /// Rust on a copy of this identifier; returns the seconds per update.
     fn _rust_seconds_per_update(
         &self,
         t: numpy::PyReadonlyArray1<'_, f64>,

@@ -240,3 +240,15 @@ def test_an_ensemble_the_selection_chooses_is_the_commands(tmp_path, root, rhonn
     assert m.summary["training"] == _without_sources(cli_summary["training"])
     assert m.summary["members"] == cli_summary["members"]
     assert len(m.summary["members"]) == len(chosen["members"])
+
+
+def test_a_masked_array_is_refused_unless_nothing_is_masked(tanks):
+    """Issue 56: a numpy masked array's mask was ignored (the values under it were fitted)."""
+    est, _ = tanks
+    y = np.ma.masked_array(est["y"], mask=np.zeros(len(est["y"]), dtype=bool))
+    y.mask[10] = True
+    with pytest.raises(ValueError, match=r"y is a masked array with 1 masked value"):
+        rhonn.fit(est["u"], y, dt=4.0, model={"kind": "arx", "na": 2, "nb": 2})
+    y.mask[10] = False
+    m = rhonn.fit(est["u"], y, dt=4.0, model={"kind": "arx", "na": 2, "nb": 2})
+    assert np.isfinite(m.score(est["u"], est["y"])[0]["rms_error"])

@@ -165,3 +165,39 @@ def test_the_benchs_rust_timings_are_library_calls(tanks):
         rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0)._rust_seconds_per_update(t, u, y)
     r = rhonn._rhonn._rust_run_seconds("thesis-ch5", 1)
     assert np.isfinite(r) and r > 0
+
+
+def _frozen_rms(est, val, glitch_at=None, glitch=None, pause_at=None):
+    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0, samples=len(est["t"]))
+    for k, (t, u, y) in enumerate(zip(est["t"], est["u"], est["y"])):
+        if pause_at is not None and k >= pause_at:
+            t += 1e6
+        if k == glitch_at:
+            y = glitch
+        ident.update(t, u, y)
+    model = ident.freeze()
+    free = model.predict(val["u"], val["y"])[:, 0]
+    return float(np.sqrt(np.mean((free - val["y"]) ** 2))), ident
+
+
+def test_a_glitch_a_huge_value_and_a_pause_do_not_poison_the_identifier(tanks):
+    """Issue 56: one glitch y = 1e10 at sample 500 leaves the frozen model's free-run RMS
+    within 5 % of the clean stream's; 1e200 is refused and learning goes on; after a pause
+    of 1e6 s learning resumes instead of failing."""
+    est, val = tanks
+    clean, ident = _frozen_rms(est, val)
+    assert ident.notes == []
+    glitched, ident = _frozen_rms(est, val, glitch_at=500, glitch=1e10)
+    assert abs(glitched / clean - 1) <= 0.05, (clean, glitched)
+    assert any("skipped" in n and "1e10" in n for n in ident.notes), ident.notes
+    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0, samples=len(est["t"]))
+    for k in range(len(est["t"])):
+        if k == 500:
+            with pytest.raises(ValueError, match="magnitude at most 1e150"):
+                ident.update(est["t"][k], est["u"][k], 1e200)
+            continue
+        ident.update(est["t"][k], est["u"][k], est["y"][k])
+    ident.freeze()
+    paused, ident = _frozen_rms(est, val, pause_at=500)
+    assert np.isfinite(paused) and paused <= 2 * clean, (clean, paused)
+    assert any("gap in time" in n for n in ident.notes), ident.notes

@@ -148,7 +148,7 @@ impl<T: Real> ActuatorBank<T> {
             // candidate) less qy^2 / qq: the best candidate explains the most.
             if cand.qq > T::default() {
                 let explained = cand.qy * cand.qy / cand.qq;
-                if best.map_or(true, |(_, e)| explained > e) {
+                if best.is_none_or(|(_, e)| explained > e) {
                     best = Some((j, explained));
                 }
             }

@@ -230,14 +230,13 @@ impl<T: Real, const S: usize, const C: usize> FixedOnline<T, S, C> {
             (positive(sc.y_scale) && positive(sc.u_scale), "scaling scales"),
             (
                 sc.y_bounds
-                    .map_or(true, |b| b.len() == ny && b.iter().all(|[lo, hi]| lo < hi)),
+                    .is_none_or(|b| b.len() == ny && b.iter().all(|[lo, hi]| lo < hi)),
                 "scaling.y_bounds",
             ),
             (spec.dead_zone.len() == ny, "dead_zone"),
             (
-                spec.robust.map_or(true, |(_, m, s)| {
-                    m.len() == ny && s.len() == ny && positive(m) && positive(s)
-                }),
+                spec.robust
+                    .is_none_or(|(_, m, s)| m.len() == ny && s.len() == ny && positive(m) && positive(s)),
                 "robust (radius, leakage)",
             ),
             ((1..=4).contains(&spec.degree), "degree"),

@@ -70,7 +70,7 @@ pub fn mutate_csv(text: &str, rng: &mut ChaCha8Rng) -> Mutant {
     };
     let mut r = rows.clone();
     let mut h = header.clone();
-    let (what, names) = match rng.gen_range(0..16) {
+    let (what, names) = match rng.gen_range(0..20) {
         0..=5 => {
             let c = rng.gen_range(0..h.len());
             let cell = *HOSTILE_CELLS.choose(rng).unwrap();
@@ -136,11 +136,76 @@ pub fn mutate_csv(text: &str, rng: &mut ChaCha8Rng) -> Mutant {
             r[k].push("1.0".into());
             (format!("line {line}: an extra cell"), line_names(&[]))
         }
+        15..=18 => stream_fault(rng, k, &mut h, &mut r),
         _ => return truncated(&join(&h, &r, ","), rng),
     };
     Mutant {
         text: join(&h, &r, ","),
         what,
         names,
+    }
+}
+
+/// The faults of a stream (a glitch, a paused logger, rows lost) and a header naming a
+/// column twice: row `k` of `r` (header `h`) changed; what was done and what an error
+/// about it names.
+fn stream_fault(
+    rng: &mut ChaCha8Rng,
+    k: usize,
+    h: &mut [String],
+    r: &mut Vec<Vec<String>>,
+) -> (String, Vec<String>) {
+    let line = k + 2;
+    let line_names = |extra: &[&str]| {
+        let mut v = vec![format!("line {line}"), "line".to_string()];
+        v.extend(extra.iter().map(|s| s.to_lowercase()));
+        v
+    };
+    match rng.gen_range(0..4) {
+        0 => {
+            // A sensor glitch: finite, inside the files' range, far outside the signal's.
+            let c = rng.gen_range(1..h.len().max(2)).min(h.len() - 1);
+            if let Some(x) = r[k].get_mut(c) {
+                *x = "1e10".into();
+            }
+            (
+                format!("line {line}, column {}: a glitch 1e10", h[c]),
+                line_names(&[&h[c]]),
+            )
+        }
+        1 => {
+            // A paused logger: every time from line `line` on jumps forward.
+            let jump = [1e3, 1e6, 3.9e7][rng.gen_range(0..3)];
+            for row in r.iter_mut().skip(k) {
+                if let Some(t) = row.first_mut().and_then(|c| c.parse::<f64>().ok()) {
+                    row[0] = format!("{}", t + jump);
+                }
+            }
+            (format!("t jumps by {jump} s at line {line}"), line_names(&["t"]))
+        }
+        2 => {
+            // Many rows lost: every fifth.
+            let kept: Vec<Vec<String>> = r
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| j % 5 != 2)
+                .map(|(_, x)| x.clone())
+                .collect();
+            *r = kept;
+            (
+                "every fifth row deleted".into(),
+                vec!["t".into(), "missing".into()],
+            )
+        }
+        _ => {
+            // A column named twice in the header.
+            let (a, b) = (rng.gen_range(0..h.len()), rng.gen_range(0..h.len()));
+            let name = h[a].clone();
+            h[b] = name.clone();
+            (
+                format!("column {} renamed {name}", b + 1),
+                vec![name.to_lowercase()],
+            )
+        }
     }
 }

@@ -29,11 +29,12 @@ pub fn judge(
             None => Verdict::Accepted,
         },
         Some(2) => {
-            if out.exists()
-                && std::fs::read_dir(out)
-                    .map(|mut d| d.next().is_some())
-                    .unwrap_or(false)
-            {
+            // The output folder may be the input's own (then it holds the input).
+            let written = std::fs::read_dir(out).map(|d| {
+                d.flatten()
+                    .any(|e| e.file_name().to_string_lossy() != file && e.file_name() != "stderr.txt")
+            });
+            if written.unwrap_or(false) {
                 return Verdict::Failed("refused, but the output folder was written".into());
             }
             let low = stderr.to_lowercase();
@@ -49,7 +50,7 @@ fn find_temporary(dir: &Path) -> Option<String> {
     let rd = std::fs::read_dir(dir).ok()?;
     for e in rd.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
-        if name.contains(".tmp") {
+        if name.contains(".tmp") || name.starts_with(".rhonn-stage-") || name == ".rhonn-commit" {
             return Some(e.path().display().to_string());
         }
         if e.path().is_dir() {

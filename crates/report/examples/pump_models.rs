@@ -121,7 +121,7 @@ fn select() -> Result<(), Error> {
                     f200[2]
                 );
                 println!("{row}");
-                if best.as_ref().map_or(true, |b| mean > b.0) {
+                if best.as_ref().is_none_or(|b| mean > b.0) {
                     best = Some((mean, row));
                 }
             }

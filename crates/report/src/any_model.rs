@@ -48,9 +48,17 @@ pub fn to_json(model: &AnyModel) -> Result<String> {
         .map_err(|e| Error::Input(format!("cannot write the model: {e}")))
 }
 
-/// Write model.json at `path`, whole or not at all.
-pub fn save(model: &AnyModel, path: &Path) -> Result<()> {
+/// Write model.json at `path`, whole or not at all; a different file already there is
+/// replaced only with `force`.
+pub fn save(model: &AnyModel, path: &Path, force: bool) -> Result<()> {
     let text = to_json(model)?;
+    if !force && path.exists() && std::fs::read_to_string(path).ok().as_deref() != Some(&format!("{text}\n"))
+    {
+        return Err(Error::File {
+            path: path.to_path_buf(),
+            message: "exists and holds something else: nothing written; give force=True to replace it".into(),
+        });
+    }
     let tmp = path.with_extension("json.partial");
     let io = |e: std::io::Error| Error::File {
         path: path.to_path_buf(),

@@ -98,8 +98,7 @@ pub fn write_bench(dir: &Path, figures: &[BenchFigures], compared: &[Compared]) 
     let mut set = OutputSet::new(dir)?;
     set.write("summary.json", |w| crate::write_json(w, &summary))?;
     set.write("bench.svg", |w| w.write_all(svg.as_bytes()))?;
-    let mut files = set.commit()?;
-    files.push(crate::html::write_report(dir)?);
+    let files = set.commit()?;
     Ok(files)
 }
 

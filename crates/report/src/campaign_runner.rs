@@ -105,6 +105,8 @@ pub(crate) fn run<C: CampaignKind>(
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<CampaignOutcome> {
     std::fs::create_dir_all(dir).map_err(|e| io_err("create the folder", dir, e))?;
+    // One campaign writes a folder at a time (a second is refused, not interleaved).
+    let _lock = crate::folder::FolderLock::acquire(dir)?;
     let mut notes = Vec::new();
     let meta = dir.join("campaign.json");
     let partial = dir.join("runs.partial.csv");
@@ -207,10 +209,15 @@ fn run_missing<C: CampaignKind>(
     let start = Instant::now();
     let rows: Vec<Done<C::Row>> = todo
         .par_iter()
-        .map(|&i| {
+        .filter_map(|&i| {
+            // A stop asked for (`rhonn::cancel`, Python's Ctrl-C): no run more; those done
+            // are in the partial file, which a later call resumes.
+            if rhonn::cancel::requested() {
+                return None;
+            }
             let d = c.run(i);
             let Ok(mut guard) = state.lock() else {
-                return d;
+                return Some(d);
             };
             let p = &mut *guard;
             let mut res = Ok(());
@@ -235,9 +242,10 @@ fn run_missing<C: CampaignKind>(
                 failed: p.failed,
                 elapsed_s: start.elapsed().as_secs_f64(),
             });
-            d
+            Some(d)
         })
         .collect();
+    rhonn::cancel::check()?;
     let p = state
         .into_inner()
         .map_err(|_| err("a campaign worker panicked".into()))?;
@@ -368,6 +376,7 @@ pub(crate) fn merge<C: CampaignKind>(dirs: &[PathBuf], out: &Path) -> Result<Cam
         )));
     }
     std::fs::create_dir_all(out).map_err(|e| io_err("create", out, e))?;
+    let _lock = crate::folder::FolderLock::acquire(out)?;
     write_json_atomic(&out.join("campaign.json"), c.file())?;
     c.finish(out, rows, notes)
 }

@@ -29,6 +29,18 @@ pub enum DataError {
         /// Columns present.
         available: String,
     },
+    /// A column the command reads is named twice in the header.
+    #[error("{file}: column `{column}` appears twice in the header (columns {first} and {second}): rename one, so that it is clear which is meant")]
+    DuplicateColumn {
+        /// File.
+        file: String,
+        /// The name.
+        column: String,
+        /// Its first position (1-based).
+        first: usize,
+        /// Its second position (1-based).
+        second: usize,
+    },
     /// A cell is not a number, not finite, or so large that its square overflows.
     #[error("{file}, line {line}, column `{column}`: `{value}` is not a finite number of magnitude at most 1e150 (larger values overflow when squared: rescale the column)")]
     BadCell {
@@ -65,9 +77,8 @@ pub enum DataError {
     },
 }
 
-/// The largest magnitude a cell may have: its square, in every variance and least-squares
-/// sum, stays finite.
-pub const MAX_MAGNITUDE: f64 = 1e150;
+/// The largest magnitude a cell may have (`rhonn::data::MAX_MAGNITUDE`).
+pub use rhonn::data::MAX_MAGNITUDE;
 
 /// A hint when the header looks separated by something other than commas.
 fn delimiter_hint(available: &str) -> String {
@@ -104,14 +115,25 @@ pub fn read_record(
         .map(|s| s.to_string())
         .collect();
     let find = |name: &str| {
-        header
+        let mut at = header
             .iter()
-            .position(|h| h == name)
-            .ok_or_else(|| DataError::MissingColumn {
+            .enumerate()
+            .filter(|(_, h)| *h == name)
+            .map(|(k, _)| k);
+        match (at.next(), at.next()) {
+            (Some(first), Some(second)) => Err(DataError::DuplicateColumn {
+                file: file.clone(),
+                column: name.to_string(),
+                first: first + 1,
+                second: second + 1,
+            }),
+            (Some(first), None) => Ok(first),
+            (None, _) => Err(DataError::MissingColumn {
                 file: file.clone(),
                 column: name.to_string(),
                 available: header.join(", "),
-            })
+            }),
+        }
     };
     let it = find("t")?;
     let ii: Vec<usize> = inputs.iter().map(|c| find(c)).collect::<Result<_, _>>()?;
@@ -174,6 +196,28 @@ mod tests {
         let p = d.path().join("d.csv");
         std::fs::write(&p, text).unwrap();
         p
+    }
+
+    #[test]
+    fn a_column_named_twice_in_the_header_is_refused_naming_both_positions() {
+        let d = tempfile::tempdir().unwrap();
+        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        for (text, name, at) in [
+            ("t,u,y,y\n0,1,2,3\n1,1,2,3\n", "y", "columns 3 and 4"),
+            ("t,u,t,y\n0,1,2,3\n1,1,2,3\n", "t", "columns 1 and 3"),
+        ] {
+            let p = write(&d, text);
+            let e = read_record(&p, &s(&["u"]), &s(&["y"]), 1)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(&format!("column `{name}` appears twice")) && e.contains(at),
+                "{e}"
+            );
+        }
+        // A duplicate the command does not read is no matter.
+        let p = write(&d, "t,u,y,x,x\n0,1,2,3,3\n1,1,2,3,3\n");
+        read_record(&p, &s(&["u"]), &s(&["y"]), 1).unwrap();
     }
 
     #[test]

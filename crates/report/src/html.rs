@@ -12,7 +12,13 @@ use std::path::{Path, PathBuf};
 /// Build `dir/report.html` from the folder's `summary.json` and SVG files (written under
 /// a temporary name, then renamed); returns its path.
 pub fn write_report(dir: &Path) -> Result<PathBuf> {
-    let html = render(dir)?;
+    write_report_as(dir, dir)
+}
+
+/// [`write_report`] of a staging folder `dir` whose files will be in `shown` (the page
+/// names that folder).
+pub fn write_report_as(dir: &Path, shown: &Path) -> Result<PathBuf> {
+    let html = render(dir, shown)?;
     let path = dir.join("report.html");
     let tmp = dir.join(".report.html.partial");
     let fail = |e: std::io::Error| Error::File {
@@ -32,7 +38,7 @@ figure{margin:1em 0}figure svg{max-width:100%;height:auto;border:1px solid #eee}
 .muted{color:#666;font-size:0.9em}ul.findings li{margin:0.2em 0}";
 
 /// The page's HTML.
-fn render(dir: &Path) -> Result<String> {
+fn render(dir: &Path, shown: &Path) -> Result<String> {
     let unreadable =
         |p: &Path, e: &dyn std::fmt::Display| Error::Input(format!("cannot read {}: {e}", p.display()));
     if !dir.is_dir() {
@@ -58,7 +64,7 @@ fn render(dir: &Path) -> Result<String> {
             dir.display()
         )));
     }
-    let title = title_of(dir, summary.as_ref());
+    let title = title_of(shown, summary.as_ref());
     let mut h = String::new();
     let _ = write!(
         h,
@@ -66,7 +72,7 @@ fn render(dir: &Path) -> Result<String> {
         esc(&title),
         esc(&title),
         env!("CARGO_PKG_VERSION"),
-        esc(&dir.display().to_string())
+        esc(&shown.display().to_string())
     );
     if let Some(s) = &summary {
         let findings = collect_findings(s);

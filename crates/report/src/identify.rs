@@ -87,7 +87,7 @@ fn record_columns(records: &[Record]) -> Vec<Column> {
     let index = records
         .iter()
         .enumerate()
-        .flat_map(|(i, r)| std::iter::repeat(i as f64).take(r.len()));
+        .flat_map(|(i, r)| std::iter::repeat_n(i as f64, r.len()));
     vec![
         col("record", index.collect()),
         col("t", records.iter().flat_map(|r| r.t.iter().copied()).collect()),

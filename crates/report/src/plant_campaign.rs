@@ -61,7 +61,7 @@ fn row(
     r.extend(values.iter().map(|v| format!("{v:e}")));
     match outcome {
         Ok(f) => r.extend(f.iter().map(|v| format!("{v:e}"))),
-        Err(_) => r.extend(std::iter::repeat("NaN".to_string()).take(n_fig)),
+        Err(_) => r.extend(std::iter::repeat_n("NaN".to_string(), n_fig)),
     }
     r
 }

@@ -85,10 +85,52 @@ fn parse<T: DeserializeOwned>(
     })
 }
 
+/// The largest model file read: every model rhonn writes is far smaller.
+pub const MAX_MODEL_BYTES: usize = 16 << 20;
+
+/// A model file's `rhonn_version`: a version this rhonn can read (`MAJOR.MINOR.PATCH`, not
+/// newer in its major version, or for 0.x in its minor: semantic versioning's breaking
+/// changes).
+fn check_version(v: &serde_json::Value) -> crate::Result<()> {
+    let ours: Vec<u64> = env!("CARGO_PKG_VERSION")
+        .split('.')
+        .filter_map(|p| p.parse().ok())
+        .collect();
+    let text = v.as_str().unwrap_or_default();
+    let parts: Vec<u64> = text
+        .split(['.', '-', '+'])
+        .take(3)
+        .map_while(|p| p.parse().ok())
+        .collect();
+    let bad = |why: String| crate::error::invalid("rhonn_version", v.to_string(), why);
+    if parts.len() != 3 {
+        return Err(bad("a version rhonn writes, MAJOR.MINOR.PATCH".into()));
+    }
+    let breaking = |p: &[u64]| if p[0] == 0 { (0, p[1]) } else { (p[0], 0) };
+    if breaking(&parts) > breaking(&ours) {
+        return Err(bad(format!(
+            "a version this rhonn ({}) reads: the file was written by a newer rhonn; update rhonn to read it",
+            env!("CARGO_PKG_VERSION")
+        )));
+    }
+    Ok(())
+}
+
 impl AnyModel {
     /// A model from `model.json`'s text, of the kind its `kind` field says, checked;
     /// `source_name` names it in errors.
     pub fn parse(text: &str, source_name: &str) -> Result<Self, ModelFileError> {
+        // Checked before the text is parsed: a JSON tree takes many times its text's memory.
+        if text.len() > MAX_MODEL_BYTES {
+            return Err(ModelFileError::Invalid {
+                source_name: source_name.to_string(),
+                source: crate::error::invalid(
+                    "the file",
+                    format!("{} MB", crate::metrics::sig(text.len() as f64 / 1e6, 3)),
+                    "at most 16 MB: no model rhonn writes comes near (at most 256 terms per output)",
+                ),
+            });
+        }
         let value = serde_json::from_str::<serde_json::Value>(text).map_err(|e| ModelFileError::NotJson {
             source_name: source_name.to_string(),
             message: e.to_string(),
@@ -97,6 +139,9 @@ impl AnyModel {
             source_name: source_name.to_string(),
             source,
         };
+        if let Some(v) = value.get("rhonn_version") {
+            check_version(v).map_err(invalid)?;
+        }
         if value.get("kind").and_then(|k| k.as_str()) == Some(OnlineModel::KIND) {
             let m: OnlineModel = parse(text, source_name, "a valid online model")?;
             m.identifier().map_err(invalid)?;

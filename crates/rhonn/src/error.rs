@@ -82,6 +82,9 @@ pub enum Error {
     /// names it, its value and what is allowed.
     #[error("{0}")]
     Argument(String),
+    /// The call was asked to stop (`crate::cancel`: Python's Ctrl-C) and did.
+    #[error("interrupted")]
+    Interrupted,
     /// A controller produced a non-finite output or weight.
     #[error("controller diverged at t = {t_s} s ({state})")]
     Controller {

@@ -33,6 +33,7 @@ All quantities are SI inside ([`units`] converts); people read MPa, mm and dm^3/
 pub mod activity;
 pub mod any_model;
 pub mod benchmark;
+pub mod cancel;
 pub mod control;
 pub mod data;
 pub mod error;

@@ -156,37 +156,46 @@ pub fn benchmark(req: &BenchmarkRequest, progress: &(dyn Fn(&str) + Sync)) -> Re
         .iter()
         .map(|n| crate::benchmark_data::load(&req.data_dir, n))
         .collect::<Result<Vec<_>>>()?;
-    super::in_folder(&req.out, || {
-        let mut o = Outcome::default();
-        let mut rows = Vec::new();
-        for b in &loaded {
-            let given = model
-                .as_ref()
-                .map(|(specs, name)| (specs.as_slice(), name.as_str()));
-            let res = rhonn::benchmark::run_with(b, given, progress)
-                .map_err(|e| super::context(format!("benchmark {}", b.name))(e.into()))?;
-            o.files.extend(write_one(&req.out.join(&b.name), b, &res)?);
-            o.notes
-                .extend(res.warnings.iter().map(|w| format!("warning: {}: {w}", b.name)));
-            rows.extend(rows_of(&res));
-        }
-        let mut set = OutputSet::new(&req.out)?;
-        let summary = Summary {
-            rhonn_version: env!("CARGO_PKG_VERSION"),
-            protocol: PROTOCOL,
-            rows: &rows,
-        };
-        set.write("summary.json", |w| crate::write_json(w, &summary))?;
-        set.write("benchmark.csv", |w| write_rows_csv(w, &rows))?;
-        o.files.extend(set.commit()?);
-        o.files.push(crate::write_report(&req.out)?);
-        o.lines = if req.json {
-            vec![serde_json::to_string_pretty(&summary).map_err(|e| Error::Input(e.to_string()))?]
-        } else {
-            table_lines(&rows)
-        };
-        Ok(o)
-    })
+    let inputs: Vec<PathBuf> = req.model.iter().cloned().collect();
+    super::in_folder(
+        &req.out,
+        (&inputs, crate::folder::writes::BENCHMARK),
+        false,
+        |stage| {
+            let mut o = Outcome::default();
+            let mut rows = Vec::new();
+            for b in &loaded {
+                let given = model
+                    .as_ref()
+                    .map(|(specs, name)| (specs.as_slice(), name.as_str()));
+                let res = rhonn::benchmark::run_with(b, given, progress)
+                    .map_err(|e| super::context(format!("benchmark {}", b.name))(e.into()))?;
+                o.files.extend(write_one(
+                    (&stage.join(&b.name), &req.out.join(&b.name)),
+                    b,
+                    &res,
+                )?);
+                o.notes
+                    .extend(res.warnings.iter().map(|w| format!("warning: {}: {w}", b.name)));
+                rows.extend(rows_of(&res));
+            }
+            let mut set = OutputSet::new(stage)?;
+            let summary = Summary {
+                rhonn_version: env!("CARGO_PKG_VERSION"),
+                protocol: PROTOCOL,
+                rows: &rows,
+            };
+            set.write("summary.json", |w| crate::write_json(w, &summary))?;
+            set.write("benchmark.csv", |w| write_rows_csv(w, &rows))?;
+            o.files.extend(set.commit()?);
+            o.lines = if req.json {
+                vec![serde_json::to_string_pretty(&summary).map_err(|e| Error::Input(e.to_string()))?]
+            } else {
+                table_lines(&rows)
+            };
+            Ok(o)
+        },
+    )
 }
 
 /// The console table: one line per benchmark, test set and output.
@@ -249,7 +258,11 @@ fn write_rows_csv(w: &mut dyn std::io::Write, rows: &[Row]) -> std::io::Result<(
 
 /// `DIR/NAME/`: the models (model.json, online/model.json), summary.json, per test set
 /// the free runs (CSV and plot) and the fit model's residuals, report.html.
-fn write_one(dir: &Path, b: &rhonn::benchmark::Benchmark, res: &BenchmarkOutcome) -> Result<Vec<PathBuf>> {
+fn write_one(
+    (dir, shown): (&Path, &Path),
+    b: &rhonn::benchmark::Benchmark,
+    res: &BenchmarkOutcome,
+) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let mut online = OutputSet::new(&dir.join("online"))?;
     online.write("model.json", |w| crate::write_json(w, &res.online))?;
@@ -269,7 +282,7 @@ fn write_one(dir: &Path, b: &rhonn::benchmark::Benchmark, res: &BenchmarkOutcome
         set.write(&format!("residuals_{k}.svg"), |w| w.write_all(resid.as_bytes()))?;
     }
     files.extend(set.commit()?);
-    files.push(crate::write_report(dir)?);
+    files.push(crate::write_report_as(dir, shown)?);
     Ok(files)
 }
 

@@ -72,18 +72,34 @@ pub fn read_data(
     min_rows: usize,
     resample_s: Option<f64>,
 ) -> Result<Vec<Record>> {
-    Ok(read_data_regridded(paths, inputs, outputs, min_rows, resample_s)?.0)
+    Ok(read_data_regridded(paths, inputs, outputs, min_rows, resample_s)?.records)
 }
 
-/// [`read_data`], and what putting each record on its grid changed (nothing for a record
-/// already uniform to within `rhonn::data::TIME_JITTER` of its step).
+/// Records read and put on their grids, and what that changed.
+#[derive(Debug, Default)]
+pub struct ReadData {
+    /// The records, on their grids: a file split at its long gaps is several.
+    pub records: Vec<Record>,
+    /// What putting each on its grid changed (nothing for a record already uniform to
+    /// within `rhonn::data::TIME_JITTER` of its step).
+    pub regridded: Vec<rhonn::data::Regrid>,
+    /// What the rule for gaps did (`rhonn::data::Record::split_at_gaps`), and parts too
+    /// short to use that were left out, as notes.
+    pub notes: Vec<String>,
+}
+
+/// [`read_data`], and what it changed ([`ReadData`]): each file split at its gaps of
+/// more than `rhonn::data::MAX_FILLED_GAP` missing samples (refused with more than
+/// `rhonn::data::MAX_FILLED_SHARE` of its samples missing in shorter gaps), each part put
+/// on the grid of `resample_s` or its own interval; a part shorter than `min_rows` is left
+/// out (said), a file with no part that long is an error.
 pub fn read_data_regridded(
     paths: &[PathBuf],
     inputs: &[String],
     outputs: &[String],
     min_rows: usize,
     resample_s: Option<f64>,
-) -> Result<(Vec<Record>, Vec<rhonn::data::Regrid>)> {
+) -> Result<ReadData> {
     rhonn::data::check_names(inputs, outputs)?;
     if let Some(dt) = resample_s {
         if !(dt.is_finite() && dt > 0.0) {
@@ -92,30 +108,47 @@ pub fn read_data_regridded(
             )));
         }
     }
-    let (mut recs, mut changes) = (Vec::new(), Vec::new());
+    let mut out = ReadData::default();
     for p in paths {
         let r = crate::read_record(p, inputs, outputs, min_rows)?;
         let dt = resample_s.unwrap_or_else(|| r.sample_interval());
-        let (u, change) = r.regrid(
-            dt,
-            if resample_s.is_some() {
-                "--resample"
-            } else {
-                "the sample time"
-            },
-        )?;
-        changes.extend(change);
-        if u.len() < min_rows {
+        let (parts, split) = r.split_at_gaps()?;
+        out.notes.extend(split.map(|s| s.to_string()));
+        let field = if resample_s.is_some() {
+            "--resample"
+        } else {
+            "the sample time"
+        };
+        let mut kept = 0;
+        for part in parts {
+            let (u, change) = part.regrid(dt, field)?;
+            if u.len() < min_rows {
+                out.notes.push(format!(
+                    "{}: left out, {} samples on the grid of {} s where the model needs at least {min_rows}",
+                    u.source,
+                    u.len(),
+                    rhonn::metrics::sig(dt, 6)
+                ));
+                continue;
+            }
+            out.regridded.extend(change);
+            out.records.push(u);
+            kept += 1;
+        }
+        if kept == 0 {
             return Err(Error::Input(format!(
-                "{}: {} samples on the grid of {} s, the model needs at least {min_rows}: give a shorter --resample",
+                "{}: no part of at least {min_rows} samples on the grid of {} s, which the model needs{}",
                 p.display(),
-                u.len(),
-                rhonn::metrics::sig(dt, 6)
+                rhonn::metrics::sig(dt, 6),
+                if resample_s.is_some() {
+                    ": give a shorter --resample"
+                } else {
+                    ""
+                }
             )));
         }
-        recs.push(u);
     }
-    Ok((recs, changes))
+    Ok(out)
 }
 
 /// The structure a fit of `n_outputs` outputs takes, and the fewest samples a record
@@ -205,7 +238,13 @@ pub fn fit(req: &FitRequest) -> Result<Outcome> {
 
 /// [`fit`], telling `progress` a line per candidate structure of a selection.
 pub fn fit_with_progress(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcome> {
-    super::in_folder(&req.out, || fit_into(req, progress))
+    let inputs: Vec<PathBuf> = req.data.iter().chain(&req.model).cloned().collect();
+    super::in_folder(
+        &req.out,
+        (&inputs, crate::folder::writes::FIT),
+        req.force,
+        |stage| fit_into(req, stage, progress),
+    )
 }
 
 /// A structure the spec allows key by key but not as a whole is the spec file's error.
@@ -216,7 +255,7 @@ fn spec_error(e: rhonn::Error, req: &FitRequest) -> Error {
     }
 }
 
-fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcome> {
+fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcome> {
     let (inputs, outputs) = (&req.inputs, &req.outputs);
     let units = parse_units(&req.units, inputs, outputs)?;
     if req.select.is_some() && req.model.is_some() {
@@ -232,7 +271,11 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
     };
     let spec = spec.as_ref().map(|(t, s)| (t.as_str(), s.as_str()));
     let (structure, min_rows) = fit_structure(req.select.as_ref(), spec, outputs.len())?;
-    let (recs, regridded) = read_data_regridded(&req.data, inputs, outputs, min_rows, req.resample_s)?;
+    let ReadData {
+        records: recs,
+        regridded,
+        notes: gap_notes,
+    } = read_data_regridded(&req.data, inputs, outputs, min_rows, req.resample_s)?;
     let run = rhonn::sysid::fit_records(structure, &recs, inputs, outputs, "--resample", progress)
         .map_err(|e| spec_error(e, req))?;
     o.notes
@@ -242,6 +285,7 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
     for g in &regridded {
         o.notes.push(format!("note: {g}"));
     }
+    o.notes.extend(gap_notes.iter().map(|n| format!("note: {n}")));
     o.notes
         .extend(run.data_warnings.iter().map(|w| format!("warning: {w}")));
     let (specs, mut fitted, mut summary) = (run.specs, run.fitted, run.summary);
@@ -258,8 +302,7 @@ fn fit_into(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcom
     if let Some(n) = replaced_note(&req.out, &fitted, &summary, req.force)? {
         o.notes.push(n);
     }
-    o.files = crate::write_fit(&req.out, &fitted, &summary, &training)?;
-    o.files.push(crate::write_report(&req.out)?);
+    o.files = crate::write_fit(stage, &fitted, &summary, &training)?;
     o.lines.push(if grey {
         format!(
             "fitted the pump's grey-box model on {} record(s); estimated: {}",
@@ -414,7 +457,31 @@ pub fn predict(
     steps: Option<usize>,
     window: Option<usize>,
 ) -> Result<Outcome> {
-    super::in_folder(out, || predict_into(model, data, out, steps, window))
+    let inputs = [model.to_path_buf(), data.to_path_buf()];
+    super::in_folder(out, (&inputs, crate::folder::writes::PREDICT), false, |stage| {
+        predict_into(model, data, stage, steps, window)
+    })
+}
+
+/// The model's folder checked whole (`crate::folder::check_whole`); a note when the model
+/// file was edited since its run wrote it.
+fn edited_note(model: &Path) -> Result<Option<String>> {
+    let Some(folder) = model.parent().filter(|p| p.is_dir()) else {
+        return Ok(None);
+    };
+    let listed = crate::folder::check_whole(folder)
+        .map_err(context(format!("the model's folder of {}", model.display())))?;
+    let name = model.file_name().map(|n| n.to_string_lossy().into_owned());
+    Ok(match (listed, name) {
+        (Some(m), Some(name)) if m.files.iter().any(|e| e.path == name) && !m.holds(folder, &name) => {
+            Some(format!(
+                "note: {} was edited since the run that wrote it ({}): predicting with it as it is now",
+                model.display(),
+                folder.join(crate::folder::MANIFEST).display()
+            ))
+        }
+        _ => None,
+    })
 }
 
 fn predict_into(
@@ -424,6 +491,7 @@ fn predict_into(
     steps: Option<usize>,
     window: Option<usize>,
 ) -> Result<Outcome> {
+    let edited = edited_note(model)?;
     let text = read_text(model)?;
     if steps == Some(0) {
         return Err(Error::Input(
@@ -454,17 +522,33 @@ fn predict_into(
     })?;
     let fitted = match &any {
         AnyModel::Online(m) => {
-            return super::identify::predict_online(model, &any, m, data, out, (steps, window))
+            let mut o = super::identify::predict_online(model, &any, m, data, out, (steps, window))?;
+            o.notes.splice(0..0, edited);
+            return Ok(o);
         }
         AnyModel::Fitted(f) => f,
     };
     let m = &fitted.model;
     let needed = any.samples_needed(steps);
-    let (recs, regridded) = read_data_regridded(&[data.to_path_buf()], &m.inputs, &m.outputs, needed, None)?;
+    let ReadData {
+        records: recs,
+        regridded,
+        notes: gap_notes,
+    } = read_data_regridded(&[data.to_path_buf()], &m.inputs, &m.outputs, needed, None)?;
+    if recs.len() > 1 || !gap_notes.is_empty() {
+        return Err(Error::Input(format!(
+            "{}: {}; a prediction runs over one record: predict each part as its own file",
+            data.display(),
+            gap_notes.join("; ")
+        )));
+    }
     let AnyPrediction::Fitted(p) = any.predict_with(&recs[0], steps, window)? else {
         unreachable!("a fitted model's prediction")
     };
-    let mut o = Outcome::default();
+    let mut o = Outcome {
+        notes: edited.into_iter().collect(),
+        ..Outcome::default()
+    };
     for g in &regridded {
         o.notes.push(format!("note: {g}"));
     }
@@ -480,7 +564,6 @@ fn predict_into(
         ));
     }
     o.files = crate::write_prediction(out, fitted, &p, &model.display().to_string())?;
-    o.files.push(crate::write_report(out)?);
     let mode = p.mode();
     for (j, f) in p.figures.iter().enumerate() {
         let unit = unit_of(&fitted.units, &f.output);

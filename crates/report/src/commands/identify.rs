@@ -29,6 +29,8 @@ pub struct IdentifyRequest {
     pub units: Vec<String>,
     /// The output folder.
     pub out: PathBuf,
+    /// Replace a different model.json in `out`.
+    pub force: bool,
 }
 
 /// Paths as a comma-separated list, for messages.
@@ -58,7 +60,19 @@ pub fn online_spec(text: &str, source: &str) -> Result<OnlineSpec> {
 /// `rhonn identify`: learn the recordings online, validate the frozen model, write the
 /// folder.
 pub fn identify(a: &IdentifyRequest) -> Result<Outcome> {
-    super::in_folder(&a.out, || identify_into(a))
+    let inputs: Vec<PathBuf> = a
+        .data
+        .iter()
+        .chain(&a.validate)
+        .chain(&a.model)
+        .cloned()
+        .collect();
+    super::in_folder(
+        &a.out,
+        (&inputs, crate::folder::writes::IDENTIFY),
+        a.force,
+        |stage| identify_into(a, stage),
+    )
 }
 
 /// An identification's error, named by whose it is: a setting of the spec is the spec
@@ -82,7 +96,7 @@ fn identification_error(e: rhonn::Error, a: &IdentifyRequest) -> Error {
     context(whose)(e.into())
 }
 
-fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
+fn identify_into(a: &IdentifyRequest, stage: &Path) -> Result<Outcome> {
     use rhonn::ident::identification::{identify, IdentifyError, IdentifyPlan};
     let given = a.model.as_deref().map(read_spec).transpose()?;
     let units = super::parse_units(&a.units, &a.inputs, &a.outputs)?;
@@ -91,8 +105,15 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
             "--steps-ahead 0 is not allowed: give K >= 1 samples".into(),
         ));
     }
-    let records = read_all(a, &a.data)?;
-    let vrec = read_all(a, &a.validate)?;
+    let read = read_all(a, &a.data)?;
+    let vread = read_all(a, &a.validate)?;
+    let (records, vrec) = (read.records, vread.records);
+    let read_notes: Vec<String> = (read.regridded.iter().map(ToString::to_string))
+        .chain(read.notes)
+        .chain(vread.regridded.iter().map(ToString::to_string))
+        .chain(vread.notes)
+        .map(|n| format!("note: {n}"))
+        .collect();
     let plan = IdentifyPlan {
         inputs: a.inputs.clone(),
         outputs: a.outputs.clone(),
@@ -107,9 +128,9 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
         IdentifyError::Baseline(e) => context("the ARX baseline")(e.into()),
     })?;
     let files = write_identify(
-        &a.out,
+        stage,
         &id.run,
-        &records,
+        id.learned.as_deref().unwrap_or(&records),
         &a.outputs,
         &id.model,
         &id.summary,
@@ -117,20 +138,24 @@ fn identify_into(a: &IdentifyRequest) -> Result<Outcome> {
     )?;
     let mut o = Outcome {
         files,
+        notes: read_notes
+            .into_iter()
+            .chain(id.guard_notes.iter().map(|n| format!("note: {n}")))
+            .collect(),
         ..Outcome::default()
     };
-    o.files.push(crate::write_report(&a.out)?);
     o.lines = console_lines(&id.summary);
     Ok(o)
 }
 
 /// The records of `paths`, with `a`'s columns.
-fn read_all(a: &IdentifyRequest, paths: &[PathBuf]) -> Result<Vec<rhonn::data::Record>> {
-    rhonn::data::check_names(&a.inputs, &a.outputs)?;
-    paths
-        .iter()
-        .map(|p| crate::read_record(p, &a.inputs, &a.outputs, 2).map_err(Error::from))
-        .collect()
+/// The records of `paths` under the one rule for gaps and grids (`rhonn fit`'s,
+/// [`super::read_data_regridded`]), and its notes.
+fn read_all(a: &IdentifyRequest, paths: &[PathBuf]) -> Result<super::ReadData> {
+    if paths.is_empty() {
+        return Ok(super::ReadData::default());
+    }
+    super::read_data_regridded(paths, &a.inputs, &a.outputs, 2, None)
 }
 
 /// The figures for the console: the online fit, then per validation record and output
@@ -213,7 +238,6 @@ pub(super) fn predict_online(
         files,
         ..Outcome::default()
     };
-    o.files.push(crate::write_report(out)?);
     let mode = steps.map_or("free run".to_string(), |k| format!("{k} steps ahead"));
     for f in &figures {
         o.lines.push(format!(

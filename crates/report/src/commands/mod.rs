@@ -11,7 +11,7 @@ mod run;
 pub use benchmark::{benchmark, figure, BenchmarkRequest, Row};
 pub use fit::{
     fit, fit_in_memory, fit_structure, fit_with_progress, model_specs, parse_units, predict, read_data,
-    FitRequest,
+    read_data_regridded, FitRequest, ReadData,
 };
 pub use identify::{identify, online_spec, IdentifyRequest};
 pub use run::{bench, run, run_scenario, save_plant_run, save_scenario_run, show, REPRODUCED};
@@ -87,12 +87,41 @@ pub fn campaign_report(o: &CampaignOutcome) -> crate::Result<Outcome> {
     Ok(out)
 }
 
-/// `rhonn report DIR`: (re)build a folder's `report.html` from its files.
+/// `rhonn report DIR`: (re)build a folder's `report.html` from its files. A folder with a
+/// manifest (`crate::folder`) is checked whole and from one run first, and its report is
+/// committed with its files again (linked, not copied), so it shows only that run's.
 pub fn report(dir: &Path) -> crate::Result<Outcome> {
-    Ok(Outcome {
-        files: vec![crate::write_report(dir)?],
-        ..Outcome::default()
-    })
+    let listed = if dir.is_dir() {
+        crate::folder::check_whole(dir)?
+    } else {
+        None
+    };
+    let Some(manifest) = listed else {
+        let _lock = dir
+            .is_dir()
+            .then(|| crate::folder::FolderLock::acquire(dir))
+            .transpose()?;
+        return Ok(Outcome {
+            files: vec![crate::write_report(dir)?],
+            ..Outcome::default()
+        });
+    };
+    let w = crate::folder::Writing::begin(dir, &[], &[], true)?;
+    manifest.verify_except(dir, &["model.json"])?;
+    for e in manifest.files.iter().filter(|e| e.path != "report.html") {
+        let (from, to) = (dir.join(&e.path), w.stage().join(&e.path));
+        let io = |err: std::io::Error| crate::Error::File {
+            message: rhonn::error::path_problem(&to, &err),
+            path: to.clone(),
+        };
+        if let Some(parent) = to.parent() {
+            std::fs::create_dir_all(parent).map_err(io)?;
+        }
+        if std::fs::hard_link(&from, &to).is_err() {
+            std::fs::copy(&from, &to).map_err(io)?;
+        }
+    }
+    commit(w, Outcome::default())
 }
 
 /// What a campaign (run, resumed or merged) tells its user.
@@ -115,30 +144,51 @@ pub fn campaign_outcome(o: &CampaignOutcome) -> Outcome {
     }
 }
 
-/// Check `dir` before the work of `f` (writable, or creatable), run `f`, then remove the
-/// run files of an earlier run in `dir` that `f` did not write (`crate::folder`), saying
-/// so in a note.
-pub(crate) fn in_folder(dir: &Path, f: impl FnOnce() -> crate::Result<Outcome>) -> crate::Result<Outcome> {
-    crate::folder::check_writable(dir)?;
-    let mut o = f()?;
-    finish_folder(dir, &mut o)?;
+/// Run `f` into output folder `dir` as a whole (`crate::folder::Writing`): the folder
+/// checked, locked and its interrupted commit finished before the work; `f` writes into the
+/// staging folder it is given (`report.html` is rendered there after it); then the set is
+/// committed in one step. `inputs`: this run's
+/// input files (never overwritten nor removed), `writes`: the names it may write
+/// (`crate::folder::writes`); `force`: a different `model.json` may be
+/// replaced or removed.
+pub(crate) fn in_folder(
+    dir: &Path,
+    (inputs, writes): (&[PathBuf], &[&str]),
+    force: bool,
+    f: impl FnOnce(&Path) -> crate::Result<Outcome>,
+) -> crate::Result<Outcome> {
+    let w = crate::folder::Writing::begin(dir, inputs, writes, force)?;
+    let o = f(w.stage())?;
+    commit(w, o)
+}
+
+/// Its `report.html`, rendered in the staging folder of `w` as the last file of `o`.
+fn with_report(w: &crate::folder::Writing, mut o: Outcome) -> crate::Result<Outcome> {
+    o.files.push(crate::write_report_as(w.stage(), w.dir())?);
     Ok(o)
 }
 
-/// Remove the run files of an earlier run that `o` did not write into `dir`; when any
-/// went, `report.html` (which shows the folder's plots) is written again without them.
-pub(crate) fn finish_folder(dir: &Path, o: &mut Outcome) -> crate::Result<()> {
-    let removed = crate::folder::remove_stale(dir, &o.files);
-    for r in &removed {
-        o.notes.push(format!(
-            "note: removed {} (an earlier run's file, which this run does not write)",
-            r.display()
-        ));
+/// Commit a writing whose files `o` names (at their staged paths), its `report.html`
+/// rendered last: they move into the output folder, and `o` names them there, with the
+/// notes of the commit.
+pub(crate) fn commit(w: crate::folder::Writing, o: Outcome) -> crate::Result<Outcome> {
+    let mut o = with_report(&w, o)?;
+    let (stage, dir) = (w.stage().to_path_buf(), w.dir().to_path_buf());
+    let c = w.commit()?;
+    for f in &mut o.files {
+        if let Ok(rel) = f.strip_prefix(&stage) {
+            *f = dir.join(rel);
+        }
     }
-    if !removed.is_empty() && o.files.iter().any(|f| f.ends_with("report.html")) {
-        crate::write_report(dir)?;
+    // Messages name the folder the user gave, never the staging folder.
+    let (from, to) = (stage.display().to_string(), dir.display().to_string());
+    for l in o.lines.iter_mut().chain(o.notes.iter_mut()) {
+        if l.contains(&from) {
+            *l = l.replace(&from, &to);
+        }
     }
-    Ok(())
+    o.notes.extend(c.notes);
+    Ok(o)
 }
 
 /// "in the model spec FILE" when `e` is about a setting of the spec (`model.*`) read from

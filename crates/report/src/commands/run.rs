@@ -22,36 +22,55 @@ pub fn run(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
 fn run_named(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
     let sc = preset::load_any(scenario)?;
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
-    Ok(run_scenario(&sc, Some(&dir))?.1.unwrap_or_default())
+    let file = Path::new(scenario);
+    let inputs: Vec<PathBuf> = file.is_file().then(|| file.to_path_buf()).into_iter().collect();
+    Ok(run_scenario_from(&sc, Some(&dir), &inputs)?.1.unwrap_or_default())
 }
 
-/// Run `sc` and, given `out`, write its folder as `rhonn run` does (the folder checked
-/// before the run): the run, and what writing it told (`rhonn run`, Python's `rhonn.run`).
+/// Run `sc` and, given `out`, write its folder as `rhonn run` does (the folder checked and
+/// locked before the run): the run, and what writing it told (`rhonn run`, Python's
+/// `rhonn.run`).
 pub fn run_scenario(
     sc: &rhonn::experiment::ScenarioSpec,
     out: Option<&Path>,
 ) -> Result<(rhonn::experiment::ScenarioRun, Option<Outcome>)> {
-    if let Some(dir) = out {
-        crate::folder::check_writable(dir)?;
-    }
-    let run = sc.run()?;
-    let written = out
-        .map(|dir| save_scenario_run(dir, &sc.name, &run))
+    run_scenario_from(sc, out, &[])
+}
+
+fn run_scenario_from(
+    sc: &rhonn::experiment::ScenarioSpec,
+    out: Option<&Path>,
+    inputs: &[PathBuf],
+) -> Result<(rhonn::experiment::ScenarioRun, Option<Outcome>)> {
+    let writing = out
+        .map(|dir| crate::folder::Writing::begin(dir, inputs, crate::folder::writes::RUN, false))
         .transpose()?;
+    let run = sc.run()?;
+    let written = match writing {
+        Some(w) => {
+            let o = scenario_run_into(w.stage(), &sc.name, &run)?;
+            Some(super::commit(w, o)?)
+        }
+        None => None,
+    };
     Ok((run, written))
 }
 
-/// Write a scenario run's folder as `rhonn run` does ([`run_scenario`]; the caller checks
-/// `crate::folder::check_writable` before it runs): its files all or nothing, `report.html`, an earlier run's files this run does not
-/// write removed (a note each); the scenario's warnings and the figures `rhonn run` prints.
+/// Write a scenario run's folder as `rhonn run` does ([`run_scenario`]): its files and
+/// `report.html` as a whole (`crate::folder`); the scenario's warnings and the figures
+/// `rhonn run` prints.
 pub fn save_scenario_run(dir: &Path, name: &str, run: &rhonn::experiment::ScenarioRun) -> Result<Outcome> {
+    super::in_folder(dir, (&[], crate::folder::writes::RUN), false, |stage| {
+        scenario_run_into(stage, name, run)
+    })
+}
+
+fn scenario_run_into(stage: &Path, name: &str, run: &rhonn::experiment::ScenarioRun) -> Result<Outcome> {
     let mut o = Outcome::default();
     o.notes
         .extend(run.warnings().iter().map(|w| format!("warning: {w}")));
-    o.files = crate::write_scenario_run(dir, run).map_err(written(name))?;
-    o.files.push(crate::write_report(dir)?);
+    o.files = crate::write_scenario_run(stage, run).map_err(written(name))?;
     o.lines = crate::scenario_run::run_lines(run);
-    super::finish_folder(dir, &mut o)?;
     Ok(o)
 }
 
@@ -63,18 +82,16 @@ fn written(name: &str) -> impl FnOnce(Error) -> Error {
 }
 
 /// Write a plant run's folder as `rhonn run` does: trajectory.csv, summary.json, plots and
-/// report.html, all or nothing; an earlier run's files this run does not write are removed
-/// (a note each). Your own plant: `rhonn::experiment::run_plant_scenario_on`, then this
-/// (`examples/custom_plant.rs`).
+/// report.html, as a whole (`crate::folder`). Your own plant:
+/// `rhonn::experiment::run_plant_scenario_on`, then this (`examples/custom_plant.rs`).
 pub fn save_plant_run(dir: &Path, output: &rhonn::experiment::PlantRunOutput) -> Result<Outcome> {
-    crate::folder::check_writable(dir)?;
-    let mut o = Outcome {
-        files: crate::write_plant_run(dir, output).map_err(written(&output.summary.scenario))?,
-        ..Outcome::default()
-    };
-    o.files.push(crate::write_report(dir)?);
-    super::finish_folder(dir, &mut o)?;
-    Ok(o)
+    super::in_folder(dir, (&[], crate::folder::writes::RUN), false, |stage| {
+        let o = Outcome {
+            files: crate::write_plant_run(stage, output).map_err(written(&output.summary.scenario))?,
+            ..Outcome::default()
+        };
+        Ok(o)
+    })
 }
 
 /// `rhonn bench`: time each scenario (default [`REPRODUCED`]) for about `seconds`; a table,
@@ -135,10 +152,16 @@ pub fn bench(
         o.lines
             .push(serde_json::to_string_pretty(&all).map_err(|e| Error::Input(e.to_string()))?);
     }
-    if let Some(dir) = out {
-        o.files = crate::bench_report::write_bench(dir, &all, &compared)?;
+    match out {
+        Some(dir) => {
+            let inputs: Vec<PathBuf> = compare.iter().map(|p| p.to_path_buf()).collect();
+            super::in_folder(dir, (&inputs, crate::folder::writes::BENCH), false, |stage| {
+                o.files = crate::bench_report::write_bench(stage, &all, &compared)?;
+                Ok(o)
+            })
+        }
+        None => Ok(o),
     }
-    Ok(o)
 }
 
 /// `rhonn show`: a scenario's TOML (a shipped one as shipped).

@@ -136,7 +136,7 @@ impl Actuator {
         }
         if self.queue.is_empty() {
             let held = self.held.take().unwrap_or(u);
-            self.queue.extend(std::iter::repeat(held).take(self.delay));
+            self.queue.extend(std::iter::repeat_n(held, self.delay));
         }
         self.queue.push_back(u);
         self.queue

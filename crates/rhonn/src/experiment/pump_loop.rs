@@ -166,7 +166,7 @@ impl OutputClock {
                 return None;
             }
             self.k += 1;
-            if (self.k - 1) % self.stride == 0 {
+            if (self.k - 1).is_multiple_of(self.stride) {
                 return Some(ts);
             }
         }
@@ -230,7 +230,7 @@ fn adaptive_state(
     if !(u.is_finite()
         && st.w_norm.is_finite()
         && st.w1_norm.is_finite()
-        && v.inner_reference.map_or(true, f64::is_finite))
+        && v.inner_reference.is_none_or(f64::is_finite))
     {
         return Err(Error::Controller {
             t_s: t,

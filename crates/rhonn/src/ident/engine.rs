@@ -91,10 +91,11 @@ pub(super) fn check_sample_finite(t: f64, u: &[f64], y: &[f64], y_used: bool) ->
     let first = u.iter().enumerate().map(named("u"));
     match first
         .chain(ys.iter().enumerate().map(named("y")))
-        .find(|(_, _, v)| !v.is_finite())
+        .find(|(_, _, v)| !(v.is_finite() && v.abs() <= crate::data::MAX_MAGNITUDE))
     {
         Some((s, i, v)) => Err(crate::Error::Argument(format!(
-            "{s}[{i}] = {v} (the sample at t = {t} s) is not allowed: every value must be finite"
+            "{s}[{i}] = {} (the sample at t = {t} s) is not allowed: every value must be finite and of magnitude at most 1e150 (as in a file)",
+            crate::error::readable(v.to_string())
         ))),
         None => Ok(()),
     }

@@ -167,6 +167,11 @@ pub struct Identification {
     pub model: OnlineModel,
     /// The frozen model's predictions on the validation records.
     pub validation: Option<Validation>,
+    /// The records learned, where the guard split the ones given (a glitch skipped, a gap
+    /// restarted over: `super::guard::screen`); None: the records given, as they were.
+    pub learned: Option<Vec<Record>>,
+    /// What the guard skipped or restarted over (also among the summary's findings).
+    pub guard_notes: Vec<String>,
 }
 
 /// Where an identification failed: the online passes (the model's or the data's), the
@@ -190,6 +195,9 @@ pub fn identify(
 ) -> Result<Identification, IdentifyError> {
     use IdentifyError as E;
     let outputs = &plan.outputs;
+    // Glitches skipped and gaps restarted over, as in a session (`super::guard`).
+    let (learned, guard_notes) = super::guard::screen(records, sample_time(records).map_err(E::Online)?);
+    let records: &[Record] = learned.as_deref().unwrap_or(records);
     let (mut spec, bank) = match &plan.given {
         Some(s) => (s.clone(), None),
         None => {
@@ -233,9 +241,10 @@ pub fn identify(
         online: run.figures.clone(),
         final_weight_norms: final_norms,
         max_weight_norm_per_pass: run.max_norm_per_pass.clone(),
-        findings: bank
+        findings: guard_notes
             .iter()
-            .flat_map(|b| b.findings())
+            .cloned()
+            .chain(bank.iter().flat_map(|b| b.findings()))
             .chain(findings(&run, &vfig))
             .chain(baseline.iter().flat_map(|b| b.findings()))
             .collect(),
@@ -250,6 +259,8 @@ pub fn identify(
         run,
         model,
         validation,
+        learned,
+        guard_notes,
     })
 }
 

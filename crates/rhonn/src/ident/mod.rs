@@ -16,6 +16,7 @@ use crate::net::Network;
 use rhonn_ode::Direction;
 
 mod frozen;
+pub mod guard;
 mod identified;
 pub use frozen::FrozenPair;
 pub use identified::{Identified, MAX_SIGNALS};

@@ -4,6 +4,7 @@
 //! here, so a binding only converts.
 
 use super::bank::{default_candidates, BankSelection, BankSettings, OnlineBank};
+use super::guard::{SampleGuard, Verdict};
 use super::{OnlineIdentifier, OnlineModel, OnlineSpec, Scaling};
 use crate::error::{Error, Result};
 use std::borrow::Cow;
@@ -44,6 +45,11 @@ pub struct OnlineSession {
     inputs: Vec<String>,
     outputs: Vec<String>,
     dt: f64,
+    /// What is let in (`super::guard`): glitches skipped, gaps restarted over.
+    guard: SampleGuard,
+    /// The last estimate returned (returned again for a skipped sample).
+    held: Vec<f64>,
+    t_last: Option<f64>,
 }
 
 fn argument(msg: impl Into<String>) -> Error {
@@ -165,9 +171,12 @@ impl OnlineSession {
         };
         Ok(OnlineSession {
             engine,
+            held: vec![0.0; outputs.len()],
             inputs,
             outputs,
             dt,
+            guard: SampleGuard::new(dt),
+            t_last: None,
         })
     }
 
@@ -177,11 +186,52 @@ impl OnlineSession {
     }
 
     /// Take the sample `(t, u, y)` (t in s, strictly after the last one); returns the
-    /// estimate of `y(t)` made before seeing `y` (the first sample returns `y`).
+    /// estimate of `y(t)` made before seeing `y` (the first sample returns `y`). A glitch
+    /// (`super::guard`) is skipped, not learned (the last estimate is returned again), and
+    /// learning restarts after it and after a gap in time; [`Self::notes`] says so.
     pub fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<&[f64]> {
+        if u.len() != self.inputs.len() || y.len() != self.outputs.len() {
+            return Err(argument(format!(
+                "the sample has {} inputs and {} outputs; {} and {} are needed",
+                u.len(),
+                y.len(),
+                self.inputs.len(),
+                self.outputs.len()
+            )));
+        }
+        super::engine::check_sample_finite(t, u, y, true)?;
+        if let Some(tl) = self.t_last.filter(|tl| t <= *tl) {
+            return Err(argument(format!(
+                "t = {t} is not allowed: a time after the previous sample's, {tl} s"
+            )));
+        }
+        self.t_last = Some(t);
+        match self.guard.judge(t, u, y) {
+            Verdict::Skip => {
+                self.restart();
+                return Ok(&self.held);
+            }
+            Verdict::AfterGap => self.restart(),
+            Verdict::Learn => {}
+        }
+        let estimate = match &mut self.engine {
+            Engine::One { inner, .. } => inner.update(t, u, y)?,
+            Engine::Bank(b) => b.update(t, u, y)?,
+        };
+        self.held.copy_from_slice(estimate);
+        Ok(&self.held)
+    }
+
+    /// What the guard skipped or restarted over, for the user (empty for a clean stream).
+    pub fn notes(&self) -> Vec<String> {
+        self.guard.notes()
+    }
+
+    /// The lag buffers restart with the next sample (the weights stay).
+    fn restart(&mut self) {
         match &mut self.engine {
-            Engine::One { inner, .. } => inner.update(t, u, y),
-            Engine::Bank(b) => b.update(t, u, y),
+            Engine::One { inner, .. } => inner.reset(),
+            Engine::Bank(b) => b.reset(),
         }
     }
 
@@ -218,10 +268,9 @@ impl OnlineSession {
 
     /// Forget the last sample (a new record starts); the weights stay.
     pub fn reset(&mut self) {
-        match &mut self.engine {
-            Engine::One { inner, .. } => inner.reset(),
-            Engine::Bank(b) => b.reset(),
-        }
+        self.restart();
+        self.guard.reset();
+        self.t_last = None;
     }
 
     /// The identifier: the one given, or, choosing online, the leader so far.

@@ -56,6 +56,18 @@ impl FittedModel {
         }
         if let Some(b) = &self.baseline {
             b.validate().map_err(|e| crate::error::rerooted(e, "baseline"))?;
+            // The baseline was fitted on the model's own signals and grid: an edit of one
+            // of them would otherwise be read and ignored.
+            if b.inputs != self.model.inputs
+                || b.outputs != self.model.outputs
+                || (b.sample_time_s - self.model.sample_time_s).abs() > 1e-9 * self.model.sample_time_s
+            {
+                return Err(invalid(
+                    "baseline",
+                    "other inputs, outputs or sample time than the model's",
+                    "the model's own (the baseline was fitted beside it: edit both, or neither)",
+                ));
+            }
         }
         Ok(())
     }

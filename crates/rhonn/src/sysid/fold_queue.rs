@@ -56,7 +56,8 @@ pub(super) fn run<R: Send>(
         let (c, f) = {
             let mut st = state.lock().unwrap_or_else(|e| e.into_inner());
             let j = st.next;
-            if j >= jobs {
+            // A stop asked for (`crate::cancel`): no job more; the caller says so.
+            if j >= jobs || crate::cancel::requested() {
                 break;
             }
             st.next += 1;

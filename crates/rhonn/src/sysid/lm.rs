@@ -45,6 +45,10 @@ pub(super) fn lm_with_columns(
     let mut lambda = 1e-2;
     let mut r1 = Vec::new();
     for _ in 0..iters {
+        // A stop asked for (Python's Ctrl-C): the caller's `cancel::check` says so.
+        if crate::cancel::requested() {
+            break;
+        }
         let nr = r0.len();
         // The columns in parallel: each is a full evaluation of the residuals.
         let columns: Vec<Option<Vec<f64>>> = (0..np)

@@ -79,7 +79,7 @@ pub(super) fn by_error_reduction(
                 .zip(&energy)
                 .map(|(y, e)| dot(w, y).powi(2) / (ww * e))
                 .sum();
-            if best.map_or(true, |(_, b)| ratio > b) {
+            if best.is_none_or(|(_, b)| ratio > b) {
                 best = Some((q, ratio));
             }
         }

@@ -187,7 +187,9 @@ pub fn fit_records(
     let (specs, selection) = match structure {
         FitStructure::Given(specs) => (specs, None),
         FitStructure::Select(opts) => {
-            let sel = super::select::select(records, inputs, outputs, opts, progress)?;
+            let sel = super::select::select(records, inputs, outputs, opts, progress);
+            crate::cancel::check()?;
+            let sel = sel?;
             (sel.chosen_specs(), Some(sel))
         }
     };
@@ -200,7 +202,9 @@ pub fn fit_records(
         Some(k) if !k.data_warnings_apply() => Vec::new(),
         _ => super::data_warnings(records, inputs, outputs, max_lag, sample_s, hint),
     };
-    let (fitted, summary) = train_selected(&specs, selection, records, inputs, outputs)?;
+    let trained = train_selected(&specs, selection, records, inputs, outputs);
+    crate::cancel::check()?;
+    let (fitted, summary) = trained?;
     Ok(FitRun {
         fitted,
         summary,

@@ -616,7 +616,7 @@ fn with_polynomial(
             g2.run(&pw, 0, &mut filtered);
             col.extend(&filtered[spec.settle.min(y.len())..]);
         }
-        cols[d].extend(std::iter::repeat(1.0).take(y.len().saturating_sub(spec.settle)));
+        cols[d].extend(std::iter::repeat_n(1.0, y.len().saturating_sub(spec.settle)));
         target.extend(&y[spec.settle.min(y.len())..]);
     }
     if cols

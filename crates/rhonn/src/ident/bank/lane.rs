@@ -216,7 +216,7 @@ impl Lane {
         let Some(id) = &mut self.id else { return Ok(()) };
         let s = self.settings;
         let scored = self.seen >= s.scored_from;
-        if scored && self.in_record > 0 && self.in_record % (s.window / 2).max(1) == 0 {
+        if scored && self.in_record > 0 && self.in_record.is_multiple_of((s.window / 2).max(1)) {
             let mut copy = id.clone();
             copy.freeze(true);
             copy.set_free_run(true);

@@ -1,6 +1,9 @@
 //! Measured data: records of a time column, inputs and outputs (SI or the user's own
 //! units; a model keeps whatever units it was trained in).
 
+mod gaps;
+pub use gaps::{Gap, Split, MAX_FILLED_GAP, MAX_FILLED_SHARE};
+
 use crate::error::{invalid, Result};
 
 /// How far a time may sit from the uniform grid and still count as on it, as a share of
@@ -68,8 +71,31 @@ pub fn check_names(inputs: &[String], outputs: &[String]) -> Result<()> {
     Ok(())
 }
 
+/// The largest magnitude a value may have, in a file, an array or a stream: its square, in
+/// every variance and least-squares sum, stays finite.
+pub const MAX_MAGNITUDE: f64 = 1e150;
+
 /// The most samples [`Record::regrid`] puts on a grid (beyond a record's own rows).
 pub const MAX_GRID_SAMPLES: f64 = 1e7;
+
+/// How many times its own rows [`Record::regrid`] may put a record on.
+pub const MAX_UPSAMPLING: f64 = 10.0;
+
+/// The shape `(rows, columns)` of a caller's array named `name` (Python's `u` or `y`):
+/// at least one row, and `k` columns, one per signal.
+pub fn check_shape(name: &str, (rows, cols): (usize, usize), k: usize) -> Result<()> {
+    if rows == 0 {
+        return Err(crate::Error::Argument(format!(
+            "{name} is empty: give at least one sample (row)"
+        )));
+    }
+    if cols != k {
+        return Err(crate::Error::Argument(format!(
+            "{name} has {cols} columns; {k} are needed (one per signal)"
+        )));
+    }
+    Ok(())
+}
 
 impl Record {
     /// Number of samples.
@@ -100,10 +126,7 @@ impl Record {
         let t0 = self.t.first().copied().unwrap_or(0.0);
         let held = |c: &Vec<f64>| {
             let first = c.first().copied().unwrap_or(0.0);
-            std::iter::repeat(first)
-                .take(n)
-                .chain(c.iter().copied())
-                .collect()
+            std::iter::repeat_n(first, n).chain(c.iter().copied()).collect()
         };
         Record {
             source: self.source.clone(),
@@ -177,15 +200,23 @@ impl Record {
         let t0 = self.t[0];
         let span = self.t[self.len() - 1] - t0;
         let n_f = (span / dt).floor() + 1.0;
-        if !(dt.is_finite() && dt > 0.0 && n_f <= MAX_GRID_SAMPLES.max(self.len() as f64)) {
+        // At most MAX_UPSAMPLING times the rows: interpolation adds no information, and a
+        // grid of nanoseconds over a record of minutes would fill the memory.
+        let most = (MAX_UPSAMPLING * self.len() as f64)
+            .min(MAX_GRID_SAMPLES)
+            .max(self.len() as f64);
+        if !(dt.is_finite() && dt > 0.0 && n_f <= most) {
             return Err(invalid(
                 field,
                 crate::metrics::sig(dt, 6),
                 format!(
-                    "a sample time of at least {} s: at most 10,000,000 samples over {}'s {} s",
-                    crate::metrics::sig(span / MAX_GRID_SAMPLES, 3),
+                    "a sample time of at least {} s: at most {} samples over {}'s {} s ({} times its {} rows at the most, and 10,000,000: interpolation adds no information)",
+                    crate::metrics::sig(span / (most - 1.0).max(1.0), 3),
+                    most as u64,
                     self.source,
-                    crate::metrics::sig(span, 6)
+                    crate::metrics::sig(span, 6),
+                    MAX_UPSAMPLING,
+                    self.len()
                 ),
             ));
         }
@@ -261,9 +292,13 @@ impl Record {
         }
         for (name, cols) in [("u", &inputs), ("y", &outputs)] {
             for (j, c) in cols.iter().enumerate() {
-                if let Some((i, x)) = c.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+                if let Some((i, x)) = c
+                    .iter()
+                    .enumerate()
+                    .find(|(_, x)| !(x.is_finite() && x.abs() <= MAX_MAGNITUDE))
+                {
                     return Err(arg(format!(
-                        "{name}[{i}, {j}] = {x} is not allowed: every value must be finite"
+                        "{name}[{i}, {j}] = {x} is not allowed: every value must be finite and of magnitude at most 1e150"
                     )));
                 }
             }
@@ -409,7 +444,9 @@ mod tests {
         assert_eq!(u.t, vec![0.0, 1.0, 2.0, 3.0]);
         let e = r.uniform(1e-9, "--resample").unwrap_err().to_string();
         assert!(
-            e.contains("`--resample` = 1e-9") && e.contains("10,000,000 samples"),
+            e.contains("`--resample` = 1e-9")
+                && e.contains("at most 30 samples")
+                && e.contains("10 times its 3 rows"),
             "{e}"
         );
         assert_eq!(u.inputs[0], vec![1.0, 2.0, 2.0, 3.0]);

@@ -1,49 +1,21 @@
-//! One rule for output folders: checked writable before any work; after a command has
-//! written its complete set, the files of rhonn's own kind that it did not write this
-//! time (an earlier run's `validation.csv`, say) are removed; temporary files that a
-//! killed run left are removed by the next run in the folder.
+//! One rule for output folders: an output folder holds its own files and the user's,
+//! and rhonn touches only its own. A command checks the folder writable before any work,
+//! locks it (`lock.rs`: one writer at a time), writes its whole set into a staging folder
+//! and commits it in one step (`commit.rs`); `rhonn-manifest.json` (`manifest.rs`) lists
+//! what it wrote, so that a later run removes only files an earlier run wrote and left
+//! unchanged, never an input, and readers refuse a folder whose files come from different
+//! runs. Temporary files that a killed run left are removed by the next run in the folder.
+
+mod commit;
+mod lock;
+mod manifest;
+
+pub use commit::{check_whole, roll_forward, writes, Committed, Writing, COMMIT};
+pub use lock::FolderLock;
+pub use manifest::{Entry, Manifest, MANIFEST};
 
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
-
-/// The files `run`, `fit`, `predict` and `identify` write (and `training_<k>.svg`): the
-/// ones a later such command removes when it does not write them again. A campaign's
-/// files and anything else in the folder are never touched.
-const RUN_FILES: &[&str] = &[
-    "estimate.csv",
-    "estimate.svg",
-    "ident_errors.svg",
-    "ident_states.svg",
-    "ident_zoom.svg",
-    "inputs.svg",
-    "model.json",
-    "prediction.csv",
-    "prediction.svg",
-    "prediction_zoom.svg",
-    "pressure.svg",
-    "report.html",
-    "residual_histogram.svg",
-    "residuals.svg",
-    "states.svg",
-    "stroke.svg",
-    "summary.json",
-    "training.svg",
-    "trajectory.csv",
-    "validation.csv",
-    "validation.svg",
-    "validation_residuals.svg",
-    "weights.csv",
-    "weights.json",
-    "weights.svg",
-];
-
-fn is_run_file(name: &str) -> bool {
-    RUN_FILES.contains(&name)
-        || name
-            .strip_prefix("training_")
-            .and_then(|r| r.strip_suffix(".svg"))
-            .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
-}
 
 /// Check, before any work, that `dir` can be the output folder: a folder that exists and
 /// can be written, or a path whose nearest existing ancestor is a writable folder. Nothing
@@ -85,33 +57,6 @@ pub fn check_writable(dir: &Path) -> Result<()> {
             rhonn::error::path_problem(&probe, &e)
         ))),
     }
-}
-
-/// After a command wrote `written` into `dir`: remove the run files (see `RUN_FILES`)
-/// that it did not write, so that nothing of an earlier run stays beside it. Returns the
-/// files removed.
-pub fn remove_stale(dir: &Path, written: &[PathBuf]) -> Vec<PathBuf> {
-    let keep: Vec<std::ffi::OsString> = written
-        .iter()
-        .filter_map(|p| p.file_name().map(|n| n.to_os_string()))
-        .collect();
-    let mut removed = Vec::new();
-    let Ok(rd) = std::fs::read_dir(dir) else {
-        return removed;
-    };
-    for e in rd.flatten() {
-        let name = e.file_name();
-        let is_file = e.file_type().is_ok_and(|t| t.is_file());
-        if is_file
-            && is_run_file(&name.to_string_lossy())
-            && !keep.contains(&name)
-            && std::fs::remove_file(e.path()).is_ok()
-        {
-            removed.push(e.path());
-        }
-    }
-    removed.sort();
-    removed
 }
 
 /// Whether process `pid` runs on this machine (Linux's /proc; elsewhere assumed running).
@@ -173,34 +118,6 @@ mod tests {
             1,
             "the probe is removed"
         );
-    }
-
-    #[test]
-    fn stale_run_files_go_and_everything_else_stays() {
-        let d = tempfile::tempdir().unwrap();
-        for n in [
-            "validation.csv",
-            "validation.svg",
-            "summary.json",
-            "training_3.svg",
-            "notes.txt",
-            "runs.csv",
-            "training_x.svg",
-        ] {
-            std::fs::write(d.path().join(n), "x").unwrap();
-        }
-        let removed = remove_stale(d.path(), &[d.path().join("summary.json")]);
-        let names: Vec<String> = removed
-            .iter()
-            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
-            .collect();
-        assert_eq!(names, ["training_3.svg", "validation.csv", "validation.svg"]);
-        let mut left: Vec<String> = std::fs::read_dir(d.path())
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        left.sort();
-        assert_eq!(left, ["notes.txt", "runs.csv", "summary.json", "training_x.svg"]);
     }
 
     #[test]
