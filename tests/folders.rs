@@ -41,6 +41,13 @@ fn kept(before: &BTreeMap<String, Vec<u8>>, after: &BTreeMap<String, Vec<u8>>, n
     }
 }
 
+/// Refused (exit 2) with a message holding every one of `parts`.
+fn refused(o: &std::process::Output, parts: &[&str]) {
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(o));
+    let e = stderr(o);
+    assert!(parts.iter().all(|p| e.contains(p)), "{parts:?}: {e}");
+}
+
 fn ok(o: &std::process::Output) -> String {
     assert!(o.status.success(), "{}", stderr(o));
     stderr(o)
@@ -121,12 +128,7 @@ fn fit_predict_identify_and_run_leave_every_file_of_the_user_as_it_was() {
             "t",
         ],
     );
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("t/validation.csv") && stderr(&o).contains("an input of this run"),
-        "{}",
-        stderr(&o)
-    );
+    refused(&o, &["t/validation.csv", "an input of this run"]);
     assert_eq!(snapshot(&t), after);
     // identify into a fit's folder without --force: refused, the fitted model kept.
     let f = d.path().join("f");
@@ -149,12 +151,7 @@ fn fit_predict_identify_and_run_leave_every_file_of_the_user_as_it_was() {
             "f",
         ],
     );
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("f/model.json") && stderr(&o).contains("--force"),
-        "{}",
-        stderr(&o)
-    );
+    refused(&o, &["f/model.json", "--force"]);
     assert_eq!(snapshot(&f), fitted, "nothing written");
     // run into it: the model stays (a run writes none, and removes one only with --force).
     let e = ok(&rhonn(d.path(), &["run", "thesis-ch3", "--out", "f"]));
@@ -438,15 +435,10 @@ fn report_and_predict_refuse_a_folder_of_two_runs_and_an_edited_model_is_said() 
     // The summary of one run beside the plots of another, as a kill between renames left
     // them before: refused by both, nothing written.
     std::fs::copy(d.path().join("b/summary.json"), d.path().join("a/summary.json")).unwrap();
-    let o = rhonn(d.path(), &["report", "a"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    let e = stderr(&o);
-    assert!(
-        e.contains("a/summary.json is not the file") && e.contains("mixes files"),
-        "{e}"
+    refused(
+        &rhonn(d.path(), &["report", "a"]),
+        &["a/summary.json is not the file", "mixes files"],
     );
-    let o = predict("a/model.json", "p");
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("mixes files"), "{}", stderr(&o));
+    refused(&predict("a/model.json", "p"), &["mixes files"]);
     assert!(!d.path().join("p").exists(), "nothing written");
 }

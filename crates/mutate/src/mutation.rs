@@ -342,7 +342,8 @@ fn mutate_json(text: &str, rng: &mut ChaCha8Rng) -> Mutant {
     };
     let names = path_names(&p);
     let where_ = path_text(&p);
-    let what = match rng.gen_range(0..10) {
+    let what = match rng.gen_range(0..11) {
+        10 => return huge_json_array(doc, &p, names),
         0 => {
             let (last, parent) = p.split_last().unwrap();
             match (last, json_at(&mut doc, parent).unwrap()) {
@@ -388,6 +389,33 @@ fn mutate_json(text: &str, rng: &mut ChaCha8Rng) -> Mutant {
     Mutant {
         text: serde_json::to_string_pretty(&doc).unwrap(),
         what,
+        names,
+    }
+}
+
+/// A huge valid-looking array: the array holding the leaf at `p` (or the leaf itself in
+/// one) grown to 200,000 copies of its first element, a few MB of plausible values: the
+/// sizes must be checked before the work they would cost.
+fn huge_json_array(mut doc: serde_json::Value, p: &[Seg], names: Vec<String>) -> Mutant {
+    let depth = (0..p.len()).rev().find(|&d| matches!(p[d], Seg::Index(_)));
+    let where_ = match depth {
+        Some(d) => {
+            let parent = &p[..d];
+            if let Some(serde_json::Value::Array(a)) = json_at(&mut doc, parent) {
+                let first = a[0].clone();
+                a.resize(200_000, first);
+            }
+            path_text(parent)
+        }
+        None => {
+            let leaf = json_at(&mut doc, p).unwrap();
+            *leaf = serde_json::Value::Array(vec![leaf.clone(); 200_000]);
+            path_text(p)
+        }
+    };
+    Mutant {
+        text: serde_json::to_string(&doc).unwrap(),
+        what: format!("{where_}: an array of 200,000 elements"),
         names,
     }
 }
