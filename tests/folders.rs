@@ -3,7 +3,7 @@
 //! point leaves the folder as one run wrote it. Each reproduction of the issue is a test;
 //! every file of the user's is checked by its bytes before and after.
 
-use crate::util::{rhonn, stderr};
+use crate::util::{self, rhonn, stderr};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -183,6 +183,15 @@ fn a_command_s_own_input_in_its_folder_is_never_removed() {
     ));
     assert!(e.contains("kept p/trajectory.csv"), "{e}");
     kept(&run, &snapshot(&d.path().join("p")), &["trajectory.csv"]);
+    // A file of the user's with the name of one the run writes: refused, not overwritten.
+    std::fs::create_dir_all(d.path().join("u")).unwrap();
+    std::fs::write(d.path().join("u/trajectory.csv"), "mine").unwrap();
+    refused(
+        &rhonn(d.path(), &["run", "thesis-ch3", "--out", "u"]),
+        &["u/trajectory.csv", "not a file an earlier rhonn run wrote here"],
+    );
+    assert_eq!(std::fs::read(d.path().join("u/trajectory.csv")).unwrap(), b"mine");
+    assert_eq!(util::files_in(&d.path().join("u")), ["trajectory.csv"]);
     // A file the user edited after the run wrote it is theirs now: kept.
     ok(&rhonn(d.path(), &["run", "thesis-ch3", "--out", "q"]));
     std::fs::write(d.path().join("q/pressure.svg"), "<svg>mine</svg>").unwrap();

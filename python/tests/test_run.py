@@ -100,3 +100,20 @@ def test_long_calls_release_the_gil(tmp_path):
         time.sleep(0.001)
     th.join()
     assert seen_during_call, "no Python code ran while the campaign was running"
+
+
+def test_a_run_into_a_folder_leaves_the_users_files_alone(tmp_path):
+    """Issue 56: ``rhonn.run("thesis-ch3", out=d)`` removed ``d/validation.csv`` silently (a
+    file of that name was taken for an earlier run's). Only files a run's manifest lists go,
+    and a run that would write over a file of the user's is refused, nothing written."""
+    d = tmp_path / "d"
+    d.mkdir()
+    (d / "validation.csv").write_text("t,u,y\n0,1,2\n")
+    (d / "notes.txt").write_text("mine")
+    rhonn.run("thesis-ch3", out=d)
+    rhonn.run("thesis-ch3", out=d)
+    with pytest.raises(OSError, match="not a file an earlier rhonn run wrote"):
+        rhonn.run("thesis-ch5", out=d)
+    assert (d / "validation.csv").read_text() == "t,u,y\n0,1,2\n"
+    assert (d / "notes.txt").read_text() == "mine"
+    assert (d / "rhonn-manifest.json").exists()

@@ -136,7 +136,7 @@ impl Writing {
             }
         };
         for w in &written {
-            self.check_replace(w)?;
+            self.check_replace(w, old.as_ref())?;
         }
         let mut manifest = Manifest::of(&self.stage, &written)?;
         for e in old.iter().flat_map(|m| &m.files) {
@@ -187,8 +187,9 @@ impl Writing {
     }
 
     /// Refuse, before anything moves, a staged file that would overwrite an input, a
-    /// folder, or (without `force`) a different model.json.
-    fn check_replace(&self, w: &str) -> Result<()> {
+    /// folder, or (without `force`) a different model.json or a different file that the
+    /// folder's manifest `old` does not list as it is now (the user's, or edited since).
+    fn check_replace(&self, w: &str, old: Option<&Manifest>) -> Result<()> {
         let target = self.dir.join(w);
         let mut parent = target.parent();
         while let Some(p) = parent {
@@ -216,14 +217,22 @@ impl Writing {
         if self.is_input(&target) {
             return Err(overwrites_input(&target));
         }
-        if w == "model.json"
-            && !self.force
-            && std::fs::read(&target).ok() != std::fs::read(self.stage.join(w)).ok()
-        {
+        if self.force || std::fs::read(&target).ok() == std::fs::read(self.stage.join(w)).ok() {
+            return Ok(());
+        }
+        if w == "model.json" {
             return Err(Error::File {
                 path: target,
                 message: "holds another model: nothing written; give --force (Python: force=True) to replace it, or another output folder"
                     .into(),
+            });
+        }
+        if !old.is_some_and(|m| m.holds(&self.dir, w)) {
+            return Err(Error::File {
+                path: target,
+                message: format!(
+                    "exists and is not a file an earlier rhonn run wrote here ({MANIFEST} does not list it as it is now): nothing written; move it, or give another output folder"
+                ),
             });
         }
         Ok(())
