@@ -147,10 +147,9 @@ pub fn campaign_outcome(o: &CampaignOutcome) -> Outcome {
 /// Run `f` into output folder `dir` as a whole (`crate::folder::Writing`): the folder
 /// checked, locked and its interrupted commit finished before the work; `f` writes into the
 /// staging folder it is given (`report.html` is rendered there after it); then the set is
-/// committed in one step. `inputs`: this run's
-/// input files (never overwritten nor removed), `writes`: the names it may write
-/// (`crate::folder::writes`); `force`: a different `model.json` may be
-/// replaced or removed.
+/// committed in one step. `inputs`: this run's input files (never overwritten nor
+/// removed), `writes`: the names it may write (`crate::folder::writes`); `force`: a
+/// different `model.json`, or a file no earlier run's manifest lists, may be replaced.
 pub(crate) fn in_folder(
     dir: &Path,
     (inputs, writes): (&[PathBuf], &[&str]),
