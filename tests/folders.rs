@@ -275,6 +275,12 @@ fn two_writers_at_once_never_leave_a_folder_of_both() {
     let n = trials("RHONN_FOLDER_TRIALS", 60);
     let mut refused = 0;
     for k in 0..n {
+        // One trial in three into a folder that does not exist yet (both create it).
+        let out = if k % 3 == 0 {
+            format!("n{k}")
+        } else {
+            "cc".to_string()
+        };
         let spawn = |data: &Path| {
             Command::new(env!("CARGO_BIN_EXE_rhonn"))
                 .args([
@@ -284,7 +290,7 @@ fn two_writers_at_once_never_leave_a_folder_of_both() {
                     "--data",
                     data.to_str().unwrap(),
                     "--out",
-                    "cc",
+                    &out,
                 ])
                 .current_dir(d.path())
                 .stdout(Stdio::null())
@@ -306,10 +312,10 @@ fn two_writers_at_once_never_leave_a_folder_of_both() {
             }
         }
         assert!(
-            whole_from_one(d.path(), "cc", &[&ra, &rb]),
+            whole_from_one(d.path(), &out, &[&ra, &rb]),
             "trial {k}: a folder of both runs"
         );
-        let o = rhonn(d.path(), &["report", "cc"]);
+        let o = rhonn(d.path(), &["report", &out]);
         assert!(o.status.success(), "trial {k}: {}", stderr(&o));
     }
     eprintln!("{n} trials of two writers: {refused} refused as concurrent, every folder from one run");
@@ -364,14 +370,27 @@ fn a_run_killed_at_any_step_of_its_commit_leaves_one_run_s_folder() {
             "step {step} (aborted: {aborted})"
         );
     }
-    // Killed at random points of whole runs.
+    // Killed at random points of whole runs, into a folder that one run has written whole
+    // (so that every kill, early or late, on a fast machine or a slow one, is checked).
+    let dir = "kr";
+    ok(&rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "m/model.json",
+            "--data",
+            a.to_str().unwrap(),
+            "--out",
+            dir,
+        ],
+    ));
     let n = trials("RHONN_KILL_TRIALS", 40);
     let mut rng = 0x9e37_79b9_7f4a_7c15u64;
     for k in 0..n {
         rng ^= rng << 13;
         rng ^= rng >> 7;
         rng ^= rng << 17;
-        let dir = "kr";
         let mut child = Command::new(env!("CARGO_BIN_EXE_rhonn"))
             .args([
                 "predict",
@@ -394,9 +413,6 @@ fn a_run_killed_at_any_step_of_its_commit_leaves_one_run_s_folder() {
         std::thread::sleep(std::time::Duration::from_micros(rng % 60_000));
         let _ = child.kill();
         let _ = child.wait();
-        if !d.path().join(dir).exists() {
-            continue;
-        }
         let rep = rhonn(d.path(), &["report", dir]);
         assert!(rep.status.success(), "kill {k}: {}", stderr(&rep));
         assert!(
@@ -404,6 +420,53 @@ fn a_run_killed_at_any_step_of_its_commit_leaves_one_run_s_folder() {
             "kill {k}: not one run's folder"
         );
     }
+}
+
+#[test]
+fn a_first_run_killed_before_its_commit_leaves_no_file_in_sight_and_the_next_run_succeeds() {
+    let d = tempfile::tempdir().unwrap();
+    ok(&rhonn(
+        d.path(),
+        &fit_args(data("estimation.csv").to_str().unwrap(), "m"),
+    ));
+    let a = data("estimation.csv");
+    let args = [
+        "predict",
+        "--model",
+        "m/model.json",
+        "--data",
+        a.to_str().unwrap(),
+        "--out",
+        "new/inner",
+    ];
+    let o = Command::new(env!("CARGO_BIN_EXE_rhonn"))
+        .args(args)
+        .env("RHONN_TEST_ABORT_AT_COMMIT_STEP", "1")
+        .current_dir(d.path())
+        .output()
+        .unwrap();
+    assert!(!o.status.success(), "the fault was not injected");
+    let visible: Vec<String> = std::fs::read_dir(d.path().join("new/inner"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.starts_with('.'))
+        .collect();
+    assert!(visible.is_empty(), "a killed first run left {visible:?}");
+    let rep = rhonn(d.path(), &["report", "new/inner"]);
+    assert!(
+        stderr(&rep).contains("not a folder written by rhonn"),
+        "{}",
+        stderr(&rep)
+    );
+    ok(&rhonn(d.path(), &args));
+    let hidden: Vec<String> = std::fs::read_dir(d.path().join("new/inner"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".rhonn-"))
+        .collect();
+    assert!(hidden.is_empty(), "the killed run's stage was left: {hidden:?}");
 }
 
 #[test]

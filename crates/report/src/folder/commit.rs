@@ -25,7 +25,8 @@ pub struct Writing {
     created: Option<PathBuf>,
     inputs: Vec<PathBuf>,
     force: bool,
-    lock: Option<FolderLock>,
+    /// Held until the writing ends: one writer per folder.
+    _lock: FolderLock,
     committed: bool,
 }
 
@@ -80,17 +81,19 @@ impl Writing {
             path: dir.to_path_buf(),
             message: rhonn::error::path_problem(dir, &e),
         };
-        std::fs::create_dir_all(dir).map_err(folder_err)?;
+        let lock = lock_created(dir).map_err(|e| match e {
+            LockError::Io(e) => folder_err(e),
+            LockError::Refused(e) => e,
+        })?;
         let mut w = Writing {
             dir: dir.to_path_buf(),
             stage: dir.join(format!(".rhonn-stage-{}", std::process::id())),
             created,
             inputs: inputs.iter().filter_map(|p| p.canonicalize().ok()).collect(),
             force,
-            lock: None,
+            _lock: lock,
             committed: false,
         };
-        w.lock = Some(FolderLock::acquire(dir)?);
         roll_forward(dir)?;
         super::clean_temporary(dir);
         remove_stages(dir);
@@ -245,7 +248,8 @@ impl Drop for Writing {
             return;
         }
         let _ = std::fs::remove_dir_all(&self.stage);
-        // Remove what this writing created, innermost first, while it is empty.
+        // Remove what this writing created, innermost first, while it is empty (under the
+        // lock: a writer refused at the lock has no `Writing` and removes nothing).
         if let Some(top) = &self.created {
             let mut p = Some(self.dir.as_path());
             while let Some(d) = p {
@@ -254,6 +258,27 @@ impl Drop for Writing {
                 }
                 p = d.parent();
             }
+        }
+    }
+}
+
+enum LockError {
+    Io(std::io::Error),
+    Refused(Error),
+}
+
+/// Create `dir` (with its missing parents) and lock it. Another writer refused at the
+/// lock removes nothing, but a writer that held the lock and failed removes the empty
+/// folder it created: the folder may vanish between creating and locking it, so that
+/// step is retried.
+fn lock_created(dir: &Path) -> std::result::Result<FolderLock, LockError> {
+    let mut tries = 0;
+    loop {
+        std::fs::create_dir_all(dir).map_err(LockError::Io)?;
+        match FolderLock::acquire(dir) {
+            Ok(lock) => return Ok(lock),
+            Err(_) if !dir.exists() && tries < 8 => tries += 1,
+            Err(e) => return Err(LockError::Refused(e)),
         }
     }
 }
