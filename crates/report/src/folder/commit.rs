@@ -85,7 +85,7 @@ impl Writing {
             LockError::Io(e) => folder_err(e),
             LockError::Refused(e) => e,
         })?;
-        let mut w = Writing {
+        let w = Writing {
             dir: dir.to_path_buf(),
             stage: dir.join(format!(".rhonn-stage-{}", std::process::id())),
             created,
