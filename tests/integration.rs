@@ -9,6 +9,7 @@ mod activity;
 mod benchmark;
 mod browser;
 mod cli;
+mod corpus;
 mod custom_plant;
 mod docs;
 mod fit_advice;

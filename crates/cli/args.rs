@@ -257,6 +257,35 @@ pub enum Command {
         #[arg(long, value_name = "SPEC.toml")]
         model: Option<PathBuf>,
     },
+    /// Judge rhonn fit's default on simulated systems nobody tuned it on.
+    ///
+    /// The unseen-systems corpus: systems of 13 families (a closed-loop integrator with
+    /// friction, fast sampling, saturation, dead zone, backlash, hysteresis, Wiener,
+    /// Hammerstein, bilinear, input delay, two outputs of different nature, short
+    /// records, slow drifts) drawn from --seed, each trained on a multisine or filtered
+    /// noise and tested on a new record (every other draw of a family on steps or
+    /// pulses). Per system and output: rhonn fit's default free-run RMS error on test over
+    /// an ARX's (lags by cross-validation on train), then the median and the worst. With
+    /// --out DIR: DIR/corpus.csv (a row per system and output), DIR/summary.json,
+    /// DIR/report.html.
+    #[command(verbatim_doc_comment)]
+    Corpus {
+        /// The corpus's seed: judge a change to a default on a seed it was not designed with.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Systems drawn (cycling through the 13 families).
+        #[arg(long, default_value_t = 40)]
+        systems: usize,
+        /// Only these systems (indices below --systems, comma-separated).
+        #[arg(long, value_delimiter = ',', value_name = "I,J,...")]
+        only: Vec<usize>,
+        /// Output folder (default: print only).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Print summary.json's text instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Time whole runs without I/O and print a table (or JSON).
     ///
     /// Per scenario: the median wall time of one run on one core, the right-hand-side

@@ -87,6 +87,25 @@ fn dispatch(cli: Cli) -> Result<()> {
             json,
             model,
         })?,
+        Command::Corpus {
+            seed,
+            systems,
+            only,
+            out,
+            json,
+        } => {
+            let busy = progress::Busy::start("corpus".into());
+            let req = commands::CorpusRequest {
+                seed,
+                systems,
+                only,
+                out,
+                json,
+            };
+            let o = commands::corpus(&req, &|line| busy.set_message(line.to_string()));
+            drop(busy);
+            o?.print();
+        }
         Command::Bench {
             scenarios,
             json,

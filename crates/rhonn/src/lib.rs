@@ -35,6 +35,7 @@ pub mod any_model;
 pub mod benchmark;
 pub mod cancel;
 pub mod control;
+pub mod corpus;
 pub mod data;
 pub mod error;
 pub mod experiment;

@@ -4,11 +4,13 @@
 //! `Outcome`; the Python package and tests call the same functions.
 
 mod benchmark;
+mod corpus;
 mod fit;
 mod identify;
 mod run;
 
 pub use benchmark::{benchmark, figure, BenchmarkRequest, Row};
+pub use corpus::{corpus, CorpusRequest};
 pub use fit::{
     fit, fit_in_memory, fit_structure, fit_with_progress, model_specs, parse_units, predict, read_data,
     read_data_regridded, FitRequest, ReadData,

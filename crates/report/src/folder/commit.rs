@@ -65,6 +65,8 @@ pub mod writes {
     ];
     /// `rhonn benchmark`.
     pub const BENCHMARK: &[&str] = &["benchmark.csv", "summary.json", "report.html"];
+    /// `rhonn corpus --out`.
+    pub const CORPUS: &[&str] = &["corpus.csv", "summary.json", "report.html"];
     /// `rhonn bench --out`.
     pub const BENCH: &[&str] = &["summary.json", "report.html"];
 }
