@@ -760,7 +760,7 @@ fn select_options_are_checked() {
     let o = with(&["--select", "auto", "--model", "arx.toml"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--select auto and --model"), "{}", stderr(&o));
-    let o = with(&["--select", "none", "--time-budget", "5"]);
+    let o = with(&["--select", "none", "--budget", "5"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
         stderr(&o).contains("apply to --select auto only"),

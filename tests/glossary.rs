@@ -118,7 +118,7 @@ fn the_glossary_names_every_figure_the_outputs_write() {
     let fit = util::tanks_default_fit();
     read_summary(fit);
     let model = fit.join("model.json");
-    let calls: [Vec<&str>; 2] = [
+    let calls: [Vec<&str>; 3] = [
         vec![
             "predict",
             "--model",
@@ -138,6 +138,18 @@ fn the_glossary_names_every_figure_the_outputs_write() {
             "y",
             "--out",
             "identify",
+        ],
+        // One short record of the unseen-systems corpus (seconds).
+        vec![
+            "corpus",
+            "--seed",
+            "5",
+            "--systems",
+            "13",
+            "--only",
+            "11",
+            "--out",
+            "corpus",
         ],
     ];
     // The benchmark run the tests share (`util::two_benchmarks`): the hair dryer and the

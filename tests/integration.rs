@@ -11,6 +11,7 @@ mod browser;
 mod cli;
 mod corpus;
 mod custom_plant;
+mod determinism;
 mod docs;
 mod fit_advice;
 mod fit_predict;

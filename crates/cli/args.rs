@@ -113,10 +113,11 @@ pub enum Command {
         /// Judge the selection K samples ahead instead of in free run.
         #[arg(long, value_name = "K")]
         select_steps_ahead: Option<usize>,
-        /// Start no new candidate structure after this many seconds of selection (ARX
-        /// structures always run) [default: 40].
-        #[arg(long, value_name = "SECONDS")]
-        time_budget: Option<f64>,
+        /// The selection's work budget per candidate, as a multiple of the default: a
+        /// candidate whose estimated work on the folds (from the data's size, never the
+        /// clock) exceeds it is skipped and said; ARX structures always run [default: 1].
+        #[arg(long, value_name = "FACTOR")]
+        budget: Option<f64>,
         /// Output folder.
         #[arg(long, value_name = "DIR", required = true)]
         out: PathBuf,

@@ -44,11 +44,11 @@ fn dispatch(cli: Cli) -> Result<()> {
             model,
             select,
             select_steps_ahead,
-            time_budget,
+            budget,
             out,
             force,
         } => {
-            let select = fit_selection(model.is_some(), select, select_steps_ahead, time_budget)?;
+            let select = fit_selection(model.is_some(), select, select_steps_ahead, budget)?;
             cmd_fit(commands::FitRequest {
                 data,
                 inputs,
@@ -198,22 +198,24 @@ fn fit_selection(
     has_model: bool,
     select: Option<args::SelectMode>,
     steps_ahead: Option<usize>,
-    time_budget: Option<f64>,
+    budget: Option<f64>,
 ) -> Result<Option<rhonn::sysid::select::SelectOptions>> {
     let auto = match select {
         Some(args::SelectMode::Auto) => true,
         Some(args::SelectMode::None) => false,
         None => !has_model,
     };
-    if !auto && (steps_ahead.is_some() || time_budget.is_some()) {
-        anyhow::bail!("--select-steps-ahead and --time-budget apply to --select auto only (the default without --model)");
+    if !auto && (steps_ahead.is_some() || budget.is_some()) {
+        anyhow::bail!(
+            "--select-steps-ahead and --budget apply to --select auto only (the default without --model)"
+        );
     }
     if steps_ahead == Some(0) {
         anyhow::bail!(
             "--select-steps-ahead 0 is not allowed: give K >= 1, or leave it out to judge the free run"
         );
     }
-    Ok(auto.then(|| rhonn::sysid::select::SelectOptions::judged(steps_ahead, time_budget)))
+    Ok(auto.then(|| rhonn::sysid::select::SelectOptions::judged(steps_ahead, budget)))
 }
 
 /// `rhonn identify`: the identification with a spinner.

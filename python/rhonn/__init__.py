@@ -206,7 +206,7 @@ def fit(
     outputs: Optional[Sequence[str]] = None,
     select: Optional[str] = None,
     select_steps_ahead: Optional[int] = None,
-    time_budget_s: Optional[float] = None,
+    budget: Optional[float] = None,
 ) -> Model:
     """Fit a model to recordings, as ``rhonn fit`` does (beside an ARX baseline).
 
@@ -232,9 +232,11 @@ def fit(
     select_steps_ahead : int, optional
         With the selection: judge the candidates K samples ahead instead of in free run
         (``--select-steps-ahead K``).
-    time_budget_s : float, optional
-        With the selection: start no new candidate after this many seconds (default 40;
-        ``--time-budget``).
+    budget : float, optional
+        With the selection: the work budget per candidate as a multiple of the default
+        (default 1; ``--budget``): a candidate whose estimated work on the folds, from the
+        data's size, exceeds it is skipped. Never the clock: the model is the same on
+        every machine.
 
     Returns
     -------
@@ -259,18 +261,18 @@ def fit(
         raise ValueError(f"select={select!r} and model both name the structure: give one")
     if select is None:
         select = "auto" if model is None else "none"
-    if select != "auto" and (select_steps_ahead is not None or time_budget_s is not None):
-        raise ValueError("select_steps_ahead and time_budget_s apply to the selection only (select=\"auto\", the default without a model)")
+    if select != "auto" and (select_steps_ahead is not None or budget is not None):
+        raise ValueError("select_steps_ahead and budget apply to the selection only (select=\"auto\", the default without a model)")
     k = _steps(select_steps_ahead)
-    if time_budget_s is not None:
-        if isinstance(time_budget_s, bool) or not isinstance(time_budget_s, (int, float, np.integer, np.floating)):
-            raise TypeError(f"time_budget_s must be a number of seconds, not {type(time_budget_s).__name__}")
-        if not (np.isfinite(time_budget_s) and time_budget_s > 0):
-            raise ValueError(f"time_budget_s = {time_budget_s} is not allowed: give a finite number of seconds > 0")
-        time_budget_s = float(time_budget_s)
+    if budget is not None:
+        if isinstance(budget, bool) or not isinstance(budget, (int, float, np.integer, np.floating)):
+            raise TypeError(f"budget must be a number (a multiple of the default work budget), not {type(budget).__name__}")
+        if not (np.isfinite(budget) and 0 < budget <= 1e6):
+            raise ValueError(f"budget = {budget} is not allowed: give a multiple of the default work budget in (0, 1e6]")
+        budget = float(budget)
     text, source = _spec_text(model)
     spec = None if text is None else (text, source)
-    return Model(_rhonn.fit(us, ys, float(dt), ins, outs, spec, (k, time_budget_s) if select == "auto" else None))
+    return Model(_rhonn.fit(us, ys, float(dt), ins, outs, spec, (k, budget) if select == "auto" else None))
 
 
 def _optional_at_least_one(value, arg: str, letter: str, or_none: str) -> Optional[int]:

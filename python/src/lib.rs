@@ -62,7 +62,7 @@ fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>
 }
 
 /// Fit a model to recordings (`us[k]`: (n, m), `ys[k]`: (n, p), sampled every `dt` s);
-/// `spec`: TOML text and what names it; `select`: (select_steps_ahead, time_budget_s).
+/// `spec`: TOML text and what names it; `select`: (select_steps_ahead, budget).
 #[pyfunction]
 #[pyo3(signature = (us, ys, dt, inputs, outputs, spec=None, select=None))]
 #[allow(clippy::too_many_arguments)]

@@ -144,17 +144,17 @@ def test_without_a_model_the_structure_is_selected_as_the_command_does(tanks):
 
 def test_the_selection_options_are_those_of_the_command(tanks):
     est, _ = tanks
-    # Judged 5 samples ahead, with a budget spent at once: the ARX candidates still run,
-    # the others are skipped and the findings say so.
-    m = rhonn.fit(est["u"], est["y"], dt=4.0, select_steps_ahead=5, time_budget_s=1e-9)
+    # Judged 5 samples ahead, with a budget too small for any: the ARX candidates still
+    # run, the others are skipped and the findings say so.
+    m = rhonn.fit(est["u"], est["y"], dt=4.0, select_steps_ahead=5, budget=1e-9)
     sel = m.summary["selection"]
     assert "5 samples ahead" in sel["judged_by"], sel["judged_by"]
-    assert any("time budget" in f for f in sel["findings"]), sel["findings"]
+    assert any("exceeds the budget" in f for f in sel["findings"]), sel["findings"]
     assert sel["candidates"][sel["chosen"]]["model"]["kind"] == "arx"
     with pytest.raises(ValueError, match="apply to the selection only"):
-        rhonn.fit(est["u"], est["y"], dt=4.0, select="none", time_budget_s=5.0)
-    with pytest.raises(ValueError, match="time_budget_s"):
-        rhonn.fit(est["u"], est["y"], dt=4.0, time_budget_s=float("nan"))
+        rhonn.fit(est["u"], est["y"], dt=4.0, select="none", budget=5.0)
+    with pytest.raises(ValueError, match="budget"):
+        rhonn.fit(est["u"], est["y"], dt=4.0, budget=float("nan"))
     with pytest.raises(ValueError, match="steps_ahead"):
         rhonn.fit(est["u"], est["y"], dt=4.0, select_steps_ahead=0)
     # As many steps as the record's samples: refused naming Python's argument, not the

@@ -144,15 +144,17 @@ fn title_of(dir: &Path, summary: Option<&Value>) -> String {
     }
 }
 
-/// Every `findings` array of the summary, in order.
+/// Every `findings` array of the summary, in order, and every `warnings` array's lines
+/// led by "warning:" (what the user must know, said plainly at the top).
 fn collect_findings(v: &Value) -> Vec<String> {
     let mut out = Vec::new();
     match v {
         Value::Object(m) => {
             for (k, x) in m {
-                if k == "findings" {
+                if k == "findings" || k == "warnings" {
+                    let lead = if k == "warnings" { "warning: " } else { "" };
                     if let Value::Array(a) = x {
-                        out.extend(a.iter().filter_map(|f| f.as_str().map(str::to_string)));
+                        out.extend(a.iter().filter_map(|f| f.as_str().map(|f| format!("{lead}{f}"))));
                     }
                 } else {
                     out.extend(collect_findings(x));
@@ -177,7 +179,7 @@ fn flatten(prefix: &str, v: &Value, rows: &mut Vec<(String, String)>) {
     match v {
         Value::Object(m) => {
             for (k, x) in m {
-                if k != "findings" {
+                if k != "findings" && k != "warnings" {
                     flatten(&key(k), x, rows);
                 }
             }

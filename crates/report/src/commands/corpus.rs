@@ -38,6 +38,7 @@ struct Row<'a> {
     arx_rmse: Option<f64>,
     test_std: Option<f64>,
     ratio: Option<f64>,
+    flagged_no_better_than_mean: bool,
     fit_structure: &'a str,
     arx_structure: &'a str,
     failed: &'a str,
@@ -68,6 +69,7 @@ fn rows(judged: &[Judged]) -> Vec<Row<'_>> {
             arx_rmse: None,
             test_std: None,
             ratio: None,
+            flagged_no_better_than_mean: false,
             fit_structure: &j.fit_structure,
             arx_structure: &j.arx_structure,
             failed: j.failed.as_deref().unwrap_or(""),
@@ -82,6 +84,7 @@ fn rows(judged: &[Judged]) -> Vec<Row<'_>> {
                 arx_rmse: Some(o.arx_rmse),
                 test_std: Some(o.test_std),
                 ratio: Some(o.ratio),
+                flagged_no_better_than_mean: o.flagged_no_better_than_mean,
                 ..row("")
             });
         }
@@ -99,19 +102,25 @@ fn table(judged: &[Judged], s: &Summary, seed: u64) -> Vec<String> {
             lines.push(format!("{} | {} | failed: {f}", j.system, j.family.name()));
         }
         for o in &j.outputs {
-            lines.push(format!(
-                "{} | {} | {} / {} | {} | {} | {} | {} | {} | {}",
-                j.system,
-                j.family.name(),
-                j.train_input.name(),
-                j.test_input.name(),
-                o.output,
-                sig(o.ratio, 3),
-                sig(o.fit_rmse, 3),
-                sig(o.arx_rmse, 3),
-                sig(o.test_std, 3),
-                j.fit_structure
-            ));
+            lines.push(
+                format!(
+                    "{} | {} | {} / {} | {} | {} | {} | {} | {} | {}",
+                    j.system,
+                    j.family.name(),
+                    j.train_input.name(),
+                    j.test_input.name(),
+                    o.output,
+                    sig(o.ratio, 3),
+                    sig(o.fit_rmse, 3),
+                    sig(o.arx_rmse, 3),
+                    sig(o.test_std, 3),
+                    j.fit_structure
+                ) + if o.flagged_no_better_than_mean {
+                    " (the fit said: no better than the mean)"
+                } else {
+                    ""
+                },
+            );
         }
     }
     lines.push(format!(
@@ -181,6 +190,20 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
     super::in_folder(out, (&[], crate::folder::writes::CORPUS), false, |stage| {
         let mut set = OutputSet::new(stage)?;
         set.write("summary.json", |w| crate::write_json(w, &file))?;
+        // Each system's records, as recordings every command (and any other tool) reads.
+        let mut recordings = 0;
+        for i in &picked {
+            let sys = corpus::system(req.seed, *i);
+            let mut one = OutputSet::new(&stage.join(&sys.name))?;
+            for (what, recs) in [("train", &sys.train), ("test", &sys.tests)] {
+                for (k, r) in recs.iter().enumerate() {
+                    one.write(&format!("{what}_{k}.csv"), |w| {
+                        record_csv(w, r, &sys.inputs, &sys.outputs)
+                    })?;
+                }
+            }
+            recordings += one.commit()?.len();
+        }
         set.write("corpus.csv", |w| {
             let mut c = csv::Writer::from_writer(w);
             for r in rows(&judged) {
@@ -188,10 +211,38 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
             }
             c.flush()
         })?;
+        let mut lines = lines.clone();
+        lines.push(format!(
+            "  wrote {recordings} recordings: {}/<system>/train_0.csv, test_0.csv (t, inputs, outputs)",
+            out.display()
+        ));
         Ok(Outcome {
-            lines: lines.clone(),
+            lines,
             files: set.commit()?,
             ..Outcome::default()
         })
     })
+}
+
+/// A record as CSV: `t`, the inputs, the outputs.
+fn record_csv(
+    w: &mut dyn std::io::Write,
+    r: &rhonn::data::Record,
+    inputs: &[String],
+    outputs: &[String],
+) -> std::io::Result<()> {
+    let head: Vec<&str> = std::iter::once("t")
+        .chain(inputs.iter().map(String::as_str))
+        .chain(outputs.iter().map(String::as_str))
+        .collect();
+    writeln!(w, "{}", head.join(","))?;
+    for k in 0..r.len() {
+        let row: Vec<String> = std::iter::once(r.t[k])
+            .chain(r.inputs.iter().map(|c| c[k]))
+            .chain(r.outputs.iter().map(|c| c[k]))
+            .map(|v| v.to_string())
+            .collect();
+        writeln!(w, "{}", row.join(","))?;
+    }
+    Ok(())
 }

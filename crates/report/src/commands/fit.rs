@@ -181,7 +181,7 @@ pub fn fit_structure<'a>(
 pub type FittedInMemory = (AnyModel, String, Vec<String>);
 
 /// `rhonn fit` on recordings already in memory (Python's `rhonn.fit`): the structure
-/// chosen by cross-validation when `select` holds `(select_steps_ahead, time_budget_s)`,
+/// chosen by cross-validation when `select` holds `(select_steps_ahead, budget)`,
 /// else `spec`'s (its TOML text and what names it; None: the default structure). Errors
 /// name these arguments by those names.
 pub fn fit_in_memory(
@@ -195,7 +195,7 @@ pub fn fit_in_memory(
     let (structure, _) = fit_structure(opts.as_ref(), spec, outputs.len())?;
     let run = rhonn::sysid::fit_records(structure, recs, inputs, outputs, "dt", &|_| {}).map_err(|e| {
         e.with_field_named("--select-steps-ahead", "select_steps_ahead")
-            .with_field_named("--time-budget", "time_budget_s")
+            .with_field_named("--budget", "budget")
     })?;
     let summary = serde_json::to_string(&run.summary)
         .map_err(|e| Error::Input(format!("cannot write the summary as JSON: {e}")))?;
@@ -551,6 +551,12 @@ fn predict_into(
     };
     for g in &regridded {
         o.notes.push(format!("note: {g}"));
+    }
+    for name in &fitted.no_better_than_mean {
+        o.notes.push(format!(
+            "warning: {} says that for output `{name}` no structure its fit tried ran free on the training folds better than the training mean: this prediction of `{name}` is no better than a constant",
+            model.display()
+        ));
     }
     if let Some(dt) = p.resampled_from_s {
         // Intervals read off decimal times carry float noise: shown to the nanosecond.

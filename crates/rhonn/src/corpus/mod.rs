@@ -239,6 +239,9 @@ pub struct OutputScore {
     pub test_std: f64,
     /// `fit_rmse / arx_rmse`.
     pub ratio: f64,
+    /// Whether the selection said that nothing it tried beat this output's training mean
+    /// on the folds (`model.json`'s `no_better_than_mean`).
+    pub flagged_no_better_than_mean: bool,
 }
 
 /// What [`judge`] found on one system.
@@ -262,6 +265,9 @@ pub struct Judged {
     pub arx_structure: String,
     /// Per output (empty when a fit failed).
     pub outputs: Vec<OutputScore>,
+    /// What the default fit warned of (its selection's and the data's warnings).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub fit_warnings: Vec<String>,
     /// Why it has no scores.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
@@ -281,6 +287,7 @@ pub fn judge(sys: &System, opts: &SelectOptions, progress: &(dyn Fn(&str) + Sync
         fit_structure: String::new(),
         arx_structure: String::new(),
         outputs: Vec::new(),
+        fit_warnings: Vec::new(),
         failed: None,
     };
     if let Err(e) = judge_into(sys, opts, progress, &mut j) {
@@ -308,6 +315,8 @@ fn judge_into(
     if let Some(sel) = &run.summary.selection {
         j.fit_structure = sel.candidates[sel.chosen].name.clone();
     }
+    j.fit_warnings = [run.selection_warnings.clone(), run.data_warnings.clone()].concat();
+    let flagged = run.fitted.no_better_than_mean.clone();
     let (arx, arx_sel) = sysid::best_arx(&sys.train, ins, outs)?;
     j.arx_structure = arx_sel.candidates[arx_sel.chosen].name.clone();
     let mut sq = vec![[0.0f64; 2]; outs.len()];
@@ -337,6 +346,7 @@ fn judge_into(
                 arx_rmse,
                 test_std: std_dev(&y),
                 ratio: fit_rmse / arx_rmse,
+                flagged_no_better_than_mean: flagged.contains(name),
             }
         })
         .collect();

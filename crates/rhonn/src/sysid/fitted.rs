@@ -25,6 +25,11 @@ pub struct FittedModel {
     /// when none were given.
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub units: std::collections::BTreeMap<String, String>,
+    /// The outputs where no structure the selection tried ran free on the folds better
+    /// than their training mean (`select_mean`): the model is no better than a constant
+    /// there, and `rhonn predict` says so. Absent when none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub no_better_than_mean: Vec<String>,
 }
 
 impl FittedModel {
@@ -184,5 +189,6 @@ pub fn fit_ensemble(
         members,
         baseline,
         units: Default::default(),
+        no_better_than_mean: Vec::new(),
     })
 }

@@ -38,6 +38,8 @@ pub(super) type PartRun = (Vec<Vec<f64>>, usize);
 pub(super) struct HeldOut {
     pub parts: Vec<Option<PartRun>>,
     pub output_sd: Vec<f64>,
+    /// How the model runs free on held steps and perturbed inputs (`probes`).
+    pub probe: super::probes::Probe,
 }
 
 /// `m`'s predictions on the held-out parts `test` (free run, or `steps` ahead).
@@ -60,6 +62,7 @@ pub(super) fn held_out_runs(m: &Model, test: &[Record], steps: Option<usize>) ->
     Ok(HeldOut {
         parts,
         output_sd: m.output_norm.iter().map(|n| n.1).collect(),
+        probe: super::probes::probe(m, test),
     })
 }
 
@@ -94,4 +97,62 @@ pub(super) fn held_out_score(h: &HeldOut, test: &[Record]) -> Result<f64> {
 #[cfg(test)]
 pub(super) fn held_out_error(m: &Model, test: &[Record], steps: Option<usize>) -> Result<f64> {
     held_out_score(&held_out_runs(m, test, steps)?, test)
+}
+
+/// Per output and fold, the normalised RMS error of the predictions `runs` (one per fold)
+/// on the held-out parts of `parts`, averaged over the fold's parts (empty without runs).
+pub(super) fn output_scores(runs: &[HeldOut], parts: &[(Vec<Record>, Vec<Record>)]) -> Vec<Vec<f64>> {
+    let no = runs.first().map_or(0, |h| h.output_sd.len());
+    (0..no)
+        .map(|j| {
+            runs.iter()
+                .zip(parts)
+                .map(|(h, (_, test))| {
+                    let (mut sum, mut count) = (0.0, 0.0f64);
+                    for (r, part) in test.iter().zip(&h.parts) {
+                        let Some((pred, first)) = part else { continue };
+                        sum +=
+                            metrics::rms_error(&r.outputs[j][*first..], &pred[j][*first..]) / h.output_sd[j];
+                        count += 1.0;
+                    }
+                    sum / count.max(1.0)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Per output and fold, the error of predicting the fold's training mean on its held-out
+/// parts, normalised as the candidates' (by the training parts' standard deviation) and
+/// averaged the same way: what a model must beat to say more than a constant.
+pub(super) fn mean_scores(parts: &[(Vec<Record>, Vec<Record>)], no: usize) -> Vec<Vec<f64>> {
+    (0..no)
+        .map(|j| {
+            parts
+                .iter()
+                .map(|(train, test)| {
+                    let all: Vec<f64> = train.iter().flat_map(|r| r.outputs[j].iter().copied()).collect();
+                    let n = all.len().max(1) as f64;
+                    let mean = all.iter().sum::<f64>() / n;
+                    let sd = (all.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+                    let (mut sum, mut count) = (0.0, 0.0f64);
+                    for r in test {
+                        let e = (r.outputs[j].iter().map(|v| (v - mean).powi(2)).sum::<f64>()
+                            / r.len().max(1) as f64)
+                            .sqrt();
+                        sum += if sd > 0.0 { e / sd } else { 0.0 };
+                        count += 1.0;
+                    }
+                    sum / count.max(1.0)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The mean of each row.
+pub(super) fn row_means(v: &[Vec<f64>]) -> Vec<f64> {
+    v.iter()
+        .map(|r| r.iter().sum::<f64>() / r.len().max(1) as f64)
+        .collect()
 }

@@ -24,6 +24,7 @@
 //! judged by free runs is trained on free runs).
 
 pub mod benchmarks;
+pub mod budget;
 pub mod cascade;
 mod checks;
 mod estimate;
@@ -34,10 +35,12 @@ mod kinds;
 mod lagged;
 mod lm;
 mod predict;
+mod probes;
 pub mod pump_grey;
 pub mod select;
 mod select_cascade;
 mod select_ensemble;
+mod select_mean;
 mod term_selection;
 mod train;
 mod wiener_hammerstein;

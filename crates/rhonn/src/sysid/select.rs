@@ -18,7 +18,7 @@
 //! best ARX on the folds, and the selection says by how much it is better.
 
 use super::fold_queue::{self, Outcome};
-use super::folds::{folds, held_out_runs, held_out_score, HeldOut};
+use super::folds::{folds, held_out_runs, held_out_score, mean_scores, output_scores, row_means, HeldOut};
 use super::{fit, Activation, Estimator, Kind, ModelSpec};
 use super::{select_cascade, select_ensemble};
 use crate::data::Record;
@@ -33,8 +33,10 @@ pub struct SelectOptions {
     pub steps_ahead: Option<usize>,
     /// Contiguous folds per record (default 3).
     pub folds: usize,
-    /// Stop starting new candidates after this many seconds (default 40).
-    pub time_budget_s: f64,
+    /// The work budget per candidate, as a multiple of the default
+    /// ([`super::budget::DEFAULT_BUDGET`]): a candidate whose estimated work on the folds
+    /// exceeds it is skipped (default 1). Computed from the data, never from the clock.
+    pub budget: f64,
     /// Include the continuous-time cascade candidate (one output only; the slowest).
     pub cascade: bool,
     /// Include the ensembles of the best candidates (`select_ensemble`; default true).
@@ -46,7 +48,7 @@ impl Default for SelectOptions {
         SelectOptions {
             steps_ahead: None,
             folds: 3,
-            time_budget_s: 40.0,
+            budget: 1.0,
             cascade: true,
             ensembles: true,
         }
@@ -54,14 +56,14 @@ impl Default for SelectOptions {
 }
 
 impl SelectOptions {
-    /// The defaults, judged `steps_ahead` samples ahead (None: free run) within
-    /// `time_budget_s` (None: the default 40 s): `rhonn fit`'s `--select-steps-ahead` and
-    /// `--time-budget`, Python's `select_steps_ahead` and `time_budget_s`.
-    pub fn judged(steps_ahead: Option<usize>, time_budget_s: Option<f64>) -> Self {
+    /// The defaults, judged `steps_ahead` samples ahead (None: free run) within `budget`
+    /// times the default work budget (None: 1): `rhonn fit`'s `--select-steps-ahead` and
+    /// `--budget`, Python's `select_steps_ahead` and `budget`.
+    pub fn judged(steps_ahead: Option<usize>, budget: Option<f64>) -> Self {
         let d = SelectOptions::default();
         SelectOptions {
             steps_ahead,
-            time_budget_s: time_budget_s.unwrap_or(d.time_budget_s),
+            budget: budget.unwrap_or(d.budget),
             ..d
         }
     }
@@ -82,7 +84,22 @@ pub struct CandidateScore {
     pub fold_scores: Vec<f64>,
     /// Their mean (None when it failed or was skipped).
     pub score: Option<f64>,
-    /// Why it has no score: the error, or "skipped: time budget".
+    /// Its estimated work on the folds, in work units (`budget`).
+    pub work: f64,
+    /// Per output, its normalised RMS error on the folds, the mean over them (empty when
+    /// it has no score or is an ensemble).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub output_scores: Vec<f64>,
+    /// Per output, the same fold by fold.
+    #[serde(skip)]
+    pub output_fold_scores: Vec<Vec<f64>>,
+    /// How far its free run leaves the training output range under held steps at the
+    /// data's own input levels, in output standard deviations, the mean over folds
+    /// (`probes`; None when it has no score or is an ensemble).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub excursion: Option<f64>,
+
+    /// Why it has no score: the error, or "skipped: ..." (the work budget).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
     /// How it was judged when not in full: the cascade stopped after its first half of
@@ -118,6 +135,16 @@ pub struct Selection {
     pub best_arx: usize,
     /// Seconds the selection took.
     pub seconds: f64,
+    /// The work budget per candidate, in work units (`budget`; the default times
+    /// `--budget`).
+    pub work_budget: f64,
+    /// Per output, the error of predicting each fold's training mean, normalised as the
+    /// candidates' scores, the mean over the folds: what a model must beat to say more than
+    /// a constant.
+    pub mean_scores: Vec<f64>,
+    /// The outputs where no candidate beat that mean (`select_mean`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub no_better_than_mean: Vec<String>,
     /// What the user must know: every candidate ran worse than the output's mean on the
     /// folds (the chosen one's score at least 1).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -297,11 +324,11 @@ pub fn select(
     if !(2..=10).contains(&opts.folds) {
         return Err(invalid("folds", opts.folds, "an integer in [2, 10]"));
     }
-    if !(opts.time_budget_s.is_finite() && opts.time_budget_s > 0.0) {
+    if !(opts.budget.is_finite() && opts.budget > 0.0 && opts.budget <= 1e6) {
         return Err(invalid(
-            "--time-budget",
-            opts.time_budget_s,
-            "a number of seconds > 0",
+            "--budget",
+            opts.budget,
+            "a multiple of the default work budget in (0, 1e6]",
         ));
     }
     let shortest = records.iter().map(Record::len).min().unwrap_or(0);
@@ -333,10 +360,16 @@ pub(super) fn select_from(
     let total = list.len();
     let samples: usize = records.iter().map(Record::len).sum();
     let too_long = |spec: &ModelSpec| spec.kind == Kind::Cascade && samples > MAX_CASCADE_SAMPLES;
-    let may_start = |c: usize| {
-        let spec = &list[c].1;
-        !too_long(spec) && (spec.kind == Kind::Arx || start.elapsed().as_secs_f64() <= opts.time_budget_s)
-    };
+    let limit = opts.budget * super::budget::DEFAULT_BUDGET;
+    let work = super::budget::works(&list, samples, opts.folds, (inputs.len(), outputs.len()));
+    let over = |c: usize| list[c].1.kind != Kind::Arx && work[c] > limit;
+    let may_start = |c: usize| !too_long(&list[c].1) && !over(c);
+    let runs_n = (0..total).filter(|&c| may_start(c)).count();
+    progress(&format!(
+        "{runs_n} of {total} candidates within the work budget of {} units ({samples} samples, {} output(s))",
+        crate::metrics::sig(limit, 2),
+        outputs.len()
+    ));
     // Said before it runs, so that a slow candidate is not shown as the one before it.
     let on_start = |c: usize| progress(&format!("candidate {}/{total}, {}: running", c + 1, list[c].0));
     let said = |c: usize, seconds: f64, r: &Judged| {
@@ -404,22 +437,63 @@ pub(super) fn select_from(
         said(c, t0.elapsed().as_secs_f64(), &j);
         judged[c] = Some(j);
     }
-    let mut runs = Vec::with_capacity(total);
-    let mut scores: Vec<CandidateScore> = list
+    let skipped_why = |c: usize, spec: &ModelSpec| {
+        if too_long(spec) {
+            format!(
+                "skipped: {samples} samples, more than the {MAX_CASCADE_SAMPLES} a cascade trains on in seconds \
+                 (fit one with --model and kind = \"cascade\", or resample)"
+            )
+        } else {
+            format!(
+                "skipped: its estimated work on the folds ({} units) exceeds the budget ({} units); --budget {} tries it",
+                crate::metrics::sig(work[c], 2),
+                crate::metrics::sig(limit, 2),
+                crate::metrics::sig((work[c] / super::budget::DEFAULT_BUDGET).max(opts.budget), 2)
+            )
+        }
+    };
+    let (mut scores, runs) = scores_of(list, judged, (&work, &skipped_why), &parts);
+    if opts.ensembles {
+        let tests: Vec<&[Record]> = parts.iter().map(|(_, t)| t.as_slice()).collect();
+        append_ensembles(&mut scores, &runs, &tests, progress);
+    }
+    let tally = Tally {
+        seconds: start.elapsed().as_secs_f64(),
+        work_budget: limit,
+        mean_scores: mean_scores(&parts, outputs.len()),
+        outputs: outputs.to_vec(),
+    };
+    finish(scores, opts, tally)
+}
+
+/// Each candidate's score from what the folds said (`judged`; None: skipped, and
+/// `skipped_why` says why), with its work, per-output scores and probe figure; and each
+/// one's held-out predictions per fold (for the ensembles).
+#[allow(clippy::type_complexity)]
+fn scores_of(
+    list: Vec<(String, ModelSpec)>,
+    judged: Vec<Option<Judged>>,
+    (work, skipped_why): (&[f64], &dyn Fn(usize, &ModelSpec) -> String),
+    parts: &[(Vec<Record>, Vec<Record>)],
+) -> (Vec<CandidateScore>, Vec<Vec<HeldOut>>) {
+    let mut runs = Vec::with_capacity(list.len());
+    let scores = list
         .into_iter()
         .zip(judged)
-        .map(|((name, spec), j)| {
+        .enumerate()
+        .map(|(c, ((name, spec), j))| {
             let j = j.unwrap_or_else(|| Judged {
-                failed: Some(if too_long(&spec) {
-                    format!(
-                        "skipped: {samples} samples, more than the {MAX_CASCADE_SAMPLES} a cascade trains on in seconds \
-                         (fit one with --model and kind = \"cascade\", or resample)"
-                    )
-                } else {
-                    format!("skipped: the time budget of {} s was spent", opts.time_budget_s)
-                }),
+                failed: Some(skipped_why(c, &spec)),
                 ..Judged::default()
             });
+            // The mean over the folds, when every fold measured it.
+            let mean = |f: fn(&HeldOut) -> f64| {
+                let v: Vec<f64> = j.runs.iter().map(f).collect();
+                (!v.is_empty() && v.iter().all(|x| x.is_finite()))
+                    .then(|| v.iter().sum::<f64>() / v.len() as f64)
+            };
+            let excursion = mean(|h| h.probe.excursion);
+            let per_fold = output_scores(&j.runs, parts);
             runs.push(j.runs);
             CandidateScore {
                 name,
@@ -427,16 +501,16 @@ pub(super) fn select_from(
                 members: Vec::new(),
                 fold_scores: j.fold_scores,
                 score: j.score,
+                work: work[c],
+                output_scores: row_means(&per_fold),
+                output_fold_scores: per_fold,
+                excursion,
                 failed: j.failed,
                 note: j.note,
             }
         })
         .collect();
-    if opts.ensembles {
-        let tests: Vec<&[Record]> = parts.iter().map(|(_, t)| t.as_slice()).collect();
-        append_ensembles(&mut scores, &runs, &tests, progress);
-    }
-    finish(scores, opts, start.elapsed().as_secs_f64())
+    (scores, runs)
 }
 
 /// Judge the ensembles of the candidates `scored` (`select_ensemble`; `runs`: each one's
@@ -458,6 +532,9 @@ fn append_ensembles(
             runs,
         })
         .collect();
+    let worst = |members: &[usize], f: fn(&CandidateScore) -> Option<f64>| {
+        members.iter().filter_map(|&i| f(&scored[i])).reduce(f64::max)
+    };
     let found: Vec<CandidateScore> = select_ensemble::ensembles(&entries, tests)
         .into_iter()
         .map(|e| CandidateScore {
@@ -466,6 +543,11 @@ fn append_ensembles(
             members: e.members.iter().map(|&i| scored[i].model.clone()).collect(),
             fold_scores: e.fold_scores,
             score: e.score,
+            work: 0.0,
+            output_scores: Vec::new(),
+            output_fold_scores: Vec::new(),
+            // Its worst member's.
+            excursion: worst(&e.members, |c| c.excursion),
             failed: e.failed,
             note: None,
         })
@@ -525,8 +607,24 @@ impl Judged {
     }
 }
 
+/// What the selection measured besides the candidates' scores.
+pub(super) struct Tally {
+    pub seconds: f64,
+    pub work_budget: f64,
+    /// `folds::mean_scores`: per output and fold.
+    pub mean_scores: Vec<Vec<f64>>,
+    pub outputs: Vec<String>,
+}
+
 /// Pick the best candidate and say what was found.
-fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, seconds: f64) -> Result<Selection> {
+fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, tally: Tally) -> Result<Selection> {
+    let Tally {
+        seconds,
+        work_budget,
+        mean_scores,
+        outputs,
+    } = tally;
+    let tally_rest = (work_budget, mean_scores, outputs);
     let best_of = |arx_only: bool| {
         candidates
             .iter()
@@ -551,17 +649,19 @@ fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, seconds: f64) -
     // is within the folds' spread (a linear system with noise: a lagged RHONN 0.2 % below
     // the ARX on the mean, above it on one fold, ran free 0.8 % worse on new data).
     let arx_folds = &candidates[best_arx].fold_scores;
-    let eligible = |i: usize| {
+    let beats_arx = |i: usize| {
         let f = &candidates[i].fold_scores;
         i == best_arx || (f.len() == arx_folds.len() && f.iter().zip(arx_folds).all(|(c, a)| c < a))
     };
+    let eligible = beats_arx;
     let mut findings = Vec::new();
-    if let Some((i, s)) = best_of(false).filter(|&(i, _)| !eligible(i)) {
+    if let Some((i, s)) = best_of(false).filter(|&(i, _)| !beats_arx(i)) {
         findings.push(format!(
             "{} scored {s:.4} on average, below the best ARX's {arx_score:.4}, but not on every fold: a structure must beat the best ARX on every fold to replace it",
             candidates[i].name
         ));
     }
+
     let best_eligible = |bounded_only: bool| {
         let polynomial =
             |c: &CandidateScore| c.model.activation == Activation::Identity && c.model.kind == Kind::Rhonn;
@@ -605,27 +705,8 @@ fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, seconds: f64) -
             100.0 * (1.0 - score / arx_score)
         ));
     }
-    let skipped = candidates
-        .iter()
-        .filter(|c| {
-            c.failed
-                .as_deref()
-                .is_some_and(|f| f.starts_with("skipped: the time budget"))
-        })
-        .count();
-    if skipped > 0 {
-        findings.push(format!(
-            "{skipped} candidate(s) skipped: the time budget ({} s) was spent; raise --time-budget to try them",
-            opts.time_budget_s
-        ));
-    }
-    let mut warnings = Vec::new();
-    if score >= 1.0 {
-        warnings.push(format!(
-            "every candidate structure ran {judged_by} worse than the output's mean on the folds (the chosen, {}, scored {score:.4} of the output's standard deviation; 1 is the mean's): the model is no better than a constant there; judge K samples ahead (--select-steps-ahead K) or give a structure",
-            candidates[chosen].name
-        ));
-    }
+    let (no_better_than_mean, warnings) =
+        cautions(&candidates, chosen, &mut findings, &tally_rest, &judged_by);
     Ok(Selection {
         judged_by,
         folds: opts.folds,
@@ -633,9 +714,53 @@ fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, seconds: f64) -
         chosen,
         best_arx,
         seconds,
+        work_budget,
+        mean_scores: row_means(&tally_rest.1),
+        no_better_than_mean,
         findings,
         warnings,
     })
+}
+
+/// The findings on skipped candidates, and what the user must know: the outputs nothing
+/// beat the mean on (`select_mean`), a chosen model that leaves the range under held steps
+/// (`probes`).
+fn cautions(
+    candidates: &[CandidateScore],
+    chosen: usize,
+    findings: &mut Vec<String>,
+    (work_budget, mean_scores, outputs): &(f64, Vec<Vec<f64>>, Vec<String>),
+    judged_by: &str,
+) -> (Vec<String>, Vec<String>) {
+    let skipped = candidates
+        .iter()
+        .filter(|c| {
+            c.failed
+                .as_deref()
+                .is_some_and(|f| f.starts_with("skipped: its estimated work"))
+        })
+        .count();
+    if skipped > 0 {
+        findings.push(format!(
+            "{skipped} candidate(s) skipped: their estimated work on the folds exceeds the budget ({} units, from the data's size; --budget K multiplies it)",
+            crate::metrics::sig(*work_budget, 2)
+        ));
+    }
+    let scored: Vec<(&str, &[Vec<f64>])> = candidates
+        .iter()
+        .map(|c| (c.name.as_str(), c.output_fold_scores.as_slice()))
+        .collect();
+    let (no_better_than_mean, mut warnings) =
+        super::select_mean::verdict(&scored, mean_scores, outputs, judged_by);
+    if let Some(e) = candidates[chosen]
+        .excursion
+        .filter(|&e| e > super::probes::EXCURSION_CAUTION)
+    {
+        warnings.push(format!(
+            "the chosen model's free run under held steps at the data's own input levels leaves the training output range by {e:.3} output standard deviations (RMS, the mean over the folds; summary.json's `excursion`): check it on a record of steps or pulses before relying on it away from the training trajectory"
+        ));
+    }
+    (no_better_than_mean, warnings)
 }
 
 #[cfg(test)]

@@ -70,9 +70,14 @@ fn mean_of(members: &[&HeldOut]) -> HeldOut {
             Some((sum, start))
         })
         .collect();
+    // The ensemble's probe figure: its worst member's (not measured on the mean).
+    let worst = |f: fn(&HeldOut) -> f64| members.iter().map(|m| f(m)).fold(0.0, f64::max);
     HeldOut {
         parts,
         output_sd: first.output_sd.clone(),
+        probe: super::probes::Probe {
+            excursion: worst(|h| h.probe.excursion),
+        },
     }
 }
 
@@ -182,6 +187,7 @@ mod tests {
                 members: vec![models[1].clone()],
                 baseline: None,
                 units: Default::default(),
+                no_better_than_mean: Vec::new(),
             };
             let mut direct = 0.0;
             for r in test {
@@ -211,6 +217,7 @@ mod tests {
         let h = HeldOut {
             parts: vec![Some((vec![pred], 1))],
             output_sd: vec![2.0],
+            probe: Default::default(),
         };
         (
             ModelSpec {

@@ -28,6 +28,16 @@ fn record(seed: u64, n: usize, c: f64) -> Record {
     }
 }
 
+/// What `finish` needs besides the candidates, for tests of its rules alone.
+fn tally() -> Tally {
+    Tally {
+        seconds: 1.0,
+        work_budget: 1.0,
+        mean_scores: vec![vec![1.0; 3]],
+        outputs: vec!["y".into()],
+    }
+}
+
 fn names() -> (Vec<String>, Vec<String>) {
     (vec!["u".into()], vec!["y".into()])
 }
@@ -55,12 +65,13 @@ fn a_nonlinear_record_gets_a_nonlinear_model_better_than_every_arx() {
     for c in sel.candidates.iter().filter(|c| c.model.kind == Kind::Arx) {
         assert!(c.score.unwrap() >= arx);
     }
-    // A line when each candidate starts and one when it ends; one for each ensemble.
+    // The budget first, then a line when each candidate starts and one when it ends; one
+    // for each ensemble.
     let ensembles = sel.candidates.iter().filter(|c| !c.members.is_empty()).count();
     assert_eq!(ensembles, 2, "{:?}", sel.candidates);
     assert_eq!(
         lines.lock().unwrap().len(),
-        2 * (sel.candidates.len() - ensembles) + ensembles
+        1 + 2 * (sel.candidates.len() - ensembles) + ensembles
     );
     assert!(sel.findings[0].starts_with("chose "), "{:?}", sel.findings);
 }
@@ -77,7 +88,13 @@ fn progress_names_each_candidate_as_it_starts_then_with_its_score() {
         lines.lock().unwrap().push(l.to_string())
     })
     .unwrap();
-    let lines = lines.into_inner().unwrap();
+    let mut lines = lines.into_inner().unwrap();
+    // First what the work budget lets run, computed from the data before any candidate.
+    let budget = lines.remove(0);
+    assert_eq!(
+        budget,
+        "16 of 16 candidates within the work budget of 1.5e10 units (600 samples, 1 output(s))"
+    );
     // The ensembles, judged from the others' predictions, last: one line each, with
     // their score.
     let n = sel.candidates.iter().filter(|c| c.members.is_empty()).count();
@@ -138,10 +155,10 @@ fn a_linear_record_is_never_given_a_model_worse_than_the_best_arx() {
 }
 
 #[test]
-fn a_spent_time_budget_skips_the_nonlinear_candidates_and_says_so() {
+fn a_small_work_budget_skips_the_nonlinear_candidates_and_says_so() {
     let (i, o) = names();
     let opts = SelectOptions {
-        time_budget_s: 1e-9,
+        budget: 1e-9,
         steps_ahead: Some(3),
         ..Default::default()
     };
@@ -153,7 +170,7 @@ fn a_spent_time_budget_skips_the_nonlinear_candidates_and_says_so() {
         .iter()
         .any(|c| c.failed.as_deref().is_some_and(|f| f.starts_with("skipped"))));
     assert!(
-        sel.findings.iter().any(|f| f.contains("time budget")),
+        sel.findings.iter().any(|f| f.contains("exceeds the budget")),
         "{:?}",
         sel.findings
     );
@@ -176,7 +193,7 @@ fn bad_options_are_errors() {
             ..Default::default()
         },
         SelectOptions {
-            time_budget_s: f64::NAN,
+            budget: f64::NAN,
             ..Default::default()
         },
     ] {
@@ -196,6 +213,10 @@ fn a_polynomial_is_chosen_only_when_it_beats_the_bounded_structures_by_the_margi
         members: Vec::new(),
         fold_scores: vec![score; 3],
         score: Some(score),
+        work: 0.0,
+        output_scores: Vec::new(),
+        output_fold_scores: Vec::new(),
+        excursion: None,
         failed: None,
         note: None,
     };
@@ -208,7 +229,7 @@ fn a_polynomial_is_chosen_only_when_it_beats_the_bounded_structures_by_the_margi
     };
     let opts = SelectOptions::default();
     // 0.75 of the bounded one's score: not enough.
-    let s = finish(list(0.15), &opts, 1.0).unwrap();
+    let s = finish(list(0.15), &opts, tally()).unwrap();
     assert_eq!(s.candidates[s.chosen].name, "rhonn");
     assert!(
         s.findings
@@ -218,7 +239,7 @@ fn a_polynomial_is_chosen_only_when_it_beats_the_bounded_structures_by_the_margi
         s.findings
     );
     // At most half: chosen.
-    let s = finish(list(0.1), &opts, 1.0).unwrap();
+    let s = finish(list(0.1), &opts, tally()).unwrap();
     assert_eq!(s.candidates[s.chosen].name, "polynomial");
     assert!(!s.findings.iter().any(|f| f.contains("not below")));
     // A lower mean with one fold above the ARX's: the next structure that wins every fold.
@@ -226,7 +247,7 @@ fn a_polynomial_is_chosen_only_when_it_beats_the_bounded_structures_by_the_margi
     l[1].fold_scores = vec![0.1, 0.1, 0.55];
     l[1].score = Some(0.25);
     l.push(scored("steady", Kind::Rhonn, Activation::Tanh, 0.3));
-    let s = finish(l.clone(), &opts, 1.0).unwrap();
+    let s = finish(l.clone(), &opts, tally()).unwrap();
     assert_eq!(s.candidates[s.chosen].name, "steady");
     assert!(
         s.findings
@@ -237,7 +258,7 @@ fn a_polynomial_is_chosen_only_when_it_beats_the_bounded_structures_by_the_margi
     );
     // None that wins every fold: the ARX.
     l.pop();
-    let s = finish(l, &opts, 1.0).unwrap();
+    let s = finish(l, &opts, tally()).unwrap();
     assert_eq!(s.candidates[s.chosen].name, "arx");
 }
 
@@ -251,4 +272,41 @@ fn the_arx_baseline_is_one_arx_never_an_ensemble() {
         .all(|c| c.model.kind == Kind::Arx && c.members.is_empty()));
     assert!(fitted.members.is_empty());
     assert_eq!(fitted.model.spec.kind, Kind::Arx);
+}
+
+#[test]
+fn an_output_that_no_candidate_predicts_better_than_its_mean_is_said_and_flagged() {
+    // y is noise that the input does not drive, with a slow drift that moves its mean
+    // from fold to fold: nothing tried can beat the training mean on it in free run.
+    let mut r = record(7, 600, 0.0);
+    let mut s = 99u64;
+    for (k, y) in r.outputs[0].iter_mut().enumerate() {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        *y = ((s >> 33) as f64 / (1u64 << 31) as f64) - 0.5 + 0.1 * (k as f64 / 600.0);
+    }
+    let (i, o) = names();
+    let opts = SelectOptions {
+        cascade: false,
+        ..Default::default()
+    };
+    let sel = select(&[r], &i, &o, &opts, &|_| {}).unwrap();
+    assert_eq!(
+        sel.no_better_than_mean,
+        vec!["y".to_string()],
+        "{:?}",
+        sel.mean_scores
+    );
+    assert!(
+        sel.warnings
+            .iter()
+            .any(|w| w.contains("output `y`") && w.contains("training mean")),
+        "{:?}",
+        sel.warnings
+    );
+    // And a system the input drives is not flagged.
+    let sel = select(&[record(3, 600, 0.2)], &i, &o, &opts, &|_| {}).unwrap();
+    assert!(sel.no_better_than_mean.is_empty(), "{:?}", sel.warnings);
+    assert!(sel.mean_scores[0] > sel.candidates[sel.chosen].score.unwrap());
 }

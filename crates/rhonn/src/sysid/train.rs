@@ -125,7 +125,10 @@ pub fn train_selected(
     outputs: &[String],
 ) -> Result<(FittedModel, FitSummary)> {
     let baseline = selection.as_ref().map(|s| s.candidates[s.best_arx].model.clone());
-    let (fitted, mut summary) = train_beside(specs, baseline.as_ref(), records, inputs, outputs)?;
+    let (mut fitted, mut summary) = train_beside(specs, baseline.as_ref(), records, inputs, outputs)?;
+    if let Some(s) = &selection {
+        fitted.no_better_than_mean = s.no_better_than_mean.clone();
+    }
     summary.selection = selection;
     Ok((fitted, summary))
 }
