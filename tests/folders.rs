@@ -8,6 +8,11 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
+/// `rhonn predict` with the fit's model `m/model.json` on `data` into `out`.
+fn predict_args<'a>(data: &'a str, out: &'a str) -> [&'a str; 7] {
+    ["predict", "--model", "m/model.json", "--data", data, "--out", out]
+}
+
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("data/cascaded-tanks")
@@ -283,15 +288,7 @@ fn two_writers_at_once_never_leave_a_folder_of_both() {
         };
         let spawn = |data: &Path| {
             Command::new(env!("CARGO_BIN_EXE_rhonn"))
-                .args([
-                    "predict",
-                    "--model",
-                    "m/model.json",
-                    "--data",
-                    data.to_str().unwrap(),
-                    "--out",
-                    &out,
-                ])
+                .args(predict_args(data.to_str().unwrap(), &out))
                 .current_dir(d.path())
                 .stdout(Stdio::null())
                 .stderr(Stdio::piped())
@@ -335,28 +332,9 @@ fn a_run_killed_at_any_step_of_its_commit_leaves_one_run_s_folder() {
     // manifest. The next command (here `rhonn report`) finishes a decided commit.
     for step in 1..=12 {
         let dir = format!("k{step}");
-        ok(&rhonn(
-            d.path(),
-            &[
-                "predict",
-                "--model",
-                "m/model.json",
-                "--data",
-                a.to_str().unwrap(),
-                "--out",
-                &dir,
-            ],
-        ));
+        ok(&rhonn(d.path(), &predict_args(a.to_str().unwrap(), &dir)));
         let o = Command::new(env!("CARGO_BIN_EXE_rhonn"))
-            .args([
-                "predict",
-                "--model",
-                "m/model.json",
-                "--data",
-                b.to_str().unwrap(),
-                "--out",
-                &dir,
-            ])
+            .args(predict_args(b.to_str().unwrap(), &dir))
             .env("RHONN_TEST_ABORT_AT_COMMIT_STEP", step.to_string())
             .current_dir(d.path())
             .output()
@@ -373,18 +351,7 @@ fn a_run_killed_at_any_step_of_its_commit_leaves_one_run_s_folder() {
     // Killed at random points of whole runs, into a folder that one run has written whole
     // (so that every kill, early or late, on a fast machine or a slow one, is checked).
     let dir = "kr";
-    ok(&rhonn(
-        d.path(),
-        &[
-            "predict",
-            "--model",
-            "m/model.json",
-            "--data",
-            a.to_str().unwrap(),
-            "--out",
-            dir,
-        ],
-    ));
+    ok(&rhonn(d.path(), &predict_args(a.to_str().unwrap(), dir)));
     let n = trials("RHONN_KILL_TRIALS", 40);
     let mut rng = 0x9e37_79b9_7f4a_7c15u64;
     for k in 0..n {
@@ -430,15 +397,7 @@ fn a_first_run_killed_before_its_commit_leaves_no_file_in_sight_and_the_next_run
         &fit_args(data("estimation.csv").to_str().unwrap(), "m"),
     ));
     let a = data("estimation.csv");
-    let args = [
-        "predict",
-        "--model",
-        "m/model.json",
-        "--data",
-        a.to_str().unwrap(),
-        "--out",
-        "new/inner",
-    ];
+    let args = predict_args(a.to_str().unwrap(), "new/inner");
     let o = Command::new(env!("CARGO_BIN_EXE_rhonn"))
         .args(args)
         .env("RHONN_TEST_ABORT_AT_COMMIT_STEP", "1")
