@@ -290,7 +290,8 @@ const METHOD_COLUMNS: [&str; 3] = ["fit", "online", "arx"];
 
 /// `free_run_K.csv`: t, the inputs, then per output the measurement and the three free
 /// runs (`<name>_fit`, `<name>_online`, `<name>_arx`): a recording `rhonn predict` reads.
-fn free_run_csv(
+/// With no runs: the record alone (`rhonn corpus`'s recordings).
+pub(super) fn free_run_csv(
     w: &mut dyn std::io::Write,
     r: &rhonn::data::Record,
     (inputs, outputs): (&[String], &[String]),
@@ -300,7 +301,12 @@ fn free_run_csv(
     head.extend(inputs.iter().cloned());
     for o in outputs {
         head.push(o.clone());
-        head.extend(METHOD_COLUMNS.iter().map(|m| format!("{o}_{m}")));
+        head.extend(
+            METHOD_COLUMNS
+                .iter()
+                .take(preds.len())
+                .map(|m| format!("{o}_{m}")),
+        );
     }
     writeln!(w, "{}", head.join(","))?;
     for k in 0..r.len() {

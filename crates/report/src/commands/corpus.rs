@@ -198,7 +198,7 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
             for (what, recs) in [("train", &sys.train), ("test", &sys.tests)] {
                 for (k, r) in recs.iter().enumerate() {
                     one.write(&format!("{what}_{k}.csv"), |w| {
-                        record_csv(w, r, &sys.inputs, &sys.outputs)
+                        super::benchmark::free_run_csv(w, r, (&sys.inputs, &sys.outputs), &[])
                     })?;
                 }
             }
@@ -222,27 +222,4 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
             ..Outcome::default()
         })
     })
-}
-
-/// A record as CSV: `t`, the inputs, the outputs.
-fn record_csv(
-    w: &mut dyn std::io::Write,
-    r: &rhonn::data::Record,
-    inputs: &[String],
-    outputs: &[String],
-) -> std::io::Result<()> {
-    let head: Vec<&str> = std::iter::once("t")
-        .chain(inputs.iter().map(String::as_str))
-        .chain(outputs.iter().map(String::as_str))
-        .collect();
-    writeln!(w, "{}", head.join(","))?;
-    for k in 0..r.len() {
-        let row: Vec<String> = std::iter::once(r.t[k])
-            .chain(r.inputs.iter().map(|c| c[k]))
-            .chain(r.outputs.iter().map(|c| c[k]))
-            .map(|v| v.to_string())
-            .collect();
-        writeln!(w, "{}", row.join(","))?;
-    }
-    Ok(())
 }

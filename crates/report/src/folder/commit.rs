@@ -83,10 +83,7 @@ impl Writing {
             path: dir.to_path_buf(),
             message: rhonn::error::path_problem(dir, &e),
         };
-        let lock = lock_created(dir).map_err(|e| match e {
-            LockError::Io(e) => folder_err(e),
-            LockError::Refused(e) => e,
-        })?;
+        let lock = lock_created(dir, &folder_err)?;
         let w = Writing {
             dir: dir.to_path_buf(),
             stage: dir.join(format!(".rhonn-stage-{}", std::process::id())),
@@ -264,23 +261,18 @@ impl Drop for Writing {
     }
 }
 
-enum LockError {
-    Io(std::io::Error),
-    Refused(Error),
-}
-
 /// Create `dir` (with its missing parents) and lock it. Another writer refused at the
 /// lock removes nothing, but a writer that held the lock and failed removes the empty
 /// folder it created: the folder may vanish between creating and locking it, so that
 /// step is retried.
-fn lock_created(dir: &Path) -> std::result::Result<FolderLock, LockError> {
+fn lock_created(dir: &Path, folder_err: &dyn Fn(std::io::Error) -> Error) -> Result<FolderLock> {
     let mut tries = 0;
     loop {
-        std::fs::create_dir_all(dir).map_err(LockError::Io)?;
+        std::fs::create_dir_all(dir).map_err(folder_err)?;
         match FolderLock::acquire(dir) {
             Ok(lock) => return Ok(lock),
             Err(_) if !dir.exists() && tries < 8 => tries += 1,
-            Err(e) => return Err(LockError::Refused(e)),
+            Err(e) => return Err(e),
         }
     }
 }

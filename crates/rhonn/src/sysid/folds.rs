@@ -131,16 +131,15 @@ pub(super) fn mean_scores(parts: &[(Vec<Record>, Vec<Record>)], no: usize) -> Ve
             parts
                 .iter()
                 .map(|(train, test)| {
-                    let all: Vec<f64> = train.iter().flat_map(|r| r.outputs[j].iter().copied()).collect();
-                    let n = all.len().max(1) as f64;
-                    let mean = all.iter().sum::<f64>() / n;
-                    let sd = (all.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+                    // The models' own normalisation (`blank_model`): a constant divides by 1.
+                    let cols: Vec<&[f64]> = train.iter().map(|r| r.outputs[j].as_slice()).collect();
+                    let (mean, sd) = metrics::mean_std(&cols);
                     let (mut sum, mut count) = (0.0, 0.0f64);
                     for r in test {
                         let e = (r.outputs[j].iter().map(|v| (v - mean).powi(2)).sum::<f64>()
                             / r.len().max(1) as f64)
                             .sqrt();
-                        sum += if sd > 0.0 { e / sd } else { 0.0 };
+                        sum += e / sd;
                         count += 1.0;
                     }
                     sum / count.max(1.0)

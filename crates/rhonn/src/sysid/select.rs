@@ -618,13 +618,6 @@ pub(super) struct Tally {
 
 /// Pick the best candidate and say what was found.
 fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, tally: Tally) -> Result<Selection> {
-    let Tally {
-        seconds,
-        work_budget,
-        mean_scores,
-        outputs,
-    } = tally;
-    let tally_rest = (work_budget, mean_scores, outputs);
     let best_of = |arx_only: bool| {
         candidates
             .iter()
@@ -705,17 +698,16 @@ fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, tally: Tally) -
             100.0 * (1.0 - score / arx_score)
         ));
     }
-    let (no_better_than_mean, warnings) =
-        cautions(&candidates, chosen, &mut findings, &tally_rest, &judged_by);
+    let (no_better_than_mean, warnings) = cautions(&candidates, chosen, &mut findings, &tally, &judged_by);
     Ok(Selection {
         judged_by,
         folds: opts.folds,
         candidates,
         chosen,
         best_arx,
-        seconds,
-        work_budget,
-        mean_scores: row_means(&tally_rest.1),
+        seconds: tally.seconds,
+        work_budget: tally.work_budget,
+        mean_scores: row_means(&tally.mean_scores),
         no_better_than_mean,
         findings,
         warnings,
@@ -729,7 +721,7 @@ fn cautions(
     candidates: &[CandidateScore],
     chosen: usize,
     findings: &mut Vec<String>,
-    (work_budget, mean_scores, outputs): &(f64, Vec<Vec<f64>>, Vec<String>),
+    tally: &Tally,
     judged_by: &str,
 ) -> (Vec<String>, Vec<String>) {
     let skipped = candidates
@@ -743,7 +735,7 @@ fn cautions(
     if skipped > 0 {
         findings.push(format!(
             "{skipped} candidate(s) skipped: their estimated work on the folds exceeds the budget ({} units, from the data's size; --budget K multiplies it)",
-            crate::metrics::sig(*work_budget, 2)
+            crate::metrics::sig(tally.work_budget, 2)
         ));
     }
     let scored: Vec<(&str, &[Vec<f64>])> = candidates
@@ -751,7 +743,7 @@ fn cautions(
         .map(|c| (c.name.as_str(), c.output_fold_scores.as_slice()))
         .collect();
     let (no_better_than_mean, mut warnings) =
-        super::select_mean::verdict(&scored, mean_scores, outputs, judged_by);
+        super::select_mean::verdict(&scored, &tally.mean_scores, &tally.outputs, judged_by);
     if let Some(e) = candidates[chosen]
         .excursion
         .filter(|&e| e > super::probes::EXCURSION_CAUTION)

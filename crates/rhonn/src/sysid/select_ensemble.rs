@@ -70,14 +70,12 @@ fn mean_of(members: &[&HeldOut]) -> HeldOut {
             Some((sum, start))
         })
         .collect();
-    // The ensemble's probe figure: its worst member's (not measured on the mean).
-    let worst = |f: fn(&HeldOut) -> f64| members.iter().map(|m| f(m)).fold(0.0, f64::max);
+    // The ensemble's excursion is its worst member's, taken from their scores
+    // (`select::append_ensembles`); this mean is judged on its predictions only.
     HeldOut {
         parts,
         output_sd: first.output_sd.clone(),
-        probe: super::probes::Probe {
-            excursion: worst(|h| h.probe.excursion),
-        },
+        probe: Default::default(),
     }
 }
 
