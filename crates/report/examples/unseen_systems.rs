@@ -31,7 +31,7 @@ fn one(train_rec: &Record, test_rec: &Record) -> Result<(String, f64, f64, f64),
     let start = Instant::now();
     let recs = std::slice::from_ref(train_rec);
     let sel = select(recs, &inputs, &outputs, &SelectOptions::default(), &|_| {})?;
-    let name = sel.candidates[sel.chosen].name.clone();
+    let name = sel.chosen_name();
     let arx = &sel.candidates[sel.best_arx].model;
     let (fitted, _) = train_beside(&sel.chosen_specs(), Some(arx), recs, &inputs, &outputs)?;
     let seconds = start.elapsed().as_secs_f64();

@@ -52,7 +52,7 @@ fn main() {
             "| {k} x {k} | {records} x {len} | {:.1} | {ran} of {} | {} |",
             start.elapsed().as_secs_f64(),
             sel.candidates.len(),
-            sel.candidates[sel.chosen].name
+            sel.chosen_name()
         );
     }
 }

@@ -324,6 +324,19 @@ fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) ->
             recs.len()
         )
     });
+    for own in &summary.by_output {
+        o.lines.push(format!(
+            "  output `{}` from a structure of its own: {} {}with {} features per output",
+            own.output,
+            own.model.kind.with_article(),
+            if own.members > 1 {
+                format!("ensemble of {} ", own.members)
+            } else {
+                String::new()
+            },
+            own.features
+        ));
+    }
     if grey {
         // An integrating line drifts in free run: the K-step figure is the one to read.
         let k = specs[0].horizon;

@@ -121,7 +121,7 @@ fn fit_default(
     let run = sysid::fit_records(structure, &b.train, ins, outs, "the sample time", progress)?;
     let structure = match (&run.summary.selection, model) {
         (_, Some((_, name))) => name.to_string(),
-        (Some(sel), None) => sel.candidates[sel.chosen].name.clone(),
+        (Some(sel), None) => sel.chosen_name(),
         (None, None) => String::new(),
     };
     Ok((
@@ -238,7 +238,7 @@ pub fn run_with(
         ("rhonn identify (default)", online_structure, online_s),
         (
             "ARX (lags by CV)",
-            arx_sel.candidates[arx_sel.chosen].name.clone(),
+            arx_sel.candidates[arx_sel.best_arx].name.clone(),
             arx_s,
         ),
     ];

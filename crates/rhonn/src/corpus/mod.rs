@@ -313,12 +313,12 @@ fn judge_into(
         progress,
     )?;
     if let Some(sel) = &run.summary.selection {
-        j.fit_structure = sel.candidates[sel.chosen].name.clone();
+        j.fit_structure = sel.chosen_name();
     }
     j.fit_warnings = [run.selection_warnings.clone(), run.data_warnings.clone()].concat();
     let flagged = run.fitted.no_better_than_mean.clone();
     let (arx, arx_sel) = sysid::best_arx(&sys.train, ins, outs)?;
-    j.arx_structure = arx_sel.candidates[arx_sel.chosen].name.clone();
+    j.arx_structure = arx_sel.candidates[arx_sel.best_arx].name.clone();
     let mut sq = vec![[0.0f64; 2]; outs.len()];
     let mut scored: Vec<Vec<f64>> = vec![Vec::new(); outs.len()];
     for r in &sys.tests {

@@ -19,7 +19,7 @@ pub struct FittedModel {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub members: Vec<Model>,
     /// The linear baseline: the ARX with the first member's lags, or the best ARX on the
-    /// folds when the structure was selected (None when the model is itself an ARX).
+    /// folds when the structure was selected (None when the model is an ARX for every output).
     pub baseline: Option<Model>,
     /// The data's units by column (`rhonn fit --units`), for what people read; absent
     /// when none were given.
@@ -30,6 +30,61 @@ pub struct FittedModel {
     /// there, and `rhonn predict` says so. Absent when none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub no_better_than_mean: Vec<String>,
+    /// The outputs a structure of their own predicts (the selection's `by_output`): the
+    /// prediction of each is taken from its own structure's, the others from `model`'s.
+    /// Absent when one structure predicts every output.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub by_output: Vec<OutputModel>,
+}
+
+/// An output predicted by a structure of its own. The structure is trained on every
+/// output, as `model` is: its free run feeds back its own predictions of the others, so
+/// it runs on the inputs alone, like the rest of the model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputModel {
+    /// The output it predicts.
+    pub output: String,
+    /// The structure (an ensemble's first member).
+    pub model: Model,
+    /// An ensemble's further members (the mean of every member's prediction).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub members: Vec<Model>,
+}
+
+impl OutputModel {
+    /// Every member, the first one first.
+    pub fn all_members(&self) -> impl Iterator<Item = &Model> {
+        std::iter::once(&self.model).chain(&self.members)
+    }
+}
+
+/// The mean of `members`' predictions (see [`Model::predict`]) from the latest member's first
+/// predictable sample on (the measurement repeated before it).
+fn mean_prediction<'a>(
+    mut members: impl Iterator<Item = &'a Model>,
+    r: &Record,
+    steps_ahead: Option<usize>,
+) -> Result<(Vec<Vec<f64>>, usize)> {
+    let first_member = members.next().expect("at least one member");
+    let (mut sum, mut first) = first_member.predict(r, steps_ahead)?;
+    let mut k = 1.0;
+    for m in members {
+        let (p, f) = m.predict(r, steps_ahead)?;
+        first = first.max(f);
+        for (s, pj) in sum.iter_mut().zip(&p) {
+            for (a, b) in s.iter_mut().zip(pj) {
+                *a += b;
+            }
+        }
+        k += 1.0;
+    }
+    for (j, s) in sum.iter_mut().enumerate() {
+        for (i, v) in s.iter_mut().enumerate() {
+            *v = if i < first { r.outputs[j][i] } else { *v / k };
+        }
+    }
+    Ok((sum, first))
 }
 
 impl FittedModel {
@@ -59,6 +114,9 @@ impl FittedModel {
                 ));
             }
         }
+        for (i, o) in self.by_output.iter().enumerate() {
+            self.validate_own(i, o)?;
+        }
         if let Some(b) = &self.baseline {
             b.validate().map_err(|e| crate::error::rerooted(e, "baseline"))?;
             // The baseline was fitted on the model's own signals and grid: an edit of one
@@ -79,30 +137,68 @@ impl FittedModel {
 
     /// Samples needed before the first prediction, over every member.
     pub fn max_lag(&self) -> usize {
-        self.all_members().map(|m| m.spec.max_lag()).max().unwrap_or(0)
+        let own = self.by_output.iter().flat_map(OutputModel::all_members);
+        self.all_members()
+            .chain(own)
+            .map(|m| m.spec.max_lag())
+            .max()
+            .unwrap_or(0)
     }
 
     /// The prediction of every output (see [`Model::predict`]): a single model's, or the
     /// mean of an ensemble's members' predictions, from the latest member's first
-    /// predictable sample on (the measurement repeated before it).
+    /// predictable sample on (the measurement repeated before it); an output of
+    /// `by_output` from its own structure's, run on its own as on the selection's folds
+    /// (from the latest structure's first sample on).
     pub fn predict(&self, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
-        let (mut sum, mut first) = self.model.predict(r, steps_ahead)?;
-        for m in &self.members {
-            let (p, f) = m.predict(r, steps_ahead)?;
+        let (mut pred, mut first) = mean_prediction(self.all_members(), r, steps_ahead)?;
+        for o in &self.by_output {
+            let (own, f) = mean_prediction(o.all_members(), r, steps_ahead)?;
+            let j = self.model.outputs.iter().position(|y| *y == o.output);
+            let j = j.ok_or_else(|| invalid("by_output.output", &o.output, "one of the model's outputs"))?;
+            pred[j] = own.into_iter().nth(j).unwrap_or_default();
             first = first.max(f);
-            for (s, pj) in sum.iter_mut().zip(&p) {
-                for (a, b) in s.iter_mut().zip(pj) {
-                    *a += b;
-                }
+        }
+        if !self.by_output.is_empty() {
+            for (p, y) in pred.iter_mut().zip(&r.outputs) {
+                p[..first].copy_from_slice(&y[..first]);
             }
         }
-        let k = (1 + self.members.len()) as f64;
-        for (j, s) in sum.iter_mut().enumerate() {
-            for (i, v) in s.iter_mut().enumerate() {
-                *v = if i < first { r.outputs[j][i] } else { *v / k };
+        Ok((pred, first))
+    }
+
+    /// Check `by_output[i]`: its members, their signals and grid (the model's), its output
+    /// (one of the model's, named once).
+    fn validate_own(&self, i: usize, o: &OutputModel) -> Result<()> {
+        let at = format!("by_output[{i}]");
+        if self.model.outputs.iter().all(|y| *y != o.output) {
+            return Err(invalid(
+                format!("{at}.output"),
+                &o.output,
+                format!("one of the model's outputs {:?}", self.model.outputs),
+            ));
+        }
+        if self.by_output[..i].iter().any(|p| p.output == o.output) {
+            return Err(invalid(
+                format!("{at}.output"),
+                &o.output,
+                "an output named once in by_output",
+            ));
+        }
+        for m in o.all_members() {
+            m.validate().map_err(|e| crate::error::rerooted(e, &at))?;
+            if m.inputs != self.model.inputs
+                || m.outputs != self.model.outputs
+                || (m.sample_time_s - self.model.sample_time_s).abs() > 1e-9 * self.model.sample_time_s
+            {
+                return Err(invalid(
+                    at,
+                    "other inputs, outputs or sample time",
+                    "the model's own (every structure runs on the same signals)",
+                ));
             }
         }
-        Ok((sum, first))
+        Ok(())
     }
 }
 
@@ -190,5 +286,43 @@ pub fn fit_ensemble(
         baseline,
         units: Default::default(),
         no_better_than_mean: Vec::new(),
+        by_output: Vec::new(),
     })
+}
+
+/// Train each output's own structure (`own`: the output and its structures, an ensemble's
+/// members first to last) on `records` and put it in `fitted.by_output`; outputs of one
+/// structure share one fit.
+pub fn fit_own_structures(
+    fitted: &mut FittedModel,
+    own: &[(String, Vec<ModelSpec>)],
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<()> {
+    let mut trained: Vec<(&[ModelSpec], Vec<Model>)> = Vec::new();
+    for (output, specs) in own {
+        let models = match trained.iter().find(|(s, _)| *s == specs.as_slice()) {
+            Some((_, m)) => m.clone(),
+            None => {
+                let fits: Vec<Result<Model>> = specs
+                    .par_iter()
+                    .map(|s| fit(s, records, inputs, outputs))
+                    .collect();
+                let m = fits.into_iter().collect::<Result<Vec<_>>>()?;
+                trained.push((specs, m.clone()));
+                m
+            }
+        };
+        let mut members = models.into_iter();
+        let model = members
+            .next()
+            .ok_or_else(|| invalid("by_output.members", "[]", "at least one model structure"))?;
+        fitted.by_output.push(OutputModel {
+            output: output.clone(),
+            model,
+            members: members.collect(),
+        });
+    }
+    Ok(())
 }

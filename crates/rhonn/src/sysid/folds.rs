@@ -103,21 +103,25 @@ pub(super) fn held_out_error(m: &Model, test: &[Record], steps: Option<usize>) -
 /// on the held-out parts of `parts`, averaged over the fold's parts (empty without runs).
 pub(super) fn output_scores(runs: &[HeldOut], parts: &[(Vec<Record>, Vec<Record>)]) -> Vec<Vec<f64>> {
     let no = runs.first().map_or(0, |h| h.output_sd.len());
-    (0..no)
+    let by_fold: Vec<Vec<f64>> = runs
+        .iter()
+        .zip(parts)
+        .map(|(h, (_, test))| fold_output_scores(h, test))
+        .collect();
+    (0..no).map(|j| by_fold.iter().map(|f| f[j]).collect()).collect()
+}
+
+/// One fold's normalised RMS error per output: the mean over its held-out parts.
+pub(super) fn fold_output_scores(h: &HeldOut, test: &[Record]) -> Vec<f64> {
+    (0..h.output_sd.len())
         .map(|j| {
-            runs.iter()
-                .zip(parts)
-                .map(|(h, (_, test))| {
-                    let (mut sum, mut count) = (0.0, 0.0f64);
-                    for (r, part) in test.iter().zip(&h.parts) {
-                        let Some((pred, first)) = part else { continue };
-                        sum +=
-                            metrics::rms_error(&r.outputs[j][*first..], &pred[j][*first..]) / h.output_sd[j];
-                        count += 1.0;
-                    }
-                    sum / count.max(1.0)
-                })
-                .collect()
+            let (mut sum, mut count) = (0.0, 0.0f64);
+            for (r, part) in test.iter().zip(&h.parts) {
+                let Some((pred, first)) = part else { continue };
+                sum += metrics::rms_error(&r.outputs[j][*first..], &pred[j][*first..]) / h.output_sd[j];
+                count += 1.0;
+            }
+            sum / count.max(1.0)
         })
         .collect()
 }

@@ -38,9 +38,11 @@ mod predict;
 mod probes;
 pub mod pump_grey;
 pub mod select;
+mod select_candidates;
 mod select_cascade;
 mod select_ensemble;
 mod select_mean;
+pub mod select_rule;
 mod term_selection;
 mod train;
 mod wiener_hammerstein;
@@ -50,13 +52,15 @@ pub use checks::{
 };
 pub use estimate::fit;
 pub(crate) use estimate::lagged_terms;
-pub use fitted::{fit_ensemble, fit_with_baseline, parse_spec_file, FittedModel};
+pub use fitted::{
+    fit_ensemble, fit_own_structures, fit_with_baseline, parse_spec_file, FittedModel, OutputModel,
+};
 use lm::lm;
 pub(crate) use predict::check_window;
 pub use predict::{predict, predict_with, samples_needed, PredictSummary, Prediction};
 pub use train::{
     best_arx, fit_records, train, train_beside, train_selected, BaselineSummary, FitRun, FitStructure,
-    FitSummary, MemberSummary, RecordFigures, TrainingFigures,
+    FitSummary, MemberSummary, OutputStructureSummary, RecordFigures, TrainingFigures,
 };
 
 use crate::data::Record;

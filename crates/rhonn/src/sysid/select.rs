@@ -12,14 +12,16 @@
 //! the training data and averaged over outputs and folds (so outputs in different units
 //! weigh alike). A candidate that fails (its fit or its prediction) is dropped with the
 //! reason. Candidates run cheapest first, their folds on every thread (`fold_queue`: the
-//! (candidate, fold) jobs in order); when the time budget is spent, the candidates not yet
-//! started are listed as skipped. ARX structures
+//! (candidate, fold) jobs in order); a candidate whose estimated work exceeds the budget
+//! (`budget`, from the data's size, never the clock) is listed as skipped. ARX structures
 //! are always among the candidates and run first, so the choice is never worse than the
 //! best ARX on the folds, and the selection says by how much it is better.
 
 use super::fold_queue::{self, Outcome};
 use super::folds::{folds, held_out_runs, held_out_score, mean_scores, output_scores, row_means, HeldOut};
-use super::{fit, Activation, Estimator, Kind, ModelSpec};
+pub use super::select_candidates::{candidates, CandidateScore, MAX_CASCADE_SAMPLES, POLYNOMIAL_MARGIN};
+use super::select_rule::{self, OutputChoice};
+use super::{fit, Activation, Kind, ModelSpec};
 use super::{select_cascade, select_ensemble};
 use crate::data::Record;
 use crate::error::{invalid, Result};
@@ -69,45 +71,6 @@ impl SelectOptions {
     }
 }
 
-/// One candidate's result.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct CandidateScore {
-    /// A short name, e.g. "rhonn na 2 nb 2".
-    pub name: String,
-    /// The structure (an ensemble's first member).
-    pub model: ModelSpec,
-    /// An ensemble's members, the best first: its prediction is the mean of theirs
-    /// (`select_ensemble`). Empty for a single structure.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub members: Vec<ModelSpec>,
-    /// Normalised RMS error per fold (empty when it failed or was skipped).
-    pub fold_scores: Vec<f64>,
-    /// Their mean (None when it failed or was skipped).
-    pub score: Option<f64>,
-    /// Its estimated work on the folds, in work units (`budget`).
-    pub work: f64,
-    /// Per output, its normalised RMS error on the folds, the mean over them (empty when
-    /// it has no score or is an ensemble).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub output_scores: Vec<f64>,
-    /// Per output, the same fold by fold.
-    #[serde(skip)]
-    pub output_fold_scores: Vec<Vec<f64>>,
-    /// How far its free run leaves the training output range under held steps at the
-    /// data's own input levels, in output standard deviations, the mean over folds
-    /// (`probes`; None when it has no score or is an ensemble).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub excursion: Option<f64>,
-
-    /// Why it has no score: the error, or "skipped: ..." (the work budget).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub failed: Option<String>,
-    /// How it was judged when not in full: the cascade stopped after its first half of
-    /// starts (`select_cascade`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub note: Option<String>,
-}
-
 /// The fewest samples a record needs for a selection with `opts` among the candidates
 /// for `ny` outputs: each of its folds must hold the largest candidate's lags and 20
 /// samples more.
@@ -133,6 +96,11 @@ pub struct Selection {
     pub chosen: usize,
     /// Index of the best ARX candidate.
     pub best_arx: usize,
+    /// With several outputs, the structure that predicts each (`select_rule`): the chosen
+    /// one, or the best ARX where that ARX is below it on the output on every fold. Empty
+    /// for one output.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub by_output: Vec<OutputChoice>,
     /// Seconds the selection took.
     pub seconds: f64,
     /// The work budget per candidate, in work units (`budget`; the default times
@@ -161,140 +129,42 @@ impl Selection {
 
     /// The chosen structures: an ensemble's members, or the one chosen.
     pub fn chosen_specs(&self) -> Vec<ModelSpec> {
-        let c = &self.candidates[self.chosen];
+        self.specs_of(self.chosen)
+    }
+
+    /// The chosen structure's name; where outputs are predicted by another structure, each
+    /// output's ("y1: arx na 2 nb 2; y2: rhonn na 4 nb 4").
+    pub fn chosen_name(&self) -> String {
+        if self.own_structures().is_empty() {
+            return self.candidates[self.chosen].name.clone();
+        }
+        let each: Vec<String> = self
+            .by_output
+            .iter()
+            .map(|o| format!("{}: {}", o.output, self.candidates[o.chosen].name))
+            .collect();
+        each.join("; ")
+    }
+
+    /// Candidate `c`'s structures: an ensemble's members, or its one.
+    fn specs_of(&self, c: usize) -> Vec<ModelSpec> {
+        let c = &self.candidates[c];
         if c.members.is_empty() {
             vec![c.model.clone()]
         } else {
             c.members.clone()
         }
     }
-}
 
-/// The most samples (over every record) the selection trains a cascade candidate on:
-/// each of its 16 starts simulates every record at each of its iterations, seconds for
-/// 1,000 samples, minutes for 5,000.
-pub const MAX_CASCADE_SAMPLES: usize = 2_000;
-
-/// A polynomial (`activation = "identity"`) candidate is chosen only when its fold score
-/// is at most this share of the best candidate with bounded terms. Set after its first
-/// run: on Bouc-Wen a polynomial that scored 1.3 x better on the folds ran free to its
-/// bound on the sine-sweep test record, while on Silverbox the polynomial is 20 x better
-/// and runs free on every test record well.
-pub const POLYNOMIAL_MARGIN: f64 = 0.5;
-
-/// The candidate structures for `no` outputs, cheapest first (the cascade only when
-/// `cascade`).
-pub fn candidates(no: usize, cascade: bool) -> Vec<(String, ModelSpec)> {
-    let mut c = Vec::new();
-    let lags = [(1, 1), (2, 2), (4, 4), (8, 8)];
-    for &(na, nb) in &lags {
-        c.push((
-            format!("arx na {na} nb {nb}"),
-            ModelSpec {
-                kind: Kind::Arx,
-                na,
-                nb,
-                ridge: 1e-9,
-                ..Default::default()
-            },
-        ));
+    /// The outputs another structure than the chosen one predicts (`by_output`: the best
+    /// ARX), each with its structures.
+    pub fn own_structures(&self) -> Vec<(String, Vec<ModelSpec>)> {
+        self.by_output
+            .iter()
+            .filter(|o| o.chosen != self.chosen)
+            .map(|o| (o.output.clone(), self.specs_of(o.chosen)))
+            .collect()
     }
-    for &(na, nb) in &lags {
-        c.push((
-            format!("rhonn na {na} nb {nb}"),
-            ModelSpec {
-                na,
-                nb,
-                nonlinear_lags: (na > 2).then_some(2),
-                ..Default::default()
-            },
-        ));
-    }
-    for &(na, nb) in &lags[..3] {
-        c.push((
-            format!("rhonn na {na} nb {nb}, trained on its free run"),
-            ModelSpec {
-                na,
-                nb,
-                nonlinear_lags: (na > 2).then_some(2),
-                law: Estimator::SimulationError,
-                epochs: 15,
-                ..Default::default()
-            },
-        ));
-    }
-    // Polynomial RHONNs for one output only: their terms grow with every output's lags, and
-    // with two outputs the free-run training of the larger one takes seconds on a thousand
-    // samples (the CD-player arm: 1.4 s to 12 s for the whole selection).
-    for (na, nb) in if no == 1 { &[(2, 2), (4, 4)][..] } else { &[][..] } {
-        let (na, nb) = (*na, *nb);
-        c.push((
-            format!("polynomial rhonn na {na} nb {nb} nk 0, trained on its free run"),
-            ModelSpec {
-                na,
-                nb,
-                nk: 0,
-                degree: 3,
-                max_factors: 3,
-                activation: super::Activation::Identity,
-                nonlinear_lags: Some(2),
-                law: Estimator::SimulationError,
-                epochs: 15,
-                ..Default::default()
-            },
-        ));
-    }
-    if no == 1 {
-        // Block structures from the best linear approximation (one input only: `select`
-        // leaves them out for several): a low order with a cubic, then the order of two
-        // third-order filters with the highest degree (the Wiener-Hammerstein benchmark's
-        // circuit: on its training record degrees 5, 9, 12, 15 run free at 5.3, 2.3, 1.3,
-        // 0.81 mV).
-        for (na, degree) in [(2, 3), (6, 15)] {
-            c.push((
-                format!("wiener-hammerstein, {na} poles, degree {degree}"),
-                ModelSpec {
-                    kind: Kind::WienerHammerstein,
-                    na,
-                    nb: na + 1,
-                    nk: 0,
-                    degree,
-                    law: Estimator::SimulationError,
-                    epochs: 50,
-                    ..Default::default()
-                },
-            ));
-        }
-    }
-    // The lagged RHONN the online bank found on Bouc-Wen (na = nb = 8, degree 3 on the
-    // newest 3 lags), trained on its free run: the slowest lagged candidate (a minute on
-    // Silverbox's folds), so after the others, where the time budget skips it when they
-    // took long.
-    c.push((
-        "rhonn na 8 nb 8 degree 3 on the first 3 lags, trained on its free run".into(),
-        ModelSpec {
-            na: 8,
-            nb: 8,
-            degree: 3,
-            max_factors: 3,
-            nonlinear_lags: Some(3),
-            law: Estimator::SimulationError,
-            epochs: 15,
-            ..Default::default()
-        },
-    ));
-    if no == 1 && cascade {
-        c.push((
-            "cascade, 2 neurons (one hidden), 16 starts".into(),
-            ModelSpec {
-                kind: Kind::Cascade,
-                law: Estimator::SimulationError,
-                epochs: 30,
-                ..Default::default()
-            },
-        ));
-    }
-    c
 }
 
 /// One candidate on one fold: its normalised RMS error on the held-out parts and its
@@ -544,8 +414,8 @@ fn append_ensembles(
             fold_scores: e.fold_scores,
             score: e.score,
             work: 0.0,
-            output_scores: Vec::new(),
-            output_fold_scores: Vec::new(),
+            output_scores: row_means(&e.output_fold_scores),
+            output_fold_scores: e.output_fold_scores,
             // Its worst member's.
             excursion: worst(&e.members, |c| c.excursion),
             failed: e.failed,
@@ -616,17 +486,14 @@ pub(super) struct Tally {
     pub outputs: Vec<String>,
 }
 
-/// Pick the best candidate and say what was found.
+/// Pick the best candidate (`select_rule`), for several outputs the structure of each, and
+/// say what was found.
 fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, tally: Tally) -> Result<Selection> {
-    let best_of = |arx_only: bool| {
-        candidates
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| !arx_only || c.model.kind == Kind::Arx)
-            .filter_map(|(i, c)| c.score.map(|s| (i, s)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-    };
-    let Some((best_arx, arx_score)) = best_of(true) else {
+    let joint: Vec<Option<(&[f64], f64)>> = candidates
+        .iter()
+        .map(|c| c.score.map(|s| (c.fold_scores.as_slice(), s)))
+        .collect();
+    let Some(choice) = select_rule::choose(&candidates, &joint) else {
         let why = candidates
             .iter()
             .filter_map(|c| c.failed.as_ref().map(|f| format!("{}: {f}", c.name)))
@@ -638,64 +505,39 @@ fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, tally: Tally) -
             format!("records long enough for 3 folds of at least 20 samples each ({why})"),
         ));
     };
-    // Only a structure below the best ARX on every fold may replace it: a lower mean alone
-    // is within the folds' spread (a linear system with noise: a lagged RHONN 0.2 % below
-    // the ARX on the mean, above it on one fold, ran free 0.8 % worse on new data).
-    let arx_folds = &candidates[best_arx].fold_scores;
-    let beats_arx = |i: usize| {
-        let f = &candidates[i].fold_scores;
-        i == best_arx || (f.len() == arx_folds.len() && f.iter().zip(arx_folds).all(|(c, a)| c < a))
-    };
-    let eligible = beats_arx;
-    let mut findings = Vec::new();
-    if let Some((i, s)) = best_of(false).filter(|&(i, _)| !beats_arx(i)) {
-        findings.push(format!(
-            "{} scored {s:.4} on average, below the best ARX's {arx_score:.4}, but not on every fold: a structure must beat the best ARX on every fold to replace it",
-            candidates[i].name
-        ));
-    }
-
-    let best_eligible = |bounded_only: bool| {
-        let polynomial =
-            |c: &CandidateScore| c.model.activation == Activation::Identity && c.model.kind == Kind::Rhonn;
-        candidates
-            .iter()
-            .enumerate()
-            .filter(|&(i, c)| eligible(i) && !(bounded_only && polynomial(c)))
-            .filter_map(|(i, c)| c.score.map(|s| (i, s)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-    };
-    let (mut chosen, mut score) = best_eligible(false).unwrap_or((best_arx, arx_score));
-    if candidates[chosen].model.activation == Activation::Identity
-        && candidates[chosen].model.kind == Kind::Rhonn
-    {
-        // A polynomial's terms are unbounded: contiguous folds of one excitation cannot
-        // show how it runs free on another, so it must win by a factor to be chosen.
-        let bounded = best_eligible(true);
-        if let Some((i, s)) = bounded {
-            if score > POLYNOMIAL_MARGIN * s {
-                findings.push(format!(
-                    "{} scored {score:.4}, not below {POLYNOMIAL_MARGIN} x the best structure with bounded terms ({s:.4}), which a polynomial must be to be chosen",
-                    candidates[chosen].name
-                ));
-                (chosen, score) = (i, s);
-            }
-        }
-    }
+    let (best_arx, arx_score) = (choice.best_arx, choice.arx_score);
+    let (chosen, score) = (choice.chosen, choice.score);
     let judged_by = match opts.steps_ahead {
         None => "free run".to_string(),
         Some(k) => format!("{k} samples ahead"),
     };
-    findings.insert(0, format!(
+    let mut findings = vec![format!(
         "chose {} ({score:.4} normalised RMS error {judged_by} on {} contiguous folds of the training data); the best ARX, {}, scored {arx_score:.4}",
         candidates[chosen].name, opts.folds, candidates[best_arx].name
-    ));
+    )];
+    findings.extend(choice.findings.iter().cloned());
     if chosen == best_arx {
         findings.push("no other structure beat the best ARX on every fold: the model is that ARX".into());
     } else {
         findings.push(format!(
             "{:.1} % lower error than the best ARX on the folds",
             100.0 * (1.0 - score / arx_score)
+        ));
+    }
+    let by_output = if tally.outputs.len() > 1 {
+        select_rule::per_output(&candidates, &tally.outputs, &choice)
+    } else {
+        Vec::new()
+    };
+    for (j, o) in by_output.iter().enumerate().filter(|(_, o)| o.chosen != chosen) {
+        let theirs = candidates[chosen]
+            .output_scores
+            .get(j)
+            .copied()
+            .unwrap_or(f64::NAN);
+        findings.push(format!(
+            "output `{}`: the best ARX is below {} there on every fold ({:.4} against {theirs:.4}): `{}` is predicted by that ARX",
+            o.output, candidates[chosen].name, o.arx_score, o.output
         ));
     }
     let (no_better_than_mean, warnings) = cautions(&candidates, chosen, &mut findings, &tally, &judged_by);
@@ -705,6 +547,7 @@ fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, tally: Tally) -
         candidates,
         chosen,
         best_arx,
+        by_output,
         seconds: tally.seconds,
         work_budget: tally.work_budget,
         mean_scores: row_means(&tally.mean_scores),

@@ -12,7 +12,7 @@
 //! of the ensemble is the mean of its members' free runs, as `FittedModel::predict` makes
 //! it once trained on every record.
 
-use super::folds::{held_out_score, HeldOut, PartRun};
+use super::folds::{fold_output_scores, held_out_score, HeldOut, PartRun};
 use super::{Activation, Kind, ModelSpec};
 use crate::data::Record;
 use crate::error::Result;
@@ -37,6 +37,8 @@ pub(super) struct Ensemble {
     pub members: Vec<usize>,
     pub fold_scores: Vec<f64>,
     pub score: Option<f64>,
+    /// Per output, its normalised RMS error fold by fold (empty when it failed).
+    pub output_fold_scores: Vec<Vec<f64>>,
     pub failed: Option<String>,
 }
 
@@ -103,27 +105,34 @@ pub(super) fn ensembles(scored: &[Entry], tests: &[&[Record]]) -> Vec<Ensemble> 
         .filter(|&&k| order.len() >= k)
         .map(|&k| {
             let members = &order[..k];
-            let judged: Result<Vec<f64>> = tests
+            let judged: Result<Vec<(f64, Vec<f64>)>> = tests
                 .iter()
                 .enumerate()
                 .map(|(f, test)| {
                     let fold: Vec<&HeldOut> = members.iter().map(|&i| &scored[i].runs[f]).collect();
-                    held_out_score(&mean_of(&fold), test)
+                    let mean = mean_of(&fold);
+                    Ok((held_out_score(&mean, test)?, fold_output_scores(&mean, test)))
                 })
                 .collect();
             let names: Vec<&str> = members.iter().map(|&i| scored[i].name).collect();
-            let (fold_scores, score, failed) = match judged {
+            let (fold_scores, score, output_fold_scores, failed) = match judged {
                 Ok(f) => {
-                    let s = f.iter().sum::<f64>() / f.len() as f64;
-                    (f, Some(s), None)
+                    let (folds, per_output): (Vec<f64>, Vec<Vec<f64>>) = f.into_iter().unzip();
+                    let s = folds.iter().sum::<f64>() / folds.len() as f64;
+                    let no = per_output.first().map_or(0, Vec::len);
+                    let by_output = (0..no)
+                        .map(|j| per_output.iter().map(|p| p[j]).collect())
+                        .collect();
+                    (folds, Some(s), by_output, None)
                 }
-                Err(e) => (Vec::new(), None, Some(e.to_string())),
+                Err(e) => (Vec::new(), None, Vec::new(), Some(e.to_string())),
             };
             Ensemble {
                 name: format!("mean of the best {k}: {}", names.join("; ")),
                 members: members.to_vec(),
                 fold_scores,
                 score,
+                output_fold_scores,
                 failed,
             }
         })
@@ -186,6 +195,7 @@ mod tests {
                 baseline: None,
                 units: Default::default(),
                 no_better_than_mean: Vec::new(),
+                by_output: Vec::new(),
             };
             let mut direct = 0.0;
             for r in test {

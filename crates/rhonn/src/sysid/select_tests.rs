@@ -1,6 +1,7 @@
 //! Tests of the structure selection.
 
 use super::*;
+use crate::sysid::{FitStructure, FittedModel};
 
 /// `n` samples of y(k) = 0.6 y(k-1) + 0.3 u(k-1) + `c` tanh(y(k-1)) u(k-1) under a
 /// random staircase input.
@@ -309,4 +310,141 @@ fn an_output_that_no_candidate_predicts_better_than_its_mean_is_said_and_flagged
     let sel = select(&[record(3, 600, 0.2)], &i, &o, &opts, &|_| {}).unwrap();
     assert!(sel.no_better_than_mean.is_empty(), "{:?}", sel.warnings);
     assert!(sel.mean_scores[0] > sel.candidates[sel.chosen].score.unwrap());
+}
+
+/// A candidate with per-output fold scores (`folds[j]`: output j's, fold by fold).
+fn per_output_scored(name: &str, kind: Kind, folds: [[f64; 3]; 2]) -> CandidateScore {
+    let mean = |f: &[f64]| f.iter().sum::<f64>() / f.len() as f64;
+    let fold_scores: Vec<f64> = (0..3).map(|f| (folds[0][f] + folds[1][f]) / 2.0).collect();
+    CandidateScore {
+        name: name.into(),
+        model: ModelSpec {
+            kind,
+            ..Default::default()
+        },
+        members: Vec::new(),
+        score: Some(mean(&fold_scores)),
+        fold_scores,
+        work: 0.0,
+        output_scores: folds.iter().map(|f| mean(f)).collect(),
+        output_fold_scores: folds.iter().map(|f| f.to_vec()).collect(),
+        excursion: None,
+        failed: None,
+        note: None,
+    }
+}
+
+fn two_outputs_tally() -> Tally {
+    Tally {
+        seconds: 1.0,
+        work_budget: 1.0,
+        mean_scores: vec![vec![1.0; 3]; 2],
+        outputs: vec!["y1".into(), "y2".into()],
+    }
+}
+
+#[test]
+fn an_output_the_best_arx_predicts_better_on_every_fold_is_predicted_by_it() {
+    // The RHONN is best on the mean of the outputs but worse than the ARX on y1.
+    let list = vec![
+        per_output_scored("arx", Kind::Arx, [[0.1; 3], [0.5; 3]]),
+        per_output_scored("rhonn", Kind::Rhonn, [[0.12; 3], [0.2; 3]]),
+    ];
+    let s = finish(list.clone(), &SelectOptions::default(), two_outputs_tally()).unwrap();
+    let by: Vec<(&str, &str)> = s
+        .by_output
+        .iter()
+        .map(|o| (o.output.as_str(), s.candidates[o.chosen].name.as_str()))
+        .collect();
+    assert_eq!(by, [("y1", "arx"), ("y2", "rhonn")]);
+    assert_eq!(s.candidates[s.chosen].name, "rhonn");
+    let own = s.own_structures();
+    assert_eq!(own.len(), 1);
+    assert_eq!((own[0].0.as_str(), own[0].1[0].kind), ("y1", Kind::Arx));
+    assert_eq!(s.chosen_name(), "y1: arx; y2: rhonn");
+    assert!(s.findings[0].starts_with("chose rhonn"), "{:?}", s.findings);
+    assert!(
+        s.findings
+            .iter()
+            .any(|f| f.starts_with("output `y1`: the best ARX is below rhonn there on every fold")),
+        "{:?}",
+        s.findings
+    );
+    // Below on the mean of the folds but not on every one: the joint choice keeps it.
+    let mut mixed = list.clone();
+    mixed[0] = per_output_scored("arx", Kind::Arx, [[0.1, 0.1, 0.13], [0.5; 3]]);
+    let s = finish(mixed, &SelectOptions::default(), two_outputs_tally()).unwrap();
+    assert!(s.own_structures().is_empty(), "{:?}", s.findings);
+
+    // Where the RHONN beats the ARX on every output, one structure serves both.
+    let mut both = list;
+    both[1] = per_output_scored("rhonn", Kind::Rhonn, [[0.08; 3], [0.2; 3]]);
+    let s = finish(both, &SelectOptions::default(), two_outputs_tally()).unwrap();
+    assert_eq!(s.candidates[s.chosen].name, "rhonn");
+    assert!(s.own_structures().is_empty());
+    assert_eq!(s.by_output.len(), 2);
+    assert!(s.findings[0].starts_with("chose rhonn"), "{:?}", s.findings);
+}
+
+/// Two outputs of one input: `y1` linear, `y2` the nonlinear system of [`record`].
+fn two_output_record(seed: u64, n: usize) -> Record {
+    let mut r = record(seed, n, 0.4);
+    let u = r.inputs[0].clone();
+    let mut y1 = vec![0.0; n];
+    for k in 1..n {
+        y1[k] = 0.8 * y1[k - 1] + 0.2 * u[k - 1];
+    }
+    r.outputs.insert(0, y1);
+    r
+}
+
+#[test]
+fn a_model_of_several_structures_runs_as_one_and_round_trips() {
+    let (i, o) = (vec!["u".to_string()], vec!["y1".to_string(), "y2".to_string()]);
+    let opts = SelectOptions {
+        cascade: false,
+        ..Default::default()
+    };
+    let train = [two_output_record(11, 900)];
+    let run = crate::sysid::fit_records(FitStructure::Select(&opts), &train, &i, &o, "dt", &|_| {}).unwrap();
+    let sel = run.summary.selection.as_ref().unwrap();
+    let kinds: Vec<Kind> = sel
+        .by_output
+        .iter()
+        .map(|c| sel.candidates[c.chosen].model.kind)
+        .collect();
+    assert_eq!(kinds[0], Kind::Arx, "{:?}", sel.findings);
+    assert_ne!(kinds[1], Kind::Arx, "{:?}", sel.findings);
+    let fitted = &run.fitted;
+    assert_eq!(fitted.by_output.len(), 1);
+    assert_eq!(fitted.by_output[0].output, "y1");
+    assert_eq!(run.summary.by_output[0].output, "y1");
+    fitted.validate().unwrap();
+
+    // Each output's free run is its structure's, bit for bit, as on the folds.
+    let test = two_output_record(12, 400);
+    let (p, first) = fitted.predict(&test, None).unwrap();
+    let (main, _) = fitted.model.predict(&test, None).unwrap();
+    let (own, _) = fitted.by_output[0].model.predict(&test, None).unwrap();
+    assert_eq!(p[0][first..], own[0][first..]);
+    assert_eq!(p[1][first..], main[1][first..]);
+    // The linear output is predicted far better than by the nonlinear structure alone.
+    let e = |a: &[f64], b: &[f64]| crate::metrics::rms_error(&a[first..], &b[first..]);
+    assert!(e(&p[0], &test.outputs[0]) < 0.5 * e(&main[0], &test.outputs[0]));
+
+    // model.json round-trips; a by_output naming an unknown or repeated output is refused.
+    let text = serde_json::to_string(fitted).unwrap();
+    let back: FittedModel = serde_json::from_str(&text).unwrap();
+    assert_eq!(back.predict(&test, None).unwrap().0, p);
+    let mut bad = back.clone();
+    bad.by_output[0].output = "y9".into();
+    let err = bad.validate().unwrap_err().to_string();
+    assert!(err.contains("by_output[0].output") && err.contains("y9"), "{err}");
+    let mut twice = back;
+    twice.by_output.push(twice.by_output[0].clone());
+    let err = twice.validate().unwrap_err().to_string();
+    assert!(
+        err.contains("by_output[1].output") && err.contains("named once"),
+        "{err}"
+    );
 }

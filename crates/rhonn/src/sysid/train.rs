@@ -1,7 +1,9 @@
 //! `rhonn fit` as a library call: train the structures of a spec file on records and
 //! report the training figures beside the ARX baseline's.
 
-use super::{ensure_finite_figures, fit_ensemble, FittedModel, Model, ModelSpec, OutputFigures};
+use super::{
+    ensure_finite_figures, fit_ensemble, fit_own_structures, FittedModel, Model, ModelSpec, OutputFigures,
+};
 use crate::data::Record;
 use crate::error::Result;
 use serde::Serialize;
@@ -33,6 +35,19 @@ pub struct MemberSummary {
     pub features: usize,
     /// High-order terms.
     pub high_order_terms: usize,
+}
+
+/// An output a structure of its own predicts (the selection's `by_output`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OutputStructureSummary {
+    /// The output.
+    pub output: String,
+    /// Its structure (an ensemble's first member).
+    pub model: ModelSpec,
+    /// Its members (1: a single structure).
+    pub members: usize,
+    /// Features per output, over every member.
+    pub features: usize,
 }
 
 /// The ARX baseline's size and training figures.
@@ -68,6 +83,10 @@ pub struct FitSummary {
     /// An ensemble's members.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub members: Option<Vec<MemberSummary>>,
+    /// The outputs a structure of their own predicts (the training figures are the
+    /// composite model's).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub by_output: Vec<OutputStructureSummary>,
     /// The ARX baseline with the same lags (a RHONN or cascade).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub baseline_arx: Option<BaselineSummary>,
@@ -125,7 +144,11 @@ pub fn train_selected(
     outputs: &[String],
 ) -> Result<(FittedModel, FitSummary)> {
     let baseline = selection.as_ref().map(|s| s.candidates[s.best_arx].model.clone());
-    let (mut fitted, mut summary) = train_beside(specs, baseline.as_ref(), records, inputs, outputs)?;
+    let own = selection
+        .as_ref()
+        .map_or_else(Vec::new, super::select::Selection::own_structures);
+    let (mut fitted, mut summary) =
+        train_composite(specs, &own, baseline.as_ref(), records, inputs, outputs)?;
     if let Some(s) = &selection {
         fitted.no_better_than_mean = s.no_better_than_mean.clone();
     }
@@ -227,7 +250,24 @@ pub fn train_beside(
     inputs: &[String],
     outputs: &[String],
 ) -> Result<(FittedModel, FitSummary)> {
-    let fitted = fit_ensemble(specs, records, inputs, outputs, baseline)?;
+    train_composite(specs, &[], baseline, records, inputs, outputs)
+}
+
+/// [`train_beside`] with the outputs `own` names predicted by structures of their own.
+fn train_composite(
+    specs: &[ModelSpec],
+    own: &[(String, Vec<ModelSpec>)],
+    baseline: Option<&ModelSpec>,
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<(FittedModel, FitSummary)> {
+    let mut fitted = fit_ensemble(specs, records, inputs, outputs, baseline)?;
+    fit_own_structures(&mut fitted, own, records, inputs, outputs)?;
+    if let Some(b) = baseline.filter(|_| fitted.baseline.is_none() && !fitted.by_output.is_empty()) {
+        // The model is an ARX for some outputs only: the baseline is still the best ARX.
+        fitted.baseline = Some(super::fit(b, records, inputs, outputs)?);
+    }
     let m = &fitted.model;
     let summary = FitSummary {
         regridded: Vec::new(),
@@ -250,6 +290,16 @@ pub fn train_beside(
                 })
                 .collect()
         }),
+        by_output: fitted
+            .by_output
+            .iter()
+            .map(|o| OutputStructureSummary {
+                output: o.output.clone(),
+                model: o.model.spec.clone(),
+                members: 1 + o.members.len(),
+                features: o.all_members().map(Model::n_features).sum(),
+            })
+            .collect(),
         baseline_arx: match &fitted.baseline {
             Some(b) => Some(BaselineSummary {
                 structure: b.spec.lags_name(),
@@ -289,6 +339,9 @@ pub fn best_arx(
         .filter(|(_, s)| s.kind == super::Kind::Arx)
         .collect();
     let sel = select_from(list, records, inputs, outputs, &opts, &|_| {})?;
-    let (fitted, _) = train(std::slice::from_ref(sel.chosen_spec()), records, inputs, outputs)?;
+    // The best ARX of the outputs together (with several outputs each output's own best ARX
+    // may differ: the baseline is one MIMO ARX, as MATLAB's `arx` fits).
+    let best = &sel.candidates[sel.best_arx].model;
+    let (fitted, _) = train(std::slice::from_ref(best), records, inputs, outputs)?;
     Ok((fitted, sel))
 }
