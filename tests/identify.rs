@@ -549,6 +549,20 @@ fn without_a_model_the_bank_picks_online_and_beats_the_offline_arx_on_the_tanks(
     );
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("offline ARX (na"), "{out}");
+    // The console names the winner, then its margin over the best recursive ARX.
+    let winner = cands[chosen]["name"].as_str().unwrap();
+    let first = out.lines().next().unwrap_or("");
+    assert!(
+        first.starts_with(&format!(
+            "online selection: {winner} of {} candidates won",
+            cands.len()
+        )),
+        "{out}"
+    );
+    assert!(
+        out.contains("lower prequential free-run error than the best recursive ARX"),
+        "{out}"
+    );
     // --units as in fit: on the figures, in summary.json and on the plots' axes.
     assert!(out.contains(" V, fit") && s["units"]["y"] == "V", "{out}");
     for svg in ["estimate.svg", "validation.svg"] {
@@ -687,4 +701,35 @@ fn a_glitch_in_a_recording_is_skipped_and_said_not_learned() {
     assert!((glitched / clean - 1.0).abs() <= 0.05, "{clean} vs {glitched}");
     let (a, b) = (clean_arx.unwrap(), glitched_arx.unwrap());
     assert!(b < 2.0 * a, "the ARX baseline learned the glitch: {a} vs {b}");
+}
+
+/// Options that would do nothing are refused or warned about, never ignored.
+#[test]
+fn steps_ahead_without_validation_is_refused_and_an_output_as_input_is_warned() {
+    let d = tempfile::tempdir().unwrap();
+    let est = repo().join("data/cascaded-tanks/estimation.csv");
+    let est = est.to_str().unwrap();
+    let spec = repo().join("models/tanks-online.toml");
+    let args = |extra: &[&'static str], io: [&'static str; 2]| {
+        let mut a = vec!["identify", "--data", est, "--inputs", io[0], "--outputs", io[1]];
+        a.extend_from_slice(&["--model", spec.to_str().unwrap()]);
+        a.extend_from_slice(extra);
+        a.iter().map(|s| s.to_string()).collect::<Vec<String>>()
+    };
+    let run = |a: Vec<String>| rhonn(d.path(), &a.iter().map(String::as_str).collect::<Vec<_>>());
+    let o = run(args(&["--steps-ahead", "5", "--out", "k"], ["u", "y"]));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("--steps-ahead 5") && err.contains("--validate"),
+        "{err}"
+    );
+    assert!(!d.path().join("k").exists());
+    let o = run(args(&["--out", "same"], ["y", "y"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: `y` is both an input and an output"),
+        "{}",
+        stderr(&o)
+    );
 }

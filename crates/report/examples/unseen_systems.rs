@@ -12,7 +12,7 @@
 use rhonn::data::Record;
 use rhonn::sysid::benchmarks::{bilinear, wiener_hammerstein};
 use rhonn::sysid::select::{select, SelectOptions};
-use rhonn::sysid::{predict, train_beside};
+use rhonn::sysid::{predict, train_selected};
 use std::time::Instant;
 
 fn names(r: &Record) -> (Vec<String>, Vec<String>) {
@@ -32,8 +32,8 @@ fn one(train_rec: &Record, test_rec: &Record) -> Result<(String, f64, f64, f64),
     let recs = std::slice::from_ref(train_rec);
     let sel = select(recs, &inputs, &outputs, &SelectOptions::default(), &|_| {})?;
     let name = sel.chosen_name();
-    let arx = &sel.candidates[sel.best_arx].model;
-    let (fitted, _) = train_beside(&sel.chosen_specs(), Some(arx), recs, &inputs, &outputs)?;
+    let specs = sel.chosen_specs();
+    let (fitted, _) = train_selected(&specs, Some(sel), recs, &inputs, &outputs)?;
     let seconds = start.elapsed().as_secs_f64();
     let p = predict(&fitted, test_rec, None)?;
     let fit = p.figures[0].fit_percent;

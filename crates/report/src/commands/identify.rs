@@ -105,6 +105,11 @@ fn identify_into(a: &IdentifyRequest, stage: &Path) -> Result<Outcome> {
             "--steps-ahead 0 is not allowed: give K >= 1 samples".into(),
         ));
     }
+    if let (Some(k), true) = (a.steps_ahead, a.validate.is_empty()) {
+        return Err(Error::Input(format!(
+            "--steps-ahead {k} judges the frozen model {k} samples ahead on the --validate records, and none is given: add --validate FILE, or leave --steps-ahead out"
+        )));
+    }
     let read = read_all(a, &a.data)?;
     let vread = read_all(a, &a.validate)?;
     let (records, vrec) = (read.records, vread.records);
@@ -136,11 +141,13 @@ fn identify_into(a: &IdentifyRequest, stage: &Path) -> Result<Outcome> {
         &id.summary,
         id.validation.as_ref(),
     )?;
+    let warnings = rhonn::sysid::signal_warnings(&records, &a.inputs, &a.outputs);
     let mut o = Outcome {
         files,
         notes: read_notes
             .into_iter()
             .chain(id.guard_notes.iter().map(|n| format!("note: {n}")))
+            .chain(warnings.iter().map(|w| format!("warning: {w}")))
             .collect(),
         ..Outcome::default()
     };
@@ -158,10 +165,17 @@ fn read_all(a: &IdentifyRequest, paths: &[PathBuf]) -> Result<super::ReadData> {
     super::read_data_regridded(paths, &a.inputs, &a.outputs, 2, None)
 }
 
-/// The figures for the console: the online fit, then per validation record and output
-/// the frozen free run beside the offline ARX, then K samples ahead.
+/// The figures for the console: the online selection's winner and margin (when it chose),
+/// the online fit, then per validation record and output the frozen free run beside the
+/// offline ARX, then K samples ahead.
 fn console_lines(summary: &IdentifySummary) -> Vec<String> {
-    let mut lines = Vec::new();
+    // The bank's winner and its margin over the best recursive ARX, first.
+    let mut lines: Vec<String> = summary
+        .findings
+        .iter()
+        .filter(|f| f.starts_with("online selection:"))
+        .cloned()
+        .collect();
     let unit = |col: &str| super::unit_of(&summary.units, col);
     for f in &summary.online {
         lines.push(format!(

@@ -79,6 +79,37 @@ pub fn data_warnings(
     sample_s: f64,
     resample_option: &str,
 ) -> Vec<String> {
+    let mut w = signal_warnings(records, inputs, outputs);
+    w.extend(milliseconds_hint(records, sample_s));
+    let span = max_lag.max(1);
+    for (j, name) in outputs.iter().enumerate() {
+        let lags: Vec<usize> = records
+            .iter()
+            .filter_map(|r| decorrelation_lag(&r.outputs[j]))
+            .collect();
+        let Some(&n) = lags.iter().min() else { continue };
+        if n > SLOW_SPANS * span {
+            let suggest = sample_s * n as f64 / (5 * span) as f64;
+            w.push(format!(
+                "output `{name}` changes slowly against the sample time: its autocorrelation falls to 1/e only after \
+                 {n} samples ({} s), while the model looks back {span} sample{} ({} s); lagged models then see \
+                 almost none of the dynamics and often run away in free run. Resample to a longer sample time, e.g. \
+                 `{resample_option} {}` (about {} samples to 1/e), or give the model more lags",
+                round_sig(n as f64 * sample_s, 3),
+                if span == 1 { "" } else { "s" },
+                round_sig(span as f64 * sample_s, 3),
+                round_sig(suggest, 2),
+                5 * span
+            ));
+        }
+    }
+    w
+}
+
+/// Warnings on the signals chosen, whatever the model: the time column as a signal, a
+/// column both an input and an output, an input equal to an output, a constant input
+/// (`rhonn fit`'s and `rhonn identify`'s).
+pub fn signal_warnings(records: &[Record], inputs: &[String], outputs: &[String]) -> Vec<String> {
     let mut w = Vec::new();
     for name in inputs.iter().chain(outputs).filter(|n| n.as_str() == "t") {
         w.push(format!(
@@ -103,29 +134,6 @@ pub fn data_warnings(
         if constant(&cols) {
             w.push(format!(
                 "input `{name}` is constant: nothing in the data shows how the output answers it"
-            ));
-        }
-    }
-    w.extend(milliseconds_hint(records, sample_s));
-    let span = max_lag.max(1);
-    for (j, name) in outputs.iter().enumerate() {
-        let lags: Vec<usize> = records
-            .iter()
-            .filter_map(|r| decorrelation_lag(&r.outputs[j]))
-            .collect();
-        let Some(&n) = lags.iter().min() else { continue };
-        if n > SLOW_SPANS * span {
-            let suggest = sample_s * n as f64 / (5 * span) as f64;
-            w.push(format!(
-                "output `{name}` changes slowly against the sample time: its autocorrelation falls to 1/e only after \
-                 {n} samples ({} s), while the model looks back {span} sample{} ({} s); lagged models then see \
-                 almost none of the dynamics and often run away in free run. Resample to a longer sample time, e.g. \
-                 `{resample_option} {}` (about {} samples to 1/e), or give the model more lags",
-                round_sig(n as f64 * sample_s, 3),
-                if span == 1 { "" } else { "s" },
-                round_sig(span as f64 * sample_s, 3),
-                round_sig(suggest, 2),
-                5 * span
             ));
         }
     }

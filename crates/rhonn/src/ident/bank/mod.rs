@@ -97,20 +97,20 @@ impl BankSelection {
     pub fn findings(&self) -> Vec<String> {
         let c = &self.candidates[self.chosen];
         let mut v = vec![format!(
-            "online selection: {} of {} candidates won ({}: free-run error {:.3} of the output's standard deviation)",
+            "online selection: {} of {} candidates won ({}: free-run error {} of the output's standard deviation)",
             c.name,
             self.candidates.len(),
             self.judged_by,
-            c.free_run_nrmse.unwrap_or(f64::NAN)
+            crate::metrics::sig(c.free_run_nrmse.unwrap_or(f64::NAN), 3)
         )];
         if let Some(a) = self.best_arx.map(|k| &self.candidates[k]) {
             if let (Some(w), Some(b)) = (c.free_run_nrmse, a.free_run_nrmse) {
                 if a.name != c.name {
                     v.push(format!(
-                        "online selection: {:.0} % lower prequential free-run error than the best recursive ARX ({}, {:.3})",
+                        "online selection: {:.0} % lower prequential free-run error than the best recursive ARX ({}, {})",
                         100.0 * (1.0 - w / b),
                         a.name,
-                        b
+                        crate::metrics::sig(b, 3)
                     ));
                 } else {
                     v.push(
