@@ -189,7 +189,7 @@ fn bad_data_names_file_line_and_column_and_writes_nothing() {
     let cases = [
         (
             "t,u,y\n0,1,2\n1,x,3\n",
-            "bad.csv, line 3, column `u`: `x` is not a finite number",
+            "bad.csv, line 3, column `u`: `x` is not a number: give a number with a decimal point",
         ),
         (
             "t,u\n0,1\n1,2\n",

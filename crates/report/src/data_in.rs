@@ -19,7 +19,7 @@ pub enum DataError {
     /// A requested column is not in the header.
     #[error(
         "{file}: no column `{column}` in the header (columns: {available}){}",
-        delimiter_hint(available)
+        delimiter_hint(available, column)
     )]
     MissingColumn {
         /// File.
@@ -42,7 +42,7 @@ pub enum DataError {
         second: usize,
     },
     /// A cell is not a number, not finite, or so large that its square overflows.
-    #[error("{file}, line {line}, column `{column}`: `{value}` is not a finite number of magnitude at most 1e150 (larger values overflow when squared: rescale the column)")]
+    #[error("{file}, line {line}, column `{column}`: {}", cell_problem(value))]
     BadCell {
         /// File.
         file: String,
@@ -80,11 +80,62 @@ pub enum DataError {
 /// The largest magnitude a cell may have (`rhonn::data::MAX_MAGNITUDE`).
 pub use rhonn::data::MAX_MAGNITUDE;
 
-/// A hint when the header looks separated by something other than commas.
-fn delimiter_hint(available: &str) -> String {
-    match [';', '\t', '|'].into_iter().find(|c| available.contains(*c)) {
-        Some(c) => format!(": the header holds {c:?}, so the file looks separated by {c:?}; rhonn reads comma-separated files (convert it, e.g. with `tr '{c}' ','`)"),
-        None => String::new(),
+/// A hint when the header looks separated by something other than commas (`;` files often
+/// write decimal commas: the conversion then turns those into points first), or when the
+/// missing column is the time and another looks like it.
+fn delimiter_hint(available: &str, column: &str) -> String {
+    if let Some(c) = [';', '\t', '|'].into_iter().find(|c| available.contains(*c)) {
+        let convert = if c == ';' {
+            "e.g. with `sed 's/,/./g; s/;/,/g'`, which also turns decimal commas into points".to_string()
+        } else {
+            format!("e.g. with `tr '{c}' ','`")
+        };
+        return format!(": the header holds {c:?}, so the file looks separated by {c:?}; rhonn reads comma-separated files with decimal points (convert it, {convert})");
+    }
+    let time_like = available
+        .split(", ")
+        .find(|h| ["time", "time_s", "t_s", "seconds", "timestamp"].contains(&h.to_lowercase().as_str()));
+    match time_like {
+        Some(h) if column == "t" => format!(
+            ": the time column must be named `t`, in seconds; `{h}` looks like it: rename it `t` (converted to seconds if it is not)"
+        ),
+        _ => String::new(),
+    }
+}
+
+/// What is wrong with a cell that is not a usable number, and what to write instead.
+fn cell_problem(value: &str) -> String {
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    let unsigned = value.trim_start_matches(['+', '-']);
+    let parts: Vec<&str> = unsigned.split(',').collect();
+    if value.is_empty() {
+        return "the cell is empty: every row needs a number in every column read (fill the missing sample, or cut the record there into two files)".into();
+    }
+    if parts.len() == 2 && digits(parts[0]) && parts[1].len() != 3 && digits(parts[1]) {
+        return format!(
+            "`{value}` has a decimal comma: write it with a decimal point, `{}`",
+            value.replace(',', ".")
+        );
+    }
+    if parts.len() >= 2 && digits(parts[0]) && parts[0].len() <= 3 {
+        let (last, decimals) = parts[parts.len() - 1]
+            .split_once('.')
+            .unwrap_or((parts[parts.len() - 1], ""));
+        let groups = parts[1..parts.len() - 1]
+            .iter()
+            .all(|g| g.len() == 3 && digits(g));
+        if groups && last.len() == 3 && digits(last) && (decimals.is_empty() || digits(decimals)) {
+            return format!(
+                "`{value}` holds a comma: if it is a thousands separator write `{}`, if a decimal comma `{}` (rhonn reads numbers with a decimal point and no separators)",
+                value.replace(',', ""),
+                value.replace(',', ".")
+            );
+        }
+    }
+    match value.parse::<f64>() {
+        Ok(v) if !v.is_finite() => format!("`{value}` is not a finite number: give a number (a missing sample: cut the record there into two files)"),
+        Ok(_) => format!("`{value}` is beyond the magnitude at most 1e150 a cell may have (its square overflows): rescale the column"),
+        Err(_) => format!("`{value}` is not a number: give a number with a decimal point (e.g. `1.5`, `-2e-3`)"),
     }
 }
 
@@ -104,6 +155,12 @@ pub fn read_record(
         return Err(unreadable(&"it is a directory, not a file"));
     }
     let f = std::fs::File::open(path).map_err(|e| unreadable(&rhonn::error::path_problem(path, &e)))?;
+    // A gzip file (how the benchmarks ship their records) is read through its decoder.
+    let f: Box<dyn std::io::Read> = if path.extension().is_some_and(|e| e == "gz") {
+        Box::new(flate2::read::GzDecoder::new(f))
+    } else {
+        Box::new(f)
+    };
     let mut rd = csv::ReaderBuilder::new()
         .has_headers(true)
         .trim(csv::Trim::All)
@@ -146,7 +203,13 @@ pub fn read_record(
     };
     for (row, result) in rd.records().enumerate() {
         let line = row as u64 + 2;
-        let r = result.map_err(|e| unreadable(&e))?;
+        let r = result.map_err(|e| match e.kind() {
+            csv::ErrorKind::UnequalLengths { len, .. } => unreadable(&format!(
+                "line {line}: {len} fields where the header has {}: a decimal comma or a thousands separator splits a number in two in a comma-separated file (write numbers with a decimal point and no separators)",
+                header.len()
+            )),
+            _ => unreadable(&e),
+        })?;
         let cell = |idx: usize| -> Result<f64, DataError> {
             let s = r.get(idx).unwrap_or("");
             match s.parse::<f64>() {
@@ -240,7 +303,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("d.csv, line 3, column `u`: `abc` is not a finite number"),
+            e.contains("d.csv, line 3, column `u`: `abc` is not a number"),
             "{e}"
         );
         let p = write(&d, "t,u,y\n0,1,2\n1,1,NaN\n");
@@ -287,5 +350,79 @@ mod tests {
             e.contains("no column `t`") && e.contains("separated by ';'"),
             "{e}"
         );
+        // ... whose conversion also turns its decimal commas into points.
+        assert!(e.contains("sed 's/,/./g; s/;/,/g'"), "{e}");
+    }
+
+    #[test]
+    fn each_kind_of_bad_cell_is_named_with_what_to_write() {
+        let d = tempfile::tempdir().unwrap();
+        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        let err = |text: &str| {
+            let p = write(&d, text);
+            read_record(&p, &s(&["u"]), &s(&["y"]), 1)
+                .unwrap_err()
+                .to_string()
+        };
+        for (cell, said) in [
+            ("", "the cell is empty"),
+            (
+                "\"3,2567\"",
+                "`3,2567` has a decimal comma: write it with a decimal point, `3.2567`",
+            ),
+            (
+                "\"-0,5\"",
+                "`-0,5` has a decimal comma: write it with a decimal point, `-0.5`",
+            ),
+            (
+                "\"1,000\"",
+                "if it is a thousands separator write `1000`, if a decimal comma `1.000`",
+            ),
+            (
+                "\"12,345,678.5\"",
+                "if it is a thousands separator write `12345678.5`",
+            ),
+            ("abc", "`abc` is not a number"),
+            ("inf", "`inf` is not a finite number"),
+        ] {
+            let e = err(&format!("t,u,y\n0,1,2\n1,{cell},2\n"));
+            assert!(
+                e.contains("line 3, column `u`") && e.contains(said),
+                "{cell}: {e}"
+            );
+        }
+        // An unquoted decimal comma splits the row.
+        let e = err("t,u,y\n0,1,2\n1,1,5,2\n");
+        assert!(
+            e.contains("line 3: 4 fields where the header has 3") && e.contains("decimal comma"),
+            "{e}"
+        );
+        // A time column under another name.
+        let e = err("time,u,y\n0,1,2\n1,1,2\n");
+        assert!(
+            e.contains("no column `t`") && e.contains("`time` looks like it: rename it `t`"),
+            "{e}"
+        );
+        assert!(!err("x,u,y\n0,1,2\n").contains("looks like it"));
+    }
+
+    #[test]
+    fn a_gzip_file_is_read_as_its_csv() {
+        use std::io::Write;
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("d.csv.gz");
+        let mut z =
+            flate2::write::GzEncoder::new(std::fs::File::create(&p).unwrap(), flate2::Compression::default());
+        z.write_all(b"t,u,y\n0,1,2\n1,1.5,2.5\n").unwrap();
+        z.finish().unwrap();
+        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        let r = read_record(&p, &s(&["u"]), &s(&["y"]), 2).unwrap();
+        assert_eq!(r.outputs[0], vec![2.0, 2.5]);
+        // A file named .gz that is not gzip is refused, naming it.
+        std::fs::write(d.path().join("bad.csv.gz"), "t,u,y\n0,1,2\n").unwrap();
+        let e = read_record(&d.path().join("bad.csv.gz"), &s(&["u"]), &s(&["y"]), 1)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("bad.csv.gz: cannot read"), "{e}");
     }
 }
