@@ -763,12 +763,28 @@ fn select_options_are_checked() {
     let o = with(&["--select", "none", "--budget", "5"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        stderr(&o).contains("apply to --select auto only"),
+        stderr(&o).contains("--select-steps-ahead and --budget apply to the selection only (--select auto,"),
         "{}",
         stderr(&o)
     );
     let o = with(&["--select-steps-ahead", "0"]);
     assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("--select-steps-ahead 0 is not allowed"),
+        "{}",
+        stderr(&o)
+    );
+    let o = with(&["--budget", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--budget 0 is not allowed"), "{}", stderr(&o));
+    // More steps than the record: the library's check, named by the command line's flag.
+    let o = with(&["--select-steps-ahead", "300"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("`--select-steps-ahead` = 300"),
+        "{}",
+        stderr(&o)
+    );
     let o = with(&["--select", "none"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let s: serde_json::Value =

@@ -193,29 +193,23 @@ fn cmd_campaign(
     Ok(())
 }
 
-/// `rhonn fit`'s selection options: `auto` unless a --model is given or `--select none`.
+/// `rhonn fit`'s selection options, by the rules both doors share (`fit_args`).
 fn fit_selection(
     has_model: bool,
     select: Option<args::SelectMode>,
     steps_ahead: Option<usize>,
     budget: Option<f64>,
 ) -> Result<Option<rhonn::sysid::select::SelectOptions>> {
-    let auto = match select {
-        Some(args::SelectMode::Auto) => true,
-        Some(args::SelectMode::None) => false,
-        None => !has_model,
+    let args = commands::fit_args::FitArgs {
+        model_given: has_model,
+        select: select.map(|m| match m {
+            args::SelectMode::Auto => "auto",
+            args::SelectMode::None => "none",
+        }),
+        select_steps_ahead: steps_ahead.map(|k| i64::try_from(k).unwrap_or(i64::MAX)),
+        budget,
     };
-    if !auto && (steps_ahead.is_some() || budget.is_some()) {
-        anyhow::bail!(
-            "--select-steps-ahead and --budget apply to --select auto only (the default without --model)"
-        );
-    }
-    if steps_ahead == Some(0) {
-        anyhow::bail!(
-            "--select-steps-ahead 0 is not allowed: give K >= 1, or leave it out to judge the free run"
-        );
-    }
-    Ok(auto.then(|| rhonn::sysid::select::SelectOptions::judged(steps_ahead, budget)))
+    Ok(args.selection(&commands::fit_args::COMMAND_LINE)?)
 }
 
 /// `rhonn identify`: the identification with a spinner.

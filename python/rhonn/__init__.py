@@ -255,24 +255,21 @@ def fit(
         raise TypeError(f"dt must be a number of seconds, not {type(dt).__name__}")
     ins = _names(inputs, us[0].shape[1], "u", "inputs")
     outs = _names(outputs, ys[0].shape[1], "y", "outputs")
-    if select not in (None, "auto", "none"):
-        raise ValueError(f"select = {select!r} is not allowed: give \"auto\", \"none\" or None")
-    if select is not None and model is not None:
-        raise ValueError(f"select={select!r} and model both name the structure: give one")
-    if select is None:
-        select = "auto" if model is None else "none"
-    if select != "auto" and (select_steps_ahead is not None or budget is not None):
-        raise ValueError("select_steps_ahead and budget apply to the selection only (select=\"auto\", the default without a model)")
-    k = _steps(select_steps_ahead)
+    # Types here; the rules on the values (which combinations, which ranges) are the
+    # command line's, in rhonn_report::commands::fit_args.
+    if select is not None and not isinstance(select, str):
+        raise TypeError(f"select must be \"auto\", \"none\" or None, not {type(select).__name__}")
+    if select_steps_ahead is not None:
+        if isinstance(select_steps_ahead, bool) or not isinstance(select_steps_ahead, (int, np.integer)):
+            raise TypeError(f"select_steps_ahead must be an int K >= 1 or None, not {type(select_steps_ahead).__name__}")
+        select_steps_ahead = int(np.clip(select_steps_ahead, -(2**62), 2**62))
     if budget is not None:
         if isinstance(budget, bool) or not isinstance(budget, (int, float, np.integer, np.floating)):
             raise TypeError(f"budget must be a number (a multiple of the default work budget), not {type(budget).__name__}")
-        if not (np.isfinite(budget) and 0 < budget <= 1e6):
-            raise ValueError(f"budget = {budget} is not allowed: give a multiple of the default work budget in (0, 1e6]")
         budget = float(budget)
     text, source = _spec_text(model)
     spec = None if text is None else (text, source)
-    return Model(_rhonn.fit(us, ys, float(dt), ins, outs, spec, (k, budget) if select == "auto" else None))
+    return Model(_rhonn.fit(us, ys, float(dt), ins, outs, spec, (select, select_steps_ahead, budget)))
 
 
 def _optional_at_least_one(value, arg: str, letter: str, or_none: str) -> Optional[int]:

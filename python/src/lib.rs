@@ -62,9 +62,9 @@ fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>
 }
 
 /// Fit a model to recordings (`us[k]`: (n, m), `ys[k]`: (n, p), sampled every `dt` s);
-/// `spec`: TOML text and what names it; `select`: (select_steps_ahead, budget).
+/// `spec`: TOML text and what names it; `select`: `fit_args::FitArgs::given`'s arguments.
 #[pyfunction]
-#[pyo3(signature = (us, ys, dt, inputs, outputs, spec=None, select=None))]
+#[pyo3(signature = (us, ys, dt, inputs, outputs, spec=None, select=(None, None, None)))]
 #[allow(clippy::too_many_arguments)]
 fn fit(
     py: Python<'_>,
@@ -74,7 +74,7 @@ fn fit(
     inputs: Vec<String>,
     outputs: Vec<String>,
     spec: Option<(String, String)>,
-    select: Option<(Option<usize>, Option<f64>)>,
+    select: (Option<String>, Option<i64>, Option<f64>),
 ) -> PyResult<model::Model> {
     let recs = us
         .iter()
@@ -84,7 +84,8 @@ fn fit(
         .collect::<PyResult<Vec<_>>>()?;
     let (fitted, summary, notes) = interruptible(py, move || {
         let spec = spec.as_ref().map(|(t, s)| (t.as_str(), s.as_str()));
-        rhonn_report::commands::fit_in_memory(&recs, &inputs, &outputs, spec, select)
+        let args = rhonn_report::commands::fit_args::FitArgs::given(select.0.as_deref(), select.1, select.2);
+        rhonn_report::commands::fit_in_memory(&recs, &inputs, &outputs, spec, args)
     })?
     .map_err(report_err)?;
     Ok(model::Model(fitted, Some(summary), notes))

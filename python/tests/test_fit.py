@@ -138,8 +138,11 @@ def test_without_a_model_the_structure_is_selected_as_the_command_does(tanks):
         rhonn.fit(est["u"], est["y"], dt=4.0, select="best")
     with pytest.raises(ValueError, match="both name the structure"):
         rhonn.fit(est["u"], est["y"], dt=4.0, select="auto", model={"kind": "arx"})
-    # "none": the fixed default structure, no selection.
+    # "none": the fixed default structure, no selection; with a model, the model's (the
+    # command line's rule: `--select none` keeps `--model`'s).
     assert "selection" not in rhonn.fit(est["u"], est["y"], dt=4.0, select="none").summary
+    m = rhonn.fit(est["u"], est["y"], dt=4.0, select="none", model={"kind": "arx"})
+    assert m.summary["model"]["kind"] == "arx" and "selection" not in m.summary
 
 
 def test_the_selection_options_are_those_of_the_command(tanks):
@@ -155,8 +158,11 @@ def test_the_selection_options_are_those_of_the_command(tanks):
         rhonn.fit(est["u"], est["y"], dt=4.0, select="none", budget=5.0)
     with pytest.raises(ValueError, match="budget"):
         rhonn.fit(est["u"], est["y"], dt=4.0, budget=float("nan"))
-    with pytest.raises(ValueError, match="steps_ahead"):
-        rhonn.fit(est["u"], est["y"], dt=4.0, select_steps_ahead=0)
+    for k in (0, -3):
+        with pytest.raises(ValueError, match=f"select_steps_ahead {k} is not allowed"):
+            rhonn.fit(est["u"], est["y"], dt=4.0, select_steps_ahead=k)
+    with pytest.raises(TypeError, match="select_steps_ahead must be an int"):
+        rhonn.fit(est["u"], est["y"], dt=4.0, select_steps_ahead=2.5)
     # As many steps as the record's samples: refused naming Python's argument, not the
     # command's option.
     with pytest.raises(ValueError, match="`select_steps_ahead` = 1024 is not allowed") as e:

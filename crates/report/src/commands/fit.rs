@@ -1,5 +1,6 @@
 //! `rhonn fit` and `rhonn predict`: offline models of recordings.
 
+use super::fit_args::FitArgs;
 use super::{context, read_text, unit_of, Outcome};
 use crate::{Error, Result};
 use rhonn::any_model::{AnyModel, AnyPrediction, ModelFileError};
@@ -181,22 +182,25 @@ pub fn fit_structure<'a>(
 pub type FittedInMemory = (AnyModel, String, Vec<String>);
 
 /// `rhonn fit` on recordings already in memory (Python's `rhonn.fit`): the structure
-/// chosen by cross-validation when `select` holds `(select_steps_ahead, budget)`,
-/// else `spec`'s (its TOML text and what names it; None: the default structure). Errors
-/// name these arguments by those names.
+/// chosen by cross-validation or `spec`'s (its TOML text and what names it; None: the
+/// default structure), as `args` ask by the rules of `fit_args`. Errors name the
+/// arguments as Python does.
 pub fn fit_in_memory(
     recs: &[Record],
     inputs: &[String],
     outputs: &[String],
     spec: Option<(&str, &str)>,
-    select: Option<(Option<usize>, Option<f64>)>,
+    args: super::fit_args::FitArgs,
 ) -> Result<FittedInMemory> {
-    let opts = select.map(|(k, budget)| SelectOptions::judged(k, budget));
+    let door = &super::fit_args::PYTHON;
+    let opts = FitArgs {
+        model_given: spec.is_some(),
+        ..args
+    }
+    .selection(door)?;
     let (structure, _) = fit_structure(opts.as_ref(), spec, outputs.len())?;
-    let run = rhonn::sysid::fit_records(structure, recs, inputs, outputs, "dt", &|_| {}).map_err(|e| {
-        e.with_field_named("--select-steps-ahead", "select_steps_ahead")
-            .with_field_named("--budget", "budget")
-    })?;
+    let run = rhonn::sysid::fit_records(structure, recs, inputs, outputs, "dt", &|_| {})
+        .map_err(|e| door.rename(e))?;
     let summary = serde_json::to_string(&run.summary)
         .map_err(|e| Error::Input(format!("cannot write the summary as JSON: {e}")))?;
     let notes = [run.data_warnings, run.selection_warnings].concat();
@@ -259,10 +263,9 @@ fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) ->
     let (inputs, outputs) = (&req.inputs, &req.outputs);
     let units = parse_units(&req.units, inputs, outputs)?;
     if req.select.is_some() && req.model.is_some() {
-        return Err(Error::Input(
-            "--select auto and --model both name the structure: give one (--select none keeps --model's)"
-                .into(),
-        ));
+        return Err(Error::Input(super::fit_args::both_name_the_structure(
+            &super::fit_args::COMMAND_LINE,
+        )));
     }
     let mut o = Outcome::default();
     let spec = match &req.model {
@@ -277,7 +280,7 @@ fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) ->
         notes: gap_notes,
     } = read_data_regridded(&req.data, inputs, outputs, min_rows, req.resample_s)?;
     let run = rhonn::sysid::fit_records(structure, &recs, inputs, outputs, "--resample", progress)
-        .map_err(|e| spec_error(e, req))?;
+        .map_err(|e| spec_error(super::fit_args::COMMAND_LINE.rename(e), req))?;
     o.notes
         .extend(run.selection_findings.iter().map(|f| format!("selection: {f}")));
     o.notes

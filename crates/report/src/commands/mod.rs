@@ -6,6 +6,7 @@
 mod benchmark;
 mod corpus;
 mod fit;
+pub mod fit_args;
 mod identify;
 mod run;
 

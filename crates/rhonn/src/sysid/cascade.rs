@@ -729,7 +729,7 @@ impl super::kinds::ModelKind for Cascade {
     fn check_outputs(&self, outputs: &[String]) -> Result<()> {
         if outputs.len() != 1 {
             return Err(invalid(
-                "--outputs",
+                "outputs",
                 outputs.join(","),
                 "exactly one output for a `cascade` model (its last neuron)",
             ));

@@ -212,7 +212,7 @@ fn blank_model(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs:
     spec.check()?;
     super::model_kind(spec.kind).check_outputs(outputs)?;
     if records.is_empty() {
-        return Err(invalid("--data", "no files", "at least one CSV file"));
+        return Err(invalid("records", "none", "at least one record"));
     }
     let lag = spec.max_lag();
     for r in records {

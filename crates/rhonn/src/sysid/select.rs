@@ -196,7 +196,7 @@ pub fn select(
     }
     if !(opts.budget.is_finite() && opts.budget > 0.0 && opts.budget <= 1e6) {
         return Err(invalid(
-            "--budget",
+            "budget",
             opts.budget,
             "a multiple of the default work budget in (0, 1e6]",
         ));
@@ -204,7 +204,7 @@ pub fn select(
     let shortest = records.iter().map(Record::len).min().unwrap_or(0);
     if let Some(k) = opts.steps_ahead.filter(|&k| k >= shortest) {
         return Err(invalid(
-            "--select-steps-ahead",
+            "select_steps_ahead",
             k,
             format!("fewer steps than the shortest record's {shortest} samples"),
         ));
@@ -500,7 +500,7 @@ fn finish(candidates: Vec<CandidateScore>, opts: &SelectOptions, tally: Tally) -
             .collect::<Vec<_>>()
             .join("; ");
         return Err(invalid(
-            "--select auto",
+            "select",
             "no ARX structure could be fitted and judged on the folds",
             format!("records long enough for 3 folds of at least 20 samples each ({why})"),
         ));
