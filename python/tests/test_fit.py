@@ -207,6 +207,9 @@ def test_warnings_are_warnings_and_an_online_model_has_no_baseline(tanks):
     # of the selection's findings (those are in summary["selection"]).
     assert m.warnings and all(not w.startswith("selection:") for w in m.warnings), m.warnings
     assert any("changes slowly" in w for w in m.warnings), m.warnings
+    # Worded for Python: no command-line option, no `t` column.
+    assert not any("--resample" in w or "`t`" in w for w in m.warnings), m.warnings
+    assert any("before fitting" in w for w in m.warnings), m.warnings
     ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0, model={})
     for t, u, y in zip(est["t"][:50], est["u"][:50], est["y"][:50]):
         ident.update(t, u, y)

@@ -44,16 +44,7 @@ fn bench_checks(c: &mut Criterion) {
     g.sample_size(10);
     let big = drifting(1_000_000);
     g.bench_function("data_warnings, 1,000,000 drifting rows", |b| {
-        b.iter(|| {
-            rhonn::sysid::data_warnings(
-                black_box(std::slice::from_ref(&big)),
-                &i,
-                &o,
-                8,
-                1e-3,
-                "--resample",
-            )
-        })
+        b.iter(|| rhonn::sysid::data_warnings(black_box(std::slice::from_ref(&big)), &i, &o, 8, 1e-3))
     });
     let small = drifting(20_000);
     g.bench_function("decorrelation lag by FFT, 20,000 drifting rows", |b| {

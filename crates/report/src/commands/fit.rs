@@ -199,11 +199,12 @@ pub fn fit_in_memory(
     }
     .selection(door)?;
     let (structure, _) = fit_structure(opts.as_ref(), spec, outputs.len())?;
-    let run = rhonn::sysid::fit_records(structure, recs, inputs, outputs, "dt", &|_| {})
-        .map_err(|e| door.rename(e))?;
+    let run =
+        rhonn::sysid::fit_records(structure, recs, inputs, outputs, &|_| {}).map_err(|e| door.rename(e))?;
     let summary = serde_json::to_string(&run.summary)
         .map_err(|e| Error::Input(format!("cannot write the summary as JSON: {e}")))?;
-    let notes = [run.data_warnings, run.selection_warnings].concat();
+    let mut notes: Vec<String> = run.data_warnings.iter().map(|w| door.data_warning(w)).collect();
+    notes.extend(run.selection_warnings);
     Ok((AnyModel::Fitted(Box::new(run.fitted)), summary, notes))
 }
 
@@ -279,7 +280,7 @@ fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) ->
         regridded,
         notes: gap_notes,
     } = read_data_regridded(&req.data, inputs, outputs, min_rows, req.resample_s)?;
-    let run = rhonn::sysid::fit_records(structure, &recs, inputs, outputs, "--resample", progress)
+    let run = rhonn::sysid::fit_records(structure, &recs, inputs, outputs, progress)
         .map_err(|e| spec_error(super::fit_args::COMMAND_LINE.rename(e), req))?;
     o.notes
         .extend(run.selection_findings.iter().map(|f| format!("selection: {f}")));
@@ -289,8 +290,12 @@ fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) ->
         o.notes.push(format!("note: {g}"));
     }
     o.notes.extend(gap_notes.iter().map(|n| format!("note: {n}")));
-    o.notes
-        .extend(run.data_warnings.iter().map(|w| format!("warning: {w}")));
+    let door = &super::fit_args::COMMAND_LINE;
+    o.notes.extend(
+        run.data_warnings
+            .iter()
+            .map(|w| format!("warning: {}", door.data_warning(w))),
+    );
     let (specs, mut fitted, mut summary) = (run.specs, run.fitted, run.summary);
     let grey = specs[0].kind == rhonn::sysid::Kind::Pump;
     summary.regridded = regridded;

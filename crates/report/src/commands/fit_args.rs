@@ -8,7 +8,7 @@ use crate::{Error, Result};
 use rhonn::sysid::select::SelectOptions;
 
 /// How a door spells the fit's arguments in messages.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy)]
 pub struct Door {
     /// The structure's mode, and its two values.
     pub select: &'static str,
@@ -24,6 +24,10 @@ pub struct Door {
     pub model: &'static str,
     /// The output columns.
     pub outputs: &'static str,
+    /// The option that resamples the data (None: the door fits the samples as given).
+    pub resample: Option<&'static str>,
+    /// What to do when the times are milliseconds, given the sample time in seconds.
+    pub milliseconds: fn(f64) -> String,
 }
 
 /// `rhonn fit`'s flags.
@@ -35,6 +39,8 @@ pub const COMMAND_LINE: Door = Door {
     budget: "--budget",
     model: "--model",
     outputs: "--outputs",
+    resample: Some("--resample"),
+    milliseconds: |_| "give `t` in seconds (divide it by 1,000)".to_string(),
 };
 
 /// Python's `rhonn.fit` keyword arguments (the library's own field names).
@@ -46,9 +52,24 @@ pub const PYTHON: Door = Door {
     budget: "budget",
     model: "model",
     outputs: "outputs",
+    resample: None,
+    milliseconds: |s| format!("pass dt={s}"),
 };
 
 impl Door {
+    /// A warning on the data with its advice in this door's terms.
+    pub fn data_warning(&self, w: &rhonn::sysid::DataWarning) -> String {
+        let resample = |s: f64| {
+            match self.resample {
+            Some(flag) => format!("Resample to a longer sample time, e.g. `{flag} {s}`"),
+            None => format!(
+                "Resample the recordings to a longer sample time before fitting (they are fitted as given), e.g. to about {s} s by averaging blocks of samples"
+            ),
+        }
+        };
+        w.worded(&resample, &self.milliseconds)
+    }
+
     /// A library error with its field named as this door names it (the library's
     /// `select_steps_ahead` is the command line's `--select-steps-ahead`).
     pub fn rename(&self, e: rhonn::Error) -> rhonn::Error {

@@ -118,7 +118,7 @@ fn fit_default(
         Some((specs, _)) => sysid::FitStructure::Given(specs.to_vec()),
         None => sysid::FitStructure::Select(&opts),
     };
-    let run = sysid::fit_records(structure, &b.train, ins, outs, "the sample time", progress)?;
+    let run = sysid::fit_records(structure, &b.train, ins, outs, progress)?;
     let structure = match (&run.summary.selection, model) {
         (_, Some((_, name))) => name.to_string(),
         (Some(sel), None) => sel.chosen_name(),

@@ -304,18 +304,13 @@ fn judge_into(
     j: &mut Judged,
 ) -> Result<()> {
     let (ins, outs) = (&sys.inputs, &sys.outputs);
-    let run = sysid::fit_records(
-        FitStructure::Select(opts),
-        &sys.train,
-        ins,
-        outs,
-        "the sample time",
-        progress,
-    )?;
+    let run = sysid::fit_records(FitStructure::Select(opts), &sys.train, ins, outs, progress)?;
     if let Some(sel) = &run.summary.selection {
         j.fit_structure = sel.chosen_name();
     }
-    j.fit_warnings = [run.selection_warnings.clone(), run.data_warnings.clone()].concat();
+    j.fit_warnings = run.selection_warnings.clone();
+    j.fit_warnings
+        .extend(run.data_warnings.iter().map(ToString::to_string));
     let flagged = run.fitted.no_better_than_mean.clone();
     let (arx, arx_sel) = sysid::best_arx(&sys.train, ins, outs)?;
     j.arx_structure = arx_sel.candidates[arx_sel.best_arx].name.clone();

@@ -68,18 +68,91 @@ fn constant(cols: &[&[f64]]) -> bool {
     }
 }
 
+/// A warning on the data, with the numbers its advice needs: each door words its advice
+/// in its own terms (the command line's `--resample`, Python's `dt`); [`std::fmt::Display`]
+/// gives words that name no door's option.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DataWarning {
+    /// Words the same at every door ([`signal_warnings`]).
+    Said(String),
+    /// The times step by a whole number that reads as a common sample time in
+    /// milliseconds: `sample_s` as read, over `span_s`.
+    Milliseconds {
+        /// The sample time as read \[s\].
+        sample_s: f64,
+        /// The records' span as read \[s\].
+        span_s: f64,
+    },
+    /// An output changes slowly against the sample time: its autocorrelation falls to 1/e
+    /// after `samples` samples, the model looks back `span`; resampling to about
+    /// `suggest_s` gives about 5 spans to 1/e.
+    Slow {
+        /// The output.
+        output: String,
+        /// Samples to 1/e.
+        samples: usize,
+        /// The model's look-back in samples.
+        span: usize,
+        /// The sample time \[s\].
+        sample_s: f64,
+        /// The suggested sample time \[s\], to 2 significant digits.
+        suggest_s: f64,
+    },
+}
+
+impl DataWarning {
+    /// The warning with its advice: `resample(s)` says how to resample to `s` seconds, `ms`
+    /// what to do when the times are milliseconds (the sample time in seconds given).
+    pub fn worded(&self, resample: &dyn Fn(f64) -> String, ms: &dyn Fn(f64) -> String) -> String {
+        match self {
+            DataWarning::Said(w) => w.clone(),
+            DataWarning::Milliseconds { sample_s, span_s } => format!(
+                "the samples are {sample_s} s apart, on whole numbers, over {} s: if the times are milliseconds, the sample time is {} s: {}",
+                round_sig(*span_s, 3),
+                sample_s / 1000.0,
+                ms(sample_s / 1000.0)
+            ),
+            DataWarning::Slow {
+                output,
+                samples,
+                span,
+                sample_s,
+                suggest_s,
+            } => format!(
+                "output `{output}` changes slowly against the sample time: its autocorrelation falls to 1/e only after \
+                 {samples} samples ({} s), while the model looks back {span} sample{} ({} s); lagged models then see \
+                 almost none of the dynamics and often run away in free run. {} (about {} samples to 1/e), or give the model more lags",
+                round_sig(*samples as f64 * sample_s, 3),
+                if *span == 1 { "" } else { "s" },
+                round_sig(*span as f64 * sample_s, 3),
+                resample(*suggest_s),
+                5 * span
+            ),
+        }
+    }
+}
+
+impl std::fmt::Display for DataWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let resample = |s: f64| format!("Resample to a longer sample time, e.g. {s} s");
+        let ms = |s: f64| format!("give the times in seconds ({s} s apart)");
+        f.write_str(&self.worded(&resample, &ms))
+    }
+}
+
 /// Warnings on `records` (already on their uniform grid of `sample_s`) for a model that
-/// looks back `max_lag` samples. `resample_option` is how the caller names its resampling
-/// option (e.g. `--resample`), quoted in the advice.
+/// looks back `max_lag` samples.
 pub fn data_warnings(
     records: &[Record],
     inputs: &[String],
     outputs: &[String],
     max_lag: usize,
     sample_s: f64,
-    resample_option: &str,
-) -> Vec<String> {
-    let mut w = signal_warnings(records, inputs, outputs);
+) -> Vec<DataWarning> {
+    let mut w: Vec<DataWarning> = signal_warnings(records, inputs, outputs)
+        .into_iter()
+        .map(DataWarning::Said)
+        .collect();
     w.extend(milliseconds_hint(records, sample_s));
     let span = max_lag.max(1);
     for (j, name) in outputs.iter().enumerate() {
@@ -89,18 +162,13 @@ pub fn data_warnings(
             .collect();
         let Some(&n) = lags.iter().min() else { continue };
         if n > SLOW_SPANS * span {
-            let suggest = sample_s * n as f64 / (5 * span) as f64;
-            w.push(format!(
-                "output `{name}` changes slowly against the sample time: its autocorrelation falls to 1/e only after \
-                 {n} samples ({} s), while the model looks back {span} sample{} ({} s); lagged models then see \
-                 almost none of the dynamics and often run away in free run. Resample to a longer sample time, e.g. \
-                 `{resample_option} {}` (about {} samples to 1/e), or give the model more lags",
-                round_sig(n as f64 * sample_s, 3),
-                if span == 1 { "" } else { "s" },
-                round_sig(span as f64 * sample_s, 3),
-                round_sig(suggest, 2),
-                5 * span
-            ));
+            w.push(DataWarning::Slow {
+                output: name.clone(),
+                samples: n,
+                span,
+                sample_s,
+                suggest_s: round_sig(sample_s * n as f64 / (5 * span) as f64, 2),
+            });
         }
     }
     w
@@ -140,26 +208,23 @@ pub fn signal_warnings(records: &[Record], inputs: &[String], outputs: &[String]
     w
 }
 
-/// Sample times, in seconds, that are common sample times in milliseconds.
-const MS_LIKE_STEPS: [f64; 10] = [2.0, 5.0, 10.0, 20.0, 25.0, 50.0, 100.0, 200.0, 250.0, 500.0];
+/// Sample times, in seconds, that are common sample times in milliseconds of a logger (10 ms
+/// and more: 2 s and 5 s are common sample times in seconds too, so they get no hint).
+const MS_LIKE_STEPS: [f64; 7] = [10.0, 20.0, 25.0, 50.0, 100.0, 200.0, 250.0];
 
-/// A hint when `t` looks like milliseconds read as seconds: every time a whole number, a
-/// sample time that is a common one in milliseconds (2 to 500) and records spanning at
-/// least 1,000 "seconds" (a 50 ms log of a minute reads as 16 hours at 50 s).
-fn milliseconds_hint(records: &[Record], sample_s: f64) -> Option<String> {
+/// A hint when the times look like milliseconds read as seconds, every time a whole number
+/// and either a sample time that is a logger's in milliseconds (10 to 250) over at least
+/// 1,000 "seconds" (a 50 ms log of a minute reads as 16 hours at 50 s), or a whole number
+/// of thousands (a 2 s log in milliseconds steps by 2,000).
+fn milliseconds_hint(records: &[Record], sample_s: f64) -> Option<DataWarning> {
     let whole = records.iter().all(|r| r.t.iter().all(|t| t.fract() == 0.0));
-    let span: f64 = records
+    let span_s: f64 = records
         .iter()
         .map(|r| r.t.last().unwrap_or(&0.0) - r.t.first().unwrap_or(&0.0))
         .sum();
-    (whole && span >= 1000.0 && MS_LIKE_STEPS.contains(&sample_s)).then(|| {
-        format!(
-            "`t` steps by {sample_s} on whole numbers, read as seconds: a {sample_s} s sample time over {} s; \
-             if `t` is in milliseconds, the sample time is {} s: give `t` in seconds (divide it by 1,000)",
-            round_sig(span, 3),
-            sample_s / 1000.0
-        )
-    })
+    let logger = span_s >= 1000.0 && MS_LIKE_STEPS.contains(&sample_s);
+    let thousands = sample_s >= 1000.0 && sample_s % 1000.0 == 0.0;
+    (whole && (logger || thousands)).then_some(DataWarning::Milliseconds { sample_s, span_s })
 }
 
 /// `v` rounded to `digits` significant digits (for advice).
@@ -279,46 +344,32 @@ mod tests {
         }
     }
 
+    /// The warnings as words naming no door's option.
+    fn said(records: &[Record], inputs: &[&str], lag: usize, sample_s: f64) -> Vec<String> {
+        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        data_warnings(records, &s(inputs), &s(&["y"]), lag, sample_s)
+            .iter()
+            .map(ToString::to_string)
+            .collect()
+    }
+
     #[test]
     fn each_warning_fires_on_its_case_and_not_on_good_data() {
-        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
         // A fast-changing output and a varying input: nothing to say.
         let good = record(1.0, 400, |k| (k % 7) as f64, |k| ((k * 37) % 11) as f64);
-        assert!(data_warnings(
-            std::slice::from_ref(&good),
-            &s(&["u"]),
-            &s(&["y"]),
-            2,
-            1.0,
-            "--resample"
-        )
-        .is_empty());
-        let w = data_warnings(
-            std::slice::from_ref(&good),
-            &s(&["t"]),
-            &s(&["y"]),
-            2,
-            1.0,
-            "--resample",
-        );
+        assert!(said(std::slice::from_ref(&good), &["u"], 2, 1.0).is_empty());
+        let w = said(std::slice::from_ref(&good), &["t"], 2, 1.0);
         assert!(w.iter().any(|m| m.contains("time column")), "{w:?}");
-        let w = data_warnings(
-            std::slice::from_ref(&good),
-            &s(&["y"]),
-            &s(&["y"]),
-            2,
-            1.0,
-            "--resample",
-        );
+        let w = said(std::slice::from_ref(&good), &["y"], 2, 1.0);
         assert!(
             w.iter().any(|m| m.contains("both an input and an output")),
             "{w:?}"
         );
         let same = record(1.0, 400, |k| ((k * 37) % 11) as f64, |k| ((k * 37) % 11) as f64);
-        let w = data_warnings(&[same], &s(&["u"]), &s(&["y"]), 2, 1.0, "--resample");
+        let w = said(&[same], &["u"], 2, 1.0);
         assert!(w.iter().any(|m| m.contains("equals output `y`")), "{w:?}");
         let flat = record(1.0, 400, |_| 3.0, |k| ((k * 37) % 11) as f64);
-        let w = data_warnings(&[flat], &s(&["u"]), &s(&["y"]), 2, 1.0, "--resample");
+        let w = said(&[flat], &["u"], 2, 1.0);
         assert!(w.iter().any(|m| m.contains("`u` is constant")), "{w:?}");
         // A slow sine sampled finely: period 2,000 samples, 1/e after about 310.
         let slow = record(
@@ -327,31 +378,39 @@ mod tests {
             |k| (k % 7) as f64,
             |k| (k as f64 * std::f64::consts::TAU / 2000.0).sin(),
         );
-        let w = data_warnings(
-            std::slice::from_ref(&slow),
-            &s(&["u"]),
-            &s(&["y"]),
-            3,
-            0.01,
-            "--resample",
-        );
+        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        let w = data_warnings(std::slice::from_ref(&slow), &s(&["u"]), &s(&["y"]), 3, 0.01);
         assert!(
-            w.len() == 1 && w[0].contains("`--resample 0.2") && w[0].contains("changes slowly"),
+            matches!(&w[..], [DataWarning::Slow { suggest_s, samples, span: 3, .. }]
+                if (*suggest_s - 0.01 * *samples as f64 / 15.0).abs() < 0.005),
             "{w:?}"
         );
+        // Each door words its own advice; the words of none name an option.
+        let flag = w[0].worded(&|s| format!("`--resample {s}`"), &|_| String::new());
+        assert!(
+            flag.contains("`--resample 0.2") && flag.contains("changes slowly"),
+            "{flag}"
+        );
+        assert!(!w[0].to_string().contains("--"), "{}", w[0]);
         // With lags spanning more of it, no warning.
-        assert!(data_warnings(&[slow], &s(&["u"]), &s(&["y"]), 30, 0.01, "--resample").is_empty());
-        // A 50 ms log of 100 s with `t` in milliseconds: read as 50 s steps over 5,000 s.
-        let ms = record(50.0, 2000, |k| (k % 7) as f64, |k| ((k * 37) % 11) as f64);
-        let w = data_warnings(&[ms], &s(&["u"]), &s(&["y"]), 2, 50.0, "--resample");
-        assert!(
-            w.len() == 1 && w[0].contains("`t` steps by 50") && w[0].contains("the sample time is 0.05 s"),
-            "{w:?}"
-        );
-        // The tanks' 4 s, a sample index (1) and a short record of whole 50 s steps: none.
-        for (step, n) in [(4.0, 1024), (1.0, 2000), (50.0, 10)] {
+        assert!(said(&[slow], &["u"], 30, 0.01).is_empty());
+        // A 50 ms log of 100 s with `t` in milliseconds: read as 50 s steps over 5,000 s;
+        // a 2 s log in milliseconds: steps of 2,000.
+        for (step, n, seconds) in [(50.0, 2000, "0.05 s"), (2000.0, 50, "2 s")] {
+            let ms = record(step, n, |k| (k % 7) as f64, |k| ((k * 37) % 11) as f64);
+            let w = said(&[ms], &["u"], 2, step);
+            assert!(
+                w.len() == 1
+                    && w[0].contains("if the times are milliseconds")
+                    && w[0].contains(&format!("the sample time is {seconds}")),
+                "{w:?}"
+            );
+        }
+        // The tanks' 4 s, 2 s and 5 s over an hour (common sample times in seconds), a
+        // sample index (1) and a short record of whole 50 s steps: none.
+        for (step, n) in [(4.0, 1024), (2.0, 1800), (5.0, 720), (1.0, 2000), (50.0, 10)] {
             let r = record(step, n, |k| (k % 7) as f64, |k| ((k * 37) % 11) as f64);
-            let w = data_warnings(&[r], &s(&["u"]), &s(&["y"]), 2, step, "--resample");
+            let w = said(&[r], &["u"], 2, step);
             assert!(w.iter().all(|m| !m.contains("milliseconds")), "{step}: {w:?}");
         }
     }

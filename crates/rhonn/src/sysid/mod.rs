@@ -49,7 +49,7 @@ mod wiener_hammerstein;
 use checks::ensure_finite_model;
 pub use checks::{
     data_warnings, decorrelation_lag, ensure_finite_errors, ensure_finite_figures, free_run_at_bound,
-    signal_warnings,
+    signal_warnings, DataWarning,
 };
 pub use estimate::fit;
 pub(crate) use estimate::lagged_terms;

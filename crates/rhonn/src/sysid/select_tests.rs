@@ -406,7 +406,7 @@ fn a_model_of_several_structures_runs_as_one_and_round_trips() {
         ..Default::default()
     };
     let train = [two_output_record(11, 900)];
-    let run = crate::sysid::fit_records(FitStructure::Select(&opts), &train, &i, &o, "dt", &|_| {}).unwrap();
+    let run = crate::sysid::fit_records(FitStructure::Select(&opts), &train, &i, &o, &|_| {}).unwrap();
     let sel = run.summary.selection.as_ref().unwrap();
     let kinds: Vec<Kind> = sel
         .by_output

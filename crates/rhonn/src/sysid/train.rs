@@ -182,20 +182,19 @@ pub struct FitRun {
     /// The selection's warnings.
     pub selection_warnings: Vec<String>,
     /// The data's warnings for the structure (none for the grey-box pump model, which has
-    /// no lags); `hint` of [`fit_records`] names the option that sets the sample time.
-    pub data_warnings: Vec<String>,
+    /// no lags), each door wording its advice (`DataWarning::worded`).
+    pub data_warnings: Vec<super::DataWarning>,
 }
 
 /// `rhonn fit` and Python's `rhonn.fit` on records already read: the structure (given, or
 /// selected), the data's warnings, and [`train_selected`] beside the selection's best
-/// ARX. `hint` names the door's sample-time option in the warnings (`--resample`, `dt`).
+/// ARX.
 /// A record shorter than the structure needs is an error naming it (its `source`).
 pub fn fit_records(
     structure: FitStructure<'_>,
     records: &[Record],
     inputs: &[String],
     outputs: &[String],
-    hint: &str,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<FitRun> {
     crate::data::check_names(inputs, outputs)?;
@@ -226,7 +225,7 @@ pub fn fit_records(
     let sample_s = records.first().map_or(0.0, |r| r.sample_interval());
     let data_warnings = match specs.first().map(|s| super::model_kind(s.kind)) {
         Some(k) if !k.data_warnings_apply() => Vec::new(),
-        _ => super::data_warnings(records, inputs, outputs, max_lag, sample_s, hint),
+        _ => super::data_warnings(records, inputs, outputs, max_lag, sample_s),
     };
     let trained = train_selected(&specs, selection, records, inputs, outputs);
     crate::cancel::check()?;
