@@ -28,9 +28,17 @@ mod ryu_like {
     pub struct Buf(String);
 
     impl Buf {
+        /// The shortest decimal that reads back as `v`: plain within [1e-5, 1e16), with an
+        /// exponent outside (`{v}` writes 1e-310 in 312 characters).
         pub fn format(&mut self, v: f64) -> &str {
             self.0.clear();
-            write!(self.0, "{v}").expect("writing to a String");
+            let a = v.abs();
+            if a == 0.0 || !a.is_finite() || (1e-5..1e16).contains(&a) {
+                write!(self.0, "{v}")
+            } else {
+                write!(self.0, "{v:e}")
+            }
+            .expect("writing to a String");
             &self.0
         }
     }
@@ -67,5 +75,28 @@ mod tests {
         assert_eq!(lines[0], "t,p_line,stroke,current,demand");
         assert_eq!(lines[2], "0.001,2000000,0.0015,0.25,0");
         assert_eq!(lines.len(), 4);
+    }
+
+    #[test]
+    fn every_value_is_written_in_its_shortest_form_and_reads_back_exactly() {
+        let mut b = ryu_like::Buf::default();
+        for (v, text) in [
+            (1e-310, "1e-310"),
+            (-2.5e-7, "-2.5e-7"),
+            (0.1, "0.1"),
+            (1e-5, "0.00001"),
+            (123456.75, "123456.75"),
+            (1e20, "1e20"),
+            (0.0, "0"),
+        ] {
+            assert_eq!(b.format(v), text);
+            assert_eq!(b.format(v).parse::<f64>().unwrap(), v);
+        }
+        let mut x = 1.234_567_890_123e-300;
+        while x < 1e300 {
+            assert_eq!(b.format(x).parse::<f64>().unwrap(), x);
+            assert!(b.format(x).len() <= 24, "{}", b.format(x));
+            x *= 7.77;
+        }
     }
 }
