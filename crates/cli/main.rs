@@ -206,7 +206,7 @@ fn fit_selection(
             args::SelectMode::Auto => "auto",
             args::SelectMode::None => "none",
         }),
-        select_steps_ahead: steps_ahead.map(|k| i64::try_from(k).unwrap_or(i64::MAX)),
+        select_steps_ahead: steps_ahead.map(|k| k as i128),
         budget,
     };
     Ok(args.selection(&commands::fit_args::COMMAND_LINE)?)

@@ -262,7 +262,7 @@ def fit(
     if select_steps_ahead is not None:
         if isinstance(select_steps_ahead, bool) or not isinstance(select_steps_ahead, (int, np.integer)):
             raise TypeError(f"select_steps_ahead must be an int K >= 1 or None, not {type(select_steps_ahead).__name__}")
-        select_steps_ahead = int(np.clip(select_steps_ahead, -(2**62), 2**62))
+        select_steps_ahead = max(min(int(select_steps_ahead), 2**120), -(2**120))
     if budget is not None:
         if isinstance(budget, bool) or not isinstance(budget, (int, float, np.integer, np.floating)):
             raise TypeError(f"budget must be a number (a multiple of the default work budget), not {type(budget).__name__}")

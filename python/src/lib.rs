@@ -74,7 +74,7 @@ fn fit(
     inputs: Vec<String>,
     outputs: Vec<String>,
     spec: Option<(String, String)>,
-    select: (Option<String>, Option<i64>, Option<f64>),
+    select: (Option<String>, Option<i128>, Option<f64>),
 ) -> PyResult<model::Model> {
     let recs = us
         .iter()

@@ -88,7 +88,7 @@ pub struct FitArgs<'a> {
     /// `auto`, `none`, or not given (auto without a model, none with one).
     pub select: Option<&'a str>,
     /// Judge the selection K samples ahead (not given: the free run).
-    pub select_steps_ahead: Option<i64>,
+    pub select_steps_ahead: Option<i128>,
     /// The work budget as a multiple of the default (not given: 1).
     pub budget: Option<f64>,
 }
@@ -104,7 +104,7 @@ pub fn both_name_the_structure(door: &Door) -> String {
 impl<'a> FitArgs<'a> {
     /// The arguments as given (`select`, `select_steps_ahead`, `budget`); whether a model
     /// is given is the caller's to set (`fit_in_memory` sets it from its spec).
-    pub fn given(select: Option<&'a str>, select_steps_ahead: Option<i64>, budget: Option<f64>) -> Self {
+    pub fn given(select: Option<&'a str>, select_steps_ahead: Option<i128>, budget: Option<f64>) -> Self {
         FitArgs {
             model_given: false,
             select,
@@ -144,7 +144,8 @@ impl<'a> FitArgs<'a> {
                     door.steps_ahead
                 ))
             }
-            k => k.map(|k| k as usize),
+            // As given (a count the machine cannot hold is one too many for any record).
+            k => k.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
         };
         if let Some(b) = self.budget.filter(|b| !(b.is_finite() && *b > 0.0 && *b <= 1e6)) {
             return bad(format!(
@@ -244,7 +245,7 @@ mod tests {
             };
             assert!(err(best, door).starts_with(words[4]), "{}", err(best, door));
         }
-        for bad in [-1i64, 0] {
+        for bad in [-1i128, 0] {
             let a = FitArgs {
                 select_steps_ahead: Some(bad),
                 ..none
