@@ -170,12 +170,7 @@ fn read_all(a: &IdentifyRequest, paths: &[PathBuf]) -> Result<super::ReadData> {
 /// offline ARX, then K samples ahead.
 fn console_lines(summary: &IdentifySummary) -> Vec<String> {
     // The bank's winner and its margin over the best recursive ARX, first.
-    let mut lines: Vec<String> = summary
-        .findings
-        .iter()
-        .filter(|f| f.starts_with("online selection:"))
-        .cloned()
-        .collect();
+    let mut lines: Vec<String> = summary.selection.iter().flat_map(|s| s.findings()).collect();
     let unit = |col: &str| super::unit_of(&summary.units, col);
     for f in &summary.online {
         lines.push(format!(

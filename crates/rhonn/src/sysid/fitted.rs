@@ -254,13 +254,7 @@ pub fn fit_ensemble(
     let spec = specs
         .first()
         .ok_or_else(|| invalid("members", "[]", "at least one model structure"))?;
-    // Every member at once (each fit is deterministic: the same models in any order); the
-    // first member's error first.
-    let fits: Vec<Result<Model>> = specs
-        .par_iter()
-        .map(|s| fit(s, records, inputs, outputs))
-        .collect();
-    let mut fitted = fits.into_iter().collect::<Result<Vec<_>>>()?.into_iter();
+    let mut fitted = fit_members(specs, records, inputs, outputs)?.into_iter();
     let model = fitted
         .next()
         .ok_or_else(|| invalid("members", "[]", "at least one model structure"))?;
@@ -290,9 +284,24 @@ pub fn fit_ensemble(
     })
 }
 
+/// Every member of `specs` at once (each fit is deterministic: the same models in any
+/// order); the first member's error first.
+fn fit_members(
+    specs: &[ModelSpec],
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<Vec<Model>> {
+    let fits: Vec<Result<Model>> = specs
+        .par_iter()
+        .map(|s| fit(s, records, inputs, outputs))
+        .collect();
+    fits.into_iter().collect()
+}
+
 /// Train each output's own structure (`own`: the output and its structures, an ensemble's
 /// members first to last) on `records` and put it in `fitted.by_output`; outputs of one
-/// structure share one fit.
+/// structure share one fit, and a structure that is the baseline's takes the baseline.
 pub fn fit_own_structures(
     fitted: &mut FittedModel,
     own: &[(String, Vec<ModelSpec>)],
@@ -300,17 +309,15 @@ pub fn fit_own_structures(
     inputs: &[String],
     outputs: &[String],
 ) -> Result<()> {
-    let mut trained: Vec<(&[ModelSpec], Vec<Model>)> = Vec::new();
+    let mut trained: Vec<(Vec<ModelSpec>, Vec<Model>)> = (fitted.baseline.iter())
+        .map(|b| (vec![b.spec.clone()], vec![b.clone()]))
+        .collect();
     for (output, specs) in own {
-        let models = match trained.iter().find(|(s, _)| *s == specs.as_slice()) {
+        let models = match trained.iter().find(|(s, _)| s == specs) {
             Some((_, m)) => m.clone(),
             None => {
-                let fits: Vec<Result<Model>> = specs
-                    .par_iter()
-                    .map(|s| fit(s, records, inputs, outputs))
-                    .collect();
-                let m = fits.into_iter().collect::<Result<Vec<_>>>()?;
-                trained.push((specs, m.clone()));
+                let m = fit_members(specs, records, inputs, outputs)?;
+                trained.push((specs.clone(), m.clone()));
                 m
             }
         };

@@ -135,7 +135,7 @@ impl Selection {
     /// The chosen structure's name; where outputs are predicted by another structure, each
     /// output's ("y1: arx na 2 nb 2; y2: rhonn na 4 nb 4").
     pub fn chosen_name(&self) -> String {
-        if self.own_structures().is_empty() {
+        if self.by_output.iter().all(|o| o.chosen == self.chosen) {
             return self.candidates[self.chosen].name.clone();
         }
         let each: Vec<String> = self

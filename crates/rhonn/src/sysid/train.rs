@@ -263,10 +263,6 @@ fn train_composite(
 ) -> Result<(FittedModel, FitSummary)> {
     let mut fitted = fit_ensemble(specs, records, inputs, outputs, baseline)?;
     fit_own_structures(&mut fitted, own, records, inputs, outputs)?;
-    if let Some(b) = baseline.filter(|_| fitted.baseline.is_none() && !fitted.by_output.is_empty()) {
-        // The model is an ARX for some outputs only: the baseline is still the best ARX.
-        fitted.baseline = Some(super::fit(b, records, inputs, outputs)?);
-    }
     let m = &fitted.model;
     let summary = FitSummary {
         regridded: Vec::new(),
