@@ -64,12 +64,23 @@ pub struct Row {
     pub arx_structure: String,
     /// See `arx_rmse` \[s\].
     pub arx_time_s: f64,
-    /// The best published figure on this test set and output, its model and source.
+    /// The best published figure on this test set and output under the protocol's own
+    /// split, its model and source (with the year).
     pub published_rmse: Option<f64>,
     /// See `published_rmse`.
     pub published_model: String,
     /// See `published_rmse`.
     pub published_source: String,
+    /// The best published neural network on it (the baseline a user would train), cited
+    /// as `model, source, year`.
+    pub baseline_rmse: Option<f64>,
+    /// See `baseline_rmse`.
+    pub baseline_cited: String,
+    /// A published figure on another split, when below `published_rmse`: cited, with the
+    /// split it used.
+    pub other_split_rmse: Option<f64>,
+    /// See `other_split_rmse`.
+    pub other_split_cited: String,
 }
 
 /// `summary.json` of the whole run.
@@ -88,7 +99,8 @@ fn rows_of(b: &BenchmarkOutcome) -> Vec<Row> {
     for (k, ts) in b.test_sets.iter().enumerate() {
         for (j, out) in b.outputs.iter().enumerate() {
             let m = |i: usize| &b.methods[i];
-            let best = ts.published.iter().min_by(|a, c| a.rmse[j].total_cmp(&c.rmse[j]));
+            let p = rhonn::benchmark::published_best(&ts.published, j);
+            let cited = |q: Option<&rhonn::benchmark::Published>| q.map(|q| q.cited()).unwrap_or_default();
             rows.push(Row {
                 benchmark: b.name.clone(),
                 test: ts.label.clone(),
@@ -106,9 +118,22 @@ fn rows_of(b: &BenchmarkOutcome) -> Vec<Row> {
                 arx_rmse: m(2).tests[k].rmse[j],
                 arx_structure: m(2).structure.clone(),
                 arx_time_s: m(2).train_time_s,
-                published_rmse: best.map(|p| p.rmse[j]),
-                published_model: best.map(|p| p.model.clone()).unwrap_or_default(),
-                published_source: best.map(|p| p.source.clone()).unwrap_or_default(),
+                published_rmse: p.best.map(|q| q.rmse[j]),
+                published_model: p.best.map(|q| q.model.clone()).unwrap_or_default(),
+                published_source: p
+                    .best
+                    .map(|q| match q.year {
+                        Some(y) => format!("{}, {y}", q.source),
+                        None => q.source.clone(),
+                    })
+                    .unwrap_or_default(),
+                baseline_rmse: p.neural_baseline.map(|q| q.rmse[j]),
+                baseline_cited: cited(p.neural_baseline),
+                other_split_rmse: p.other_split.map(|q| q.rmse[j]),
+                other_split_cited: p
+                    .other_split
+                    .map(|q| format!("{}; {}", q.cited(), q.other_split.as_deref().unwrap_or("")))
+                    .unwrap_or_default(),
             });
         }
     }
@@ -222,7 +247,7 @@ fn table_lines(rows: &[Row]) -> Vec<String> {
                 format!("{f} ({s})")
             }
         };
-        let published = match r.published_rmse {
+        let mut published = match r.published_rmse {
             Some(v) => format!(
                 "{} ({}, {})",
                 figure(v, &r.unit),
@@ -231,6 +256,16 @@ fn table_lines(rows: &[Row]) -> Vec<String> {
             ),
             None => "none published".into(),
         };
+        if let Some(v) = r.baseline_rmse.filter(|v| Some(*v) != r.published_rmse) {
+            published += &format!("; neural baseline {} ({})", figure(v, &r.unit), r.baseline_cited);
+        }
+        if let Some(v) = r.other_split_rmse {
+            published += &format!(
+                "; on another split {} ({})",
+                figure(v, &r.unit),
+                r.other_split_cited
+            );
+        }
         lines.push(format!(
             "{} | {} | {} | {} | {} | {} | {} | {} / {} / {} s",
             r.benchmark,

@@ -72,8 +72,57 @@ pub struct Published {
     pub rmse: Vec<f64>,
     /// The model.
     pub model: String,
-    /// The paper or result file.
+    /// The paper or result file (authors, venue).
     pub source: String,
+    /// The year it was published.
+    #[serde(default)]
+    pub year: Option<u16>,
+    /// A neural network of the baseline paper (or the field's), the realistic alternative
+    /// a user would train: shown beside the best.
+    #[serde(default)]
+    pub neural_baseline: bool,
+    /// Trained or scored on another split than the protocol's (what it was): shown
+    /// separately, never as the best on the protocol.
+    #[serde(default)]
+    pub other_split: Option<String>,
+}
+
+impl Published {
+    /// The citation: `model, source, year`.
+    pub fn cited(&self) -> String {
+        match self.year {
+            Some(y) => format!("{}, {}, {y}", self.model, self.source),
+            None => format!("{}, {}", self.model, self.source),
+        }
+    }
+}
+
+/// The published figures of a test set for one output, as a table shows them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PublishedBest<'a> {
+    /// The lowest on the protocol's own split.
+    pub best: Option<&'a Published>,
+    /// The lowest neural baseline on it.
+    pub neural_baseline: Option<&'a Published>,
+    /// The lowest on another split, when it is below `best` (or there is no `best`).
+    pub other_split: Option<&'a Published>,
+}
+
+/// The lowest of `published` for output `j` in each role.
+pub fn published_best(published: &[Published], j: usize) -> PublishedBest<'_> {
+    let lowest = |keep: &dyn Fn(&Published) -> bool| {
+        published
+            .iter()
+            .filter(|p| keep(p))
+            .min_by(|a, c| a.rmse[j].total_cmp(&c.rmse[j]))
+    };
+    let best = lowest(&|p| p.other_split.is_none());
+    let other = lowest(&|p| p.other_split.is_some()).filter(|o| best.is_none_or(|b| o.rmse[j] < b.rmse[j]));
+    PublishedBest {
+        best,
+        neural_baseline: lowest(&|p| p.neural_baseline && p.other_split.is_none()),
+        other_split: other,
+    }
 }
 
 /// A benchmark with its records loaded.
@@ -138,6 +187,16 @@ impl Benchmark {
             .iter()
             .flat_map(|t| t.published.iter().map(move |p| (t, p)))
         {
+            if p.year.is_some_and(|y| !(1950..=2100).contains(&y)) {
+                return Err(invalid(
+                    format!(
+                        "benchmark {}, test `{}`, published `{}`: year",
+                        self.name, t.label, p.model
+                    ),
+                    format!("{:?}", p.year),
+                    "a year from 1950 to 2100",
+                ));
+            }
             if p.rmse.len() != no || p.rmse.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
                 return Err(invalid(
                     format!(
@@ -150,5 +209,40 @@ impl Benchmark {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(rmse: f64, model: &str, neural: bool, other: bool) -> Published {
+        Published {
+            rmse: vec![rmse],
+            model: model.into(),
+            source: "S".into(),
+            year: Some(2020),
+            neural_baseline: neural,
+            other_split: other.then(|| "another".into()),
+        }
+    }
+
+    #[test]
+    fn the_best_is_on_the_protocols_split_and_another_split_shows_only_when_lower() {
+        let all = [
+            p(0.3, "A", false, false),
+            p(0.5, "N", true, false),
+            p(0.1, "O", false, true),
+            p(0.2, "N2", true, true),
+        ];
+        let b = published_best(&all, 0);
+        assert_eq!(b.best.unwrap().model, "A");
+        assert_eq!(b.neural_baseline.unwrap().model, "N");
+        assert_eq!(b.other_split.unwrap().model, "O");
+        let b = published_best(&all[..2], 0);
+        assert!(b.other_split.is_none());
+        let higher = [p(0.3, "A", false, false), p(0.4, "O", false, true)];
+        assert!(published_best(&higher, 0).other_split.is_none());
+        assert_eq!(all[0].cited(), "A, S, 2020");
     }
 }
