@@ -259,15 +259,15 @@ fn every_registered_controller_kind_is_one_file_and_listed_in_the_architecture()
     assert!(kinds >= 4, "{kinds} kinds read from the registry");
 }
 
-/// Every model kind of `rhonn fit` registered in `sysid::model_kind`
-/// (`crates/rhonn/src/sysid/mod.rs`) is one implementation of `ModelKind` in its own file
-/// of `sysid/`, and docs/ARCHITECTURE.md names that file.
-#[test]
-fn every_registered_model_kind_is_one_file_and_listed_in_the_architecture() {
+/// The kinds of a registry `fn NAME(kind: Kind)` in `DIR/mod.rs`: each one
+/// implementation of `TRAIT` in its own file of `DIR`, named in docs/ARCHITECTURE.md.
+fn registered_kinds(dir: &str, registry: &str, tr: &str) -> usize {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let sysid = root.join("crates/rhonn/src/sysid");
-    let text = std::fs::read_to_string(sysid.join("mod.rs")).unwrap();
-    let start = text.find("fn model_kind(kind: Kind)").expect("the registry");
+    let dir = root.join(dir);
+    let text = std::fs::read_to_string(dir.join("mod.rs")).unwrap();
+    let start = text
+        .find(&format!("fn {registry}(kind: Kind)"))
+        .expect("the registry");
     let block = &text[start..start + text[start..].find("\n    }").unwrap()];
     let arch = std::fs::read_to_string(root.join("docs/ARCHITECTURE.md")).unwrap();
     let mut kinds = 0;
@@ -277,18 +277,15 @@ fn every_registered_model_kind_is_one_file_and_listed_in_the_architecture() {
             continue;
         };
         let (module, ty) = target.trim_end_matches(',').split_once("::").unwrap();
-        let file = [
-            sysid.join(format!("{module}.rs")),
-            sysid.join(module).join("mod.rs"),
-        ]
-        .into_iter()
-        .find(|f| f.exists())
-        .unwrap_or_else(|| panic!("{ty}: no sysid/{module}.rs or sysid/{module}/mod.rs"));
+        let file = [dir.join(format!("{module}.rs")), dir.join(module).join("mod.rs")]
+            .into_iter()
+            .find(|f| f.exists())
+            .unwrap_or_else(|| panic!("{ty}: no {module}.rs or {module}/mod.rs in {}", dir.display()));
         let src = std::fs::read_to_string(&file).unwrap();
         assert!(
-            src.contains(&format!("impl super::kinds::ModelKind for {ty} {{"))
-                || src.contains(&format!("impl ModelKind for {ty} {{")),
-            "{ty}: {} does not implement ModelKind",
+            src.contains(&format!("impl super::kinds::{tr} for {ty} {{"))
+                || src.contains(&format!("impl {tr} for {ty} {{")),
+            "{ty}: {} does not implement {tr}",
             file.display()
         );
         assert!(
@@ -297,7 +294,75 @@ fn every_registered_model_kind_is_one_file_and_listed_in_the_architecture() {
         );
         kinds += 1;
     }
-    assert!(kinds >= 4, "{kinds} kinds read from the registry");
+    kinds
+}
+
+/// Every model kind is one file of `models/` (its structure and prediction, registered in
+/// `models::model_kind`) and one file of `sysid/` (its training, registered in
+/// `sysid::fitter`), and docs/ARCHITECTURE.md names them.
+#[test]
+fn every_registered_model_kind_is_one_file_and_listed_in_the_architecture() {
+    let structures = registered_kinds("crates/rhonn/src/models", "model_kind", "Structure");
+    let fits = registered_kinds("crates/rhonn/src/sysid", "fitter", "Fit");
+    assert!(structures >= 4, "{structures} kinds read from the registry");
+    assert_eq!(
+        structures, fits,
+        "a kind with a structure and no training, or the reverse"
+    );
+}
+
+/// The library's layers: the model structures below both identifiers, the online one
+/// (`ident`) and the offline one (`sysid`) beside each other, neither importing the
+/// other; what uses both (`identification`, `benchmark`, `any_model`) above them.
+#[test]
+fn the_identifiers_stand_beside_each_other_on_the_model_structures() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/rhonn/src");
+    let mut files = Vec::new();
+    rust_files(&root, &mut files);
+    let forbidden: [(&str, &[&str]); 3] = [
+        (
+            "ident",
+            &["sysid", "identification", "benchmark", "any_model", "experiment"],
+        ),
+        (
+            "sysid",
+            &["ident", "identification", "benchmark", "any_model", "experiment"],
+        ),
+        (
+            "models",
+            &[
+                "ident",
+                "sysid",
+                "identification",
+                "benchmark",
+                "any_model",
+                "experiment",
+            ],
+        ),
+    ];
+    let mut checked = 0;
+    for f in &files {
+        let m = module_of(&root, f);
+        let Some(top) = m.first() else { continue };
+        let Some((_, banned)) = forbidden.iter().find(|(l, _)| l == top) else {
+            continue;
+        };
+        let text = std::fs::read_to_string(f).unwrap();
+        let crate_imports: BTreeSet<String> = imports(&text, &m)
+            .into_iter()
+            .filter(|d| d.len() == 1)
+            .map(|d| d[0].clone())
+            .collect();
+        for b in *banned {
+            assert!(
+                !crate_imports.contains(*b),
+                "{}: `{top}` imports `{b}`",
+                f.display()
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked > 40, "{checked} files checked");
 }
 
 /// Python's door is conversion only: its Rust side stays within 500 lines (issue 35),

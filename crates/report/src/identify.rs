@@ -4,11 +4,11 @@
 use crate::{write_json, OutputSet, Result, Series, TimePlot};
 use rhonn::data::Record;
 use rhonn::experiment::{Column, Trace};
-pub use rhonn::ident::identification::{
+use rhonn::ident::{OnlineModel, OnlineRun};
+pub use rhonn::identification::{
     online_prediction_figures, validation_figures, IdentifySummary, ValidationFigures,
 };
-use rhonn::ident::identification::{OnlinePredictionFigures, Validation};
-use rhonn::ident::{OnlineModel, OnlineRun};
+use rhonn::identification::{OnlinePredictionFigures, Validation};
 use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};

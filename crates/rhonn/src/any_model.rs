@@ -4,8 +4,8 @@
 //! Python's `rhonn.Model` both call these, so the two read and predict a model alike.
 
 use crate::data::{within_window, Record};
-use crate::ident::identification::{online_prediction_figures, OnlinePredictionFigures};
 use crate::ident::{predict_records, OnlineModel};
+use crate::identification::{online_prediction_figures, OnlinePredictionFigures};
 use crate::sysid::{FittedModel, Prediction};
 use serde::de::DeserializeOwned;
 

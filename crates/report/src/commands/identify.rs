@@ -97,7 +97,7 @@ fn identification_error(e: rhonn::Error, a: &IdentifyRequest) -> Error {
 }
 
 fn identify_into(a: &IdentifyRequest, stage: &Path) -> Result<Outcome> {
-    use rhonn::ident::identification::{identify, IdentifyError, IdentifyPlan};
+    use rhonn::identification::{identify, IdentifyError, IdentifyPlan};
     let given = a.model.as_deref().map(read_spec).transpose()?;
     let units = super::parse_units(&a.units, &a.inputs, &a.outputs)?;
     if a.steps_ahead == Some(0) {

@@ -1,5 +1,5 @@
 //! The online identifier's cascade structure (`structure = "cascade"`): `rhonn fit`'s
-//! continuous-time cascade (`crate::sysid::cascade`: a chain of limited-integrator
+//! continuous-time cascade (`crate::models::cascade`: a chain of limited-integrator
 //! neurons with power-law outflows, the first ones hidden, the last one measured)
 //! learned one sample at a time.
 //!
@@ -28,7 +28,7 @@
 use super::engine::{EngineState, OnlineEngine};
 use super::online_spec::{CascadeOnlineSpec, OnlineSpec, Scaling};
 use crate::error::{invalid, Error, Result};
-use crate::sysid::cascade::{n_params, random_start, Coords, Params};
+use crate::models::cascade::{n_params, random_start, Coords, Params};
 use nalgebra::{DMatrix, DVector};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

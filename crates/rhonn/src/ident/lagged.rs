@@ -1,7 +1,7 @@
 //! The online identifier's lagged structure (`structure = "lagged"`): a discrete-time
 //! RHONN of lagged measurements, `y(k) = w^T [phi(k), z(tanh(phi_y(k)), phi_u(k)), 1]`,
 //! exactly the `rhonn` model of `rhonn fit` (the same regressor code,
-//! `crate::sysid::Model`'s), learned one sample at a time by the sampled least-squares
+//! `crate::models::Model`'s), learned one sample at a time by the sampled least-squares
 //! law (recursive least squares, `P(0) = p0 I`) or the normalised gradient law. This is
 //! the discrete-time RHONN trained online of Sanchez, Alanis & Loukianov (Discrete-Time
 //! High Order Neural Control, Springer 2008, where an extended Kalman filter trains it:
@@ -16,10 +16,10 @@ use super::engine::{EngineState, OnlineEngine};
 use super::online_spec::{LagSpec, OnlineSpec, Scaling};
 use crate::error::{invalid, Result};
 use crate::law::{GainSpec, Gradient, LawSpec, LearningLaw, LeastSquares, Rule};
+use crate::models::{Kind, Model, ModelSpec};
 use crate::net::Terms;
-use crate::sysid::{Kind, Model, ModelSpec};
 
-/// The lagged engine: a `sysid::Model` whose weights learn per sample, and windows of the
+/// The lagged engine: a `models::Model` whose weights learn per sample, and windows of the
 /// last `max_lag + 1` normalised samples.
 #[derive(Debug, Clone)]
 pub(super) struct Lagged {
@@ -156,8 +156,8 @@ impl Lagged {
     ) -> Result<Self> {
         let ms = model_spec(spec, lags);
         ms.check()?;
-        crate::sysid::check_regressor_count(&ms, nu, ny)?;
-        let terms = crate::sysid::lagged_terms(&ms, nu, ny);
+        crate::models::check_regressor_count(&ms, nu, ny)?;
+        let terms = crate::models::lagged_terms(&ms, nu, ny);
         if terms.len() > crate::net::MAX_TERMS {
             return Err(invalid(
                 "model.degree",

@@ -437,10 +437,8 @@ impl DiscreteIdentifier {
 
 pub mod bank;
 mod cascade_online;
-pub mod compare;
 mod continuous;
 mod engine;
-pub mod identification;
 mod lagged;
 pub use lagged::{first_prediction, outputs_read_in_free_run};
 mod online;

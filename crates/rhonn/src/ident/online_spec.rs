@@ -3,7 +3,7 @@
 
 use crate::error::{invalid, Result};
 use crate::law::LawSpec;
-use crate::sysid::Activation;
+use crate::models::Activation;
 use serde::{Deserialize, Serialize};
 
 /// How inputs move between two samples (`hold` or `linear`): the core's.

@@ -6,7 +6,7 @@
 //! written in the file count (a default is never a difference).
 
 use super::online_spec::OnlineSpec;
-use crate::sysid::ModelSpec;
+use crate::models::ModelSpec;
 use toml::{Table, Value};
 
 /// `rhonn fit`'s keys and where they go in an online spec (`None`: nowhere).

@@ -16,7 +16,7 @@
 //! Bouc-Wen (1.31e10, chosen there), not on Silverbox (2.08e10) or Wiener-Hammerstein
 //! (3.2e10), where a faster candidate is chosen.
 
-use super::estimate::lagged_terms;
+use super::lagged_terms;
 use super::{n_phi, Estimator, Kind, ModelSpec};
 
 /// The default budget per candidate, in work units (about 6 ns each on one core).

@@ -188,22 +188,9 @@ fn fit_terms(
             model.terms = t;
             fit_weights(&mut model, records)?;
         }
-        _ => super::model_kind(spec.kind).fit(spec, records, &mut model)?,
+        _ => super::fitter(spec.kind).fit(spec, records, &mut model)?,
     }
     Ok(model)
-}
-
-/// The high-order terms of a lagged structure (`rhonn`: every monomial of its
-/// nonlinear regressors; `arx`: none), as factor lists over the regressors.
-pub(crate) fn lagged_terms(spec: &ModelSpec, ni: usize, no: usize) -> Vec<Vec<[usize; 2]>> {
-    if spec.kind != Kind::Rhonn {
-        return vec![];
-    }
-    let sub = nonlinear_regressors(spec, ni, no);
-    let t = Terms::monomials(sub.len(), spec.degree, spec.max_factors);
-    (0..t.len())
-        .map(|k| t.factors(k).into_iter().map(|[i, e]| [sub[i], e]).collect())
-        .collect()
 }
 
 /// Check the spec and the records and make an untrained model: names, sample time,

@@ -1,59 +1,16 @@
-//! The model kinds of `rhonn fit` behind one trait, after linfa's `Fit`/`Predict`: each
-//! kind is one file with one implementation of [`ModelKind`] (the lagged `arx` and `rhonn`
-//! in `lagged.rs`, `cascade.rs`, `pump_grey/`, `wiener_hammerstein.rs`), and
-//! [`model_kind`](super::model_kind) is the one place that maps a spec's `kind` to it.
-//! [`Model`](super::Model) and the training call through it; a new kind is a file, a
-//! variant of [`Kind`](super::Kind) and a line in `model_kind`.
+//! The training of each model kind behind one trait, after linfa's `Fit` (their
+//! prediction, linfa's `Predict`, is `models::kinds::Structure`): each kind's training is
+//! one file (the lagged `arx` and `rhonn` in `lagged.rs`, `cascade.rs`, `pump_grey/`,
+//! `wiener_hammerstein.rs`), and [`fitter`](super::fitter) is the one place that maps a
+//! spec's `kind` to it.
 
 use super::{Model, ModelSpec};
 use crate::data::Record;
 use crate::error::Result;
 
-/// What a model kind provides: its own spec rules, training, prediction and the check of
-/// a stored model.
-pub(crate) trait ModelKind: Sync {
-    /// Check the keys of `spec` this kind has rules of its own for (the common keys are
-    /// checked first by [`ModelSpec::check`]).
-    fn check_spec(&self, spec: &ModelSpec) -> Result<()>;
-
-    /// Samples the model needs before its first prediction.
-    fn max_lag(&self, spec: &ModelSpec) -> usize {
-        spec.settle
-    }
-
-    /// Refuse outputs this kind cannot model (before the records are read).
-    fn check_outputs(&self, _outputs: &[String]) -> Result<()> {
-        Ok(())
-    }
-
+/// How a model kind trains.
+pub(crate) trait Fit: Sync {
     /// Train the blank model `m` (names, sample time, scaling and output ranges set) on
     /// `records`.
     fn fit(&self, spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()>;
-
-    /// Predict `r` (see [`Model::predict`]).
-    fn predict(&self, m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)>;
-
-    /// Check a stored model's parameters (its spec and scaling are checked first).
-    fn validate(&self, m: &Model) -> Result<()>;
-
-    /// Number of stored parameters (per output for a lagged model).
-    fn n_params(&self, m: &Model) -> usize;
-
-    /// Whether the data checks of a model of lagged samples (`data_warnings`: sampling,
-    /// lags, suspicious columns) apply to this kind.
-    fn data_warnings_apply(&self) -> bool {
-        true
-    }
-
-    /// The trained parameters by name, for a kind whose parameters mean something on
-    /// their own (`summary.json`'s `parameters`); None otherwise.
-    fn named_parameters(&self, _m: &Model) -> Option<std::collections::BTreeMap<String, f64>> {
-        None
-    }
-
-    /// Whether a free run is held within the outputs' widened training range, so that
-    /// reaching that bound tells of an unstable model ([`super::free_run_at_bound`]).
-    fn holds_outputs_in_range(&self) -> bool {
-        true
-    }
 }

@@ -1,4 +1,6 @@
 use super::*;
+use crate::metrics;
+use crate::models::nonlinear_regressors;
 use crate::sysid::estimate::batch_ls;
 
 /// Issue: "the Cholesky `expect` in `sysid/mod.rs` fires with `ridge = 0` on collinear

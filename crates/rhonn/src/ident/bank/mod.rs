@@ -202,7 +202,7 @@ fn polynomial(p0: f64) -> Candidate {
             structure: OnlineStructure::Lagged,
             degree: 3,
             max_factors: 3,
-            activation: crate::sysid::Activation::Identity,
+            activation: crate::models::Activation::Identity,
             output_margin: POLYNOMIAL_MARGIN,
             lags: Some(LagSpec {
                 na: 4,

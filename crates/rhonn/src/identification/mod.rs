@@ -2,13 +2,19 @@
 //! online by the bank), its passes over the records, the frozen model's validation on other
 //! records beside the offline ARX, and every figure and finding of its `summary.json`. The
 //! command reads the files and writes the folder; nothing of the result is computed there.
+//! Above both identifiers: the online one (`ident`) learns, the offline one (`sysid`) gives
+//! the ARX baseline.
 
-use super::bank::{default_candidates, select};
-use super::compare::compare_with_arx;
-use super::{identify_records_scaled, predict_records, sample_time, OnlineModel, OnlineRun, OnlineSpec};
+pub mod compare;
+
 use crate::data::Record;
 use crate::error::Error;
+use crate::ident::bank::{default_candidates, select};
+use crate::ident::{
+    identify_records_scaled, predict_records, sample_time, OnlineModel, OnlineRun, OnlineSpec,
+};
 use crate::metrics;
+use compare::compare_with_arx;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -71,7 +77,7 @@ pub struct IdentifySummary {
     /// With validation records: the offline ARX (lags by cross-validation on the training
     /// records) beside the frozen online model, per record and output.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub baseline_arx: Option<crate::ident::compare::ArxBaseline>,
+    pub baseline_arx: Option<compare::ArxBaseline>,
     /// `--units`: the columns' units (the figures are in them).
     #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub units: std::collections::BTreeMap<String, String>,
@@ -168,7 +174,7 @@ pub struct Identification {
     /// The frozen model's predictions on the validation records.
     pub validation: Option<Validation>,
     /// The records learned, where the guard split the ones given (a glitch skipped, a gap
-    /// restarted over: `super::guard::screen`); None: the records given, as they were.
+    /// restarted over: `crate::ident::guard::screen`); None: the records given, as they were.
     pub learned: Option<Vec<Record>>,
     /// What the guard skipped or restarted over (also among the summary's findings).
     pub guard_notes: Vec<String>,
@@ -195,8 +201,9 @@ pub fn identify(
 ) -> Result<Identification, IdentifyError> {
     use IdentifyError as E;
     let outputs = &plan.outputs;
-    // Glitches skipped and gaps restarted over, as in a session (`super::guard`).
-    let (learned, guard_notes) = super::guard::screen(records, sample_time(records).map_err(E::Online)?);
+    // Glitches skipped and gaps restarted over, as in a session (`crate::ident::guard`).
+    let (learned, guard_notes) =
+        crate::ident::guard::screen(records, sample_time(records).map_err(E::Online)?);
     let records: &[Record] = learned.as_deref().unwrap_or(records);
     let (mut spec, bank) = match &plan.given {
         Some(s) => (s.clone(), None),
@@ -228,7 +235,7 @@ pub fn identify(
         None => None,
         Some(v) => {
             let (arx, _) = crate::sysid::best_arx(records, &plan.inputs, outputs).map_err(E::Baseline)?;
-            let reads = super::outputs_read_in_free_run(&spec);
+            let reads = crate::ident::outputs_read_in_free_run(&spec);
             Some(compare_with_arx(&v.records, (&v.free_run, reads), &arx, outputs).map_err(E::Validation)?)
         }
     };

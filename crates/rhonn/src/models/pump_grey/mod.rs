@@ -11,12 +11,8 @@
 //! current held, as a controller's zero-order hold gives it; the demand linear between
 //! samples, or held), as MATLAB's `compare(data, model, K)` does with a state estimate.
 //!
-//! Training (`law = "multi-step"`, horizon K): Levenberg-Marquardt on the logarithms of
-//! the unknown parameters, minimising the K-step simulation error of windows that start
-//! every K samples from the filter's estimate (multiple shooting: each window starts
-//! from the state the data say, not from the previous window's end). The measurement
-//! noise is estimated from each record (covariance matching of the filter's
-//! innovations) unless `measurement_noise_mpa` is given.
+//! This folder is the structure, its filter and its prediction; its training is
+//! `sysid::pump_grey`.
 //!
 //! Inputs, in this order: the solenoid current \[A\] and the demanded flow \[m^3/s\];
 //! output: the line pressure \[Pa\] (the units of `rhonn run`'s trajectory.csv).
@@ -88,7 +84,7 @@ pub fn thesis_values() -> Vec<f64> {
     ]
 }
 
-fn param_index(name: &str, field: &str) -> Result<usize> {
+pub(crate) fn param_index(name: &str, field: &str) -> Result<usize> {
     PARAM_NAMES
         .iter()
         .position(|n| *n == name)
@@ -96,7 +92,7 @@ fn param_index(name: &str, field: &str) -> Result<usize> {
 }
 
 /// Check stored values: every one finite and > 0, gamma_l below 1.
-fn check_values(v: &[f64], field: &str) -> Result<()> {
+pub(crate) fn check_values(v: &[f64], field: &str) -> Result<()> {
     if v.len() != PARAM_NAMES.len() {
         return Err(invalid(field, v.len(), format!("{} values", PARAM_NAMES.len())));
     }
@@ -209,7 +205,7 @@ pub fn describe_estimates(m: &Model) -> String {
 }
 
 /// The display scale and unit (with a trailing space, or empty) of a parameter.
-fn display_unit(name: &str) -> (f64, &'static str) {
+pub(crate) fn display_unit(name: &str) -> (f64, &'static str) {
     match name {
         "beta" | "p_0" | "p_max" => (1e-6, "MPa "),
         "alpha_v" => (1e6, "1/MPa "),
@@ -243,7 +239,7 @@ pub(crate) fn validate(m: &Model) -> Result<()> {
     check_values(&m.weights[0], "model.weights")
 }
 
-fn pump_of(values: &[f64], spec: &ModelSpec, dt: f64) -> GreyPump {
+pub(crate) fn pump_of(values: &[f64], spec: &ModelSpec, dt: f64) -> GreyPump {
     let v = values;
     GreyPump {
         eq: PumpEquations {
@@ -295,7 +291,7 @@ pub(crate) fn check_record_units(m: &Model, r: &Record) -> Result<()> {
 }
 
 /// The noise settings for record `r` under `spec` and the parameters of `pump`.
-fn noise_for(spec: &ModelSpec, pump: &GreyPump, r: &Record) -> Noise {
+pub(crate) fn noise_for(spec: &ModelSpec, pump: &GreyPump, r: &Record) -> Noise {
     let process = spec.pump.process();
     let measurement_mpa = spec
         .pump
@@ -308,7 +304,7 @@ fn noise_for(spec: &ModelSpec, pump: &GreyPump, r: &Record) -> Noise {
 }
 
 /// A non-finite estimate as an error with the time and the state.
-fn ensure_finite_state(m: &Model, r: &Record, k: usize, z: [f64; 3]) -> Result<()> {
+pub(crate) fn ensure_finite_state(m: &Model, r: &Record, k: usize, z: [f64; 3]) -> Result<()> {
     if z.iter().all(|v| v.is_finite()) {
         return Ok(());
     }
@@ -330,7 +326,14 @@ fn ensure_finite_state(m: &Model, r: &Record, k: usize, z: [f64; 3]) -> Result<(
 
 /// Run the equations from the estimate `z` at sample `k` for `steps` samples; the
 /// pressures at k + 1 ..= k + steps go to `out`.
-fn simulate(pump: &GreyPump, r: &Record, k: usize, mut z: [f64; 3], steps: usize, out: &mut Vec<f64>) {
+pub(crate) fn simulate(
+    pump: &GreyPump,
+    r: &Record,
+    k: usize,
+    mut z: [f64; 3],
+    steps: usize,
+    out: &mut Vec<f64>,
+) {
     out.clear();
     let (i, q) = (&r.inputs[0], &r.inputs[1]);
     for j in k..k + steps {
@@ -433,127 +436,13 @@ pub(crate) fn predict(m: &Model, r: &Record, steps_ahead: Option<usize>) -> Resu
     Ok((vec![pred], first))
 }
 
-/// The `spec.horizon`-step errors of windows every `horizon` samples, in MPa, for the
-/// stored values `v`.
-fn window_residuals(
-    spec: &ModelSpec,
-    dt: f64,
-    v: &[f64],
-    records: &[Record],
-    noises: &[Noise],
-    out: &mut Vec<f64>,
-) -> bool {
-    let kk = spec.horizon;
-    let pump = pump_of(v, spec, dt);
-    out.clear();
-    let mut buf = Vec::new();
-    for (r, noise) in records.iter().zip(noises) {
-        let y = &r.outputs[0];
-        let n = r.len();
-        let f = filter(&pump, *noise, &r.inputs[0], &r.inputs[1], y, n);
-        let mut k = spec.settle.min(n) - 1;
-        while k + kk < n {
-            simulate(&pump, r, k, f.states[k], kk, &mut buf);
-            out.extend(buf.iter().zip(&y[k + 1..=k + kk]).map(|(p, y)| (p - y) / 1e6));
-            k += kk;
-        }
-    }
-    out.iter().all(|e| e.is_finite())
-}
-
-/// Train a `pump` model's unknown parameters (see the module's docs).
-pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()> {
-    if m.inputs.len() != 2 || m.outputs.len() != 1 {
-        return Err(invalid(
-            "--inputs/--outputs",
-            format!("{} / {}", m.inputs.join(","), m.outputs.join(",")),
-            "two inputs (the current [A], then the demand [m^3/s]) and one output (the line pressure [Pa])",
-        ));
-    }
-    let mut start = thesis_values();
-    for (n, x) in &spec.pump.known {
-        start[param_index(n, "model.pump.known")?] = *x;
-    }
-    m.weights = vec![start.clone()];
-    for r in records {
-        check_record_units(m, r)?;
-    }
-    let idx: Vec<usize> = spec
-        .pump
-        .estimate
-        .iter()
-        .map(|n| param_index(n, "model.pump.estimate"))
-        .collect::<Result<_>>()?;
-    // Coordinates 1 + ln(value / start): the log keeps every value positive, and the
-    // offset makes the LM's relative finite-difference step a relative step of the value.
-    let values = |theta: &[f64]| {
-        let mut v = start.clone();
-        for (&j, t) in idx.iter().zip(theta) {
-            // Within a factor of 10 of the start.
-            v[j] = start[j] * (t - 1.0).clamp(-10f64.ln(), 10f64.ln()).exp();
-        }
-        v
-    };
-    // Stages (continuation). First a forgiving filter (process noise 1 MPa/sqrt(s) on the
-    // pressure, 0.01 mm/sqrt(s) on the stroke: it follows the measured pressure closely)
-    // and a short horizon: far from the parameters, a filter that trusts the equations
-    // loses the state and the error stops saying which way to go, while this one's
-    // short-horizon error stays a smooth function of the parameters. Then the spec's
-    // horizon, with the process noise lowered tenfold per stage down to the spec's, each
-    // stage starting where the last ended. (Thirtyfold steps were tried: faster, the same
-    // 10-step fits, but 200-step fits 40 points lower on some records.)
-    let mut stages = Vec::new();
-    let mut level = 1.0f64;
-    loop {
-        let mut st = spec.clone();
-        st.pump.process_noise_mpa = spec.pump.process_noise_mpa.max(level);
-        st.pump.process_noise_mm = spec.pump.process_noise_mm.max(level * 1e-2);
-        let last = st.pump.process_noise_mpa == spec.pump.process_noise_mpa
-            && st.pump.process_noise_mm == spec.pump.process_noise_mm;
-        if stages.is_empty() {
-            let mut first = st.clone();
-            first.horizon = spec.horizon.min(5);
-            stages.push(first);
-        }
-        stages.push(st);
-        if last || stages.len() > 8 {
-            break;
-        }
-        level /= 10.0;
-    }
-    let mut theta = vec![1.0; idx.len()];
-    let dt = m.sample_time_s;
-    for stage in &stages {
-        if theta.is_empty() {
-            break;
-        }
-        let here = pump_of(&values(&theta), stage, dt);
-        let noises: Vec<Noise> = records.iter().map(|r| noise_for(stage, &here, r)).collect();
-        let resid =
-            |th: &[f64], out: &mut Vec<f64>| window_residuals(stage, dt, &values(th), records, &noises, out);
-        let cost = super::lm::lm(&mut theta, spec.epochs, 1e-3, &resid);
-        if !cost.is_finite() {
-            return Err(Error::NotFinite {
-                what: "the pump model's K-step error at its starting parameters".into(),
-                cause: "the data or the `known` values; check the units (Pa, A, m^3/s)".into(),
-            });
-        }
-    }
-    m.weights = vec![values(&theta)];
-    check_values(&m.weights[0], "the fitted pump parameters")
-}
-
 /// `kind = "pump"`.
 pub(crate) struct PumpGrey;
 
-impl super::kinds::ModelKind for PumpGrey {
+impl super::kinds::Structure for PumpGrey {
     fn check_spec(&self, spec: &ModelSpec) -> Result<()> {
         super::int_in("settle", spec.settle, 1, 1000)?;
         spec.pump.check(spec.law)
-    }
-
-    fn fit(&self, spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()> {
-        fit(spec, records, m)
     }
 
     fn predict(&self, m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
