@@ -1,7 +1,7 @@
 //! Mutations of a CSV recording (header `t,...`): hostile cells, rows lost, doubled or
 //! swapped, a time column rounded or in milliseconds, another delimiter, a column lost.
 
-use crate::mutation::Mutant;
+use crate::mutant::Mutant;
 use rand::seq::SliceRandom;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;

@@ -15,6 +15,7 @@
 
 pub mod corpus;
 pub mod csv_mutation;
+pub mod mutant;
 pub mod mutation;
 mod outcome;
 

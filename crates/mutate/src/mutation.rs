@@ -17,16 +17,7 @@ pub enum Format {
     Csv,
 }
 
-/// One mutated file.
-#[derive(Debug, Clone)]
-pub struct Mutant {
-    /// The mutated text.
-    pub text: String,
-    /// What was changed, for the report.
-    pub what: String,
-    /// An error about this change names at least one of these (lower case).
-    pub names: Vec<String>,
-}
+pub use crate::mutant::Mutant;
 
 /// A key path in a TOML or JSON document.
 #[derive(Debug, Clone)]

@@ -1,6 +1,15 @@
 /*!
-Simulation, identification and control of the solenoid-controlled variable-displacement
-pump of the thesis "Adaptive identification of a pneumatic pump" (Petraki, 2011).
+Identification and adaptive control of nonlinear dynamical systems with recurrent
+high-order neural networks (RHONN): the library under one name. Its layers are crates of
+their own, each re-exported here under its module's name:
+- `rhonn-base`: [`plant`], [`signal`], [`net`], [`law`], [`data`], [`metrics`], [`models`]
+  (the model structures both identifiers learn), [`units`], [`error`], [`cancel`],
+  [`activity`];
+- `rhonn-ident`: [`ident`], online identification;
+- `rhonn-sysid`: [`sysid`], offline identification;
+- `rhonn-sim`: [`experiment`] and [`control`], simulation and control;
+- this crate: what uses several of them, [`identification`] (`rhonn identify`: the online
+  model beside the offline ARX), [`benchmark`], [`corpus`] and [`any_model`].
 
 # Simulate
 A scenario (a TOML file, or one of the shipped ones in [`experiment::preset`]) is checked
@@ -30,24 +39,13 @@ All quantities are SI inside ([`units`] converts); people read MPa, mm and dm^3/
 // Numerical kernels index several slices in lockstep; index loops read best there.
 #![allow(clippy::needless_range_loop)]
 
-pub mod activity;
 pub mod any_model;
 pub mod benchmark;
-pub mod cancel;
-pub mod control;
 pub mod corpus;
-pub mod data;
-pub mod error;
-pub mod experiment;
-pub mod ident;
 pub mod identification;
-pub mod law;
-pub mod metrics;
-pub mod models;
-pub mod net;
-pub mod plant;
-pub mod signal;
-pub mod sysid;
-pub mod units;
 
-pub use error::{Error, ErrorKind, InvalidValue, Result};
+pub use rhonn_base::{activity, cancel, data, error, law, metrics, models, net, plant, signal, units};
+pub use rhonn_base::{Error, ErrorKind, InvalidValue, Result};
+pub use rhonn_ident as ident;
+pub use rhonn_sim::{control, experiment};
+pub use rhonn_sysid as sysid;

@@ -1,0 +1,358 @@
+//! `kind = "wiener-hammerstein"`: a block structure for one input and one output, a linear
+//! filter, a static polynomial, a second linear filter:
+//!
+//! ```text
+//! x(k) = G1(q) u(k - nk)      G1 = B1(q^-1) / A1(q^-1)
+//! v(k) = c_1 h_1(x) + ... + c_D h_D(x)    (Hermite polynomials; x held within its training range)
+//! y(k) = G2(q) v(k) + bias    G2 = B2(q^-1) / A2(q^-1)
+//! ```
+//!
+//! The structure of electronic circuits and of sensors behind an actuator (the
+//! Wiener-Hammerstein benchmark is one); with G2 = 1 it is a Wiener model, with G1 = 1 a
+//! Hammerstein one. Units inside are normalised (input and output by their training mean
+//! and standard deviation).
+//!
+//! This file is the structure and its prediction; its training is
+//! `sysid::wiener_hammerstein`.
+//!
+//! `model.json` stores the parameters in `weights[0]`: the orders `[n1, m1, n2, m2]` (poles
+//! and numerator coefficients of G1 and G2, as numbers), then B1, A1 (without its leading
+//! 1), c_1..c_D, B2, A2, the bias and the held range of x.
+
+use super::{Model, ModelSpec};
+use crate::data::Record;
+use crate::error::{invalid, Result};
+
+/// Highest polynomial degree.
+pub const MAX_DEGREE: usize = 15;
+
+/// The polynomial's basis at `x`: `He_n(x) / sqrt(n!)` for n = 1..=h.len(), the
+/// probabilists' Hermite polynomials, orthonormal for a standard normal x (G1 is scaled
+/// so that x has unit deviation): the least squares stay well conditioned at degrees
+/// where powers of x are not.
+pub fn hermite(x: f64, h: &mut [f64]) {
+    // He_0 = 1, He_1 = x, He_(n+1) = x He_n - n He_(n-1); carried normalised.
+    let (mut prev, mut cur) = (1.0, x);
+    for (n, slot) in h.iter_mut().enumerate() {
+        *slot = cur;
+        let n1 = (n + 1) as f64;
+        let next = (x * cur - n1.sqrt() * prev) / (n1 + 1.0).sqrt();
+        prev = cur;
+        cur = next;
+    }
+}
+
+/// A simulated value beyond this (normalised units) marks an unstable parameter set.
+pub const DIVERGED: f64 = 1e6;
+
+/// A linear filter `x(k) = sum_i b_i u(k - i) - sum_i a_i x(k - 1 - i)` started at rest.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Filter {
+    /// Numerator coefficients.
+    pub b: Vec<f64>,
+    /// Denominator coefficients (without the leading 1).
+    pub a: Vec<f64>,
+}
+
+impl Filter {
+    /// Run over `u` delayed by `delay` samples into `out`.
+    pub fn run(&self, u: &[f64], delay: usize, out: &mut Vec<f64>) {
+        out.clear();
+        for k in 0..u.len() {
+            let mut v = 0.0;
+            for (i, bi) in self.b.iter().enumerate() {
+                if k >= delay + i {
+                    v += bi * u[k - delay - i];
+                }
+            }
+            for (i, ai) in self.a.iter().enumerate() {
+                if k > i {
+                    v -= ai * out[k - 1 - i];
+                }
+            }
+            out.push(v);
+        }
+    }
+}
+
+/// The parameters of one model (normalised units).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Params {
+    /// The first filter.
+    pub g1: Filter,
+    /// The polynomial's coefficients (Hermite basis).
+    pub c: Vec<f64>,
+    /// The second filter.
+    pub g2: Filter,
+    /// The output's offset.
+    pub bias: f64,
+    /// The range G1's output is held in.
+    pub x_range: (f64, f64),
+}
+
+impl Params {
+    /// The stored layout: orders, B1, A1, c, B2, A2, bias, x range.
+    pub fn to_stored(&self) -> Vec<f64> {
+        let mut v = vec![
+            self.g1.a.len() as f64,
+            self.g1.b.len() as f64,
+            self.g2.a.len() as f64,
+            self.g2.b.len() as f64,
+        ];
+        v.extend(self.free());
+        v.extend([self.x_range.0, self.x_range.1]);
+        v
+    }
+
+    /// The parameters training moves (all but the orders and the x range).
+    pub fn free(&self) -> Vec<f64> {
+        let mut v = self.g1.b.clone();
+        v.extend(&self.g1.a);
+        v.extend(&self.c);
+        v.extend(&self.g2.b);
+        v.extend(&self.g2.a);
+        v.push(self.bias);
+        v
+    }
+
+    /// Set the parameters training moves (the order of [`Params::free`]).
+    pub fn set_free(&mut self, th: &[f64]) {
+        let mut o = 0;
+        for part in [
+            &mut self.g1.b,
+            &mut self.g1.a,
+            &mut self.c,
+            &mut self.g2.b,
+            &mut self.g2.a,
+        ] {
+            let l = part.len();
+            part.copy_from_slice(&th[o..o + l]);
+            o += l;
+        }
+        self.bias = th[o];
+    }
+
+    /// Read `weights[0]` of a model of polynomial degree `degree`; errors name the field.
+    pub fn from_stored(degree: usize, w: &[f64]) -> Result<Params> {
+        let bad = |why: &str| invalid("model.weights", format!("{} numbers", w.len()), why.to_string());
+        if w.len() < 4 {
+            return Err(bad("the orders [n1, m1, n2, m2] first"));
+        }
+        let mut orders = [0usize; 4];
+        for (o, &v) in orders.iter_mut().zip(w) {
+            if !(v.is_finite() && (0.0..=50.0).contains(&v) && v.fract() == 0.0) {
+                return Err(invalid(
+                    "model.weights[0..4]",
+                    v,
+                    "the filters' orders: whole numbers in [0, 50]",
+                ));
+            }
+            *o = v as usize;
+        }
+        let [n1, m1, n2, m2] = orders;
+        let need = 4 + n1 + m1 + degree + n2 + m2 + 3;
+        if w.len() != need || w.iter().any(|v| !v.is_finite()) {
+            return Err(invalid(
+                "model.weights",
+                format!("{} numbers", w.len()),
+                format!("{need} finite numbers: the orders, B1, A1, c_1..c_{degree}, B2, A2, bias, x range"),
+            ));
+        }
+        let mut p = Params {
+            g1: Filter {
+                b: vec![0.0; m1],
+                a: vec![0.0; n1],
+            },
+            c: vec![0.0; degree],
+            g2: Filter {
+                b: vec![0.0; m2],
+                a: vec![0.0; n2],
+            },
+            bias: 0.0,
+            x_range: (w[need - 2], w[need - 1]),
+        };
+        p.set_free(&w[4..need - 2]);
+        if p.x_range.0 > p.x_range.1 {
+            return Err(invalid(
+                "model.weights (x range)",
+                format!("[{}, {}]", p.x_range.0, p.x_range.1),
+                "low <= high",
+            ));
+        }
+        Ok(p)
+    }
+
+    /// G1 and the polynomial: the input to G2, from the normalised input alone.
+    pub fn inner(&self, un: &[f64], nk: usize) -> Vec<f64> {
+        self.combine(&self.basis(un, nk))
+    }
+
+    /// G1's output, held in the x range, through the basis: `c.len()` values a sample.
+    pub fn basis(&self, un: &[f64], nk: usize) -> Vec<f64> {
+        let mut x = Vec::new();
+        self.g1.run(un, nk, &mut x);
+        let d = self.c.len();
+        let mut out = vec![0.0; x.len() * d];
+        for (xv, h) in x.iter().zip(out.chunks_mut(d.max(1))) {
+            hermite(xv.max(self.x_range.0).min(self.x_range.1), &mut h[..d]);
+        }
+        out
+    }
+
+    /// The polynomial of a [`Params::basis`]: the input to G2.
+    pub fn combine(&self, basis: &[f64]) -> Vec<f64> {
+        basis
+            .chunks(self.c.len().max(1))
+            .map(|h| self.c.iter().zip(h).map(|(c, h)| c * h).sum())
+            .collect()
+    }
+
+    /// G2 run over `v` with its past measured where `measured(k)` says so (the value is
+    /// then `yn[k] - bias`); each output held within `bounds`.
+    pub fn outer(
+        &self,
+        v: &[f64],
+        yn: &[f64],
+        measured: &dyn Fn(usize) -> bool,
+        bounds: (f64, f64),
+    ) -> Vec<f64> {
+        let mut w: Vec<f64> = Vec::with_capacity(v.len());
+        for k in 0..v.len() {
+            let val = if measured(k) {
+                yn[k] - self.bias
+            } else {
+                let mut s = 0.0;
+                for (i, bi) in self.g2.b.iter().enumerate() {
+                    if k >= i {
+                        s += bi * v[k - i];
+                    }
+                }
+                for (i, ai) in self.g2.a.iter().enumerate() {
+                    if k > i {
+                        s -= ai * w[k - 1 - i];
+                    }
+                }
+                s.max(bounds.0 - self.bias).min(bounds.1 - self.bias)
+            };
+            w.push(val);
+        }
+        w
+    }
+}
+
+/// Number of stored parameters of `model` (its weights' own orders).
+pub fn n_params(m: &Model) -> usize {
+    m.weights
+        .first()
+        .and_then(|w| Params::from_stored(m.spec.degree, w).ok())
+        .map(|p| p.to_stored().len())
+        .unwrap_or(4)
+}
+
+/// Normalised input and output of a record.
+pub fn normalised(m: &Model, r: &Record) -> (Vec<f64>, Vec<f64>) {
+    let (mu, su) = m.input_norm[0];
+    let (my, sy) = m.output_norm[0];
+    (
+        r.inputs[0].iter().map(|v| (v - mu) / su).collect(),
+        r.outputs[0].iter().map(|v| (v - my) / sy).collect(),
+    )
+}
+
+/// The output's held range in normalised units.
+pub fn bounds(m: &Model) -> (f64, f64) {
+    let (lo, hi) = m.output_range[0];
+    let (my, sy) = m.output_norm[0];
+    let w = (hi - lo) * m.spec.output_margin;
+    ((lo - w - my) / sy, (hi + w - my) / sy)
+}
+
+/// Free-run prediction (normalised) of one record: the first `settle` outputs measured.
+pub fn free_run(p: &Params, spec: &ModelSpec, un: &[f64], yn: &[f64], bounds: (f64, f64)) -> Vec<f64> {
+    free_run_from(p, spec, &p.inner(un, spec.nk), yn, bounds)
+}
+
+/// [`free_run`] from G2's input `v`.
+pub fn free_run_from(p: &Params, spec: &ModelSpec, v: &[f64], yn: &[f64], bounds: (f64, f64)) -> Vec<f64> {
+    let settle = spec.settle.min(yn.len());
+    p.outer(v, yn, &|k| k < settle, bounds)
+        .iter()
+        .map(|w| w + p.bias)
+        .collect()
+}
+
+/// Predict (see [`Model::predict`]).
+pub fn predict(m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
+    let p = Params::from_stored(m.spec.degree, &m.weights[0])?;
+    let (un, yn) = normalised(m, r);
+    let b = bounds(m);
+    let first = m.spec.settle.min(r.len());
+    let pred = match steps_ahead {
+        None => free_run(&p, &m.spec, &un, &yn, b),
+        Some(kk) => {
+            let kk = kk.max(1);
+            let v = p.inner(&un, m.spec.nk);
+            let mut out = yn.clone();
+            let first = first + kk - 1;
+            // G2's past measured up to each start, then K samples run on: the window
+            // needs only G2's order of history.
+            let hist = p.g2.a.len().max(p.g2.b.len());
+            for end in first..yn.len() {
+                let start = end + 1 - kk;
+                let lo = start.saturating_sub(hist);
+                let w = p.outer(&v[lo..=end], &yn[lo..=end], &|k| lo + k < start, b);
+                out[end] = w[end - lo] + p.bias;
+            }
+            out
+        }
+    };
+    let (my, sy) = m.output_norm[0];
+    let out = vec![pred.iter().map(|v| v * sy + my).collect()];
+    Ok((out, first + steps_ahead.map_or(0, |k| k.max(1) - 1)))
+}
+
+/// `kind = "wiener-hammerstein"`.
+pub struct WienerHammerstein;
+
+impl super::kinds::Structure for WienerHammerstein {
+    fn check_spec(&self, spec: &ModelSpec) -> Result<()> {
+        use super::{int_in, Estimator};
+        int_in("degree", spec.degree, 1, MAX_DEGREE)?;
+        int_in("settle", spec.settle, 1, 1000)?;
+        if matches!(
+            spec.law,
+            Estimator::Rls | Estimator::Gradient | Estimator::MultiStep
+        ) {
+            return Err(invalid(
+                "model.law",
+                spec.law.name(),
+                "simulation-error (a `wiener-hammerstein` model is always trained on its free-run error)",
+            ));
+        }
+        Ok(())
+    }
+
+    fn predict(&self, m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec<Vec<f64>>, usize)> {
+        predict(m, r, steps_ahead)
+    }
+
+    fn validate(&self, m: &Model) -> Result<()> {
+        if m.ni() != 1 || m.no() != 1 || m.weights.len() != 1 {
+            return Err(invalid(
+                "model.weights",
+                format!(
+                    "{} inputs, {} outputs, {} vectors",
+                    m.ni(),
+                    m.no(),
+                    m.weights.len()
+                ),
+                "one input, one output and one vector of parameters",
+            ));
+        }
+        Params::from_stored(m.spec.degree, &m.weights[0]).map(|_| ())
+    }
+
+    fn n_params(&self, m: &Model) -> usize {
+        n_params(m)
+    }
+}

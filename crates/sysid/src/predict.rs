@@ -1,0 +1,298 @@
+//! `rhonn predict` as a library call: a fitted model (and its ARX baseline) on one
+//! record, free run or K steps ahead, with the figures.
+
+use super::{ensure_finite_figures, FittedModel, OutputFigures};
+use crate::data::{within_window, Record};
+use crate::error::{invalid, Result};
+use serde::Serialize;
+
+/// A prediction of every output of one record.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Prediction {
+    /// The record on the model's sampling grid (resampled when it was sampled otherwise).
+    pub record: Record,
+    /// The record's own interval \[s\] when it was resampled onto the model's grid.
+    pub resampled_from_s: Option<f64>,
+    /// None: free run; K: K steps ahead.
+    pub steps_ahead: Option<usize>,
+    /// A free run's state-initialisation window: the outputs it saw (None: what the model
+    /// needs).
+    pub init_window: Option<usize>,
+    /// One column per output (the measurement repeated before `first`).
+    pub outputs: Vec<Vec<f64>>,
+    /// The first predicted sample (with a state-initialisation window: the window's end,
+    /// the first sample scored).
+    pub first: usize,
+    /// The model's figures per output.
+    pub figures: Vec<OutputFigures>,
+    /// The ARX baseline's prediction and figures, when the model has one.
+    pub baseline: Option<(Vec<Vec<f64>>, Vec<OutputFigures>)>,
+}
+
+/// What `rhonn predict` writes to `summary.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PredictSummary<'a> {
+    /// rhonn's version.
+    pub rhonn_version: &'static str,
+    /// Where the model came from.
+    pub model: &'a str,
+    /// The record's source.
+    pub data: &'a str,
+    /// "free run" or "K step(s) ahead".
+    pub mode: String,
+    /// None: free run.
+    pub steps_ahead: Option<usize>,
+    /// A free run's state-initialisation window (outputs seen; absent: what the model needs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub init_window: Option<usize>,
+    /// The model's figures.
+    pub outputs: &'a [OutputFigures],
+    /// The baseline's figures.
+    pub baseline_arx: Option<&'a [OutputFigures]>,
+    /// What the figures say, in words.
+    pub findings: Vec<String>,
+}
+
+/// Per output: the prediction against the mean and against the ARX baseline, in words.
+fn findings(mode: &str, figures: &[OutputFigures], baseline: Option<&[OutputFigures]>) -> Vec<String> {
+    let sig = crate::metrics::sig;
+    let mut v = Vec::new();
+    for (j, f) in figures.iter().enumerate() {
+        if !f.fit_percent.is_finite() {
+            continue;
+        }
+        let mut line = format!(
+            "{} ({mode}): fit {:.1} % over {} samples ({})",
+            f.output,
+            f.fit_percent,
+            f.samples,
+            if f.fit_percent < 0.0 {
+                "worse than predicting the mean"
+            } else {
+                "better than predicting the mean"
+            }
+        );
+        if let Some(b) = baseline
+            .and_then(|b| b.get(j))
+            .filter(|b| b.fit_percent.is_finite())
+        {
+            line += &format!(
+                "; the ARX baseline's {:.1} %: the model's RMS error is {} x the baseline's",
+                b.fit_percent,
+                sig(f.rms_error / b.rms_error, 3)
+            );
+        }
+        v.push(line);
+    }
+    v
+}
+
+impl Prediction {
+    /// "free run" or "K step(s) ahead".
+    pub fn mode(&self) -> String {
+        match self.steps_ahead {
+            None => "free run".to_string(),
+            Some(k) => format!("{k} step(s) ahead"),
+        }
+    }
+
+    /// The summary, naming the model's source `model`.
+    pub fn summary<'a>(&'a self, model: &'a str) -> PredictSummary<'a> {
+        PredictSummary {
+            rhonn_version: env!("CARGO_PKG_VERSION"),
+            model,
+            data: &self.record.source,
+            mode: self.mode(),
+            steps_ahead: self.steps_ahead,
+            init_window: self.init_window,
+            outputs: &self.figures,
+            baseline_arx: self.baseline.as_ref().map(|(_, f)| f.as_slice()),
+            findings: findings(
+                &self.mode(),
+                &self.figures,
+                self.baseline.as_ref().map(|(_, f)| f.as_slice()),
+            ),
+        }
+    }
+}
+
+/// Samples a record needs for `fitted` to predict `steps_ahead` (None: free run).
+pub fn samples_needed(fitted: &FittedModel, steps_ahead: Option<usize>) -> usize {
+    fitted
+        .max_lag()
+        .saturating_add(steps_ahead.unwrap_or(1))
+        .saturating_add(1)
+}
+
+/// Predict every output of `record` with `fitted`, free run (`steps_ahead` None) or K
+/// steps ahead. A record sampled at another interval than the model's is put on the
+/// model's grid first (inputs held, outputs interpolated: [`Record::uniform`]).
+pub fn predict(fitted: &FittedModel, record: &Record, steps_ahead: Option<usize>) -> Result<Prediction> {
+    predict_with(fitted, record, steps_ahead, None)
+}
+
+/// Check a state-initialisation window against a prediction's mode and a record.
+pub fn check_window(init_window: Option<usize>, steps_ahead: Option<usize>, r: &Record) -> Result<()> {
+    match init_window {
+        Some(w) if steps_ahead.is_some() => Err(invalid(
+            "init_window",
+            w,
+            "a free run's window (K steps ahead measures every output up to each start)",
+        )),
+        Some(w) if w == 0 || w >= r.len() => Err(invalid(
+            format!("init_window for {}", r.source),
+            w,
+            format!("at least 1 sample and fewer than its {}", r.len()),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// [`predict`], and with `init_window` = N a free run that sees only the record's first
+/// N outputs (a benchmark's state-initialisation window; a model that needs more past
+/// outputs gets the first sample held before the record: [`crate::data::within_window`]);
+/// the model and its baseline are then both scored from sample N on.
+pub fn predict_with(
+    fitted: &FittedModel,
+    record: &Record,
+    steps_ahead: Option<usize>,
+    init_window: Option<usize>,
+) -> Result<Prediction> {
+    if steps_ahead == Some(0) {
+        return Err(invalid(
+            "steps_ahead",
+            0,
+            "K >= 1 steps ahead, or none for a free run",
+        ));
+    }
+    if let Some(k) = steps_ahead.filter(|&k| k >= record.len()) {
+        return Err(invalid(
+            "steps_ahead",
+            k,
+            format!("fewer steps than {}'s {} samples", record.source, record.len()),
+        ));
+    }
+    let m = &fitted.model;
+    let need = samples_needed(fitted, steps_ahead);
+    let dt = record.sample_interval();
+    let (record, resampled_from_s) = if record.on_grid(m.sample_time_s) {
+        (record.clone(), None)
+    } else {
+        (record.uniform(m.sample_time_s, "model.sample_time_s")?, Some(dt))
+    };
+    if record.len() < need {
+        return Err(invalid(
+            format!(
+                "{} (samples on the grid of the model's model.sample_time_s = {} s)",
+                record.source,
+                crate::metrics::sig(m.sample_time_s, 6)
+            ),
+            record.len(),
+            format!("at least {need} samples for this model"),
+        ));
+    }
+    check_window(init_window, steps_ahead, &record)?;
+    type Run<'a> = &'a dyn Fn(&Record) -> Result<(Vec<Vec<f64>>, usize)>;
+    let run = |predict: Run| match init_window {
+        Some(w) => within_window(&record, w, predict).map(|(p, _)| (p, w)),
+        None => predict(&record),
+    };
+    let (outputs, first) = run(&|r| fitted.predict(r, steps_ahead))?;
+    let figures = m.figures(&record, &outputs, first);
+    ensure_finite_figures(&figures, &record.source)?;
+    let baseline = match &fitted.baseline {
+        Some(b) => {
+            let need_b = b.spec.max_lag() + steps_ahead.unwrap_or(1) + 1;
+            if record.len() < need_b {
+                return Err(invalid(
+                    format!("{} (the model's ARX baseline)", record.source),
+                    record.len(),
+                    format!("at least {need_b} samples for its lags (model.json's baseline.spec)"),
+                ));
+            }
+            let (pb, fb) = run(&|r| b.predict(r, steps_ahead))?;
+            let f = b.figures(&record, &pb, fb);
+            ensure_finite_figures(&f, &format!("{} (ARX baseline)", record.source))?;
+            Some((pb, f))
+        }
+        None => None,
+    };
+    Ok(Prediction {
+        record,
+        resampled_from_s,
+        steps_ahead,
+        init_window,
+        outputs,
+        first,
+        figures,
+        baseline,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{train, ModelSpec};
+
+    fn record(n: usize, dt: f64) -> Record {
+        let mut y = 0.0;
+        let (mut t, mut u, mut ys) = (Vec::new(), Vec::new(), Vec::new());
+        for k in 0..n {
+            let uk = if (k / 9) % 2 == 0 { 1.0 } else { -1.0 };
+            t.push(k as f64 * dt);
+            u.push(uk);
+            ys.push(y);
+            y = 0.8 * y + 0.2 * uk;
+        }
+        Record {
+            source: "r.csv".into(),
+            t,
+            inputs: vec![u],
+            outputs: vec![ys],
+        }
+    }
+
+    #[test]
+    fn train_then_predict_are_library_calls_with_clear_errors() {
+        let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
+        let spec = ModelSpec {
+            kind: crate::Kind::Arx,
+            ..ModelSpec::default()
+        };
+        let (fitted, summary) = train(&[spec], &[record(200, 0.1)], &u, &y).unwrap();
+        assert!(summary.training.free_run[0].outputs[0].fit_percent > 99.0);
+        let p = predict(&fitted, &record(100, 0.1), Some(3)).unwrap();
+        assert_eq!((p.steps_ahead, p.resampled_from_s), (Some(3), None));
+        assert!(p.figures[0].fit_percent > 99.0, "{:?}", p.figures);
+        // Sampled at another interval: put on the model's grid, and said so.
+        let p = predict(&fitted, &record(200, 0.05), None).unwrap();
+        assert_eq!(p.resampled_from_s.map(|d| (d * 1e6).round()), Some(50_000.0));
+        assert_eq!(p.record.len(), 100);
+        let e = predict(&fitted, &record(100, 0.1), Some(0))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`steps_ahead` = 0"), "{e}");
+        let e = predict(&fitted, &record(3, 0.1), None).unwrap_err().to_string();
+        assert!(e.contains("r.csv") && e.contains("at least"), "{e}");
+    }
+
+    /// A model.json whose ARX baseline has lags longer than the record (a hand-edited
+    /// `output_lag_start`): a clear error, not a panic (found by the mutation harness).
+    #[test]
+    fn a_baseline_longer_than_the_record_is_an_error() {
+        let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
+        let spec = ModelSpec {
+            kind: crate::Kind::Arx,
+            ..ModelSpec::default()
+        };
+        let (mut fitted, _) = train(&[spec], &[record(200, 0.1)], &u, &y).unwrap();
+        let mut b = fitted.model.clone();
+        b.spec.output_lag_start = 1000;
+        fitted.baseline = Some(b);
+        let e = predict(&fitted, &record(200, 0.1), None).unwrap_err().to_string();
+        assert!(
+            e.contains("r.csv (the model's ARX baseline)") && e.contains("at least 1003"),
+            "{e}"
+        );
+    }
+}

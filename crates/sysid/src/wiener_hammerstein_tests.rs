@@ -1,0 +1,178 @@
+//! Tests of the `wiener-hammerstein` models.
+
+use super::*;
+use crate::{fit, Estimator, Kind};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// A Wiener-Hammerstein system: a first-order low-pass, a saturation, a resonant
+/// second-order filter; driven by seeded white noise held for 2 samples.
+fn system(seed: u64, n: usize) -> Record {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut u = Vec::with_capacity(n);
+    let mut level = 0.0;
+    for k in 0..n {
+        if k % 2 == 0 {
+            level = rng.gen_range(-1.0..1.0);
+        }
+        u.push(level);
+    }
+    let (mut x, mut w1, mut w2) = (0.0f64, 0.0, 0.0);
+    let mut y = Vec::with_capacity(n);
+    for &uk in &u {
+        let v = (1.5 * x).tanh();
+        let w = 1.6 * w1 - 0.8 * w2 + 0.2 * v;
+        y.push(2.0 + w);
+        (w2, w1) = (w1, w);
+        x = 0.8 * x + 0.5 * uk;
+    }
+    Record {
+        source: format!("wh{seed}"),
+        t: (0..n).map(|k| 0.01 * k as f64).collect(),
+        inputs: vec![u],
+        outputs: vec![y],
+    }
+}
+
+fn names() -> (Vec<String>, Vec<String>) {
+    (vec!["u".into()], vec!["y".into()])
+}
+
+fn spec(degree: usize) -> ModelSpec {
+    ModelSpec {
+        kind: Kind::WienerHammerstein,
+        na: 3,
+        nb: 4,
+        nk: 0,
+        degree,
+        law: Estimator::SimulationError,
+        epochs: 50,
+        ..Default::default()
+    }
+}
+
+/// RMS error of the prediction from `first`, over the output's standard deviation.
+fn nrmse(r: &Record, pred: &[Vec<f64>], first: usize) -> f64 {
+    let y = &r.outputs[0][first..];
+    let mean = y.iter().sum::<f64>() / y.len() as f64;
+    let sd = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / y.len() as f64).sqrt();
+    crate::metrics::rms_error(y, &pred[0][first..]) / sd
+}
+
+#[test]
+fn a_wiener_hammerstein_system_is_found_from_its_best_linear_approximation() {
+    let (i, o) = names();
+    let train = system(1, 4000);
+    let test = system(2, 2000);
+    let m = fit(&spec(7), std::slice::from_ref(&train), &i, &o).unwrap();
+    m.validate().unwrap();
+    let (pred, first) = m.predict(&test, None).unwrap();
+    let wh = nrmse(&test, &pred, first);
+    let arx = ModelSpec {
+        kind: Kind::Arx,
+        na: 3,
+        nb: 4,
+        nk: 0,
+        ..Default::default()
+    };
+    let a = fit(&arx, std::slice::from_ref(&train), &i, &o).unwrap();
+    let (pa, fa) = a.predict(&test, None).unwrap();
+    let linear = nrmse(&test, &pa, fa);
+    // The saturation costs a linear model a tenth of the output's deviation; the block
+    // structure, run free on a record it never saw, a small share of that.
+    assert!(linear > 0.05, "ARX {linear}");
+    assert!(
+        wh < 0.2 * linear && wh < 0.02,
+        "Wiener-Hammerstein {wh}, ARX {linear}"
+    );
+    // One step ahead sees G2's measured past: no worse than the free run.
+    let (p1, f1) = m.predict(&test, Some(1)).unwrap();
+    assert!(
+        nrmse(&test, &p1, f1) <= wh * 1.001,
+        "{} vs {wh}",
+        nrmse(&test, &p1, f1)
+    );
+    // Stored and read back, the same model.
+    let back: Model = serde_json::from_str(&serde_json::to_string(&m).unwrap()).unwrap();
+    back.validate().unwrap();
+    assert_eq!(back.predict(&test, None).unwrap().0, pred);
+}
+
+#[test]
+fn a_linear_polynomial_is_the_output_error_model() {
+    // Degree 1: G2 G1 c_1 is linear; on a linear system it runs free as well as the
+    // best linear approximation it starts from.
+    let (i, o) = names();
+    let mut train = system(3, 3000);
+    let mut lin = train.clone();
+    let (mut x, mut w1, mut w2) = (0.0, 0.0, 0.0);
+    for (k, &uk) in train.inputs[0].iter().enumerate() {
+        let w = 1.6 * w1 - 0.8 * w2 + 0.2 * 1.5 * x;
+        lin.outputs[0][k] = w;
+        (w2, w1) = (w1, w);
+        x = 0.8 * x + 0.5 * uk;
+    }
+    train = lin;
+    let m = fit(&spec(1), std::slice::from_ref(&train), &i, &o).unwrap();
+    let (pred, first) = m.predict(&train, None).unwrap();
+    assert!(
+        nrmse(&train, &pred, first) < 1e-3,
+        "{}",
+        nrmse(&train, &pred, first)
+    );
+}
+
+#[test]
+fn the_hermite_basis_is_the_normalised_probabilists_polynomials() {
+    for x in [-2.5, -0.3, 0.0, 1.0, 3.7] {
+        let mut h = [0.0; 4];
+        hermite(x, &mut h);
+        let he = [x, x * x - 1.0, x.powi(3) - 3.0 * x, x.powi(4) - 6.0 * x * x + 3.0];
+        let fact = [1.0f64, 2.0, 6.0, 24.0];
+        for n in 0..4 {
+            assert!((h[n] - he[n] / fact[n].sqrt()).abs() < 1e-12, "n {} x {x}", n + 1);
+        }
+    }
+}
+
+#[test]
+fn roots_and_polynomials_round_trip_with_complex_pairs_kept_together() {
+    // (z - 0.5)(z^2 - 1.2 z + 0.61): a real root and the pair 0.6 +- 0.5 i.
+    let c = [2.0, -3.4, 2.42, -0.61];
+    let r = roots(&c);
+    let g = groups(&r);
+    assert_eq!(g.len(), 2);
+    assert_eq!(g.iter().map(Vec::len).sum::<usize>(), 3);
+    let back = poly(&r);
+    for (a, b) in back.iter().zip(c.iter().map(|v| v / c[0])) {
+        assert!((a - b).abs() < 1e-9, "{back:?} vs {c:?}");
+    }
+}
+
+#[test]
+fn stored_parameters_that_do_not_fit_the_layout_are_refused_by_name() {
+    let bad_order = [1.5, 1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0, -1.0, 1.0];
+    let e = Params::from_stored(1, &bad_order).unwrap_err().to_string();
+    assert!(
+        e.contains("model.weights[0..4]") && e.contains("whole numbers"),
+        "{e}"
+    );
+    let short = [0.0, 1.0, 0.0, 1.0, 1.0];
+    let e = Params::from_stored(1, &short).unwrap_err().to_string();
+    assert!(e.contains("model.weights") && e.contains("finite numbers"), "{e}");
+    let reversed = [0.0, 1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 2.0, -2.0];
+    let e = Params::from_stored(1, &reversed).unwrap_err().to_string();
+    assert!(e.contains("low <= high"), "{e}");
+    let ok = [0.0, 1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0, -2.0, 2.0];
+    assert!(Params::from_stored(1, &ok).is_ok());
+}
+
+#[test]
+fn two_inputs_are_refused_with_the_reason() {
+    let mut r = system(4, 500);
+    r.inputs.push(r.inputs[0].iter().map(|v| v * v).collect());
+    let e = fit(&spec(3), &[r], &["u".into(), "u2".into()], &["y".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("one input and one output"), "{e}");
+}
