@@ -390,3 +390,21 @@ fn the_python_door_is_at_most_500_lines() {
         "python/src holds {lines} lines: at most 500 (move logic into the library)"
     );
 }
+
+/// docs/ARCHITECTURE.md is a map a reader takes in at once: at most about 150 lines, none
+/// of them a paragraph (a table cell once held 4,858 characters).
+#[test]
+fn the_architecture_is_a_map() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("docs/ARCHITECTURE.md")).unwrap();
+    let n = text.lines().count();
+    assert!((60..=150).contains(&n), "{n} lines");
+    for (i, line) in text.lines().enumerate() {
+        let chars = line.chars().count();
+        assert!(
+            chars <= 220,
+            "docs/ARCHITECTURE.md line {}: {chars} characters",
+            i + 1
+        );
+    }
+}

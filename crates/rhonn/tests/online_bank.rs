@@ -121,6 +121,39 @@ fn every_candidate_stays_bounded_over_ten_noisy_passes() {
     }
 }
 
+/// Many short records (as a robot's 66 runs of 605 samples): the free-run windows are
+/// sized by the records, not by the whole stream, whose tenth would fit in none of them
+/// (every candidate then failed), so the bank scores its candidates and chooses one.
+#[test]
+fn many_short_records_get_windows_that_fit_in_them() {
+    let recs: Vec<Record> = (0..30).map(|s| record(200, 100 + s, 0.4, 0.01)).collect();
+    let out = vec!["y".to_string()];
+    let total: usize = recs.iter().map(Record::len).sum();
+    assert!(rhonn::ident::bank::window_for(total) > 200);
+    let sel = select(default_candidates(1, total), &recs, &out).unwrap();
+    assert_eq!(sel.window, 100, "{sel:?}");
+    let chosen = &sel.candidates[sel.chosen];
+    assert!(
+        chosen.failed.is_none() && chosen.free_run_nrmse.is_some(),
+        "{chosen:?}"
+    );
+    let scored = sel
+        .candidates
+        .iter()
+        .filter(|c| c.free_run_nrmse.is_some())
+        .count();
+    assert!(
+        scored * 2 > sel.candidates.len(),
+        "{scored} of {} scored",
+        sel.candidates.len()
+    );
+    // One long record keeps the tenth of the stream.
+    assert_eq!(
+        rhonn::ident::bank::BankSettings::for_records(&[total]).window,
+        rhonn::ident::bank::window_for(total)
+    );
+}
+
 #[test]
 fn a_record_too_short_for_a_window_or_a_constant_output_is_a_clear_error() {
     let mut r = record(100, 6, 0.4, 0.0);

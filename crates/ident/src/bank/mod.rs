@@ -302,6 +302,20 @@ impl BankSettings {
 }
 
 impl BankSettings {
+    /// For recordings of these lengths (`rhonn identify`): as [`BankSettings::for_stream`]
+    /// over their total, with free-run windows no longer than half the median recording,
+    /// so that they fit in the recordings (a window never spans two): many short
+    /// recordings get short windows, where a tenth of the whole stream would fit in none.
+    pub fn for_records(lengths: &[usize]) -> Self {
+        let mut s = Self::for_stream(lengths.iter().sum());
+        let mut sorted = lengths.to_vec();
+        sorted.sort_unstable();
+        if let Some(&median) = sorted.get(sorted.len() / 2) {
+            s.window = s.window.min((median / 2).max(20));
+        }
+        s
+    }
+
     /// For a stream whose length is not known: as for 2,000 samples (warm-up and
     /// scoring from sample 1,000, windows of 200).
     pub fn open_ended() -> Self {
@@ -316,12 +330,12 @@ pub fn warmup_for(samples: usize) -> usize {
 }
 
 /// Run the bank `candidates` on `records` (outputs named `outputs`) and pick the winner
-/// by its prequential free-run error, with [`BankSettings::for_stream`]. Candidates run
+/// by its prequential free-run error, with [`BankSettings::for_records`]. Candidates run
 /// in parallel; one that fails (diverges, or does not fit the data) is listed with its
 /// reason.
 pub fn select(candidates: Vec<Candidate>, records: &[Record], outputs: &[String]) -> Result<BankSelection> {
-    let total: usize = records.iter().map(Record::len).sum();
-    select_with(candidates, records, outputs, BankSettings::for_stream(total)).map(|(s, _)| s)
+    let lengths: Vec<usize> = records.iter().map(Record::len).collect();
+    select_with(candidates, records, outputs, BankSettings::for_records(&lengths)).map(|(s, _)| s)
 }
 
 /// As [`select`] with `settings`; also returns the winner as it stands after the pass.
