@@ -915,3 +915,109 @@ fn a_free_run_from_a_state_initialisation_window_sees_only_its_outputs() {
         assert!(!d.path().join("x").exists());
     }
 }
+
+/// `--time-column NAME` reads the time from another column than `t`: `fit`, `predict` and
+/// `identify` give the models and figures they give on the same file with `t`; without the
+/// option, a file whose time column is `time` is refused with a message that names it.
+#[test]
+fn a_time_column_of_another_name_is_read_with_time_column() {
+    let d = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for f in ["estimation.csv", "validation.csv"] {
+        let text = std::fs::read_to_string(root.join("data/cascaded-tanks").join(f)).unwrap();
+        std::fs::write(d.path().join(f), &text).unwrap();
+        let renamed = text.replacen("t,u,y", "time,u,y", 1);
+        std::fs::write(d.path().join(format!("time_{f}")), renamed).unwrap();
+    }
+    let spec = "kind = \"arx\"\nna = 2\nnb = 2\n";
+    std::fs::write(d.path().join("arx.toml"), spec).unwrap();
+    let fit = |data: &str, out: &str, time: Option<&str>| {
+        let mut a = vec![
+            "fit",
+            "--data",
+            data,
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--model",
+            "arx.toml",
+        ];
+        a.extend(["--select", "none", "--out", out]);
+        a.extend(time.iter().flat_map(|t| ["--time-column", *t]));
+        rhonn(d.path(), &a)
+    };
+    let o = fit("time_estimation.csv", "refused", None);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("no column `t`") && stderr(&o).contains("--time-column time"),
+        "{}",
+        stderr(&o)
+    );
+    for (data, out, time) in [
+        ("estimation.csv", "a", None),
+        ("time_estimation.csv", "b", Some("time")),
+    ] {
+        let o = fit(data, out, time);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let model = |dir: &str| std::fs::read_to_string(d.path().join(dir).join("model.json")).unwrap();
+    assert_eq!(model("a"), model("b"));
+    let p = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "b/model.json",
+            "--data",
+            "time_validation.csv",
+            "--time-column",
+            "time",
+            "--out",
+            "pb",
+        ],
+    );
+    assert!(p.status.success(), "{}", stderr(&p));
+    let p = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "a/model.json",
+            "--data",
+            "validation.csv",
+            "--out",
+            "pa",
+        ],
+    );
+    assert!(p.status.success(), "{}", stderr(&p));
+    let summary = |dir: &str| std::fs::read_to_string(d.path().join(dir).join("summary.json")).unwrap();
+    let (pa, pb) = (summary("pa"), summary("pb"));
+    let figures = |s: &str| {
+        s.lines()
+            .filter(|l| l.contains("rms_error"))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    assert!(
+        !figures(&pa).is_empty() && figures(&pa) == figures(&pb),
+        "{pa}\n{pb}"
+    );
+    let i = rhonn(
+        d.path(),
+        &[
+            "identify",
+            "--data",
+            "time_estimation.csv",
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--time-column",
+            "time",
+            "--out",
+            "ib",
+        ],
+    );
+    assert!(i.status.success(), "{}", stderr(&i));
+}

@@ -62,8 +62,9 @@ pub enum Command {
     /// interpolated) and numeric columns. Several --data files are separate recordings.
     /// Writes into DIR:
     ///   model.json    the model (structure, normalisation, weights: all that
-    ///                 `rhonn predict` needs) and, for a RHONN, the ARX baseline with the
-    ///                 same lags trained on the same data
+    ///                 `rhonn predict` needs) and its ARX baseline, trained on the same
+    ///                 data: the best ARX of the cross-validation folds (with --select
+    ///                 none, the ARX of the model's lags)
     ///   summary.json  per output and model: RMS error, fit [%] and NRMSE on the
     ///                 training data, one step ahead and free run; `selection`: the
     ///                 candidate structures' cross-validation errors (--select auto);
@@ -89,6 +90,9 @@ pub enum Command {
         /// for data sampled much faster than the system moves, as a warning then says.
         #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
         resample: Option<f64>,
+        /// The column holding the time in seconds (default `t`), e.g. `--time-column time`.
+        #[arg(long, value_name = "NAME")]
+        time_column: Option<String>,
         /// Units of the columns, as COLUMN=UNIT pairs (e.g. `--units u=V,y=V`): printed
         /// with the errors and kept in model.json for `rhonn predict`.
         #[arg(long, value_delimiter = ',', value_name = "COLUMN=UNIT")]
@@ -182,6 +186,9 @@ pub enum Command {
         /// Also predict K samples ahead on the validation records.
         #[arg(long, value_name = "K")]
         steps_ahead: Option<usize>,
+        /// The column holding the time in seconds (default `t`), e.g. `--time-column time`.
+        #[arg(long, value_name = "NAME")]
+        time_column: Option<String>,
         /// Units of the columns, as COLUMN=UNIT pairs (e.g. `--units u=V,y=V`), as for
         /// `rhonn fit`: printed with the figures and kept in summary.json.
         #[arg(long, value_delimiter = ',', value_name = "COLUMN=UNIT")]
@@ -225,6 +232,9 @@ pub enum Command {
         /// baseline are scored from sample N on.
         #[arg(long, value_name = "N")]
         init_window: Option<usize>,
+        /// The column holding the time in seconds (default `t`), e.g. `--time-column time`.
+        #[arg(long, value_name = "NAME")]
+        time_column: Option<String>,
     },
     /// The field's standard benchmarks under their published protocol, beside the
     /// published figures.

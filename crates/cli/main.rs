@@ -40,6 +40,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             inputs,
             outputs,
             resample,
+            time_column,
             units,
             model,
             select,
@@ -55,6 +56,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 outputs,
                 model,
                 resample_s: resample,
+                time_column,
                 units,
                 select,
                 out,
@@ -68,9 +70,16 @@ fn dispatch(cli: Cli) -> Result<()> {
             out,
             steps_ahead,
             init_window,
+            time_column,
         } => {
             let busy = progress::Busy::start(format!("predicting {}", data.display()));
-            let o = commands::predict(&model, &data, &out, steps_ahead, init_window);
+            let o = commands::predict(
+                &model,
+                (&data, time_column.as_deref().unwrap_or("t")),
+                &out,
+                steps_ahead,
+                init_window,
+            );
             drop(busy);
             o?.print();
         }
@@ -223,6 +232,7 @@ fn cmd_identify(c: Command) -> Result<()> {
         validate,
         steps_ahead,
         units,
+        time_column,
         out,
         force,
     } = c
@@ -238,6 +248,7 @@ fn cmd_identify(c: Command) -> Result<()> {
         validate,
         steps_ahead,
         units,
+        time_column,
         out,
         force,
     };

@@ -54,12 +54,14 @@ pub enum DataError {
         value: String,
     },
     /// Time does not increase.
-    #[error("{file}, line {line}, column `t`: time {t} does not increase (previous {previous})")]
+    #[error("{file}, line {line}, column `{column}`: time {t} does not increase (previous {previous})")]
     TimeNotIncreasing {
         /// File.
         file: String,
         /// Line.
         line: u64,
+        /// The time column.
+        column: String,
         /// This time.
         t: f64,
         /// The previous one.
@@ -97,7 +99,7 @@ fn delimiter_hint(available: &str, column: &str) -> String {
         .find(|h| ["time", "time_s", "t_s", "seconds", "timestamp"].contains(&h.to_lowercase().as_str()));
     match time_like {
         Some(h) if column == "t" => format!(
-            ": the time column must be named `t`, in seconds; `{h}` looks like it: rename it `t` (converted to seconds if it is not)"
+            ": the time column is `t`, in seconds; `{h}` looks like it: give `--time-column {h}` (its values in seconds) or rename it `t`"
         ),
         _ => String::new(),
     }
@@ -142,6 +144,17 @@ fn cell_problem(value: &str) -> String {
 /// Read `t`, the `inputs` and the `outputs` columns of a CSV file.
 pub fn read_record(
     path: &Path,
+    inputs: &[String],
+    outputs: &[String],
+    min_rows: usize,
+) -> Result<Record, DataError> {
+    read_record_timed(path, "t", inputs, outputs, min_rows)
+}
+
+/// [`read_record`] with the time \[s\] in the column `time` (`--time-column`).
+pub fn read_record_timed(
+    path: &Path,
+    time: &str,
     inputs: &[String],
     outputs: &[String],
     min_rows: usize,
@@ -192,7 +205,7 @@ pub fn read_record(
             }),
         }
     };
-    let it = find("t")?;
+    let it = find(time)?;
     let ii: Vec<usize> = inputs.iter().map(|c| find(c)).collect::<Result<_, _>>()?;
     let io: Vec<usize> = outputs.iter().map(|c| find(c)).collect::<Result<_, _>>()?;
     let mut rec = Record {
@@ -228,6 +241,7 @@ pub fn read_record(
                 return Err(DataError::TimeNotIncreasing {
                     file: file.clone(),
                     line,
+                    column: time.to_string(),
                     t,
                     previous: prev,
                 });
@@ -400,7 +414,7 @@ mod tests {
         // A time column under another name.
         let e = err("time,u,y\n0,1,2\n1,1,2\n");
         assert!(
-            e.contains("no column `t`") && e.contains("`time` looks like it: rename it `t`"),
+            e.contains("no column `t`") && e.contains("`time` looks like it: give `--time-column time`"),
             "{e}"
         );
         assert!(!err("x,u,y\n0,1,2\n").contains("looks like it"));

@@ -43,7 +43,7 @@ pub mod worst_runs;
 
 pub use atomic::OutputSet;
 pub use csv_out::write_trace_csv;
-pub use data_in::{read_record, DataError};
+pub use data_in::{read_record, read_record_timed, DataError};
 pub use html::{write_report, write_report_as};
 pub use plant_report::write_plant_run;
 pub use plot::{bin_counts, plot_identification, plot_run, Band, EnvelopePlot, Histogram, Series, TimePlot};

@@ -35,7 +35,7 @@ fn fit_then_predict_as_library_calls() {
     assert!(o.files.contains(&model) && model.exists());
     let p = commands::predict(
         &model,
-        &tanks("validation.csv"),
+        (&tanks("validation.csv"), "t"),
         &dir.path().join("pred"),
         Some(10),
         None,
@@ -89,7 +89,7 @@ fn bad_arguments_are_input_errors_naming_the_argument() {
     assert!(matches!(commands::fit(&req), Err(Error::Input(m)) if m.contains("--resample -1")));
     let e = commands::predict(
         &dir.path().join("none.json"),
-        &tanks("validation.csv"),
+        (&tanks("validation.csv"), "t"),
         dir.path(),
         None,
         None,

@@ -23,6 +23,8 @@ pub struct FitRequest {
     pub model: Option<PathBuf>,
     /// `--resample`: the uniform grid's interval \[s\] (None: each record's median).
     pub resample_s: Option<f64>,
+    /// `--time-column`: the column holding the time \[s\] (None: `t`).
+    pub time_column: Option<String>,
     /// `--units`: `COLUMN=UNIT` pairs.
     pub units: Vec<String>,
     /// `--select auto`: choose the structure by cross-validation on the training records
@@ -73,7 +75,7 @@ pub fn read_data(
     min_rows: usize,
     resample_s: Option<f64>,
 ) -> Result<Vec<Record>> {
-    Ok(read_data_regridded(paths, inputs, outputs, min_rows, resample_s)?.records)
+    Ok(read_data_regridded((paths, "t"), inputs, outputs, min_rows, resample_s)?.records)
 }
 
 /// Records read and put on their grids, and what that changed.
@@ -95,7 +97,7 @@ pub struct ReadData {
 /// on the grid of `resample_s` or its own interval; a part shorter than `min_rows` is left
 /// out (said), a file with no part that long is an error.
 pub fn read_data_regridded(
-    paths: &[PathBuf],
+    (paths, time): (&[PathBuf], &str),
     inputs: &[String],
     outputs: &[String],
     min_rows: usize,
@@ -111,7 +113,7 @@ pub fn read_data_regridded(
     }
     let mut out = ReadData::default();
     for p in paths {
-        let r = crate::read_record(p, inputs, outputs, min_rows)?;
+        let r = crate::read_record_timed(p, time, inputs, outputs, min_rows)?;
         let dt = resample_s.unwrap_or_else(|| r.sample_interval());
         let (parts, split) = r.split_at_gaps()?;
         out.notes.extend(split.map(|s| s.to_string()));
@@ -279,7 +281,13 @@ fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) ->
         records: recs,
         regridded,
         notes: gap_notes,
-    } = read_data_regridded(&req.data, inputs, outputs, min_rows, req.resample_s)?;
+    } = read_data_regridded(
+        (&req.data, req.time_column.as_deref().unwrap_or("t")),
+        inputs,
+        outputs,
+        min_rows,
+        req.resample_s,
+    )?;
     let run = rhonn::sysid::fit_records(structure, &recs, inputs, outputs, progress)
         .map_err(|e| spec_error(super::fit_args::COMMAND_LINE.rename(e), req))?;
     o.notes
@@ -470,17 +478,18 @@ fn training_lines(o: &mut Outcome, figures: &[RecordFigures], label: &str, units
 
 /// `rhonn predict`: predict a recording with a `model.json` of `rhonn fit` or of
 /// `rhonn identify`, free run (seeing only the first `window` outputs when given) or
-/// `steps` ahead, and write the prediction into `out`.
+/// `steps` ahead, and write the prediction into `out`. The data's time \[s\] is in the
+/// column `time` (`t` unless `--time-column` names another).
 pub fn predict(
     model: &Path,
-    data: &Path,
+    (data, time): (&Path, &str),
     out: &Path,
     steps: Option<usize>,
     window: Option<usize>,
 ) -> Result<Outcome> {
     let inputs = [model.to_path_buf(), data.to_path_buf()];
     super::in_folder(out, (&inputs, crate::folder::writes::PREDICT), false, |stage| {
-        predict_into(model, data, stage, steps, window)
+        predict_into(model, (data, time), stage, steps, window)
     })
 }
 
@@ -507,7 +516,7 @@ fn edited_note(model: &Path) -> Result<Option<String>> {
 
 fn predict_into(
     model: &Path,
-    data: &Path,
+    (data, time): (&Path, &str),
     out: &Path,
     steps: Option<usize>,
     window: Option<usize>,
@@ -543,7 +552,7 @@ fn predict_into(
     })?;
     let fitted = match &any {
         AnyModel::Online(m) => {
-            let mut o = super::identify::predict_online(model, &any, m, data, out, (steps, window))?;
+            let mut o = super::identify::predict_online(model, &any, m, (data, time), out, (steps, window))?;
             o.notes.splice(0..0, edited);
             return Ok(o);
         }
@@ -555,7 +564,7 @@ fn predict_into(
         records: recs,
         regridded,
         notes: gap_notes,
-    } = read_data_regridded(&[data.to_path_buf()], &m.inputs, &m.outputs, needed, None)?;
+    } = read_data_regridded((&[data.to_path_buf()], time), &m.inputs, &m.outputs, needed, None)?;
     if recs.len() > 1 || !gap_notes.is_empty() {
         return Err(Error::Input(format!(
             "{}: {}; a prediction runs over one record: predict each part as its own file",

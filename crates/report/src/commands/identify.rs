@@ -27,6 +27,8 @@ pub struct IdentifyRequest {
     pub steps_ahead: Option<usize>,
     /// `--units`: `COLUMN=UNIT` pairs, printed with the figures.
     pub units: Vec<String>,
+    /// `--time-column`: the column holding the time \[s\] (None: `t`).
+    pub time_column: Option<String>,
     /// The output folder.
     pub out: PathBuf,
     /// Replace a different model.json in `out`.
@@ -162,7 +164,13 @@ fn read_all(a: &IdentifyRequest, paths: &[PathBuf]) -> Result<super::ReadData> {
     if paths.is_empty() {
         return Ok(super::ReadData::default());
     }
-    super::read_data_regridded(paths, &a.inputs, &a.outputs, 2, None)
+    super::read_data_regridded(
+        (paths, a.time_column.as_deref().unwrap_or("t")),
+        &a.inputs,
+        &a.outputs,
+        2,
+        None,
+    )
 }
 
 /// The figures for the console: the online selection's winner and margin (when it chose),
@@ -216,12 +224,12 @@ pub(super) fn predict_online(
     model_path: &Path,
     any: &AnyModel,
     m: &OnlineModel,
-    data: &Path,
+    (data, time): (&Path, &str),
     out: &Path,
     (steps, window): (Option<usize>, Option<usize>),
 ) -> Result<Outcome> {
     let needed = any.samples_needed(steps);
-    let rec = crate::read_record(data, &m.inputs, &m.outputs, needed)?;
+    let rec = crate::read_record_timed(data, time, &m.inputs, &m.outputs, needed)?;
     rhonn::ident::sample_time(std::slice::from_ref(&rec))?;
     let AnyPrediction::Online { rows: pred, figures } =
         any.predict_with(&rec, steps, window).map_err(|e| {

@@ -245,36 +245,42 @@ pub struct IdentReport {
 }
 
 impl std::fmt::Display for IdentReport {
-    /// One line per mode and state, then the findings.
+    /// The findings first (what the figures mean), then one line per mode and state: the
+    /// weight norm and the convergence band on the training lines, where they belong (the
+    /// validations run with those weights frozen), and a validation's convergence only
+    /// when it converged.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(
             f,
             "identification ({}, {} terms, {} epoch(s)):",
             self.law, self.n_terms, self.epochs
         )?;
+        for finding in &self.findings {
+            writeln!(f, "  finding: {finding}")?;
+        }
         for (mode, figs) in [
             ("training", &self.training),
             ("series-parallel", &self.series_parallel),
             ("parallel", &self.parallel),
         ] {
             for s in figs {
+                let band = format!("the band +-{:.4} {}", s.convergence_band, s.unit);
+                let tail = match (mode, s.convergence_time_s) {
+                    (_, Some(t)) => format!(", converged within {band} at {t:.3} s"),
+                    ("training", None) => format!(", convergence not reached within {band}"),
+                    _ => String::new(),
+                };
+                let norm = if mode == "training" {
+                    format!(", |w| {:.4e}", s.final_weight_norm)
+                } else {
+                    String::new()
+                };
                 writeln!(
                     f,
-                    "  {mode:<16} {:<7} rms error {:.4} {}, fit {:.1} %, {} the band +-{:.4} {}{}, |w| {:.4e}",
-                    s.state,
-                    s.rms_error,
-                    s.unit,
-                    s.fit_percent,
-                    if s.convergence_time_s.is_some() { "converged within" } else { "convergence not reached within" },
-                    s.convergence_band,
-                    s.unit,
-                    s.convergence_time_s.map_or(String::new(), |t| format!(" at {t:.3} s")),
-                    s.final_weight_norm
+                    "  {mode:<16} {:<7} rms error {:.4} {}, fit {:.1} %{norm}{tail}",
+                    s.state, s.rms_error, s.unit, s.fit_percent
                 )?;
             }
-        }
-        for finding in &self.findings {
-            writeln!(f, "  finding: {finding}")?;
         }
         Ok(())
     }
