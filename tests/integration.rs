@@ -22,5 +22,6 @@ mod integrity;
 mod mutation;
 mod regression;
 mod shape;
+mod stream;
 mod tanks_cli;
 mod worst_runs;

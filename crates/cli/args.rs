@@ -165,8 +165,28 @@ pub enum Command {
     #[command(verbatim_doc_comment)]
     Identify {
         /// A CSV file (repeat for several recordings, identified in this order).
-        #[arg(long = "data", value_name = "FILE.csv", required = true)]
+        #[arg(long = "data", value_name = "FILE.csv", required_unless_present_any = ["stream", "follow"])]
         data: Vec<PathBuf>,
+        /// Learn a live stream from standard input instead (a header line, then one sample
+        /// a line): prints `t`, each output's estimate and its running prequential RMS error;
+        /// at the end of the input or on Ctrl-C, freezes and writes model.json and summary.json.
+        #[arg(long, conflicts_with_all = ["data", "validate", "epochs", "steps_ahead"])]
+        stream: bool,
+        /// As --stream, from a CSV file that grows (a logger's): waits for new lines until
+        /// Ctrl-C.
+        #[arg(long, value_name = "FILE.csv", conflicts_with_all = ["data", "stream", "validate", "epochs", "steps_ahead"])]
+        follow: Option<PathBuf>,
+        /// With --stream or --follow and no --model: the stream's length, when known; the
+        /// bank then judges it as --data judges a file of that length (the same model).
+        #[arg(long, value_name = "N")]
+        samples: Option<usize>,
+        /// With --stream or --follow: print a line every N samples (default 1).
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        every: usize,
+        /// With --stream or --follow: what a malformed line does; `stop` saves the model
+        /// learned so far and exits with an error naming the line, `skip` says so and goes on.
+        #[arg(long, value_name = "stop|skip", default_value = "stop", value_parser = ["stop", "skip"])]
+        on_error: String,
         /// Input columns, comma-separated.
         #[arg(long, value_delimiter = ',', required = true)]
         inputs: Vec<String>,

@@ -3,6 +3,7 @@
 //! call that a test can make.
 
 mod args;
+mod live;
 mod progress;
 
 use anyhow::Result;
@@ -35,34 +36,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 println!("{name:<16} {description}");
             }
         }
-        Command::Fit {
-            data,
-            inputs,
-            outputs,
-            resample,
-            time_column,
-            units,
-            model,
-            select,
-            select_steps_ahead,
-            budget,
-            out,
-            force,
-        } => {
-            let select = fit_selection(model.is_some(), select, select_steps_ahead, budget)?;
-            cmd_fit(commands::FitRequest {
-                data,
-                inputs,
-                outputs,
-                model,
-                resample_s: resample,
-                time_column,
-                units,
-                select,
-                out,
-                force,
-            })?
-        }
+        c @ Command::Fit { .. } => cmd_fit_command(c)?,
         c @ Command::Identify { .. } => cmd_identify(c)?,
         Command::Predict {
             model,
@@ -222,9 +196,48 @@ fn fit_selection(
 }
 
 /// `rhonn identify`: the identification with a spinner.
+/// `rhonn fit`: its arguments checked by the one set of rules (`fit_selection`), then fitted.
+fn cmd_fit_command(c: Command) -> Result<()> {
+    let Command::Fit {
+        data,
+        inputs,
+        outputs,
+        resample,
+        time_column,
+        units,
+        model,
+        select,
+        select_steps_ahead,
+        budget,
+        out,
+        force,
+    } = c
+    else {
+        return Ok(());
+    };
+    let select = fit_selection(model.is_some(), select, select_steps_ahead, budget)?;
+    cmd_fit(commands::FitRequest {
+        data,
+        inputs,
+        outputs,
+        model,
+        resample_s: resample,
+        time_column,
+        units,
+        select,
+        out,
+        force,
+    })
+}
+
 fn cmd_identify(c: Command) -> Result<()> {
     let Command::Identify {
         data,
+        stream,
+        follow,
+        samples,
+        every,
+        on_error,
         inputs,
         outputs,
         model,
@@ -239,6 +252,30 @@ fn cmd_identify(c: Command) -> Result<()> {
     else {
         return Ok(());
     };
+    if stream || follow.is_some() {
+        let req = commands::StreamRequest {
+            source: follow
+                .as_ref()
+                .map_or("standard input".into(), |p| p.display().to_string()),
+            inputs,
+            outputs,
+            time_column,
+            model,
+            samples,
+            every,
+            on_error: if on_error == "skip" {
+                commands::OnError::Skip
+            } else {
+                commands::OnError::Stop
+            },
+            out,
+            force,
+        };
+        return live::identify(&req, follow.as_deref());
+    }
+    if samples.is_some() || every != 1 || on_error != "stop" {
+        anyhow::bail!("--samples, --every and --on-error are for a stream: add --stream or --follow FILE");
+    }
     let req = commands::IdentifyRequest {
         data,
         inputs,

@@ -456,6 +456,7 @@ mod recordings;
 mod session;
 pub mod shared_spec;
 mod spec;
+mod stream;
 pub use online::{widened, InputHold, OnlineIdentifier, OnlineModel, OnlineSpec, Scaling, Snapshot};
 pub use online_spec::{CascadeOnlineSpec, LagSpec, OnlineStructure};
 pub use recordings::{
@@ -464,6 +465,7 @@ pub use recordings::{
 };
 pub use session::{OnlineSession, SessionOptions};
 pub use spec::{IdentSettings, IdentifierSpec, SigmoidSpec};
+pub use stream::{Stream, StreamStep, StreamSummary};
 
 #[cfg(test)]
 mod tests {

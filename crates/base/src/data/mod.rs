@@ -167,18 +167,14 @@ impl Record {
 
     /// The sampling interval \[s\]: the median interval, or, when the times sit on a
     /// uniform grid only to within [`TIME_JITTER`] (rounded times), the grid's own
-    /// interval, from the first to the last time.
+    /// interval, from the first to the last time; [`step_as_written`] either way.
     pub fn sample_interval(&self) -> f64 {
         let med = self.median_interval();
         if self.len() < 3 || self.evenly_spaced(med) {
-            return med;
+            return step_as_written(med);
         }
         let fit = (self.t[self.len() - 1] - self.t[0]) / (self.len() - 1) as f64;
-        if self.on_grid(fit) {
-            fit
-        } else {
-            med
-        }
+        step_as_written(if self.on_grid(fit) { fit } else { med })
     }
 
     /// The record on a uniform grid of interval `dt` from its first time: inputs held
@@ -376,6 +372,18 @@ pub fn within_window(
     );
     let cols = cols.into_iter().map(|c| c[lacking..].to_vec()).collect();
     Ok((cols, window))
+}
+
+/// A sample time as the data's times were written: the difference of two decimal times
+/// carries the subtraction's rounding (`0.08 - 0` is 0.08, `61.36 - 61.28` is
+/// 0.0799999999999983), so the step is rounded to 12 significant digits, a relative
+/// change below 1e-12, far inside [`TIME_JITTER`]. A file's step of 0.08 s, a stream's
+/// first interval and Python's `dt = 0.1` then give the same `sample_time_s`.
+pub fn step_as_written(dt: f64) -> f64 {
+    if !(dt.is_finite() && dt > 0.0) {
+        return dt;
+    }
+    format!("{dt:.11e}").parse().unwrap_or(dt)
 }
 
 #[cfg(test)]

@@ -262,21 +262,27 @@ fn spec_error(e: rhonn::Error, req: &FitRequest) -> Error {
     }
 }
 
-fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcome> {
-    let (inputs, outputs) = (&req.inputs, &req.outputs);
-    let units = parse_units(&req.units, inputs, outputs)?;
+/// The structure `req` names (its spec file read, or the selection's settings) and the
+/// rows a record needs for it.
+fn structure_of(req: &FitRequest) -> Result<(rhonn::sysid::FitStructure<'_>, usize)> {
     if req.select.is_some() && req.model.is_some() {
         return Err(Error::Input(super::fit_args::both_name_the_structure(
             &super::fit_args::COMMAND_LINE,
         )));
     }
-    let mut o = Outcome::default();
     let spec = match &req.model {
         Some(p) => Some((read_text(p)?, p.display().to_string())),
         None => None,
     };
     let spec = spec.as_ref().map(|(t, s)| (t.as_str(), s.as_str()));
-    let (structure, min_rows) = fit_structure(req.select.as_ref(), spec, outputs.len())?;
+    fit_structure(req.select.as_ref(), spec, req.outputs.len())
+}
+
+fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcome> {
+    let (inputs, outputs) = (&req.inputs, &req.outputs);
+    let units = parse_units(&req.units, inputs, outputs)?;
+    let mut o = Outcome::default();
+    let (structure, min_rows) = structure_of(req)?;
     let ReadData {
         records: recs,
         regridded,

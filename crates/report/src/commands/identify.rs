@@ -44,7 +44,7 @@ fn list(paths: &[PathBuf]) -> String {
         .join(", ")
 }
 
-fn read_spec(p: &Path) -> Result<OnlineSpec> {
+pub(super) fn read_spec(p: &Path) -> Result<OnlineSpec> {
     online_spec(&read_text(p)?, &p.display().to_string())
 }
 

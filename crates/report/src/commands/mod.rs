@@ -8,6 +8,7 @@ mod corpus;
 mod fit;
 pub mod fit_args;
 mod identify;
+mod identify_stream;
 mod run;
 
 pub use benchmark::{benchmark, figure, BenchmarkRequest, Row};
@@ -17,6 +18,7 @@ pub use fit::{
     read_data_regridded, FitRequest, ReadData,
 };
 pub use identify::{identify, online_spec, IdentifyRequest};
+pub use identify_stream::{identify_stream, OnError, StreamRequest};
 pub use run::{bench, run, run_scenario, save_plant_run, save_scenario_run, show, REPRODUCED};
 
 use crate::campaign::CampaignOutcome;
