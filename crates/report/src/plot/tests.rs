@@ -1,5 +1,6 @@
 //! Tests of `plot.rs`: histograms, legends, set-points over traces, axes.
 
+use super::histogram::axis_with_unit;
 use super::*;
 
 /// A set-point (dashed) is drawn over the trace that follows it, whatever their order.
