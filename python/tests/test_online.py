@@ -201,3 +201,27 @@ def test_a_glitch_a_huge_value_and_a_pause_do_not_poison_the_identifier(tanks):
     paused, ident = _frozen_rms(est, val, pause_at=500)
     assert np.isfinite(paused) and paused <= 2 * clean, (clean, paused)
     assert any("gap in time" in n for n in ident.notes), ident.notes
+
+
+def test_the_online_identifier_and_the_stream_command_give_the_same_figures(tanks, rhonn_bin, root, tmp_path):
+    """`rhonn identify --stream` (the command) and `rhonn.OnlineIdentifier` (a user's loop),
+    fed the same samples with the same length, print and return the same estimates, and
+    freeze the same model."""
+    est, _ = tanks
+    n = len(est["t"])
+    ident = rhonn.OnlineIdentifier(["u"], ["y"], dt=4.0, samples=n)
+    y_hat = [ident.update(t, [u], [y])[0] for t, u, y in zip(est["t"], est["u"], est["y"])]
+    model = json.loads(ident.freeze().to_json())
+    args = ["identify", "--stream", "--samples", str(n), "--inputs", "u", "--outputs", "y"]
+    out = subprocess.run(
+        [rhonn_bin, *args, "--out", str(tmp_path / "s")],
+        input=(root / "data" / "cascaded-tanks" / "estimation.csv").read_text(),
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.splitlines()
+    assert out[0] == "t,y_hat,y_prequential_rms"
+    # The command prints from the second sample (the first sets the clock).
+    streamed = [float(line.split(",")[1]) for line in out[1:]]
+    assert streamed == y_hat[1:]
+    assert json.loads((tmp_path / "s" / "model.json").read_text()) == model
