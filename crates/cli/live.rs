@@ -67,15 +67,7 @@ pub fn identify(req: &commands::StreamRequest, follow: Option<&Path>) -> Result<
     };
     let stop = || INTERRUPTED.load(Ordering::SeqCst);
     let (o, stopped) = commands::identify_stream(req, &mut input, &mut print, &stop)?;
-    for n in &o.notes {
-        eprintln!("{n}");
-    }
-    for l in &o.lines {
-        eprintln!("{l}");
-    }
-    for f in &o.files {
-        eprintln!("  wrote {}", f.display());
-    }
+    o.print_to(&mut |l| eprintln!("{l}"));
     match stopped {
         Some(e) => Err(anyhow::anyhow!(
             "{e}; the stream stopped there (--on-error stop) and the model learned until then was written"

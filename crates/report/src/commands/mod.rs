@@ -38,14 +38,20 @@ pub struct Outcome {
 impl Outcome {
     /// Print: the notes to stderr, the lines to stdout, then one `  wrote FILE` per file.
     pub fn print(&self) {
+        self.print_to(&mut |l| println!("{l}"));
+    }
+
+    /// As [`Outcome::print`], with the lines and files through `out` (a stream's command
+    /// keeps standard output for its samples and prints these to stderr).
+    pub fn print_to(&self, out: &mut dyn FnMut(&str)) {
         for n in &self.notes {
             eprintln!("{n}");
         }
         for l in &self.lines {
-            println!("{l}");
+            out(l);
         }
         for f in &self.files {
-            println!("  wrote {}", f.display());
+            out(&format!("  wrote {}", f.display()));
         }
     }
 
