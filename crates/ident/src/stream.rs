@@ -26,13 +26,13 @@ pub struct Stream {
 }
 
 /// One sample's result: the estimate of each output made before the sample was seen,
-/// and each output's prequential RMS error so far (None before the first scored sample).
+/// and each output's prequential RMS error so far.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StreamStep {
     /// Per output.
     pub estimate: Vec<f64>,
     /// Per output, over every sample after the first.
-    pub prequential_rms: Option<Vec<f64>>,
+    pub prequential_rms: Vec<f64>,
 }
 
 /// What a stream gave (`summary.json` of `rhonn identify --stream`).
@@ -119,7 +119,7 @@ impl Stream {
             .collect();
         Ok(Some(StreamStep {
             estimate,
-            prequential_rms: Some(rms),
+            prequential_rms: rms,
         }))
     }
 

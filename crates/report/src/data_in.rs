@@ -105,6 +105,14 @@ fn delimiter_hint(available: &str, column: &str) -> String {
     }
 }
 
+/// A cell's number: finite and of magnitude at most [`MAX_MAGNITUDE`] (None otherwise, which
+/// `DataError::BadCell` words), for files and streams alike.
+pub(crate) fn cell_value(s: &str) -> Option<f64> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite() && v.abs() <= MAX_MAGNITUDE)
+}
+
 /// What is wrong with a cell that is not a usable number, and what to write instead.
 fn cell_problem(value: &str) -> String {
     let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
@@ -225,9 +233,9 @@ pub fn read_record_timed(
         })?;
         let cell = |idx: usize| -> Result<f64, DataError> {
             let s = r.get(idx).unwrap_or("");
-            match s.parse::<f64>() {
-                Ok(v) if v.is_finite() && v.abs() <= MAX_MAGNITUDE => Ok(v),
-                _ => Err(DataError::BadCell {
+            match cell_value(s) {
+                Some(v) => Ok(v),
+                None => Err(DataError::BadCell {
                     file: file.clone(),
                     line,
                     column: header[idx].clone(),

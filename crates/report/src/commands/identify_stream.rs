@@ -48,61 +48,69 @@ pub struct StreamRequest {
     pub force: bool,
 }
 
-/// The columns of the header line: the time's, the inputs', the outputs' positions.
-fn columns(req: &StreamRequest, header: &str) -> Result<(usize, Vec<usize>, Vec<usize>, usize)> {
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let find = |c: &str| {
-        names.iter().position(|h| *h == c).ok_or_else(|| {
-            Error::from(DataError::MissingColumn {
-                file: req.source.clone(),
-                column: c.to_string(),
-                available: names.join(", "),
+/// The columns a stream reads: their names (the time's, the inputs', the outputs') and
+/// positions in the header, and the header's width.
+struct Columns {
+    names: Vec<String>,
+    at: Vec<usize>,
+    width: usize,
+}
+
+/// The columns of the header line.
+fn columns(req: &StreamRequest, header: &str) -> Result<Columns> {
+    let heads: Vec<&str> = header.split(',').map(str::trim).collect();
+    let names: Vec<String> = std::iter::once(req.time_column.clone().unwrap_or_else(|| "t".into()))
+        .chain(req.inputs.iter().cloned())
+        .chain(req.outputs.iter().cloned())
+        .collect();
+    let at = names
+        .iter()
+        .map(|c| {
+            heads.iter().position(|h| h == c).ok_or_else(|| {
+                Error::from(DataError::MissingColumn {
+                    file: req.source.clone(),
+                    column: c.clone(),
+                    available: heads.join(", "),
+                })
             })
         })
-    };
-    let time = find(req.time_column.as_deref().unwrap_or("t"))?;
-    let ins = req.inputs.iter().map(|c| find(c)).collect::<Result<_>>()?;
-    let outs = req.outputs.iter().map(|c| find(c)).collect::<Result<_>>()?;
-    Ok((time, ins, outs, names.len()))
+        .collect::<Result<_>>()?;
+    Ok(Columns {
+        names,
+        at,
+        width: heads.len(),
+    })
 }
 
 /// One line's time, inputs and outputs, or what is wrong with it.
 fn sample(
     req: &StreamRequest,
     (line, text): (u64, &str),
-    (time, ins, outs, width): (usize, &[usize], &[usize], usize),
+    cols: &Columns,
 ) -> Result<(f64, Vec<f64>, Vec<f64>)> {
     let cells: Vec<&str> = text.split(',').map(str::trim).collect();
-    if cells.len() != width {
+    if cells.len() != cols.width {
         return Err(Error::Input(format!(
-            "{}, line {line}: {} fields where the header has {width}",
+            "{}, line {line}: {} fields where the header has {}",
             req.source,
-            cells.len()
+            cells.len(),
+            cols.width
         )));
     }
-    let names: Vec<String> = std::iter::once(req.time_column.clone().unwrap_or_else(|| "t".into()))
-        .chain(req.inputs.iter().cloned())
-        .chain(req.outputs.iter().cloned())
-        .collect();
-    let at = std::iter::once(time)
-        .chain(ins.iter().copied())
-        .chain(outs.iter().copied());
-    let mut v = Vec::with_capacity(names.len());
-    for (k, i) in at.enumerate() {
-        match cells[i].parse::<f64>() {
-            Ok(x) if x.is_finite() && x.abs() <= crate::data_in::MAX_MAGNITUDE => v.push(x),
-            _ => {
-                return Err(DataError::BadCell {
-                    file: req.source.clone(),
-                    line,
-                    column: names[k].clone(),
-                    value: cells[i].to_string(),
-                }
-                .into())
+    let mut v = Vec::with_capacity(cols.at.len());
+    for (k, &i) in cols.at.iter().enumerate() {
+        let Some(x) = crate::data_in::cell_value(cells[i]) else {
+            return Err(DataError::BadCell {
+                file: req.source.clone(),
+                line,
+                column: cols.names[k].clone(),
+                value: cells[i].to_string(),
             }
-        }
+            .into());
+        };
+        v.push(x);
     }
-    let ni = ins.len();
+    let ni = req.inputs.len();
     Ok((v[0], v[1..1 + ni].to_vec(), v[1 + ni..].to_vec()))
 }
 
@@ -148,12 +156,7 @@ pub fn identify_stream(
         if text.trim().is_empty() {
             continue;
         }
-        let step = sample(
-            req,
-            (line_no, text.trim_end()),
-            (cols.0, &cols.1, &cols.2, cols.3),
-        )
-        .and_then(|(t, u, y)| {
+        let step = sample(req, (line_no, text.trim_end()), &cols).and_then(|(t, u, y)| {
             let s = stream
                 .push(t, &u, &y)
                 .map_err(|e| Error::Input(format!("{}, line {line_no}: {e}", req.source)))?;
@@ -161,11 +164,10 @@ pub fn identify_stream(
         });
         match (step, req.on_error) {
             (Ok((t, Some(s))), _) if (line_no - 1) % req.every.max(1) as u64 == 0 => {
-                let rms = s.prequential_rms.unwrap_or_default();
                 let cells: Vec<String> = s
                     .estimate
                     .iter()
-                    .zip(&rms)
+                    .zip(&s.prequential_rms)
                     .map(|(e, r)| format!("{e},{r}"))
                     .collect();
                 print(&format!("{t},{}", cells.join(",")));
