@@ -168,3 +168,15 @@ fn ctrl_c_ends_a_followed_file_and_writes_the_model() {
         serde_json::from_str(&std::fs::read_to_string(d.path().join("f/summary.json")).unwrap()).unwrap();
     assert_eq!(s["samples"], n, "{s}");
 }
+
+#[test]
+fn every_zero_is_refused_and_nothing_is_written() {
+    let d = tempfile::tempdir().unwrap();
+    let mut args = vec!["identify", "--stream", "--every", "0", "--out", "z"];
+    args.extend(COLUMNS);
+    let out = piped(d.path(), &args, "t_s,u_heater_V,y_outlet_temp_V\n0,1,2\n");
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(err.contains("--every") && err.contains("at least 1"), "{err}");
+    assert!(!d.path().join("z").exists());
+}

@@ -181,7 +181,7 @@ pub enum Command {
         #[arg(long, value_name = "N")]
         samples: Option<usize>,
         /// With --stream or --follow: print a line every N samples (default 1).
-        #[arg(long, value_name = "N", default_value_t = 1)]
+        #[arg(long, value_name = "N", default_value_t = 1, value_parser = at_least_one)]
         every: usize,
         /// With --stream or --follow: what a malformed line does; `stop` saves the model
         /// learned so far and exits with an error naming the line, `skip` says so and goes on.
@@ -407,4 +407,13 @@ pub enum SelectMode {
     Auto,
     /// The default structure.
     None,
+}
+
+/// A count of at least 1 (`--every`): 0 would print no line at all.
+fn at_least_one(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(0) => Err("0 prints no line: give a whole number of at least 1".into()),
+        Ok(n) => Ok(n),
+        Err(_) => Err(format!("`{s}` is not a whole number of at least 1")),
+    }
 }
