@@ -374,3 +374,52 @@ fn fit_messages_read_as_sentences_and_keep_significant_digits() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("--resample -1 is not allowed"), "{err}");
 }
+
+/// A column whose name ends in a unit (`_V`, `_pa`, `_mm`) gets that unit without
+/// `--units`, and the console says it was read from the name; `--units` overrides it.
+#[test]
+fn units_are_read_from_the_column_names_and_units_overrides_them() {
+    let d = tempfile::tempdir().unwrap();
+    let mut s = String::from("t,u_heater_V,y_level_mm\n");
+    for k in 0..300 {
+        let u = if (k / 25) % 2 == 0 { 1.0 } else { -1.0 };
+        s.push_str(&format!("{k},{u},{}\n", (k as f64 * 0.1).sin() + 0.5 * u));
+    }
+    std::fs::write(d.path().join("d.csv"), s).unwrap();
+    let args = [
+        "fit",
+        "--data",
+        "d.csv",
+        "--inputs",
+        "u_heater_V",
+        "--outputs",
+        "y_level_mm",
+        "--select",
+        "none",
+    ];
+    let o = rhonn(d.path(), &[&args[..], &["--out", "a"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("units read from the column names: `u_heater_V` in V, `y_level_mm` in mm"),
+        "{e}"
+    );
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(out.contains(" mm, fit"), "{out}");
+    let model: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("a/model.json")).unwrap()).unwrap();
+    assert_eq!(model["units"]["y_level_mm"], "mm");
+    // --units for one column: that one as given, the other still from its name.
+    let o = rhonn(
+        d.path(),
+        &[&args[..], &["--units", "y_level_mm=m", "--out", "b"]].concat(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("`u_heater_V` in V") && !e.contains("`y_level_mm` in"),
+        "{e}"
+    );
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(out.contains(" m, fit"), "{out}");
+}

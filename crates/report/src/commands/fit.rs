@@ -37,12 +37,32 @@ pub struct FitRequest {
     pub force: bool,
 }
 
-/// `--units COL=UNIT,...`: every column named must be an input or an output.
+/// `--units COL=UNIT,...` (every column named must be an input or an output), and for each
+/// other input and output the unit its name ends in (`rhonn::units::from_column_name`:
+/// `y_outlet_temp_V` in V); the note that says which units were read from names.
 pub fn parse_units(
     pairs: &[String],
     inputs: &[String],
     outputs: &[String],
-) -> Result<BTreeMap<String, String>> {
+) -> Result<(BTreeMap<String, String>, Option<String>)> {
+    let mut map = given_units(pairs, inputs, outputs)?;
+    let mut read = Vec::new();
+    for col in inputs.iter().chain(outputs) {
+        if let (false, Some(u)) = (map.contains_key(col), rhonn::units::from_column_name(col)) {
+            map.insert(col.clone(), u.to_string());
+            read.push(format!("`{col}` in {u}"));
+        }
+    }
+    let note = (!read.is_empty()).then(|| {
+        format!(
+            "note: units read from the column names: {} (--units COLUMN=UNIT gives others)",
+            read.join(", ")
+        )
+    });
+    Ok((map, note))
+}
+
+fn given_units(pairs: &[String], inputs: &[String], outputs: &[String]) -> Result<BTreeMap<String, String>> {
     let mut map = BTreeMap::new();
     for p in pairs {
         let (col, unit) = p
@@ -280,8 +300,9 @@ fn structure_of(req: &FitRequest) -> Result<(rhonn::sysid::FitStructure<'_>, usi
 
 fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcome> {
     let (inputs, outputs) = (&req.inputs, &req.outputs);
-    let units = parse_units(&req.units, inputs, outputs)?;
+    let (units, units_note) = parse_units(&req.units, inputs, outputs)?;
     let mut o = Outcome::default();
+    o.notes.extend(units_note);
     let (structure, min_rows) = structure_of(req)?;
     let ReadData {
         records: recs,

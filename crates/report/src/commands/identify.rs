@@ -101,7 +101,7 @@ fn identification_error(e: rhonn::Error, a: &IdentifyRequest) -> Error {
 fn identify_into(a: &IdentifyRequest, stage: &Path) -> Result<Outcome> {
     use rhonn::identification::{identify, IdentifyError, IdentifyPlan};
     let given = a.model.as_deref().map(read_spec).transpose()?;
-    let units = super::parse_units(&a.units, &a.inputs, &a.outputs)?;
+    let (units, units_note) = super::parse_units(&a.units, &a.inputs, &a.outputs)?;
     if a.steps_ahead == Some(0) {
         return Err(Error::Input(
             "--steps-ahead 0 is not allowed: give K >= 1 samples".into(),
@@ -146,8 +146,9 @@ fn identify_into(a: &IdentifyRequest, stage: &Path) -> Result<Outcome> {
     let warnings = rhonn::sysid::signal_warnings(&records, &a.inputs, &a.outputs);
     let mut o = Outcome {
         files,
-        notes: read_notes
+        notes: units_note
             .into_iter()
+            .chain(read_notes)
             .chain(id.guard_notes.iter().map(|n| format!("note: {n}")))
             .chain(warnings.iter().map(|w| format!("warning: {w}")))
             .collect(),
@@ -157,7 +158,6 @@ fn identify_into(a: &IdentifyRequest, stage: &Path) -> Result<Outcome> {
     Ok(o)
 }
 
-/// The records of `paths`, with `a`'s columns.
 /// The records of `paths` under the one rule for gaps and grids (`rhonn fit`'s,
 /// [`super::read_data_regridded`]), and its notes.
 fn read_all(a: &IdentifyRequest, paths: &[PathBuf]) -> Result<super::ReadData> {
