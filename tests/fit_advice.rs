@@ -423,3 +423,43 @@ fn units_are_read_from_the_column_names_and_units_overrides_them() {
     let out = String::from_utf8_lossy(&o.stdout).to_string();
     assert!(out.contains(" m, fit"), "{out}");
 }
+
+/// Extreme numbers are printed with significant digits, and an undefined fit in words: a
+/// record sampled every 1e-300 s (a unit mistake) whose output is 1e-310 at most gave a
+/// warning holding a time of 300 digits and `fit NaN %`.
+#[test]
+fn extreme_numbers_are_printed_with_significant_digits_and_no_nan() {
+    let d = tempfile::tempdir().unwrap();
+    let mut s = String::from("t,u,y\n");
+    for k in 0..300 {
+        let u = (k as f64 * 0.1).sin();
+        s.push_str(&format!("{:e},{u},{:e}\n", k as f64 * 1e-300, u * 1e-310));
+    }
+    std::fs::write(d.path().join("tiny.csv"), s).unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "fit",
+            "--data",
+            "tiny.csv",
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--select",
+            "none",
+            "--out",
+            "f",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let all = format!("{}{}", String::from_utf8_lossy(&o.stdout), stderr(&o));
+    assert!(
+        all.contains("e-300 s:"),
+        "the bound warning names its time: {all}"
+    );
+    for word in all.split_whitespace() {
+        assert!(word.len() <= 40, "a word of {} characters: {word}", word.len());
+    }
+    assert!(!all.contains("NaN"), "{all}");
+}

@@ -136,6 +136,11 @@ fn the_glossary_names_every_figure_the_outputs_write() {
             "u",
             "--outputs",
             "y",
+            // The frozen model's validation figures and the ARX baseline's too.
+            "--validate",
+            val.to_str().unwrap(),
+            "--steps-ahead",
+            "5",
             "--out",
             "identify",
         ],

@@ -479,10 +479,11 @@ fn bound_warnings(
         {
             o.notes.push(format!(
                 "warning: the model's free run on {} reaches the bound its output `{name}` is held in \
-                 (the training range widened by output_margin) at t = {t} s: it drifts or is unstable \
+                 (the training range widened by output_margin) at t = {} s: it drifts or is unstable \
                  in free run; judge it K steps ahead (rhonn predict --steps-ahead K), or let rhonn fit \
                  select a structure (no --model)",
-                p.record.source
+                p.record.source,
+                rhonn::metrics::sig(t, 6)
             ));
         }
     }
@@ -492,12 +493,12 @@ fn training_lines(o: &mut Outcome, figures: &[RecordFigures], label: &str, units
     for rec in figures {
         for f in &rec.outputs {
             o.lines.push(format!(
-                "  {label}: {} {}: rms error {}{}, fit {:.1} %",
+                "  {label}: {} {}: rms error {}{}, fit {}",
                 rec.data,
                 f.output,
                 rhonn::metrics::sig(f.rms_error, 4),
                 unit_of(units, &f.output),
-                f.fit_percent
+                super::percent(f.fit_percent)
             ));
         }
     }
