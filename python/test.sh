@@ -23,6 +23,7 @@ if [ "$step" != run ]; then
     fi
     "$VENV/bin/python" -m pip install --quiet --upgrade pip
     "$VENV/bin/python" -m pip install --quiet maturin pytest numpy
+    echo "python/test.sh: building the extension (pip install ./python): about 1.5 min on an idle 2-core machine, longer on a busy one; pip prints nothing meanwhile" >&2
     "$VENV/bin/python" -m pip install --quiet ./python
 fi
 [ "$step" = install ] && exit 0
