@@ -70,9 +70,10 @@ pub enum Command {
     ///                 candidate structures' cross-validation errors (--select auto);
     ///                 `parameters`: a `pump` model's parameters by name, SI
     /// Without --model the structure is selected on the training records (--select).
-    /// Errors are in the data's units (name them with --units). Warnings (on stderr) for a
-    /// constant input, an input that is also an output, `t` used as a signal, and data
-    /// sampled far faster than it changes (with the --resample value to try).
+    /// Errors are in the data's units: a column named with its unit (`y_V`, `p_line_pa`)
+    /// has it, --units names others. Warnings (on stderr) for a constant input, an input
+    /// that is also an output, `t` used as a signal, and data sampled far faster than it
+    /// changes (with the --resample value to try).
     /// Exit code 2 on any error, naming file, line, column.
     #[command(verbatim_doc_comment)]
     Fit {
@@ -94,7 +95,8 @@ pub enum Command {
         #[arg(long, value_name = "NAME")]
         time_column: Option<String>,
         /// Units of the columns, as COLUMN=UNIT pairs (e.g. `--units u=V,y=V`): printed
-        /// with the errors and kept in model.json for `rhonn predict`.
+        /// with the errors and kept in model.json for `rhonn predict`. A column whose name
+        /// ends in a unit (`_V`, `_mm`, `_pa`, `_mpa`, ...) has it without this.
         #[arg(long, value_delimiter = ',', value_name = "COLUMN=UNIT")]
         units: Vec<String>,
         /// Model structure (TOML: kind = rhonn, arx, cascade, wiener-hammerstein or pump; na, nb, nk, degree,

@@ -28,8 +28,7 @@ pub(super) fn folds(records: &[Record], k: usize) -> Vec<(Vec<Record>, Vec<Recor
         .collect()
 }
 
-/// One part's prediction of every output and its first predicted sample.
-pub(super) type PartRun = (Vec<Vec<f64>>, usize);
+pub(super) use super::probes::PartRun;
 
 /// A model's predictions on the held-out parts: per part, the prediction of every output
 /// and its first predicted sample (None for a part shorter than the model's lags need), and

@@ -375,12 +375,43 @@ fn scores_of(
                 output_scores: row_means(&per_fold),
                 output_fold_scores: per_fold,
                 excursion,
+                held_disagreement: None,
                 failed: j.failed,
                 note: j.note,
             }
         })
         .collect();
+    let mut scores: Vec<CandidateScore> = scores;
+    held_disagreements(&mut scores, &runs);
     (scores, runs)
+}
+
+/// Each single structure's `held_disagreement` (`probes::disagreements`) among those whose
+/// mean fold score is below the best ARX's: the structures that could replace it.
+fn held_disagreements(scores: &mut [CandidateScore], runs: &[Vec<HeldOut>]) {
+    let Some(arx) = scores
+        .iter()
+        .filter(|c| c.model.kind == Kind::Arx)
+        .filter_map(|c| c.score)
+        .min_by(f64::total_cmp)
+    else {
+        return;
+    };
+    let folds = runs.iter().map(Vec::len).max().unwrap_or(0);
+    let rivals: Vec<Option<Vec<&super::probes::Probe>>> = scores
+        .iter()
+        .zip(runs)
+        .map(|(c, r)| {
+            (c.model.kind != Kind::Arx && c.score.is_some_and(|s| s < arx) && r.len() == folds)
+                .then(|| r.iter().map(|h| &h.probe).collect())
+        })
+        .collect();
+    let Some(sd) = runs.iter().find_map(|r| r.first()).map(|h| h.output_sd.clone()) else {
+        return;
+    };
+    for (c, d) in scores.iter_mut().zip(super::probes::disagreements(&rivals, &sd)) {
+        c.held_disagreement = d;
+    }
 }
 
 /// Judge the ensembles of the candidates `scored` (`select_ensemble`; `runs`: each one's
@@ -418,6 +449,7 @@ fn append_ensembles(
             output_fold_scores: e.output_fold_scores,
             // Its worst member's.
             excursion: worst(&e.members, |c| c.excursion),
+            held_disagreement: worst(&e.members, |c| c.held_disagreement),
             failed: e.failed,
             note: None,
         })

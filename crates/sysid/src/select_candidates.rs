@@ -33,6 +33,12 @@ pub struct CandidateScore {
     /// (`probes`; None when it has no score or is an ensemble).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub excursion: Option<f64>,
+    /// How much its free run under held steps at the data's own input levels disagrees with
+    /// the other structures that could replace the best ARX: the median of its RMS
+    /// differences to theirs, over the median of those medians (`probes::disagreements`;
+    /// an ensemble: its worst member's). None when fewer than 3 such structures ran.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held_disagreement: Option<f64>,
 
     /// Why it has no score: the error, or "skipped: ..." (the work budget).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -54,6 +60,12 @@ pub const MAX_CASCADE_SAMPLES: usize = 2_000;
 /// bound on the sine-sweep test record, while on Silverbox the polynomial is 20 x better
 /// and runs free on every test record well.
 pub const POLYNOMIAL_MARGIN: f64 = 0.5;
+
+/// A structure whose `held_disagreement` is above this cannot replace the best ARX: under
+/// held steps it runs in a way of its own, which the folds, all cut from the training
+/// excitation, cannot judge (`select_rule`). Measured on the unseen-systems corpus
+/// (`docs/results.md`).
+pub const DISAGREEMENT_LIMIT: f64 = 2.0;
 
 /// The candidate structures for `no` outputs, cheapest first (the cascade only when
 /// `cascade`).

@@ -17,7 +17,7 @@
 //! candidates apart by less than their noise: an ARX of 8 lags 0.7 % below the ARX of 4 on
 //! the folds ran 3 x worse on a test of steps).
 
-use super::select_candidates::{CandidateScore, POLYNOMIAL_MARGIN};
+use super::select_candidates::{CandidateScore, DISAGREEMENT_LIMIT, POLYNOMIAL_MARGIN};
 use super::{Activation, Kind};
 use serde::Serialize;
 
@@ -46,13 +46,20 @@ pub(super) fn choose(candidates: &[CandidateScore], measure: &[Option<(&[f64], f
             .filter_map(|(i, (_, m))| m.map(|(f, s)| (i, f, s)))
     };
     let (best_arx, arx_folds, arx_score) = scored(true).min_by(|a, b| a.2.total_cmp(&b.2))?;
-    let beats_arx = |i: usize, f: &[f64]| {
-        i == best_arx || (f.len() == arx_folds.len() && f.iter().zip(arx_folds).all(|(c, a)| c < a))
+    let below_on_every_fold =
+        |f: &[f64]| f.len() == arx_folds.len() && f.iter().zip(arx_folds).all(|(c, a)| c < a);
+    let disagreement = |i: usize| {
+        candidates[i]
+            .held_disagreement
+            .filter(|&d| d > DISAGREEMENT_LIMIT)
     };
+    let beats_arx =
+        |i: usize, f: &[f64]| i == best_arx || (below_on_every_fold(f) && disagreement(i).is_none());
     let mut findings = Vec::new();
     if let Some((i, _, s)) = scored(false)
         .min_by(|a, b| a.2.total_cmp(&b.2))
-        .filter(|&(i, f, _)| !beats_arx(i, f))
+        .filter(|&(_, f, _)| !below_on_every_fold(f))
+        .filter(|&(i, _, _)| i != best_arx)
     {
         findings.push(format!(
             "{} scored {s:.4} on average, below the best ARX's {arx_score:.4}, but not on every fold: a structure must beat the best ARX on every fold to replace it",
@@ -77,6 +84,21 @@ pub(super) fn choose(candidates: &[CandidateScore], measure: &[Option<(&[f64], f
                 candidates[chosen].name
             ));
             (chosen, score) = (i, s);
+        }
+    }
+    // Each structure below the ARX on every fold put out by its disagreement, said.
+    for (i, _, s) in scored(false).filter(|&(i, f, _)| below_on_every_fold(f) && i != best_arx) {
+        if let Some(d) = disagreement(i) {
+            let whose = if candidates[i].members.is_empty() {
+                "its"
+            } else {
+                "its worst member's"
+            };
+            findings.push(format!(
+                "{} scored {s:.4}, below the best ARX's {arx_score:.4} on every fold, but under held steps at the data's own input levels {whose} free run disagrees with the other structures that beat the ARX {} x as much as they do with each other (above {DISAGREEMENT_LIMIT}): it extrapolates in a way of its own, which the folds cannot judge",
+                candidates[i].name,
+                crate::metrics::sig(d, 3)
+            ));
         }
     }
     Some(Choice {

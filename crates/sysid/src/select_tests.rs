@@ -146,13 +146,23 @@ fn a_linear_record_is_never_given_a_model_worse_than_the_best_arx() {
         &|_| {},
     )
     .unwrap();
-    let best = sel
+    let chosen = sel.candidates[sel.chosen].score.unwrap();
+    assert!(chosen <= sel.candidates[sel.best_arx].score.unwrap());
+    // Every candidate with a lower mean was put out by a rule, and a finding names it.
+    for c in sel
         .candidates
         .iter()
-        .filter_map(|c| c.score)
-        .fold(f64::INFINITY, f64::min);
-    assert_eq!(sel.candidates[sel.chosen].score.unwrap(), best);
-    assert!(best <= sel.candidates[sel.best_arx].score.unwrap());
+        .filter(|c| c.score.is_some_and(|s| s < chosen))
+    {
+        assert!(
+            sel.findings
+                .iter()
+                .any(|f| f.starts_with(&format!("{} scored", c.name))),
+            "{}: {:?}",
+            c.name,
+            sel.findings
+        );
+    }
 }
 
 #[test]
@@ -202,9 +212,9 @@ fn bad_options_are_errors() {
     }
 }
 
-#[test]
-fn a_polynomial_is_chosen_only_when_it_beats_the_bounded_structures_by_the_margin() {
-    let scored = |name: &str, kind: Kind, activation: Activation, score: f64| CandidateScore {
+/// A candidate of `kind` that scored `score` on each of 3 folds.
+fn scored(name: &str, kind: Kind, activation: Activation, score: f64) -> CandidateScore {
+    CandidateScore {
         name: name.into(),
         model: ModelSpec {
             kind,
@@ -218,9 +228,14 @@ fn a_polynomial_is_chosen_only_when_it_beats_the_bounded_structures_by_the_margi
         output_scores: Vec::new(),
         output_fold_scores: Vec::new(),
         excursion: None,
+        held_disagreement: None,
         failed: None,
         note: None,
-    };
+    }
+}
+
+#[test]
+fn a_polynomial_is_chosen_only_when_it_beats_the_bounded_structures_by_the_margin() {
     let list = |poly: f64| {
         vec![
             scored("arx", Kind::Arx, Activation::Tanh, 0.5),
@@ -259,6 +274,43 @@ fn a_polynomial_is_chosen_only_when_it_beats_the_bounded_structures_by_the_margi
     );
     // None that wins every fold: the ARX.
     l.pop();
+    let s = finish(l, &opts, tally()).unwrap();
+    assert_eq!(s.candidates[s.chosen].name, "arx");
+}
+
+#[test]
+fn a_structure_whose_held_steps_disagree_with_the_others_does_not_replace_the_arx() {
+    let with = |name: &str, kind: Kind, score: f64, d: Option<f64>| CandidateScore {
+        held_disagreement: d,
+        ..scored(name, kind, Activation::Tanh, score)
+    };
+    let list = |d: f64| {
+        vec![
+            with("arx", Kind::Arx, 0.5, None),
+            with("lone", Kind::Rhonn, 0.05, Some(d)),
+            with("crowd", Kind::Rhonn, 0.2, Some(1.0)),
+        ]
+    };
+    let opts = SelectOptions::default();
+    // Above the limit: the next structure, and a finding names the one put out.
+    let s = finish(list(3.7), &opts, tally()).unwrap();
+    assert_eq!(s.candidates[s.chosen].name, "crowd");
+    assert!(
+        s.findings
+            .iter()
+            .any(|f| f.starts_with("lone scored 0.0500") && f.contains("disagrees") && f.contains("3.7 x")),
+        "{:?}",
+        s.findings
+    );
+    // At or below it: the lowest mean, as before.
+    for d in [super::super::select_candidates::DISAGREEMENT_LIMIT, 1.5] {
+        let s = finish(list(d), &opts, tally()).unwrap();
+        assert_eq!(s.candidates[s.chosen].name, "lone");
+        assert!(!s.findings.iter().any(|f| f.contains("disagrees")));
+    }
+    // Every structure out: the ARX.
+    let mut l = list(3.7);
+    l[2].held_disagreement = Some(2.5);
     let s = finish(l, &opts, tally()).unwrap();
     assert_eq!(s.candidates[s.chosen].name, "arx");
 }
@@ -329,6 +381,7 @@ fn per_output_scored(name: &str, kind: Kind, folds: [[f64; 3]; 2]) -> CandidateS
         output_scores: folds.iter().map(|f| mean(f)).collect(),
         output_fold_scores: folds.iter().map(|f| f.to_vec()).collect(),
         excursion: None,
+        held_disagreement: None,
         failed: None,
         note: None,
     }
