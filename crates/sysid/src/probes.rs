@@ -114,13 +114,8 @@ fn distance(a: &[&Probe], b: &[&Probe], sd: &[f64]) -> Option<f64> {
                 if len <= first {
                     continue;
                 }
-                let d = ra[first..len]
-                    .iter()
-                    .zip(&rb[first..len])
-                    .map(|(x, y)| (x - y).powi(2))
-                    .sum::<f64>()
-                    / (len - first) as f64;
-                sum += d.sqrt() / sd.get(j).copied().unwrap_or(1.0);
+                let d = crate::metrics::rms_error(&ra[first..len], &rb[first..len]);
+                sum += d / sd.get(j).copied().unwrap_or(1.0);
                 n += 1.0;
             }
         }
@@ -154,14 +149,21 @@ pub(super) fn disagreements(rivals: &[Option<Vec<&Probe>>], sd: &[f64]) -> Vec<O
         return out;
     }
     let probes = |i: usize| rivals[i].as_deref().unwrap_or(&[]);
-    let own: Vec<Option<f64>> = members
-        .iter()
-        .map(|&i| {
+    // The distance is symmetric: each pair once.
+    let m = members.len();
+    let mut pair = vec![None; m * m];
+    for a in 0..m {
+        for b in a + 1..m {
+            let d = distance(probes(members[a]), probes(members[b]), sd);
+            (pair[a * m + b], pair[b * m + a]) = (d, d);
+        }
+    }
+    let own: Vec<Option<f64>> = (0..m)
+        .map(|a| {
             median(
-                members
-                    .iter()
-                    .filter(|&&j| j != i)
-                    .filter_map(|&j| distance(probes(i), probes(j), sd))
+                (0..m)
+                    .filter(|&b| b != a)
+                    .filter_map(|b| pair[a * m + b])
                     .collect(),
             )
         })
