@@ -278,14 +278,18 @@ fn lock_created(dir: &Path, folder_err: &dyn Fn(std::io::Error) -> Error) -> Res
 }
 
 /// Remove the staging folders of earlier runs: each was a run's that held the folder's
-/// lock, which the caller holds now, so those runs have ended.
+/// lock, which the caller holds now, so those runs have ended. Also the write probes
+/// (`.rhonn-probe-PID`, `folder::check_writable`) of runs killed between creating and
+/// removing one: a probe is never read, so removing one still in use costs nothing.
 fn remove_stages(dir: &Path) {
     let Ok(rd) = std::fs::read_dir(dir) else { return };
     for e in rd.flatten() {
-        if e.file_name().to_string_lossy().starts_with(".rhonn-stage-")
-            && e.file_type().is_ok_and(|t| t.is_dir())
-        {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let is_dir = e.file_type().is_ok_and(|t| t.is_dir());
+        if name.starts_with(".rhonn-stage-") && is_dir {
             let _ = std::fs::remove_dir_all(e.path());
+        } else if name.starts_with(".rhonn-probe-") && !is_dir {
+            let _ = std::fs::remove_file(e.path());
         }
     }
 }
