@@ -15,6 +15,7 @@ mod online_lagged;
 mod pump_as_plant;
 mod regulated;
 mod robustness;
+mod solver_settings;
 mod tanks;
 mod tanks_tuning;
 mod thesis_ch3;

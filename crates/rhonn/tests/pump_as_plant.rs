@@ -63,7 +63,7 @@ fn a_pump_scenario_through_the_generic_runner_follows_the_pumps_own_runner() {
     // ode45's default tolerances there (rtol 1e-3); the generic runner's are 1e-7.
     let solver = own.solver.get_or_insert_with(Default::default);
     solver.rtol = Some(1e-8);
-    solver.atol_p_line_pa = Some(1e-2);
+    solver.atol_si.insert("p_line".into(), 1e-2);
     if let Some(rhonn::signal::SignalSpec::Trapezoids { pulses, .. }) = own.input.get_mut("demand") {
         pulses.truncate(2);
     }
@@ -216,7 +216,7 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
     }
     let solver = own.solver.get_or_insert_with(Default::default);
     solver.rtol = Some(1e-8);
-    solver.atol_p_line_pa = Some(1e-2);
+    solver.atol_si.insert("p_line".into(), 1e-2);
     if let Some(c) = own.control.as_mut() {
         c.setpoint =
             toml::from_str::<toml::Value>("s = { kind = \"steps\", initial = 10.0, steps = [[15.0, 5.0]] }")

@@ -60,104 +60,6 @@ impl Controller for RhonnCascade {
     }
 }
 
-/// The adaptive cascade's settings as a scenario writes them: each unset one takes
-/// [`CascadeSettings::default`]. The pump's own runner (a scenario's `pump-rhonn-adaptive`
-/// lowered) and the generic runner's `pump-rhonn-adaptive` loop both check theirs here.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct AdaptiveKnobs {
-    /// Closed-loop pressure pole lambda \[1/s\].
-    #[serde(default)]
-    pub lambda_per_s: Option<f64>,
-    /// lambda during the identification phase \[1/s\].
-    #[serde(default)]
-    pub lambda_ident_per_s: Option<f64>,
-    /// Identification phase \[s\].
-    #[serde(default)]
-    pub identification_s: Option<f64>,
-    /// Stroke feedback gain g.
-    #[serde(default)]
-    pub stroke_gain: Option<f64>,
-    /// Lead on the stroke reference \[s\].
-    #[serde(default)]
-    pub lead_s: Option<f64>,
-    /// Identifier filter pole a \[1/s\].
-    #[serde(default)]
-    pub observer_pole_per_s: Option<f64>,
-    /// Learning rate of the drift weights.
-    #[serde(default)]
-    pub gamma_w: Option<f64>,
-    /// Learning rate of the gain weights.
-    #[serde(default)]
-    pub gamma_w1: Option<f64>,
-    /// Radius of the gain weights' ball, a fraction of the largest safe radius, in (0, 1).
-    #[serde(default)]
-    pub ball_fraction: Option<f64>,
-    /// Integral action on the tracking error \[1/s^2\].
-    #[serde(default)]
-    pub integral_per_s2: Option<f64>,
-    /// Memory of the actuator's online identification \[s\] (0: off).
-    #[serde(default)]
-    pub actuator_memory_s: Option<f64>,
-    /// The stroke gain's scale for an identified lag \[s\] (0: not scheduled).
-    #[serde(default)]
-    pub lag_scale_s: Option<f64>,
-}
-
-impl AdaptiveKnobs {
-    /// The checked settings; errors name `<prefix>.<key>`.
-    pub fn check(&self, prefix: &str) -> Result<CascadeSettings> {
-        let d = CascadeSettings::default();
-        let pos = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
-            let v = v.unwrap_or(default);
-            if v.is_finite() && v > 0.0 {
-                Ok(v)
-            } else {
-                Err(invalid(format!("{prefix}.{name}"), v, "a finite number > 0"))
-            }
-        };
-        let non_neg = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
-            let v = v.unwrap_or(default);
-            if v.is_finite() && v >= 0.0 {
-                Ok(v)
-            } else {
-                Err(invalid(format!("{prefix}.{name}"), v, "a finite number >= 0"))
-            }
-        };
-        let cascade = CascadeSettings {
-            lambda_per_s: pos("lambda_per_s", self.lambda_per_s, d.lambda_per_s)?,
-            lambda_ident_per_s: pos(
-                "lambda_ident_per_s",
-                self.lambda_ident_per_s,
-                d.lambda_ident_per_s,
-            )?,
-            identification_s: non_neg("identification_s", self.identification_s, d.identification_s)?,
-            stroke_gain: non_neg("stroke_gain", self.stroke_gain, d.stroke_gain)?,
-            lead_s: non_neg("lead_s", self.lead_s, d.lead_s)?,
-            observer_pole_per_s: pos(
-                "observer_pole_per_s",
-                self.observer_pole_per_s,
-                d.observer_pole_per_s,
-            )?,
-            gamma_w: non_neg("gamma_w", self.gamma_w, d.gamma_w)?,
-            gamma_w1: non_neg("gamma_w1", self.gamma_w1, d.gamma_w1)?,
-            ball_fraction: self.ball_fraction.unwrap_or(d.ball_fraction),
-            p_scale_mpa: d.p_scale_mpa,
-            integral_per_s2: non_neg("integral_per_s2", self.integral_per_s2, d.integral_per_s2)?,
-            actuator_memory_s: non_neg("actuator_memory_s", self.actuator_memory_s, d.actuator_memory_s)?,
-            lag_scale_s: non_neg("lag_scale_s", self.lag_scale_s, d.lag_scale_s)?,
-        };
-        if !(cascade.ball_fraction > 0.0 && cascade.ball_fraction < 1.0) {
-            return Err(invalid(
-                format!("{prefix}.ball_fraction"),
-                cascade.ball_fraction,
-                "a number in (0, 1) (1 would let W_1 S' reach zero)",
-            ));
-        }
-        Ok(cascade)
-    }
-}
-
 /// The pump's adaptive cascade from the **nominal** table (the controller does not know the
 /// plant's deviations), its gain weights starting from `beta k_l omega / V_l` at the
 /// set-point `p_ref0` \[Pa\] (MPa/(s mm)); current up to `i_max` \[A\], stroke up to
@@ -222,6 +124,61 @@ pub struct PumpAdaptiveLoop {
     pub lag_scale_s: Option<f64>,
 }
 
+impl PumpAdaptiveLoop {
+    /// The checked settings, each unset one from [`CascadeSettings::default`]; errors name
+    /// `<prefix>.<key>`. (The pump's own runner checks a lowered scenario's here too.)
+    pub fn check(&self, prefix: &str) -> Result<CascadeSettings> {
+        let d = CascadeSettings::default();
+        let pos = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
+            let v = v.unwrap_or(default);
+            if v.is_finite() && v > 0.0 {
+                Ok(v)
+            } else {
+                Err(invalid(format!("{prefix}.{name}"), v, "a finite number > 0"))
+            }
+        };
+        let non_neg = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
+            let v = v.unwrap_or(default);
+            if v.is_finite() && v >= 0.0 {
+                Ok(v)
+            } else {
+                Err(invalid(format!("{prefix}.{name}"), v, "a finite number >= 0"))
+            }
+        };
+        let cascade = CascadeSettings {
+            lambda_per_s: pos("lambda_per_s", self.lambda_per_s, d.lambda_per_s)?,
+            lambda_ident_per_s: pos(
+                "lambda_ident_per_s",
+                self.lambda_ident_per_s,
+                d.lambda_ident_per_s,
+            )?,
+            identification_s: non_neg("identification_s", self.identification_s, d.identification_s)?,
+            stroke_gain: non_neg("stroke_gain", self.stroke_gain, d.stroke_gain)?,
+            lead_s: non_neg("lead_s", self.lead_s, d.lead_s)?,
+            observer_pole_per_s: pos(
+                "observer_pole_per_s",
+                self.observer_pole_per_s,
+                d.observer_pole_per_s,
+            )?,
+            gamma_w: non_neg("gamma_w", self.gamma_w, d.gamma_w)?,
+            gamma_w1: non_neg("gamma_w1", self.gamma_w1, d.gamma_w1)?,
+            ball_fraction: self.ball_fraction.unwrap_or(d.ball_fraction),
+            p_scale_mpa: d.p_scale_mpa,
+            integral_per_s2: non_neg("integral_per_s2", self.integral_per_s2, d.integral_per_s2)?,
+            actuator_memory_s: non_neg("actuator_memory_s", self.actuator_memory_s, d.actuator_memory_s)?,
+            lag_scale_s: non_neg("lag_scale_s", self.lag_scale_s, d.lag_scale_s)?,
+        };
+        if !(cascade.ball_fraction > 0.0 && cascade.ball_fraction < 1.0) {
+            return Err(invalid(
+                format!("{prefix}.ball_fraction"),
+                cascade.ball_fraction,
+                "a number in (0, 1) (1 would let W_1 S' reach zero)",
+            ));
+        }
+        Ok(cascade)
+    }
+}
+
 /// The pump's pressure and stroke among `cx`'s states, or an error naming the field.
 pub(crate) fn pump_states(cx: &LoopContext, state: &str) -> Result<()> {
     let (p, x) = (
@@ -238,46 +195,6 @@ pub(crate) fn pump_states(cx: &LoopContext, state: &str) -> Result<()> {
     Ok(())
 }
 
-impl PumpAdaptiveLoop {
-    /// The loop on `state` with settings `k`.
-    pub fn with_knobs(state: String, k: AdaptiveKnobs) -> Self {
-        PumpAdaptiveLoop {
-            state,
-            lambda_per_s: k.lambda_per_s,
-            lambda_ident_per_s: k.lambda_ident_per_s,
-            identification_s: k.identification_s,
-            stroke_gain: k.stroke_gain,
-            lead_s: k.lead_s,
-            observer_pole_per_s: k.observer_pole_per_s,
-            gamma_w: k.gamma_w,
-            gamma_w1: k.gamma_w1,
-            ball_fraction: k.ball_fraction,
-            integral_per_s2: k.integral_per_s2,
-            actuator_memory_s: k.actuator_memory_s,
-            lag_scale_s: k.lag_scale_s,
-        }
-    }
-
-    /// Its settings. (Written out here, not flattened: `serde` cannot refuse unknown keys
-    /// beside a flattened table.)
-    pub fn knobs(&self) -> AdaptiveKnobs {
-        AdaptiveKnobs {
-            lambda_per_s: self.lambda_per_s,
-            lambda_ident_per_s: self.lambda_ident_per_s,
-            identification_s: self.identification_s,
-            stroke_gain: self.stroke_gain,
-            lead_s: self.lead_s,
-            observer_pole_per_s: self.observer_pole_per_s,
-            gamma_w: self.gamma_w,
-            gamma_w1: self.gamma_w1,
-            ball_fraction: self.ball_fraction,
-            integral_per_s2: self.integral_per_s2,
-            actuator_memory_s: self.actuator_memory_s,
-            lag_scale_s: self.lag_scale_s,
-        }
-    }
-}
-
 impl LoopSettings for PumpAdaptiveLoop {
     fn state(&self) -> &str {
         &self.state
@@ -287,7 +204,7 @@ impl LoopSettings for PumpAdaptiveLoop {
     }
     fn build(&self, cx: &LoopContext) -> Result<Box<dyn Controller>> {
         pump_states(cx, &self.state)?;
-        let settings = self.knobs().check(&cx.field)?;
+        let settings = self.check(&cx.field)?;
         if !cx.setpoint0.is_finite() {
             return Err(invalid(
                 format!("{}.kind", cx.field),

@@ -12,7 +12,7 @@ mod rhonn_indirect;
 #[cfg(test)]
 mod test_bang_bang;
 pub use adaptive::{
-    pump_cascade, AdaptiveKnobs, AffineNeuron, CascadeSettings, CascadeState, PumpAdaptiveLoop, RhonnCascade,
+    pump_cascade, AffineNeuron, CascadeSettings, CascadeState, PumpAdaptiveLoop, RhonnCascade,
 };
 pub use cascade::{Cascade, CascadeLoop};
 pub use cascade_pi::{CascadePi, CascadePiGains, PumpCascadePiLoop};

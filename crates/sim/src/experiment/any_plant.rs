@@ -8,22 +8,29 @@ use super::integrated::{Alone, Integrated};
 pub use super::loop_conditions::LoopConditions;
 use super::loop_conditions::{Actuator, Sensors};
 use super::sim::{describe, drive, start, Hooks, Instants};
+use super::solver_spec::{SolverDefaults, Tolerances};
 use crate::control::Controller;
 use crate::error::{Error, Result};
 use crate::ident::{FrozenPair, IdentSettings, Identified};
 use crate::metrics::{fit_percent, rms_error};
 use crate::plant::Plant;
 use crate::signal::Signal;
-use rhonn_ode::{Dopri5, Options, State};
+use rhonn_ode::{Dopri5, State};
 
 /// `system` from `x0` (the plant's states, then `rest`) in the event-locating solver.
-fn solver<S: Integrated>(system: S, x0: &[f64], rest: &[f64], rtol: f64) -> Result<Dopri5<S>> {
+fn solver<S: Integrated>(system: S, x0: &[f64], rest: &[f64], tol: &Tolerances) -> Result<Dopri5<S>> {
     let mut s0 = S::State::zeros(system.dim());
     s0.as_mut_slice()[..x0.len()].copy_from_slice(x0);
     s0.as_mut_slice()[x0.len()..].copy_from_slice(rest);
     let dim = system.dim();
-    start(system, s0, Options::uniform(dim, rtol, 1e-9))
+    start(system, s0, tol.options(dim))
 }
+
+/// The solver's settings of an identification when `[solver]` sets none: rtol 1e-6,
+/// atol 1e-9 on every state, no step limit.
+pub const IDENTIFY_RTOL: f64 = 1e-6;
+/// The same of a closed loop: rtol 1e-7.
+pub const LOOP_RTOL: f64 = 1e-7;
 
 /// What one identification of a plant gives: per identified state, the samples and the
 /// estimates while training, and the frozen weights.
@@ -64,14 +71,15 @@ impl IdentRun {
 /// Identify `plant` (driven by its own inputs) online from `x0` with the checked
 /// identifier `is` (series-parallel, weights adapting) for `duration_s`, sampled every
 /// `sample_s`. With `frozen`, the weights are held at those given and the estimates are
-/// the parallel (free-run) model's instead.
+/// the parallel (free-run) model's instead. `tol`: the solver's settings (see
+/// [`IDENTIFY_RTOL`] for the scenarios' default).
 pub fn identify<P: Plant>(
     plant: P,
     x0: &[f64],
     is: &IdentSettings,
-    duration_s: f64,
-    sample_s: f64,
+    (duration_s, sample_s): (f64, f64),
     frozen: Option<&[Vec<f64>]>,
+    tol: &Tolerances,
 ) -> Result<IdentRun> {
     let n = is.states.len();
     let mut sampler = Sampler {
@@ -93,14 +101,14 @@ pub fn identify<P: Plant>(
     if let Some(w) = frozen {
         let init = FrozenPair::<P>::initial_state(&is.ident, &is.xhat0);
         let sys = FrozenPair::<P>::new(plant, &is.ident, w, is.states.clone(), is.inputs.clone())?;
-        let mut s = solver(sys, x0, &init, 1e-6)?;
+        let mut s = solver(sys, x0, &init, tol)?;
         drive(&mut s, t_end, Some(instants), &mut sampler)?;
         sampler.run.weights = w.to_vec();
         return Ok(sampler.run);
     }
     let init = is.ident.initial_state(&is.xhat0, None);
     let sys = Identified::<P>::new(plant, is.ident.clone(), is.states.clone(), is.inputs.clone())?;
-    let mut s = solver(sys, x0, &init, 1e-6)?;
+    let mut s = solver(sys, x0, &init, tol)?;
     drive(&mut s, t_end, Some(instants), &mut sampler)?;
     sampler.run.weights = s.system().ident.weights(&s.state()[np..]);
     Ok(sampler.run)
@@ -208,12 +216,22 @@ pub fn closed_loop<P: Plant>(
     duration_s: f64,
 ) -> Result<LoopRun> {
     let clean = LoopConditions::default();
-    closed_loop_with(plant, x0, ctl, input, (setpoint, period_s, duration_s), &clean)
+    let tol = Tolerances::of_defaults(&SolverDefaults::plant(LOOP_RTOL), plant.states().len());
+    closed_loop_with(
+        plant,
+        x0,
+        ctl,
+        input,
+        (setpoint, period_s, duration_s),
+        &clean,
+        &tol,
+    )
 }
 
 /// [`closed_loop`] under `conditions`: the controller sees its states through noisy
 /// sensors, and its command, dithered, reaches the plant after the delay. `u` records
 /// what reached the plant; `y_measured` what the controller saw of the regulated state.
+/// `tol`: the solver's settings (see [`LOOP_RTOL`] for the scenarios' default).
 pub fn closed_loop_with<P: Plant>(
     mut plant: P,
     x0: &[f64],
@@ -221,6 +239,7 @@ pub fn closed_loop_with<P: Plant>(
     input: usize,
     (setpoint, period_s, duration_s): (&Signal, f64, f64),
     conditions: &LoopConditions,
+    tol: &Tolerances,
 ) -> Result<LoopRun> {
     let n_meas = ctl.measurements().len();
     let y_idx = *ctl.measurements().first().ok_or_else(|| {
@@ -228,7 +247,7 @@ pub fn closed_loop_with<P: Plant>(
     })?;
     plant.hold_input(input, 0.0);
     let n_states = plant.states().len();
-    let mut s = solver(Alone(plant), x0, &[], 1e-7)?;
+    let mut s = solver(Alone(plant), x0, &[], tol)?;
     let mut hooks = Regulate {
         run: LoopRun {
             controller: ctl.name(),
@@ -395,10 +414,11 @@ mod tests {
         )
         .unwrap();
         let is = spec.check_for(&tanks).unwrap();
-        let run = identify(tanks.clone(), &[0.0, 0.0], &is, 200.0, 1.0, None).unwrap();
+        let tol = Tolerances::of_defaults(&SolverDefaults::plant(IDENTIFY_RTOL), 2);
+        let run = identify(tanks.clone(), &[0.0, 0.0], &is, (200.0, 1.0), None, &tol).unwrap();
         assert_eq!((run.t.len(), run.y.len(), run.weights.len()), (201, 1, 1));
         assert!(run.rms_after(100.0)[0] < 5e-3, "{:?}", run.rms_after(100.0));
-        let frozen = identify(tanks, &[0.0, 0.0], &is, 50.0, 1.0, Some(&run.weights)).unwrap();
+        let frozen = identify(tanks, &[0.0, 0.0], &is, (50.0, 1.0), Some(&run.weights), &tol).unwrap();
         assert_eq!(frozen.weights, run.weights);
         assert_eq!(frozen.y_hat[0][0], 0.0);
         // Less than one sample: an error, not an empty or doubled record.
@@ -406,9 +426,9 @@ mod tests {
             Tanks::new(TanksParams::default(), Input::Held(5.0)),
             &[0.0, 0.0],
             &is,
-            0.2,
-            1.0,
+            (0.2, 1.0),
             None,
+            &tol,
         )
         .unwrap_err()
         .to_string();

@@ -19,6 +19,7 @@ mod pump_settings;
 mod scenario;
 mod scenario_run;
 pub mod sim;
+mod solver_spec;
 mod trace;
 pub mod tuning;
 
@@ -39,4 +40,5 @@ pub use scenario::{
     SolverSpec, ValidationSpec, MAX_DELAY_PERIODS,
 };
 pub use scenario_run::{NamedColumns, ScenarioRun};
+pub use solver_spec::{SolverDefaults, Tolerances, DEFAULT_ATOL};
 pub use trace::{BaselineSample, Column, NoRecorder, Recorder, Sample, Trace};

@@ -3,8 +3,9 @@
 //! identical plants. Produces columns (SI) and a summary (display units) that the
 //! report crate writes as trajectory.csv, validation.csv, summary.json and plots.
 
-use super::any_plant::{closed_loop_with, identify, IdentRun, LoopRun};
+use super::any_plant::{closed_loop_with, identify, IdentRun, LoopRun, IDENTIFY_RTOL, LOOP_RTOL};
 use super::scenario::{configure, drive, loop_conditions, signal, state_index, ScenarioSpec};
+use super::solver_spec::{SolverDefaults, Tolerances};
 use crate::control::LoopContext;
 use crate::error::{invalid, Error, Result};
 use crate::plant::{with_kind, Plant, Quantity, WithPlant};
@@ -340,6 +341,16 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
     Ok(out)
 }
 
+/// The solver's settings of `spec` on `plant` (`[solver]`, else the runner's: `rtol`,
+/// atol 1e-9, no step limit).
+fn tolerances<P: Plant>(plant: &P, spec: &ScenarioSpec, rtol: f64) -> Result<Tolerances> {
+    let defaults = SolverDefaults::plant(rtol);
+    match &spec.solver {
+        Some(s) => s.check(plant.name(), plant.states(), &defaults, spec.duration_s),
+        None => Ok(Tolerances::of_defaults(&defaults, plant.states().len())),
+    }
+}
+
 /// Refuse columns with a value that is not finite, naming the first (column, time): a run
 /// never writes NaN or infinity with success, whatever a setting let through.
 fn all_finite(columns: &[PlantColumn], file: &str) -> Result<()> {
@@ -414,6 +425,7 @@ fn run_control<P: Plant>(
     // Bounded so that the error's integrals (IAE, ISE) stay finite.
     let sp = signal(&c.setpoint, "control.setpoint", &qy, (-1e150, 1e150))?;
     let conditions = loop_conditions(&plant, spec, c, qu, range)?;
+    let tol = tolerances(&plant, spec, LOOP_RTOL)?;
     let baseline = c.baseline.as_ref().ok_or_else(|| {
         invalid(
             "control.baseline",
@@ -451,6 +463,7 @@ fn run_control<P: Plant>(
             k,
             (&sp, c.period_s, spec.duration_s),
             &conditions,
+            &tol,
         )?);
     }
     let figs = |r: &LoopRun| {
@@ -559,14 +572,9 @@ fn run_identification<P: Plant>(
     mut summary: PlantSummary,
 ) -> Result<PlantRunOutput> {
     let is = ident.check_for(&plant)?;
-    let train = identify(
-        plant.clone(),
-        x0,
-        &is,
-        spec.duration_s,
-        spec.output_interval_s,
-        None,
-    )?;
+    let tol = tolerances(&plant, spec, IDENTIFY_RTOL)?;
+    let sampling = (spec.duration_s, spec.output_interval_s);
+    let train = identify(plant.clone(), x0, &is, sampling, None, &tol)?;
     let validation = match &spec.validation {
         Some(v) => {
             // As many output samples as the run may hold (check_times' bound).
@@ -581,14 +589,8 @@ fn run_identification<P: Plant>(
                 ));
             }
             let p = drive(plant.clone(), &v.input, "validation.input")?;
-            Some(identify(
-                p,
-                x0,
-                &is,
-                v.duration_s,
-                spec.output_interval_s,
-                Some(&train.weights),
-            )?)
+            let sampling = (v.duration_s, spec.output_interval_s);
+            Some(identify(p, x0, &is, sampling, Some(&train.weights), &tol)?)
         }
         None => None,
     };

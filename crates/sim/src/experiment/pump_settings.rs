@@ -8,6 +8,7 @@ use super::pump_controllers::{
     CascadePiGainsMpa, CascadePiSettings, PiSettings,
 };
 use super::scenario::{check_folder_name, ControlSpec, ProfileSpec, SolverSpec};
+use super::solver_spec::SolverDefaults;
 use crate::control::CascadeSettings;
 use crate::error::{invalid, Error, Result};
 use crate::ident::{IdentSettings, IdentifierSpec};
@@ -382,7 +383,7 @@ impl PumpSettings {
                 Drive::Pi(pi)
             }
             LoopSpec::PumpRhonnAdaptive(l) => {
-                let cascade = l.knobs().check("controller")?;
+                let cascade = l.check("controller")?;
                 let baseline = check_baseline(BaselineKeys::of(c.baseline.as_ref()), &setpoint, params)?;
                 let second_baseline = match c.second_baseline.as_deref() {
                     None => None,
@@ -415,50 +416,22 @@ impl PumpSettings {
     }
 
     /// The solver's settings: the profile's defaults, then the file's values, checked.
+    /// The generic `[solver]` on the pump's pressure and stroke (the pump's defaults:
+    /// rtol 1e-6, atol 1 Pa and 1e-9 m, largest step 100 ms).
     fn check_solver(&self) -> Result<SolverSettings> {
-        let s = &self.solver;
-        let (rtol, atol_p, atol_x, h_max) = match s.profile {
-            ProfileSpec::Hairer => (1e-6, 1.0, 1e-9, 0.1),
-            ProfileSpec::Ode45 => (1e-3, 1e-6, 1e-6, 0.1 * self.duration_s),
-            ProfileSpec::SimulinkOde45 => (1e-3, 1e-6, 1e-6, self.duration_s / 50.0),
+        let defaults = SolverDefaults {
+            rtol: 1e-6,
+            atol: vec![1.0, 1e-9],
+            max_step_s: 0.1,
         };
-        let solver = SolverSettings {
-            profile: s.profile,
-            rtol: s.rtol.unwrap_or(rtol),
-            atol_p_line_pa: s.atol_p_line_pa.unwrap_or(atol_p),
-            atol_stroke_m: s.atol_stroke_m.unwrap_or(atol_x),
-            max_step_s: s.max_step_ms.map_or(h_max, |v| v * S_PER_MS),
-        };
-        if !(1e-13..0.1).contains(&solver.rtol) {
-            return Err(invalid("solver.rtol", solver.rtol, "a number in [1e-13, 0.1)"));
-        }
-        if !(solver.atol_p_line_pa.is_finite() && solver.atol_p_line_pa > 0.0) {
-            return Err(invalid(
-                "solver.atol_p_line_pa",
-                solver.atol_p_line_pa,
-                "a number > 0 (Pa)",
-            ));
-        }
-        if !(solver.atol_stroke_m.is_finite() && solver.atol_stroke_m > 0.0) {
-            return Err(invalid(
-                "solver.atol_stroke_m",
-                solver.atol_stroke_m,
-                "a number > 0 (m)",
-            ));
-        }
-        // At most 10,000,000 steps of the largest size over the run: a smaller bound ran
-        // until the solver's step budget failed it, naming no setting.
-        let min_step_s = self.duration_s / 1e7;
-        if !(solver.max_step_s.is_finite() && solver.max_step_s >= min_step_s) {
-            return Err(invalid(
-                "solver.max_step_ms",
-                crate::metrics::sig(solver.max_step_s / S_PER_MS, 6),
-                format!(
-                    "a number of ms of at least {} (duration_s / 10,000,000 steps)",
-                    crate::metrics::sig(min_step_s / S_PER_MS, 3)
-                ),
-            ));
-        }
-        Ok(solver)
+        let states = &crate::plant::pump::STATES[..2];
+        let t = self.solver.check("pump", states, &defaults, self.duration_s)?;
+        Ok(SolverSettings {
+            profile: t.profile,
+            rtol: t.rtol,
+            atol_p_line_pa: t.atol[0],
+            atol_stroke_m: t.atol[1],
+            max_step_s: t.max_step_s,
+        })
     }
 }

@@ -6,6 +6,7 @@
 
 use super::campaign_plan::CampaignSpec;
 use super::loop_conditions::{LoopConditions, SensorNoise};
+pub use super::solver_spec::{ProfileSpec, SolverSpec};
 pub use crate::control::LoopSpec;
 use crate::error::{invalid, Error, Result};
 use crate::ident::IdentifierSpec;
@@ -46,7 +47,7 @@ pub struct ScenarioSpec {
     /// Noisy sensors of a control run's states.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub measurement: Option<SensorNoiseSpec>,
-    /// The pump's solver settings (the pump only: other plants run at fixed tolerances).
+    /// The solver's settings (unset: the runner's tolerances).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub solver: Option<SolverSpec>,
     /// `rhonn campaign`'s distributions of the pump's uncertain parameters (the pump
@@ -127,35 +128,6 @@ pub struct ControlSpec {
     /// clipped to `input_range`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dither: Option<SignalSpec>,
-}
-
-/// Step-size control profile.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ProfileSpec {
-    /// Hairer's DOPRI5 control (default): rtol 1e-6, atol 1 Pa and 1e-9 m, max step 100 ms.
-    #[default]
-    Hairer,
-    /// MATLAB ode45's defaults and step control: RelTol 1e-3, AbsTol 1e-6, MaxStep span/10.
-    Ode45,
-    /// Simulink's variable-step ode45: as `ode45` but MaxStep span/50.
-    SimulinkOde45,
-}
-
-/// Solver settings; unset fields take the profile's defaults.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct SolverSpec {
-    /// Step-size control profile.
-    pub profile: ProfileSpec,
-    /// Relative tolerance (both states).
-    pub rtol: Option<f64>,
-    /// Absolute tolerance of the line pressure \[Pa\].
-    pub atol_p_line_pa: Option<f64>,
-    /// Absolute tolerance of the stroke \[m\].
-    pub atol_stroke_m: Option<f64>,
-    /// Largest step \[ms\].
-    pub max_step_ms: Option<f64>,
 }
 
 /// What a name that becomes a folder or file name may be: one plain path component.
@@ -300,7 +272,6 @@ impl ScenarioSpec {
         self.check_times()?;
         let second = self.control.as_ref().and_then(|c| c.second_baseline.as_ref());
         for (field, given) in [
-            ("solver", self.solver.is_some()),
             ("campaign", self.campaign.is_some()),
             ("control.second_baseline", second.is_some()),
         ] {
