@@ -27,7 +27,6 @@ pub mod commands;
 mod csv_out;
 mod data_in;
 pub mod folder;
-pub mod front_plot;
 pub mod glossary;
 mod html;
 pub mod identify;
@@ -38,7 +37,7 @@ mod plot;
 mod prediction;
 mod residuals;
 pub mod scenario_run;
-mod style;
+pub mod style;
 pub mod worst_runs;
 
 pub use atomic::OutputSet;

@@ -12,6 +12,7 @@ mod online;
 mod online_bank;
 mod online_cascade;
 mod online_lagged;
+mod open_loop;
 mod pump_as_plant;
 mod regulated;
 mod robustness;

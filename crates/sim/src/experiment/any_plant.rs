@@ -114,6 +114,54 @@ pub fn identify<P: Plant>(
     Ok(sampler.run)
 }
 
+/// What a plant driven by its own inputs does (open loop): every state at every sample.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OpenRun {
+    /// Sample times \[s\].
+    pub t: Vec<f64>,
+    /// Every plant state at each sample, SI (`states[i][k]`: state i at sample k).
+    pub states: Vec<Vec<f64>>,
+}
+
+/// Simulate `plant`, driven by its own inputs, from `x0` for `duration_s`, sampled every
+/// `sample_s` (`tol`: the solver's settings).
+pub fn simulate<P: Plant>(
+    plant: P,
+    x0: &[f64],
+    (duration_s, sample_s): (f64, f64),
+    tol: &Tolerances,
+) -> Result<OpenRun> {
+    struct Record(OpenRun);
+    impl<P: Plant> Hooks<Alone<P>> for Record {
+        fn instant(&mut self, s: &mut Dopri5<Alone<P>>) -> Result<()> {
+            self.0.t.push(s.t());
+            for (v, x) in self.0.states.iter_mut().zip(s.state()) {
+                v.push(*x);
+            }
+            Ok(())
+        }
+        fn stepped(&mut self, s: &Dopri5<Alone<P>>, done: bool) -> Result<()> {
+            if done {
+                self.0.t.push(s.t());
+                for (v, x) in self.0.states.iter_mut().zip(s.state()) {
+                    v.push(*x);
+                }
+            }
+            Ok(())
+        }
+    }
+    let n = plant.states().len();
+    let steps = sampling_steps(duration_s, sample_s)?;
+    let instants = Instants::seconds(sample_s);
+    let mut rec = Record(OpenRun {
+        t: Vec::new(),
+        states: vec![Vec::new(); n],
+    });
+    let mut s = solver(Alone(plant), x0, &[], tol)?;
+    drive(&mut s, instants.at(steps), Some(instants), &mut rec)?;
+    Ok(rec.0)
+}
+
 /// The whole sampling periods in `duration_s` (rounded), at least one.
 fn sampling_steps(duration_s: f64, period_s: f64) -> Result<u64> {
     let steps = (duration_s / period_s).round();

@@ -4,10 +4,13 @@ pub mod any_plant;
 mod bench;
 pub mod campaign;
 mod campaign_plan;
-pub mod front;
 mod integrated;
 mod loop_conditions;
+mod plant_control;
+mod plant_ident;
+mod plant_open;
 mod plant_run;
+mod plant_summary;
 pub mod preset;
 mod pump_controllers;
 mod pump_figures;
@@ -21,13 +24,12 @@ mod scenario_run;
 pub mod sim;
 mod solver_spec;
 mod trace;
-pub mod tuning;
 
 pub use bench::{bench, bench_plant, median_run_seconds, BenchFigures};
 pub use loop_conditions::{LoopConditions, SensorNoise};
-pub use plant_run::{
-    nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on, IdentStateFigures, LoopFigures,
-    PlantColumn, PlantRunOutput, PlantSummary, WEIGHT_QUANTITIES,
+pub use plant_run::{nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on};
+pub use plant_summary::{
+    IdentStateFigures, LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, StateRange, WEIGHT_QUANTITIES,
 };
 pub use pump_controllers::{CascadePiGainsMpa, NOMINAL_OPTIMAL, ROBUST};
 pub use pump_run::{

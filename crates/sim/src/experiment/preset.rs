@@ -47,6 +47,10 @@ pub const SHIPPED: &[(&str, &str)] = &[
         "tanks-control",
         include_str!("../../../../scenarios/tanks-control.toml"),
     ),
+    (
+        "tanks-simulate",
+        include_str!("../../../../scenarios/tanks-simulate.toml"),
+    ),
 ];
 
 /// A scenario from its TOML text in the one format (`source` names it in errors): the
@@ -176,7 +180,7 @@ mod tests {
         let e = load_any("thesis-ch9").unwrap_err().to_string();
         assert_eq!(
             e,
-            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5, pump-identify, pump-validate, control-adaptive, control-adaptive-gentle, control-adaptive-fast, tanks-identify, tanks-control)"
+            "unknown scenario `thesis-ch9`: not a file, and not one of the shipped scenarios (thesis-ch3, regulated-pi, thesis-ch5, pump-identify, pump-validate, control-adaptive, control-adaptive-gentle, control-adaptive-fast, tanks-identify, tanks-control, tanks-simulate)"
         );
         assert!(load_any("nope/x.toml")
             .unwrap_err()

@@ -10,10 +10,10 @@ use crate::signal::Signal;
 use crate::units::PA_PER_MPA;
 
 /// The cascade PI's gains when a scenario gives none: the **robust** tuning found by
-/// `cargo run --release -p rhonn --example tune_cascade_pi` (the lowest nominal IAE
+/// `cargo run --release -p rhonn-study --example tune_cascade_pi` (the lowest nominal IAE
 /// that still regulates with doubled gains, a 5 ms solenoid lag and a one-period delay,
 /// and keeps a gain margin of 6 dB and a phase margin of 45 degrees measured on the
-/// simulated pump at every operating point: `experiment::tuning`).
+/// simulated pump at every operating point: `rhonn_study::tuning`).
 pub const ROBUST: CascadePiGainsMpa = CascadePiGainsMpa {
     kp_mm_per_mpa: 0.15,
     ti_s: 0.07,

@@ -309,21 +309,23 @@ impl ScenarioSpec {
         Ok(())
     }
 
-    /// One experiment: an identifier or a control loop.
+    /// At most one experiment: an identifier or a control loop (neither: the plant driven
+    /// by its inputs alone).
     fn check_experiment(&self) -> Result<()> {
         match (&self.identifier, &self.control) {
-            (Some(_), Some(_)) | (None, None) => Err(invalid(
+            (Some(_), Some(_)) => Err(invalid(
                 "identifier, control",
-                if self.identifier.is_some() {
-                    "both"
-                } else {
-                    "neither"
-                },
-                "one of an [identifier] section and a [control] section",
+                "both",
+                "at most one of an [identifier] section and a [control] section (neither: the plant driven by its [input] profiles alone)",
             )),
-            (None, Some(_)) if self.validation.is_some() => {
+            (None, _) if self.validation.is_some() => {
                 Err(invalid("validation", "a section", "only with an [identifier]"))
             }
+            (None, None) if self.measurement.is_some() => Err(invalid(
+                "measurement",
+                "a section",
+                "only with a [control] section (what the controllers measure)",
+            )),
             (Some(_), None) if self.measurement.is_some() => Err(invalid(
                 "measurement",
                 "a section",

@@ -6,7 +6,8 @@
 //! the one place that tells them apart.)
 
 use super::bench::{bench, bench_plant, BenchFigures};
-use super::plant_run::{run_plant_scenario, PlantRunOutput};
+use super::plant_run::run_plant_scenario;
+use super::plant_summary::PlantRunOutput;
 use super::pump_run::{run_full, RunOutput};
 use super::pump_settings::{PumpSettings, Scenario};
 use super::scenario::ScenarioSpec;

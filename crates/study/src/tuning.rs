@@ -18,11 +18,12 @@
 //! and a loop one of them calls unstable (kp 1 mm/MPa at 10 MPa: a pole at |z| = 1.014)
 //! is well damped in the simulated pump.
 
-use super::campaign::{draw, PumpCampaign, Sampling};
-use super::pump_controllers::CascadePiGainsMpa;
-use super::scenario::ScenarioSpec;
-use super::{run_full, NoRecorder};
 use rayon::prelude::*;
+use rhonn::control::{Controller, LoopContext, LoopSpec, PumpCascadePiLoop};
+use rhonn::error::invalid;
+use rhonn::experiment::campaign::{draw, PumpCampaign, Sampling};
+use rhonn::experiment::{run_full, CascadePiGainsMpa, NoRecorder, ScenarioSpec};
+use rhonn::Result;
 
 /// One run's figures.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -112,7 +113,7 @@ pub const SENSITIVITY_FREQUENCIES: usize = 32;
 /// The smallest gain margin and phase margin of the cascade PI `gains` over
 /// [`OPERATING_POINTS`], measured on the simulated pump ([`margins`]), and whether the
 /// measurement held at every point ([`Margins::measurable`]).
-pub fn worst_margins(gains: CascadePiGainsMpa) -> crate::Result<Margins> {
+pub fn worst_margins(gains: CascadePiGainsMpa) -> Result<Margins> {
     let mut m = Margins {
         gain: f64::INFINITY,
         phase_deg: f64::INFINITY,
@@ -144,17 +145,22 @@ impl TuningScore {
     }
 }
 
+/// The pump's cascade PI loop of gains `g` on the line pressure.
+fn with_cascade_pi_loop(g: CascadePiGainsMpa) -> LoopSpec {
+    LoopSpec::PumpCascadePi(PumpCascadePiLoop {
+        state: "p_line".into(),
+        kp_mm_per_mpa: g.kp_mm_per_mpa,
+        ti_s: g.ti_s,
+        setpoint_weight: g.setpoint_weight,
+        stroke_gain: g.stroke_gain,
+    })
+}
+
 /// `spec` (an adaptive scenario) with the cascade PI of `g` as its only controller.
 pub fn with_cascade_pi(spec: &ScenarioSpec, g: CascadePiGainsMpa) -> ScenarioSpec {
     let mut s = spec.clone();
     if let Some(c) = &mut s.control {
-        c.controller = crate::control::LoopSpec::PumpCascadePi(crate::control::PumpCascadePiLoop {
-            state: "p_line".into(),
-            kp_mm_per_mpa: g.kp_mm_per_mpa,
-            ti_s: g.ti_s,
-            setpoint_weight: g.setpoint_weight,
-            stroke_gain: g.stroke_gain,
-        });
+        c.controller = with_cascade_pi_loop(g);
         (c.baseline, c.second_baseline, c.dither) = (None, None, None);
     }
     s
@@ -281,9 +287,9 @@ pub fn search(
 /// The plants of the robustness study, each as the scenario `spec` changed: nominal,
 /// solenoid lags of 1, 5 and 20 ms, a one-period transport delay, and the 32 corners of
 /// the thesis's uncertainty box.
-pub fn robustness_cases(spec: &ScenarioSpec) -> crate::Result<Vec<(String, ScenarioSpec)>> {
+pub fn robustness_cases(spec: &ScenarioSpec) -> Result<Vec<(String, ScenarioSpec)>> {
     let Some(campaign) = PumpCampaign::of(spec)? else {
-        return Err(crate::error::invalid(
+        return Err(invalid(
             "plant.kind",
             format!("{:?}", spec.plant.kind),
             "\"pump\" (the robustness study varies the pump's parameters)",
@@ -316,14 +322,14 @@ pub fn robustness_cases(spec: &ScenarioSpec) -> crate::Result<Vec<(String, Scena
 /// The cascade PI with a sinusoid added to its output after `t_on`, keeping what it
 /// computed (for the loop gain at the current).
 struct Injected {
-    inner: crate::control::CascadePi,
+    inner: Box<dyn Controller>,
     amplitude_a: f64,
     w: f64,
     t_on: f64,
     computed: Vec<f64>,
 }
 
-impl crate::control::Controller for Injected {
+impl Controller for Injected {
     fn name(&self) -> &'static str {
         "cascade-pi with injection"
     }
@@ -354,21 +360,21 @@ fn harmonics(
     q_dm3_s: f64,
     w: f64,
     amplitude_a: f64,
-) -> crate::Result<[Harmonic; 3]> {
-    use crate::plant::{Input, PumpParams, PumpSystem};
+) -> Result<[Harmonic; 3]> {
+    use rhonn::plant::{pump, Input, PumpParams, PumpSystem};
     // An angular frequency below 0.1 rad/s would ask for hours of simulated loop.
     if !(w.is_finite() && (0.1..=1e4).contains(&w)) {
-        return Err(crate::error::invalid("w (rad/s)", w, "a number in [0.1, 10000]"));
+        return Err(invalid("w (rad/s)", w, "a number in [0.1, 10000]"));
     }
     if !(amplitude_a.is_finite() && (0.0..=0.8).contains(&amplitude_a)) {
-        return Err(crate::error::invalid(
+        return Err(invalid(
             "amplitude_a",
             amplitude_a,
             "a number of amperes in [0, 0.8]",
         ));
     }
     if !(p_mpa.is_finite() && q_dm3_s.is_finite() && p_mpa > 0.0 && q_dm3_s >= 0.0) {
-        return Err(crate::error::invalid(
+        return Err(invalid(
             "operating point",
             format!("{p_mpa} MPa, {q_dm3_s} dm^3/s"),
             "a pressure > 0 and a demand >= 0",
@@ -379,24 +385,43 @@ fn harmonics(
     let x_eq = (q + k.q_0) / (k.k_l * k.omega);
     let i_eq = k.k_a * x_eq / k.phi;
     let plant = PumpSystem::new(k.clone(), Input::Held(i_eq), Input::Held(q));
-    let setpoint = crate::signal::Signal::constant(p_mpa * 1e6);
-    let settings = super::pump_controllers::check_cascade_pi(gains, setpoint.clone(), &k, "")?;
+    let setpoint = rhonn::signal::Signal::constant(p_mpa * 1e6);
+    let x0 = [p_mpa * 1e6, x_eq, i_eq];
+    // The cascade PI as a scenario names it, built against the nominal pump by the
+    // controller registry.
+    let spec = with_cascade_pi_loop(gains);
+    let cx = LoopContext {
+        plant: "pump",
+        states: &pump::STATES,
+        field: "cascade-pi".into(),
+        output: &pump::INPUTS[0],
+        range: (0.0, k.i_max),
+        period_s: k.t_control,
+        setpoint0: setpoint.eval(0.0),
+        x0: &x0,
+    };
     let period = 2.0 * std::f64::consts::PI / w;
     let t_on = 1.0;
     let (skip, count) = (3.0, (8.0f64).max((2.0 / period).ceil()));
     let duration = t_on + (skip + count) * period + k.t_control;
-    let x0 = [p_mpa * 1e6, x_eq, i_eq];
     let (from, to) = (t_on + skip * period, t_on + (skip + count) * period);
-    let run_with = |amplitude_a: f64| -> crate::Result<[Harmonic; 3]> {
+    let run_with = |amplitude_a: f64| -> Result<[Harmonic; 3]> {
         let mut ctl = Injected {
-            inner: settings.controller(k.t_control),
+            inner: spec.build(&cx)?,
             amplitude_a,
             w,
             t_on,
             computed: Vec::new(),
         };
-        let run =
-            super::any_plant::closed_loop(plant.clone(), &x0, &mut ctl, 0, &setpoint, k.t_control, duration)?;
+        let run = rhonn::experiment::any_plant::closed_loop(
+            plant.clone(),
+            &x0,
+            &mut ctl,
+            0,
+            &setpoint,
+            k.t_control,
+            duration,
+        )?;
         let mut h = [(0.0, 0.0); 3];
         for ((&t, &u), &c) in run.t.iter().zip(&run.u).zip(&ctl.computed) {
             if t >= from && t < to {
@@ -431,7 +456,7 @@ fn cdiv(a: Harmonic, b: Harmonic) -> Harmonic {
 /// transient, minus those of the same run without the sinusoid (a describing function:
 /// the pilot valve's two branches are averaged as the loop sees them). Returns (|L|,
 /// arg L in degrees).
-pub fn loop_gain(gains: CascadePiGainsMpa, p_mpa: f64, q_dm3_s: f64, w: f64) -> crate::Result<(f64, f64)> {
+pub fn loop_gain(gains: CascadePiGainsMpa, p_mpa: f64, q_dm3_s: f64, w: f64) -> Result<(f64, f64)> {
     let l = loop_gain_complex(gains, p_mpa, q_dm3_s, w, INJECTION_A)?;
     Ok((l.0.hypot(l.1), l.1.atan2(l.0).to_degrees()))
 }
@@ -443,7 +468,7 @@ fn loop_gain_complex(
     q_dm3_s: f64,
     w: f64,
     amplitude_a: f64,
-) -> crate::Result<Harmonic> {
+) -> Result<Harmonic> {
     let [u, c, _] = harmonics(gains, p_mpa, q_dm3_s, w, amplitude_a)?;
     Ok(cdiv((-c.0, -c.1), u))
 }
@@ -458,7 +483,7 @@ pub fn sensitivity(
     q_dm3_s: f64,
     w: f64,
     amplitude_a: f64,
-) -> crate::Result<f64> {
+) -> Result<f64> {
     let [u, _, d] = harmonics(gains, p_mpa, q_dm3_s, w, amplitude_a)?;
     let s = cdiv(u, d);
     Ok(s.0.hypot(s.1))
@@ -490,15 +515,15 @@ pub fn sensitivity_peak(
     q_dm3_s: f64,
     n: usize,
     amplitude_a: f64,
-) -> crate::Result<(f64, f64)> {
+) -> Result<(f64, f64)> {
     if n < 2 {
-        return Err(crate::error::invalid("n (frequencies)", n, "at least 2"));
+        return Err(invalid("n (frequencies)", n, "at least 2"));
     }
     let ws = sensitivity_frequencies(n);
     let s: Vec<f64> = ws
         .par_iter()
         .map(|&w| sensitivity(gains, p_mpa, q_dm3_s, w, amplitude_a))
-        .collect::<crate::Result<_>>()?;
+        .collect::<Result<_>>()?;
     let j = (0..n).max_by(|&a, &b| s[a].total_cmp(&s[b])).unwrap_or(0);
     Ok((s[j], ws[j]))
 }
@@ -522,12 +547,12 @@ pub fn margins_of_peak(ms: f64) -> (f64, f64) {
 /// The measurement subtracts the loop's motion without injection, so it does not depend
 /// on the injected amplitude (2.5-10 mA agree to about 1 % on the shipped tunings; a
 /// test checks it), which an earlier version without the subtraction did not.
-pub fn margins(gains: CascadePiGainsMpa, p_mpa: f64, q_dm3_s: f64) -> crate::Result<(f64, f64)> {
+pub fn margins(gains: CascadePiGainsMpa, p_mpa: f64, q_dm3_s: f64) -> Result<(f64, f64)> {
     let ws = sensitivity_frequencies(48);
     let ls: Vec<Harmonic> = ws
         .par_iter()
         .map(|&w| loop_gain_complex(gains, p_mpa, q_dm3_s, w, INJECTION_A))
-        .collect::<crate::Result<_>>()?;
+        .collect::<Result<_>>()?;
     let abs = |l: Harmonic| l.0.hypot(l.1);
     let lerp = |a: Harmonic, b: Harmonic, f: f64| (a.0 + f * (b.0 - a.0), a.1 + f * (b.1 - a.1));
     let (mut gm, mut pm) = (1.0 / abs(ls[ls.len() - 1]), f64::INFINITY);

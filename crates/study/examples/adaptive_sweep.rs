@@ -6,12 +6,12 @@
 //! IAE, current total variation and share within 1 %. It measures the trade-off between
 //! winning every plant and the 20 ms lag (docs/results.md).
 //!
-//! `cargo run --release -p rhonn-report --example adaptive_sweep -- [N] [SEED]` (300 draws:
+//! `cargo run --release -p rhonn-study --example adaptive_sweep -- [N] [SEED]` (300 draws:
 //! about 90 s on 2 cores).
 use rayon::prelude::*;
-use rhonn::experiment::front::{nominal_optimal_points, points, wins};
-use rhonn::experiment::tuning::robustness_cases;
 use rhonn::experiment::{preset, LoopSpec, ScenarioSpec};
+use rhonn_study::front::{nominal_optimal_points, points, wins};
+use rhonn_study::tuning::robustness_cases;
 
 fn set(spec: &ScenarioSpec, k: &[f64; 8]) -> ScenarioSpec {
     let mut s = spec.clone();

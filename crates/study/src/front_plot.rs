@@ -1,15 +1,14 @@
 //! The tracking-against-activity front of the pump's controllers
-//! (`rhonn::experiment::front`): `front.csv` (every setting run) and `front.svg` (IAE
+//! ([`crate::front`]): `front.csv` (every setting run) and `front.svg` (IAE
 //! against the current's total variation, both axes logarithmic; the cascade PI's settings
 //! in the baseline's orange with their front as a line, the adaptive settings in blue, the
 //! named ones labelled).
 
-use crate::atomic::OutputSet;
-use crate::style::{BASELINE, REFERENCE};
-use crate::Result;
+use crate::front::{pareto, FrontPoint};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
-use rhonn::experiment::front::{pareto, FrontPoint};
+use rhonn_report::style::{BASELINE, REFERENCE};
+use rhonn_report::{OutputSet, Result};
 
 use std::path::{Path, PathBuf};
 

@@ -7,11 +7,11 @@
 //! delay's IAE, and the nominal IAE, current total variation and share within 1 %
 //! (docs/results.md).
 //!
-//! `cargo run --release -p rhonn-report --example actuator_study` (about 10 s on 2 cores).
+//! `cargo run --release -p rhonn-study --example actuator_study` (about 10 s on 2 cores).
 use rayon::prelude::*;
-use rhonn::experiment::front::{nominal_optimal_points, points, wins};
-use rhonn::experiment::tuning::robustness_cases;
 use rhonn::experiment::{preset, LoopSpec, ScenarioSpec};
+use rhonn_study::front::{nominal_optimal_points, points, wins};
+use rhonn_study::tuning::robustness_cases;
 
 fn with_actuator(spec: &ScenarioSpec, memory_s: f64, lag_scale_s: f64) -> ScenarioSpec {
     let mut s = spec.clone();

@@ -7,15 +7,15 @@
 //! solenoid lags, a one-period delay, the 32 tolerance corners) against the nominal-optimal
 //! cascade PI.
 //!
-//! `cargo run --release -p rhonn-report --example control_front [OUT]` (about 10 s on 2
+//! `cargo run --release -p rhonn-study --example control_front [OUT]` (about 10 s on 2
 //! cores) prints both tables and writes OUT/front.csv and OUT/front.svg (default OUT:
 //! out/control-front).
-use rhonn::experiment::front::{
+use rhonn::experiment::preset;
+use rhonn_study::front::{
     adaptive_points, best_iae_within, cascade_grid, cascade_points, nominal_optimal_points, points, wins,
     FrontPoint,
 };
-use rhonn::experiment::preset;
-use rhonn::experiment::tuning::robustness_cases;
+use rhonn_study::tuning::robustness_cases;
 
 const SHIPPED: [&str; 3] = [
     "control-adaptive-gentle",
@@ -92,7 +92,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             println!("  not won: {l}");
         }
     }
-    for f in rhonn_report::front_plot::write_front(&out, &cascade, &adaptive, &shipped)? {
+    for f in rhonn_study::front_plot::write_front(&out, &cascade, &adaptive, &shipped)? {
         println!("  wrote {}", f.display());
     }
     Ok(())

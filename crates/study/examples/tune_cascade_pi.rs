@@ -1,6 +1,6 @@
 //! The cascade PI baseline's two tunings, found by one reproducible search
-//! (`rhonn::experiment::tuning`: criteria and why simulation):
-//! `cargo run --release -p rhonn --example tune_cascade_pi` (about 3 minutes on 2 cores).
+//! (`rhonn_study::tuning`: criteria and why simulation):
+//! `cargo run --release -p rhonn-study --example tune_cascade_pi` (about 3 minutes on 2 cores).
 //!
 //! * **nominal-optimal**: the lowest nominal IAE with every step's overshoot at most 10 %;
 //! * **robust**: the lowest nominal IAE with that overshoot limit that still regulates
@@ -14,8 +14,8 @@
 //! injection (`tuning::sensitivity_peak`), and the margins the worst M_s guarantees.
 //! `--probe KP,TI,B,G`: both for any gain set (mm/MPa, s, -, -).
 
-use rhonn::experiment::tuning::{full_grid, margins, margins_of_peak, search, sensitivity_peak, TuningScore};
 use rhonn::experiment::{preset, CascadePiGainsMpa, NOMINAL_OPTIMAL, ROBUST};
+use rhonn_study::tuning::{full_grid, margins, margins_of_peak, search, sensitivity_peak, TuningScore};
 
 /// The worst gain and phase margins over the operating points (5, 10, 15 MPa; no demand
 /// and 1.8 dm^3/s), measured on the simulated pump (`tuning::margins`).

@@ -1,12 +1,12 @@
 //! The adaptive cascade against the cascade PI with the same sensors, in both of its
 //! tunings (`tune_cascade_pi`): the robust one runs beside it in every `control-adaptive`
 //! run; the nominal-optimal one runs alone on the same plant, set-points, demand and
-//! noise. Plants: `rhonn::experiment::tuning::robustness_cases` (nominal, solenoid lags of
+//! noise. Plants: `rhonn_study::tuning::robustness_cases` (nominal, solenoid lags of
 //! 1, 5 and 20 ms, a one-period delay, the 32 tolerance corners); every controller tuned
-//! once, on the nominal plant. `cargo run --release -p rhonn --example control_robustness`
+//! once, on the nominal plant. `cargo run --release -p rhonn-study --example control_robustness`
 
-use rhonn::experiment::tuning::{robustness_cases, with_cascade_pi};
 use rhonn::experiment::{preset, run_full, NoRecorder, Regulation, NOMINAL_OPTIMAL};
+use rhonn_study::tuning::{robustness_cases, with_cascade_pi};
 
 fn overshoot(r: &Regulation) -> f64 {
     r.overshoot_percent.iter().fold(0.0f64, |a, &b| a.max(b))

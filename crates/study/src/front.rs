@@ -2,14 +2,12 @@
 //! buy its IAE with the valve): each controller setting run on a pump scenario, scored by
 //! IAE and by the current's total variation, and the front of the settings no other beats
 //! on both. The cascade PI's gains and the adaptive controller's closed-loop pole are the
-//! knobs swept (`crates/report/examples/control_front.rs` prints and plots them).
+//! knobs swept (`examples/control_front.rs` of this crate prints and plots them).
 
-use super::pump_controllers::CascadePiGainsMpa;
-use super::scenario::ScenarioSpec;
-use super::tuning::{grid, with_cascade_pi};
-use super::{run_full, NoRecorder};
-use crate::control::LoopSpec;
+use crate::tuning::{grid, with_cascade_pi};
 use rayon::prelude::*;
+use rhonn::control::LoopSpec;
+use rhonn::experiment::{run_full, CascadePiGainsMpa, NoRecorder, ScenarioSpec, NOMINAL_OPTIMAL};
 
 /// One setting's run.
 #[derive(Debug, Clone, PartialEq)]
@@ -87,7 +85,7 @@ impl FrontPoint {
 pub fn nominal_optimal_points(cases: &[(String, ScenarioSpec)]) -> Vec<FrontPoint> {
     let pi = cases
         .iter()
-        .map(|(n, s)| (n.clone(), with_cascade_pi(s, super::NOMINAL_OPTIMAL)))
+        .map(|(n, s)| (n.clone(), with_cascade_pi(s, NOMINAL_OPTIMAL)))
         .collect();
     points("cascade-pi", pi)
 }

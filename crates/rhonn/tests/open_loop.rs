@@ -1,0 +1,95 @@
+//! A plant scenario with neither `[identifier]` nor `[control]`: the plant driven by its
+//! inputs alone, its states sampled, and a summary of where each went.
+
+use rhonn::experiment::{run_plant_scenario, PlantRunOutput, ScenarioSpec};
+
+fn shipped(name: &str) -> String {
+    std::fs::read_to_string(format!(
+        "{}/../../scenarios/{name}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+}
+
+fn run(text: &str) -> rhonn::Result<PlantRunOutput> {
+    run_plant_scenario(&ScenarioSpec::from_toml(text, "open.toml")?, None)
+}
+
+fn column<'a>(out: &'a PlantRunOutput, name: &str) -> &'a [f64] {
+    &out.trajectory.iter().find(|c| c.name == name).unwrap().values
+}
+
+/// The identification scenario without its identifier: the same plant under the same
+/// input, so its levels are those the identification recorded (each run's solver steps
+/// its own way, so to its tolerance, not to the bit).
+#[test]
+fn the_tanks_driven_by_their_input_alone_are_the_identification_s_plant() {
+    let ident = shipped("tanks-identify");
+    let cut = ident.find("[identifier]").unwrap();
+    let open = run(&ident[..cut]).unwrap();
+    let with = run(&ident).unwrap();
+    let names: Vec<&str> = open.trajectory.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["t", "voltage", "h1", "h2"]);
+    assert_eq!(column(&open, "t"), column(&with, "t"));
+    assert_eq!(column(&open, "voltage"), column(&with, "voltage"));
+    for h in ["h1", "h2"] {
+        let worst = column(&open, h)
+            .iter()
+            .zip(column(&with, h))
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-6, "{h}: {worst} m apart");
+    }
+    // The summary: where each state went, in mm, and as a campaign's figures.
+    let ranges = open.summary.open_loop.clone().unwrap();
+    let h2 = column(&open, "h2");
+    assert_eq!(ranges[1].state, "h2");
+    assert_eq!(ranges[1].final_value, 1e3 * h2[h2.len() - 1]);
+    assert_eq!(
+        ranges[1].max_value,
+        1e3 * h2.iter().copied().fold(f64::MIN, f64::max)
+    );
+    assert!(ranges
+        .iter()
+        .all(|r| r.min_value <= r.initial && r.initial <= r.max_value && r.unit == "mm"));
+    let figures: Vec<String> = open.summary.figures().into_iter().map(|(n, _)| n).collect();
+    assert_eq!(
+        figures,
+        ["h1_final", "h1_min", "h1_max", "h2_final", "h2_min", "h2_max"]
+    );
+    assert!(
+        open.summary.findings[0].starts_with("h1: from 100 to "),
+        "{:?}",
+        open.summary.findings
+    );
+    assert!(open.summary.identification.is_none() && open.summary.control.is_none());
+}
+
+#[test]
+fn a_held_input_settles_the_tanks_and_sections_of_other_experiments_are_refused() {
+    let base = "name = \"held\"\nduration_s = 20000.0\noutput_interval_s = 10.0\n\
+                [plant]\nkind = \"tanks\"\n[input]\nvoltage = { kind = \"constant\", value = 5.0 }\n";
+    let out = run(base).unwrap();
+    let h2 = column(&out, "h2");
+    let n = h2.len();
+    assert_eq!(n, 2001);
+    // Settled: the last samples agree to a micrometre, far from where they started.
+    assert!(
+        (h2[n - 1] - h2[n - 2]).abs() < 1e-6 && h2[n - 1] > 0.05,
+        "{}",
+        h2[n - 1]
+    );
+    for (tail, want) in [
+        (
+            "[validation]\nduration_s = 10.0\ninput = {}\n",
+            "only with an [identifier]",
+        ),
+        (
+            "[measurement]\nnoise_std = { h2 = 1.0 }\n",
+            "only with a [control] section",
+        ),
+    ] {
+        let e = run(&format!("{base}{tail}")).unwrap_err().to_string();
+        assert!(e.contains(want), "{e}");
+    }
+}

@@ -1,0 +1,344 @@
+//! A plant scenario's `[control]` experiment: the controller and its baseline, each on an
+//! identical plant under the same loop conditions, their figures (IAE, ISE, final error,
+//! actuator activity) and findings, and `trajectory.csv`'s columns.
+
+use super::any_plant::{closed_loop_with, LoopRun};
+use super::plant_summary::{LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, TIME, WEIGHT_QUANTITIES};
+use super::scenario::{loop_conditions, signal, state_index, ScenarioSpec};
+use super::solver_spec::Tolerances;
+use crate::control::LoopContext;
+use crate::error::{invalid, Result};
+use crate::plant::{Plant, Quantity};
+
+/// The controller's actuator activity beside the baseline's, in words.
+fn activity_finding(a: &LoopFigures, b: &LoopFigures, unit: &str) -> String {
+    let unit = shown_unit(unit);
+    format!(
+        "{}: the input moved {}{unit} in all (total variation; RMS change per control period {}{unit}) against {}{unit} (RMS change {}{unit}) for the baseline {}; at a bound {} s against {} s, switching between the bounds {} s against {} s",
+        a.controller,
+        crate::metrics::sig(a.input_total_variation, 3),
+        crate::metrics::sig(a.input_rms_change_per_sample, 3),
+        crate::metrics::sig(b.input_total_variation, 3),
+        crate::metrics::sig(b.input_rms_change_per_sample, 3),
+        b.controller,
+        crate::metrics::sig(a.time_input_saturated_s, 4),
+        crate::metrics::sig(b.time_input_saturated_s, 4),
+        crate::metrics::sig(a.time_input_switching_s, 4),
+        crate::metrics::sig(b.time_input_switching_s, 4),
+    )
+}
+
+/// The loop's conditions in words, when it is not clean: what both controllers faced.
+fn conditions_finding<P: Plant>(
+    plant: &P,
+    c: &super::scenario::ControlSpec,
+    spec: &ScenarioSpec,
+    qu: &Quantity,
+) -> Option<String> {
+    let mut parts = Vec::new();
+    if let Some(m) = &spec.measurement {
+        let noise: Vec<String> = plant
+            .states()
+            .iter()
+            .filter_map(|q| {
+                let std = m.noise_std.get(q.name)?;
+                Some(format!(
+                    "{} {}{}",
+                    q.name,
+                    crate::metrics::sig(*std, 3),
+                    shown_unit(q.display_unit)
+                ))
+            })
+            .collect();
+        parts.push(format!(
+            "sensor noise (standard deviation) {} (seed {})",
+            noise.join(", "),
+            m.seed
+        ));
+    }
+    if c.delay_periods > 0 {
+        parts.push(format!(
+            "the command delayed {} control periods ({} s)",
+            c.delay_periods,
+            crate::metrics::sig(f64::from(c.delay_periods) * c.period_s, 4)
+        ));
+    }
+    if c.dither.is_some() {
+        parts.push(format!("a dither added to the {}", qu.name));
+    }
+    (!parts.is_empty()).then(|| format!("both controllers ran with {}", parts.join("; ")))
+}
+
+/// A unit as printed after a number: none for a dimensionless "1".
+fn shown_unit(unit: &str) -> String {
+    if unit == "1" {
+        String::new()
+    } else {
+        format!(" {unit}")
+    }
+}
+
+/// A warning when `r`'s input sits at a bound of `range` over the run's last tenth (at
+/// least its last 10 control periods) and the output ends more than 1 % of the
+/// set-point's size (of the output's unit if the set-point is 0) away from it: the
+/// actuator cannot reach the set-point.
+fn limit_warning(
+    r: &LoopRun,
+    range: (f64, f64),
+    (qy, qu): (&Quantity, &Quantity),
+    duration_s: f64,
+) -> Option<String> {
+    let n = r.u.len();
+    let tail = (n / 10).max(10).min(n);
+    if tail == 0 {
+        return None;
+    }
+    let tol = 1e-9 * (range.1 - range.0);
+    let last = &r.u[n - tail..];
+    let bound = if last.iter().all(|u| *u >= range.1 - tol) {
+        ("upper", range.1)
+    } else if last.iter().all(|u| *u <= range.0 + tol) {
+        ("lower", range.0)
+    } else {
+        return None;
+    };
+    let e = r.final_error();
+    let size = r.setpoint.last().map_or(0.0, |v| v.abs());
+    let allowed = if size > 0.0 {
+        0.01 * size
+    } else {
+        1.0 / qy.display_per_si
+    };
+    if !(e.abs() > allowed) {
+        return None;
+    }
+    let at = r.u[..n - tail]
+        .iter()
+        .rposition(|u| (u - bound.1).abs() > tol)
+        .map_or(r.t[0], |k| r.t[k + 1]);
+    Some(format!(
+        "warning: {} sits at its {} limit ({}{}) from {} s to the end ({} s) and ends {}{} from the set-point: the actuator cannot reach it (widen control.input_range, or give a set-point within reach)",
+        r.controller,
+        bound.0,
+        crate::metrics::sig(qu.to_display(bound.1), 4),
+        shown_unit(qu.display_unit),
+        crate::metrics::sig(at, 4),
+        crate::metrics::sig(duration_s, 4),
+        crate::metrics::sig(qy.to_display(e), 3),
+        shown_unit(qy.display_unit)
+    ))
+}
+
+/// The input `c` drives (its index) and its range in SI, checked.
+fn control_input<P: Plant>(plant: &P, c: &super::scenario::ControlSpec) -> Result<(usize, (f64, f64))> {
+    let k = plant
+        .inputs()
+        .iter()
+        .position(|q| q.name == c.input)
+        .ok_or_else(|| {
+            invalid(
+                "control.input",
+                format!("\"{}\"", c.input),
+                "an input of the plant",
+            )
+        })?;
+    let qu = &plant.inputs()[k];
+    let range = (
+        c.input_range[0] / qu.display_per_si,
+        c.input_range[1] / qu.display_per_si,
+    );
+    if !(range.0.is_finite() && range.1.is_finite() && range.0 < range.1) {
+        return Err(invalid(
+            "control.input_range",
+            format!("{:?}", c.input_range),
+            "[min, max] with min < max",
+        ));
+    }
+    Ok((k, range))
+}
+
+/// The `[control]` experiment: the controller and the baseline, each on an identical
+/// plant from `x0`.
+pub(super) fn run_control<P: Plant>(
+    plant: P,
+    x0: &[f64],
+    spec: &ScenarioSpec,
+    mut summary: PlantSummary,
+    tol: &Tolerances,
+) -> Result<PlantRunOutput> {
+    let c = spec
+        .control
+        .as_ref()
+        .ok_or_else(|| invalid("control", "none", "a [control] section"))?;
+    let (k, range) = control_input(&plant, c)?;
+    let qu = &plant.inputs()[k];
+    let y = state_index(&plant, "control.output", &c.output)?;
+    let qy = plant.states()[y];
+    if !(c.period_s.is_finite() && c.period_s > 0.0 && c.period_s <= spec.duration_s) {
+        return Err(invalid(
+            "control.period_s",
+            c.period_s,
+            "finite, > 0 and at most duration_s",
+        ));
+    }
+    check_control_periods(spec.duration_s, c.period_s)?;
+    // Bounded so that the error's integrals (IAE, ISE) stay finite.
+    let sp = signal(&c.setpoint, "control.setpoint", &qy, (-1e150, 1e150))?;
+    let conditions = loop_conditions(&plant, spec, c, qu, range)?;
+    let baseline = c.baseline.as_ref().ok_or_else(|| {
+        invalid(
+            "control.baseline",
+            "missing",
+            "the controller the one under test is compared with, run on an identical plant",
+        )
+    })?;
+    let mut runs = Vec::new();
+    for (field, l) in [
+        ("control.controller", &c.controller),
+        ("control.baseline", baseline),
+    ] {
+        if l.state() != c.output {
+            return Err(invalid(
+                format!("{field}.state"),
+                format!("\"{}\"", l.state()),
+                format!("the regulated state \"{}\"", c.output),
+            ));
+        }
+        let cx = LoopContext {
+            plant: plant.name(),
+            states: plant.states(),
+            field: field.to_string(),
+            output: qu,
+            range,
+            period_s: c.period_s,
+            setpoint0: sp.eval(0.0),
+            x0,
+        };
+        let mut ctl = l.build(&cx)?;
+        runs.push(closed_loop_with(
+            plant.clone(),
+            x0,
+            ctl.as_mut(),
+            k,
+            (&sp, c.period_s, spec.duration_s),
+            &conditions,
+            tol,
+        )?);
+    }
+    let figs = |r: &LoopRun| {
+        let act = crate::activity::activity(&r.u, range, c.period_s);
+        LoopFigures {
+            controller: r.controller,
+            iae: qy.to_display(r.iae),
+            ise: qy.to_display(qy.to_display(r.ise)),
+            final_error: qy.to_display(r.final_error()),
+            time_input_saturated_s: act.time_saturated_s,
+            input_total_variation: qu.to_display(act.total_variation),
+            input_rms_change_per_sample: qu.to_display(act.rms_change_per_sample),
+            time_input_switching_s: act.time_switching_s,
+        }
+    };
+    let [a, b] = [figs(&runs[0]), figs(&runs[1])];
+    summary.findings.extend(conditions_finding(&plant, c, spec, qu));
+    summary.findings.push(format!(
+        "{}: IAE {:.1} {u} s against {:.1} for the baseline {} ({:+.1} %); final error {:.3} against {:.3} {u}",
+        a.controller,
+        a.iae,
+        b.iae,
+        b.controller,
+        100.0 * (a.iae / b.iae - 1.0),
+        a.final_error,
+        b.final_error,
+        u = qy.display_unit
+    ));
+    summary.findings.push(activity_finding(&a, &b, qu.display_unit));
+    for r in &runs {
+        summary
+            .findings
+            .extend(limit_warning(r, range, (&qy, qu), spec.duration_s));
+    }
+    summary.regulated = Some((qy.name, qy.display_unit));
+    summary.control = Some([a, b]);
+    let inner = [&c.controller, baseline].map(|l| {
+        let s = l.inner_state()?;
+        plant.states().iter().find(|q| q.name == s).copied()
+    });
+    let trajectory = loop_columns(&plant, &runs, &qy, qu, inner);
+    Ok(PlantRunOutput {
+        summary,
+        trajectory,
+        validation: None,
+        duration_s: spec.duration_s,
+    })
+}
+
+fn loop_columns<P: Plant>(
+    plant: &P,
+    runs: &[LoopRun],
+    qy: &Quantity,
+    qu: &Quantity,
+    inner: [Option<Quantity>; 2],
+) -> Vec<PlantColumn> {
+    let col = |name: String, quantity: Quantity, values: Vec<f64>| PlantColumn {
+        name,
+        quantity,
+        values,
+        input: false,
+    };
+    let mut cols = vec![
+        col("t".into(), TIME, runs[0].t.clone()),
+        col(format!("{}_ref", qy.name), *qy, runs[0].setpoint.clone()),
+    ];
+    for ((run, suffix), inner) in runs.iter().zip(["", "_baseline"]).zip(inner) {
+        for (q, v) in plant.states().iter().zip(&run.states) {
+            cols.push(col(format!("{}{suffix}", q.name), *q, v.clone()));
+        }
+        cols.push(PlantColumn {
+            input: true,
+            ..col(format!("{}{suffix}", qu.name), *qu, run.u.clone())
+        });
+        if !run.y_measured.is_empty() {
+            cols.push(col(
+                format!("{}_measured{suffix}", qy.name),
+                *qy,
+                run.y_measured.clone(),
+            ));
+        }
+        if let (false, Some(q)) = (run.inner_reference.is_empty(), inner) {
+            cols.push(col(
+                format!("{}_ref{suffix}", q.name),
+                q,
+                run.inner_reference.clone(),
+            ));
+        }
+        if !run.weights.is_empty() {
+            let w = |k: usize| run.weights.iter().map(|v| v[k]).collect::<Vec<f64>>();
+            let [wq, w1q, ballq] = WEIGHT_QUANTITIES;
+            cols.push(col(format!("w_norm{suffix}"), wq, w(0)));
+            cols.push(col(format!("w1_norm{suffix}"), w1q, w(1)));
+            cols.push(col(format!("w1_distance{suffix}"), ballq, w(2)));
+            cols.push(col(format!("w1_ball_radius{suffix}"), ballq, w(3)));
+        }
+    }
+    cols
+}
+
+/// At most [`MAX_CONTROL_PERIODS`] control periods in a run: a period of nanoseconds
+/// would otherwise run until the solver's step budget failed it, naming no setting.
+pub(crate) fn check_control_periods(duration_s: f64, period_s: f64) -> Result<()> {
+    if duration_s / period_s > MAX_CONTROL_PERIODS {
+        return Err(invalid(
+            "control.period_s",
+            crate::metrics::sig(period_s, 6),
+            format!(
+                "at most 1,000,000 control periods in the run's duration_s = {} s: a period of at least {} s",
+                crate::metrics::sig(duration_s, 6),
+                crate::metrics::sig(duration_s / MAX_CONTROL_PERIODS, 3)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The most control periods a run may hold.
+pub(crate) const MAX_CONTROL_PERIODS: f64 = 1e6;

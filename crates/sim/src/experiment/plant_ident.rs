@@ -1,0 +1,114 @@
+//! A plant scenario's `[identifier]` experiment: the online identification, then its
+//! frozen model's free run on the `[validation]` inputs, their figures per state and
+//! the columns of `trajectory.csv` and `validation.csv`.
+
+use super::any_plant::{identify, IdentRun};
+use super::plant_summary::{time_and_inputs, IdentStateFigures, PlantColumn, PlantRunOutput, PlantSummary};
+use super::scenario::{drive, ScenarioSpec};
+use super::solver_spec::Tolerances;
+use crate::error::{invalid, Result};
+use crate::plant::{Plant, Quantity};
+
+pub(super) fn run_identification<P: Plant>(
+    plant: P,
+    x0: &[f64],
+    spec: &ScenarioSpec,
+    ident: &crate::ident::IdentifierSpec,
+    mut summary: PlantSummary,
+    tol: &Tolerances,
+) -> Result<PlantRunOutput> {
+    let is = ident.check_for(&plant)?;
+    let sampling = (spec.duration_s, spec.output_interval_s);
+    let train = identify(plant.clone(), x0, &is, sampling, None, tol)?;
+    let validation = match &spec.validation {
+        Some(v) => {
+            // As many output samples as the run may hold (check_times' bound).
+            if !(v.duration_s.is_finite()
+                && v.duration_s > 0.0
+                && v.duration_s / spec.output_interval_s <= 1e7)
+            {
+                return Err(invalid(
+                    "validation.duration_s",
+                    v.duration_s,
+                    "finite, > 0 and at most 10,000,000 output intervals (output_interval_s)",
+                ));
+            }
+            let p = drive(plant.clone(), &v.input, "validation.input")?;
+            let sampling = (v.duration_s, spec.output_interval_s);
+            Some(identify(p, x0, &is, sampling, Some(&train.weights), tol)?)
+        }
+        None => None,
+    };
+    let quantities: Vec<Quantity> = is.states.iter().map(|s| *s.quantity(&plant)).collect();
+    let half = spec.duration_s / 2.0;
+    let (tr_rms, tr_fit) = (train.rms_after(half), train.fit_percent_after(half));
+    let after = validation
+        .as_ref()
+        .map(|v| v.t.last().copied().unwrap_or(0.0) / 10.0)
+        .unwrap_or(0.0);
+    let mut figs = Vec::new();
+    for (k, q) in quantities.iter().enumerate() {
+        let (v_rms, v_fit) = match &validation {
+            Some(v) => (
+                Some(q.to_display(v.rms_after(after)[k])),
+                Some(v.fit_percent_after(after)[k]),
+            ),
+            None => (None, None),
+        };
+        figs.push(IdentStateFigures {
+            state: q.name,
+            unit: q.display_unit,
+            training_rms_error: q.to_display(tr_rms[k]),
+            training_fit_percent: tr_fit[k],
+            validation_rms_error: v_rms,
+            validation_fit_percent: v_fit,
+            final_weight_norm: train.weights[k].iter().map(|w| w * w).sum::<f64>().sqrt(),
+        });
+        summary.findings.push(match v_fit {
+            Some(f) => format!(
+                "{}: fit {:.1} % while learning online (second half), {f:.1} % running free with frozen weights on the validation inputs",
+                q.name, tr_fit[k]
+            ),
+            None => format!("{}: fit {:.1} % while learning online (second half)", q.name, tr_fit[k]),
+        });
+    }
+    summary.identification = Some(figs);
+    let inputs: Vec<&Quantity> = plant.inputs().iter().collect();
+    let trajectory = ident_columns(&spec.input, &train, &quantities, &inputs)?;
+    let validation = match (&validation, &spec.validation) {
+        (Some(v), Some(vs)) => Some(ident_columns(&vs.input, v, &quantities, &inputs)?),
+        _ => None,
+    };
+    Ok(PlantRunOutput {
+        summary,
+        trajectory,
+        validation,
+        duration_s: spec.duration_s,
+    })
+}
+
+/// Columns of an identification run: time, each input as the scenario gives it, each
+/// identified state and its estimate.
+fn ident_columns(
+    inputs_spec: &std::collections::BTreeMap<String, crate::signal::SignalSpec>,
+    run: &IdentRun,
+    quantities: &[Quantity],
+    inputs: &[&Quantity],
+) -> Result<Vec<PlantColumn>> {
+    let mut cols = time_and_inputs(inputs_spec, &run.t, inputs)?;
+    for (k, q) in quantities.iter().enumerate() {
+        cols.push(PlantColumn {
+            name: q.name.into(),
+            quantity: *q,
+            values: run.y[k].clone(),
+            input: false,
+        });
+        cols.push(PlantColumn {
+            name: format!("{}_hat", q.name),
+            quantity: *q,
+            values: run.y_hat[k].clone(),
+            input: false,
+        });
+    }
+    Ok(cols)
+}

@@ -1,0 +1,233 @@
+//! What a plant scenario's run produces: `summary.json` ([`PlantSummary`], display units)
+//! and the columns of `trajectory.csv` and `validation.csv` ([`PlantColumn`], SI).
+
+use super::scenario::signal;
+use crate::error::Result;
+use crate::plant::Quantity;
+use crate::signal::SignalSpec;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// One column of a run's table: SI values and how people read them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlantColumn {
+    /// Name (`h2`, `h2_hat`, `voltage_baseline`).
+    pub name: String,
+    /// What it shows (its quantity).
+    pub quantity: Quantity,
+    /// Values, SI.
+    pub values: Vec<f64>,
+    /// Whether it is a plant input (else time, a state, an estimate or a reference).
+    pub input: bool,
+}
+
+/// Figures of one identified state (display units).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct IdentStateFigures {
+    /// State.
+    pub state: &'static str,
+    /// Unit of the errors.
+    pub unit: &'static str,
+    /// RMS error of the online (series-parallel) estimate over the second half.
+    pub training_rms_error: f64,
+    /// Fit \[%\] of the same; left out of JSON when undefined (a state that does not
+    /// move).
+    #[serde(skip_serializing_if = "crate::metrics::undefined")]
+    pub training_fit_percent: f64,
+    /// RMS error of the frozen model's free run on the validation inputs (after its
+    /// first tenth), when there is a validation (left out of JSON without one).
+    #[serde(skip_serializing_if = "crate::metrics::absent_or_undefined")]
+    pub validation_rms_error: Option<f64>,
+    /// Fit \[%\] of the same (left out of JSON without a validation or when undefined).
+    #[serde(skip_serializing_if = "crate::metrics::absent_or_undefined")]
+    pub validation_fit_percent: Option<f64>,
+    /// |w| of the neuron at the end of training.
+    pub final_weight_norm: f64,
+}
+
+/// Figures of one controller (display units of the regulated state).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LoopFigures {
+    /// Controller.
+    pub controller: &'static str,
+    /// Integral of |y - r| \[unit s\].
+    pub iae: f64,
+    /// Integral of (y - r)^2 \[unit^2 s\].
+    pub ise: f64,
+    /// y - r at the end \[unit\].
+    pub final_error: f64,
+    /// Time the input spent at a bound of its range \[s\].
+    pub time_input_saturated_s: f64,
+    /// Sum of the input's changes |u(k) - u(k-1)| over the control instants (the
+    /// input's display unit).
+    pub input_total_variation: f64,
+    /// RMS of the input's change per control period (the input's display unit).
+    pub input_rms_change_per_sample: f64,
+    /// Time the input spent at a bound reached from the other bound within
+    /// `activity::SWITCH_WINDOW` control periods (bang-bang) \[s\].
+    pub time_input_switching_s: f64,
+}
+
+/// One state of an open-loop run (display units): where it started and ended, and its
+/// range over the samples.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StateRange {
+    /// State.
+    pub state: &'static str,
+    /// Unit of the values.
+    pub unit: &'static str,
+    /// At t = 0.
+    pub initial: f64,
+    /// At the end.
+    pub final_value: f64,
+    /// The smallest sample.
+    pub min_value: f64,
+    /// The largest sample.
+    pub max_value: f64,
+}
+
+/// `summary.json` of a plant scenario.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlantSummary {
+    /// rhonn's version.
+    pub rhonn_version: &'static str,
+    /// Scenario name.
+    pub scenario: String,
+    /// The plant.
+    pub plant: &'static str,
+    /// Its parameters as run (display units, the unit in the name).
+    pub parameters: Vec<(String, f64)>,
+    /// Identification figures per identified state.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub identification: Option<Vec<IdentStateFigures>>,
+    /// The regulated state and its unit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub regulated: Option<(&'static str, &'static str)>,
+    /// The controller's and the baseline's figures.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub control: Option<[LoopFigures; 2]>,
+    /// An open-loop run's states: where each started and ended, and its range.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub open_loop: Option<Vec<StateRange>>,
+    /// What the figures say, in words.
+    pub findings: Vec<String>,
+}
+
+impl PlantSummary {
+    /// Every figure as `(name, value)`: what a campaign records per run.
+    pub fn figures(&self) -> Vec<(String, f64)> {
+        let mut v = Vec::new();
+        for s in self.identification.iter().flatten() {
+            v.push((
+                format!("{}_training_fit_percent", s.state),
+                s.training_fit_percent,
+            ));
+            if let Some(f) = s.validation_fit_percent {
+                v.push((format!("{}_validation_fit_percent", s.state), f));
+            }
+        }
+        for s in self.open_loop.iter().flatten() {
+            v.push((format!("{}_final", s.state), s.final_value));
+            v.push((format!("{}_min", s.state), s.min_value));
+            v.push((format!("{}_max", s.state), s.max_value));
+        }
+        for (role, f) in ["controller", "baseline"]
+            .iter()
+            .zip(self.control.iter().flatten())
+        {
+            v.push((format!("{role}_iae"), f.iae));
+            v.push((format!("{role}_ise"), f.ise));
+            v.push((format!("{role}_final_error"), f.final_error));
+            v.push((format!("{role}_input_total_variation"), f.input_total_variation));
+            v.push((format!("{role}_time_input_switching_s"), f.time_input_switching_s));
+        }
+        v
+    }
+}
+
+/// What a plant scenario's run produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlantRunOutput {
+    /// The summary.
+    pub summary: PlantSummary,
+    /// trajectory.csv's columns (the first is time).
+    pub trajectory: Vec<PlantColumn>,
+    /// validation.csv's columns, when there is a validation.
+    pub validation: Option<Vec<PlantColumn>>,
+    /// Simulated time \[s\] (the scenario's `duration_s`).
+    pub duration_s: f64,
+}
+
+pub(super) const TIME: Quantity = Quantity::si("t", "s", "time");
+/// The first columns of a run's table: time (`t`, the samples `t`), then each of the
+/// plant's `inputs` as the scenario's profiles `inputs_spec` give it (0 where none does).
+pub(super) fn time_and_inputs(
+    inputs_spec: &BTreeMap<String, SignalSpec>,
+    t: &[f64],
+    inputs: &[&Quantity],
+) -> Result<Vec<PlantColumn>> {
+    let mut cols = vec![PlantColumn {
+        name: "t".into(),
+        quantity: TIME,
+        values: t.to_vec(),
+        input: false,
+    }];
+    for q in inputs {
+        let values = match inputs_spec.get(q.name) {
+            Some(sp) => {
+                let s = signal(sp, q.name, q, (f64::NEG_INFINITY, f64::INFINITY))?;
+                t.iter().map(|&t| s.eval(t)).collect()
+            }
+            None => vec![0.0; t.len()],
+        };
+        cols.push(PlantColumn {
+            name: q.name.into(),
+            quantity: **q,
+            values,
+            input: true,
+        });
+    }
+    Ok(cols)
+}
+
+/// An adaptive controller's weights (the neuron's scaled units): |W|, |W_1|, and W_1's
+/// distance from its ball's centre beside the ball's radius (the projection's bound).
+pub const WEIGHT_QUANTITIES: [Quantity; 3] = [
+    Quantity::si("w_norm", "1/s", "adaptive drift weights |W| (scaled units)"),
+    Quantity::si("w1_norm", "1/s", "adaptive gain weights |W_1| (scaled units)"),
+    Quantity::si(
+        "w1_ball",
+        "1/s",
+        "gain weights' distance from their ball's centre, and the ball's radius (bound)",
+    ),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Found by `rhonn-mutate` (seed 50): an identification scenario without `[validation]`
+    /// wrote `"validation_fit_percent": null`, which a reader takes for a failed number.
+    #[test]
+    fn an_identification_without_validation_leaves_its_figures_out_not_null() {
+        let f = IdentStateFigures {
+            state: "h1",
+            unit: "mm",
+            training_rms_error: 1.0,
+            training_fit_percent: 90.0,
+            validation_rms_error: None,
+            validation_fit_percent: None,
+            final_weight_norm: 0.5,
+        };
+        let json = serde_json::to_string(&f).unwrap();
+        assert!(!json.contains("null") && !json.contains("validation"), "{json}");
+        let with = IdentStateFigures {
+            validation_rms_error: Some(2.0),
+            validation_fit_percent: Some(80.0),
+            ..f
+        };
+        assert!(serde_json::to_string(&with)
+            .unwrap()
+            .contains("\"validation_fit_percent\":80.0"));
+    }
+}
