@@ -463,3 +463,77 @@ fn extreme_numbers_are_printed_with_significant_digits_and_no_nan() {
     }
     assert!(!all.contains("NaN"), "{all}");
 }
+
+/// A newcomer's own data: a two-tank system with a saturating upper tank (driven from 0
+/// to 10 V, it overflows at its 300 mm rim), simulated open loop by `rhonn run`, sampled
+/// at 2 s and written with times in seconds, and the same in milliseconds. In seconds no
+/// command warns of anything; in milliseconds `fit` and `identify` each say the one
+/// thing to do, and `fit` fits the same model either way (its lags count samples).
+#[test]
+fn a_newcomer_s_tanks_at_2_s_and_in_ms_get_no_wrong_hint() {
+    let d = tempfile::tempdir().unwrap();
+    let scenario = "name = \"newcomer\"\nduration_s = 7200.0\noutput_interval_s = 2.0\n\
+                    [plant]\nkind = \"tanks\"\ninitial = [50.0, 50.0]\n[input]\n\
+                    voltage = { kind = \"aprbs\", start_s = 0.0, end_s = 7200.0, hold_s = 80.0, \
+                    ramp_s = 2.0, low = 0.0, high = 10.0, seed = 5 }\n";
+    std::fs::write(d.path().join("newcomer.toml"), scenario).unwrap();
+    let o = rhonn(d.path(), &["run", "newcomer.toml", "--out", "sim"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(d.path().join("sim/trajectory.csv")).unwrap();
+    let (mut s, mut ms) = (
+        String::from("t,pump_V,level_mm\n"),
+        String::from("t,pump_V,level_mm\n"),
+    );
+    let mut top = 0.0f64;
+    for line in text.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let (t, u, h1, h2) = (v[0], v[1], v[2], v[3]);
+        top = top.max(h1);
+        s.push_str(&format!("{t},{u},{:.4}\n", h2 * 1e3));
+        ms.push_str(&format!("{},{u},{:.4}\n", (t * 1e3).round(), h2 * 1e3));
+    }
+    assert!(top >= 0.2999, "the upper tank never filled: {top} m");
+    std::fs::write(d.path().join("tanks_s.csv"), s).unwrap();
+    std::fs::write(d.path().join("tanks_ms.csv"), ms).unwrap();
+    let warnings = |o: &std::process::Output| -> Vec<String> {
+        assert!(o.status.success(), "{}", stderr(o));
+        stderr(o)
+            .lines()
+            .filter(|l| l.starts_with("warning"))
+            .map(String::from)
+            .collect()
+    };
+    let mut fits = Vec::new();
+    for command in ["fit", "identify"] {
+        for unit in ["s", "ms"] {
+            let data = format!("tanks_{unit}.csv");
+            let out = format!("{command}-{unit}");
+            let cols = ["--inputs", "pump_V", "--outputs", "level_mm"];
+            let o = rhonn(
+                d.path(),
+                &[&[command, "--data", &data, "--out", &out][..], &cols[..]].concat(),
+            );
+            let w = warnings(&o);
+            if unit == "s" {
+                assert!(w.is_empty(), "{command} in seconds: {w:?}");
+            } else {
+                assert_eq!(w.len(), 1, "{command} in ms: {w:?}");
+                assert!(
+                    w[0].contains("the sample time is 2 s") && w[0].contains("divide it by 1,000"),
+                    "{command}: {w:?}"
+                );
+            }
+            if command == "fit" {
+                let stdout = String::from_utf8_lossy(&o.stdout).replace(&data, "DATA");
+                fits.push(
+                    stdout
+                        .lines()
+                        .filter(|l| l.contains("fit "))
+                        .map(String::from)
+                        .collect::<Vec<_>>(),
+                );
+            }
+        }
+    }
+    assert!(!fits[0].is_empty() && fits[0] == fits[1], "{fits:?}");
+}

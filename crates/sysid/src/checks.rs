@@ -216,7 +216,7 @@ const MS_LIKE_STEPS: [f64; 7] = [10.0, 20.0, 25.0, 50.0, 100.0, 200.0, 250.0];
 /// and either a sample time that is a logger's in milliseconds (10 to 250) over at least
 /// 1,000 "seconds" (a 50 ms log of a minute reads as 16 hours at 50 s), or a whole number
 /// of thousands (a 2 s log in milliseconds steps by 2,000).
-fn milliseconds_hint(records: &[Record], sample_s: f64) -> Option<DataWarning> {
+pub fn milliseconds_hint(records: &[Record], sample_s: f64) -> Option<DataWarning> {
     let whole = records.iter().all(|r| r.t.iter().all(|t| t.fract() == 0.0));
     let span_s: f64 = records
         .iter()

@@ -143,7 +143,12 @@ fn identify_into(a: &IdentifyRequest, stage: &Path) -> Result<Outcome> {
         &id.summary,
         id.validation.as_ref(),
     )?;
-    let warnings = rhonn::sysid::signal_warnings(&records, &a.inputs, &a.outputs);
+    let mut warnings = rhonn::sysid::signal_warnings(&records, &a.inputs, &a.outputs);
+    // Times in milliseconds read as seconds, as `rhonn fit` says it (the records are on
+    // their uniform grid here).
+    let sample_s = records.first().and_then(|r| Some(r.t.get(1)? - r.t.first()?));
+    let ms = sample_s.and_then(|s| rhonn::sysid::milliseconds_hint(&records, s));
+    warnings.extend(ms.map(|w| super::fit_args::COMMAND_LINE.data_warning(&w)));
     let mut o = Outcome {
         files,
         notes: units_note
