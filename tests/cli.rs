@@ -206,6 +206,36 @@ fn reproduce_runs_every_thesis_scenario() {
     let d = tempfile::tempdir().unwrap();
     let o = rhonn(d.path(), &["reproduce", "--out", "r"]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // The console leads with what was reproduced, a line per scenario, the expected
+    // failure (the frozen identifier's free run) said as expected on its own line, and the
+    // thesis's convergence figure beside rhonn's.
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert!(lines[0].starts_with("reproduced"), "{stdout}");
+    for (k, name) in ["thesis-ch3", "thesis-ch5", "regulated-pi", "control-adaptive"]
+        .iter()
+        .enumerate()
+    {
+        assert!(lines[k + 1].starts_with(&format!("  {name}: ")), "{stdout}");
+    }
+    let ch5 = lines[2];
+    assert!(
+        ch5.contains("as expected of it") && ch5.contains("-328 % (p_line)"),
+        "{ch5}"
+    );
+    assert!(
+        ch5.contains("from 0.056 s (the thesis, figure 5.5: about 0.08 s)"),
+        "{ch5}"
+    );
+    assert!(lines[4].contains("IAE 10.8 MPa s against 83.2"), "{}", lines[4]);
+    // Every figure line of a frozen model's fit says it is frozen.
+    assert!(
+        lines
+            .iter()
+            .filter(|l| l.contains("fit -"))
+            .all(|l| l.contains("frozen")),
+        "{stdout}"
+    );
     for name in ["thesis-ch3", "thesis-ch5", "regulated-pi", "control-adaptive"] {
         assert!(
             d.path().join("r").join(name).join("summary.json").is_file(),

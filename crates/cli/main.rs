@@ -121,8 +121,8 @@ fn dispatch(cli: Cli) -> Result<()> {
         }
         Command::Reproduce { out } => {
             let root = out.unwrap_or_else(|| PathBuf::from("out"));
-            for name in commands::REPRODUCED {
-                commands::run(name, Some(root.join(name)))?.print();
+            for o in commands::reproduce(&root)? {
+                o.print();
             }
         }
         Command::Show { scenario } => print!("{}", commands::show(&scenario)?),

@@ -9,6 +9,7 @@ mod fit;
 pub mod fit_args;
 mod identify;
 mod identify_stream;
+mod reproduce;
 mod run;
 
 pub use benchmark::{benchmark, figure, BenchmarkRequest, Row};
@@ -19,6 +20,7 @@ pub use fit::{
 };
 pub use identify::{identify, online_spec, IdentifyRequest};
 pub use identify_stream::{identify_stream, OnError, StreamRequest};
+pub use reproduce::reproduce;
 pub use run::{bench, run, run_scenario, save_plant_run, save_scenario_run, show, REPRODUCED};
 
 use crate::campaign::CampaignOutcome;

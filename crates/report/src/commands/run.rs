@@ -19,6 +19,17 @@ pub fn run(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
     run_named(scenario, out)
 }
 
+/// Run the shipped scenario `name` into `dir` as `rhonn run` does: the run and what
+/// writing it told (`rhonn reproduce`).
+pub(super) fn run_scenario_into_dir(
+    name: &str,
+    dir: &Path,
+) -> Result<(rhonn::experiment::ScenarioRun, Outcome)> {
+    let sc = preset::load_any(name)?;
+    let (run, o) = run_scenario_from(&sc, Some(dir), &[])?;
+    Ok((run, o.unwrap_or_default()))
+}
+
 fn run_named(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
     let sc = preset::load_any(scenario)?;
     let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));

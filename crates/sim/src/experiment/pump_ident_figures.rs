@@ -260,14 +260,16 @@ impl std::fmt::Display for IdentReport {
         }
         for (mode, figs) in [
             ("training", &self.training),
-            ("series-parallel", &self.series_parallel),
-            ("parallel", &self.parallel),
+            ("frozen series-parallel", &self.series_parallel),
+            ("frozen parallel (free run)", &self.parallel),
         ] {
             for s in figs {
                 let band = format!("the band +-{:.4} {}", s.convergence_band, s.unit);
                 let tail = match (mode, s.convergence_time_s) {
                     (_, Some(t)) => format!(", converged within {band} at {t:.3} s"),
-                    ("training", None) => format!(", convergence not reached within {band}"),
+                    ("training", None) => format!(
+                        ", not converged: the error leaves {band} (1 % of the state's range) before the run ends"
+                    ),
                     _ => String::new(),
                 };
                 let norm = if mode == "training" {
@@ -277,7 +279,7 @@ impl std::fmt::Display for IdentReport {
                 };
                 writeln!(
                     f,
-                    "  {mode:<16} {:<7} rms error {:.4} {}, fit {:.1} %{norm}{tail}",
+                    "  {mode:<26} {:<7} rms error {:.4} {}, fit {:.1} %{norm}{tail}",
                     s.state, s.rms_error, s.unit, s.fit_percent
                 )?;
             }
