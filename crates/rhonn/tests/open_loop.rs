@@ -93,3 +93,37 @@ fn a_held_input_settles_the_tanks_and_sections_of_other_experiments_are_refused(
         assert!(e.contains(want), "{e}");
     }
 }
+
+/// `[identifier] epochs` on a plant other than the pump (it was read and ignored): each
+/// epoch runs the record again from the last epoch's weights (the law's own state, such
+/// as a least-squares gain, starts afresh, as on the pump), so a second epoch learns on
+/// from where the first ended; `epochs = 1` is the run without the key; and
+/// `validate = false` beside a `[validation]` section is refused, not ignored.
+#[test]
+fn an_identifier_s_epochs_and_validate_are_done_not_ignored() {
+    let text = shipped("tanks-identify");
+    let with = |key: &str| {
+        let t = text.replace("law = {", &format!("{key}\nlaw = {{"));
+        run(&t)
+    };
+    let one = run(&text).unwrap();
+    assert_eq!(with("epochs = 1").unwrap(), one);
+    let two = with("epochs = 2").unwrap();
+    let f = |o: &PlantRunOutput, k: usize| o.summary.identification.clone().unwrap()[k].clone();
+    for k in 0..2 {
+        // The second epoch's training fit (its second half) is at least the first's, and
+        // its weights moved on from the first epoch's end.
+        assert!(
+            f(&two, k).training_fit_percent >= f(&one, k).training_fit_percent - 0.5,
+            "{:?} against {:?}",
+            f(&two, k),
+            f(&one, k)
+        );
+        assert_ne!(f(&two, k).final_weight_norm, f(&one, k).final_weight_norm);
+    }
+    let e = with("validate = false").unwrap_err().to_string();
+    assert!(
+        e.contains("`validation`") && e.contains("identifier.validate = false"),
+        "{e}"
+    );
+}

@@ -68,19 +68,34 @@ impl IdentRun {
     }
 }
 
+/// Where an identification's weights start, and whether they learn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Weights<'a> {
+    /// The identifier's initial weights, learning (a first epoch).
+    Initial,
+    /// These weights, learning (a later epoch starts from the one before's).
+    From(&'a [Vec<f64>]),
+    /// These weights, held: the estimates are the parallel (free-run) model's.
+    Frozen(&'a [Vec<f64>]),
+}
+
 /// Identify `plant` (driven by its own inputs) online from `x0` with the checked
-/// identifier `is` (series-parallel, weights adapting) for `duration_s`, sampled every
-/// `sample_s`. With `frozen`, the weights are held at those given and the estimates are
-/// the parallel (free-run) model's instead. `tol`: the solver's settings (see
-/// [`IDENTIFY_RTOL`] for the scenarios' default).
+/// identifier `is` (series-parallel, weights adapting from `weights`) for `duration_s`,
+/// sampled every `sample_s`; with [`Weights::Frozen`] the weights are held and the
+/// estimates are the parallel (free-run) model's instead. `tol`: the solver's settings
+/// (see [`IDENTIFY_RTOL`] for the scenarios' default).
 pub fn identify<P: Plant>(
     plant: P,
     x0: &[f64],
     is: &IdentSettings,
     (duration_s, sample_s): (f64, f64),
-    frozen: Option<&[Vec<f64>]>,
+    weights: Weights<'_>,
     tol: &Tolerances,
 ) -> Result<IdentRun> {
+    let frozen = match weights {
+        Weights::Frozen(w) => Some(w),
+        _ => None,
+    };
     let n = is.states.len();
     let mut sampler = Sampler {
         run: IdentRun {
@@ -106,7 +121,11 @@ pub fn identify<P: Plant>(
         sampler.run.weights = w.to_vec();
         return Ok(sampler.run);
     }
-    let init = is.ident.initial_state(&is.xhat0, None);
+    let start = match weights {
+        Weights::From(w) => Some(w),
+        _ => None,
+    };
+    let init = is.ident.initial_state(&is.xhat0, start);
     let sys = Identified::<P>::new(plant, is.ident.clone(), is.states.clone(), is.inputs.clone())?;
     let mut s = solver(sys, x0, &init, tol)?;
     drive(&mut s, t_end, Some(instants), &mut sampler)?;
@@ -463,10 +482,26 @@ mod tests {
         .unwrap();
         let is = spec.check_for(&tanks).unwrap();
         let tol = Tolerances::of_defaults(&SolverDefaults::plant(IDENTIFY_RTOL), 2);
-        let run = identify(tanks.clone(), &[0.0, 0.0], &is, (200.0, 1.0), None, &tol).unwrap();
+        let run = identify(
+            tanks.clone(),
+            &[0.0, 0.0],
+            &is,
+            (200.0, 1.0),
+            Weights::Initial,
+            &tol,
+        )
+        .unwrap();
         assert_eq!((run.t.len(), run.y.len(), run.weights.len()), (201, 1, 1));
         assert!(run.rms_after(100.0)[0] < 5e-3, "{:?}", run.rms_after(100.0));
-        let frozen = identify(tanks, &[0.0, 0.0], &is, (50.0, 1.0), Some(&run.weights), &tol).unwrap();
+        let frozen = identify(
+            tanks,
+            &[0.0, 0.0],
+            &is,
+            (50.0, 1.0),
+            Weights::Frozen(&run.weights),
+            &tol,
+        )
+        .unwrap();
         assert_eq!(frozen.weights, run.weights);
         assert_eq!(frozen.y_hat[0][0], 0.0);
         // Less than one sample: an error, not an empty or doubled record.
@@ -475,7 +510,7 @@ mod tests {
             &[0.0, 0.0],
             &is,
             (0.2, 1.0),
-            None,
+            Weights::Initial,
             &tol,
         )
         .unwrap_err()

@@ -2,7 +2,7 @@
 //! frozen model's free run on the `[validation]` inputs, their figures per state and
 //! the columns of `trajectory.csv` and `validation.csv`.
 
-use super::any_plant::{identify, IdentRun};
+use super::any_plant::{identify, IdentRun, Weights};
 use super::plant_summary::{time_and_inputs, IdentStateFigures, PlantColumn, PlantRunOutput, PlantSummary};
 use super::scenario::{drive, ScenarioSpec};
 use super::solver_spec::Tolerances;
@@ -19,8 +19,27 @@ pub(super) fn run_identification<P: Plant>(
 ) -> Result<PlantRunOutput> {
     let is = ident.check_for(&plant)?;
     let sampling = (spec.duration_s, spec.output_interval_s);
-    let train = identify(plant.clone(), x0, &is, sampling, None, tol)?;
+    // Each epoch runs the record again, its weights starting where the last ended; the
+    // figures and columns are the last epoch's.
+    let mut train = identify(plant.clone(), x0, &is, sampling, Weights::Initial, tol)?;
+    for _ in 1..is.epochs {
+        train = identify(
+            plant.clone(),
+            x0,
+            &is,
+            sampling,
+            Weights::From(&train.weights),
+            tol,
+        )?;
+    }
     let validation = match &spec.validation {
+        Some(_) if !is.validate => {
+            return Err(invalid(
+                "validation",
+                "a section",
+                "absent with identifier.validate = false (no frozen-weight run), or validate = true",
+            ))
+        }
         Some(v) => {
             // As many output samples as the run may hold (check_times' bound).
             if !(v.duration_s.is_finite()
@@ -35,7 +54,14 @@ pub(super) fn run_identification<P: Plant>(
             }
             let p = drive(plant.clone(), &v.input, "validation.input")?;
             let sampling = (v.duration_s, spec.output_interval_s);
-            Some(identify(p, x0, &is, sampling, Some(&train.weights), tol)?)
+            Some(identify(
+                p,
+                x0,
+                &is,
+                sampling,
+                Weights::Frozen(&train.weights),
+                tol,
+            )?)
         }
         None => None,
     };
