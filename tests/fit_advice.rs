@@ -537,3 +537,64 @@ fn a_newcomer_s_tanks_at_2_s_and_in_ms_get_no_wrong_hint() {
     }
     assert!(!fits[0].is_empty() && fits[0] == fits[1], "{fits:?}");
 }
+
+/// "A column of subnormal values (1e-310) fits as a constant (`rms error 0`)": a signal
+/// whose largest magnitude is below 1e-150 (not all zeros) is refused by `fit` and
+/// `identify`, naming the file, the column and its largest value, and nothing is written;
+/// an all-zero column and one of 1e-100 are read as they are.
+#[test]
+fn a_column_too_small_to_square_is_refused_naming_it() {
+    let d = tempfile::tempdir().unwrap();
+    let write = |name: &str, scale: f64| {
+        let mut s = String::from("t,u,y\n");
+        let mut y = 0.0;
+        for k in 0..400 {
+            let u = ((k * 7919) % 200) as f64 / 100.0 - 1.0;
+            y = 0.9 * y + 0.1 * u;
+            s.push_str(&format!("{k},{:e},{y}\n", u * scale));
+        }
+        std::fs::write(d.path().join(name), s).unwrap();
+    };
+    write("tiny.csv", 1e-310);
+    for command in ["fit", "identify"] {
+        let o = rhonn(
+            d.path(),
+            &[
+                command,
+                "--data",
+                "tiny.csv",
+                "--inputs",
+                "u",
+                "--outputs",
+                "y",
+                "--out",
+                command,
+            ],
+        );
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{command}: {e}");
+        assert!(
+            e.contains("tiny.csv: column `u`: its largest magnitude is 1e-310, below 1e-150"),
+            "{command}: {e}"
+        );
+        assert!(!d.path().join(command).exists(), "{command} wrote a folder");
+    }
+    for (name, scale) in [("zeros.csv", 0.0), ("small.csv", 1e-100)] {
+        write(name, scale);
+        let o = rhonn(
+            d.path(),
+            &[
+                "fit",
+                "--data",
+                name,
+                "--inputs",
+                "u",
+                "--outputs",
+                "y",
+                "--out",
+                name,
+            ],
+        );
+        assert!(!stderr(&o).contains("below 1e-150"), "{name}: {}", stderr(&o));
+    }
+}

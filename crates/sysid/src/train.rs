@@ -198,6 +198,7 @@ pub fn fit_records(
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<FitRun> {
     crate::data::check_names(inputs, outputs)?;
+    crate::data::check_tiny(records, inputs, outputs)?;
     let needed = match &structure {
         FitStructure::Given(specs) => specs.iter().map(|s| s.max_lag()).max().unwrap_or(0) + 2,
         FitStructure::Select(opts) => super::select::min_samples(outputs.len(), opts),

@@ -75,6 +75,34 @@ pub fn check_names(inputs: &[String], outputs: &[String]) -> Result<()> {
 /// every variance and least-squares sum, stays finite.
 pub const MAX_MAGNITUDE: f64 = 1e150;
 
+/// The smallest magnitude a signal's largest value may have, unless the signal is all
+/// zeros: below it, its squares in every variance and least-squares sum underflow (a
+/// column of 1e-310 read as a constant; the mirror of [`MAX_MAGNITUDE`]).
+pub const MIN_MAGNITUDE: f64 = 1e-150;
+
+/// Refuse a signal of `records` whose values are not all zero but all below
+/// [`MIN_MAGNITUDE`] in magnitude, naming the record, the column and its largest value.
+pub fn check_tiny(records: &[Record], inputs: &[String], outputs: &[String]) -> Result<()> {
+    let named = |cols: &Vec<Vec<f64>>, names: &[String]| -> Vec<(String, usize)> {
+        names.iter().cloned().zip(0..cols.len()).collect()
+    };
+    for r in records {
+        for (cols, names) in [(&r.inputs, inputs), (&r.outputs, outputs)] {
+            for (name, i) in named(cols, names) {
+                let largest = cols[i].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                if largest > 0.0 && largest < MIN_MAGNITUDE {
+                    return Err(crate::Error::Argument(format!(
+                        "{}: column `{name}`: its largest magnitude is {}, below 1e-150: values this small underflow when squared (every variance and least-squares sum); rescale the column (multiply it by a power of ten)",
+                        r.source,
+                        crate::metrics::sig(largest, 3)
+                    )));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The most samples [`Record::regrid`] puts on a grid (beyond a record's own rows).
 pub const MAX_GRID_SAMPLES: f64 = 1e7;
 

@@ -201,6 +201,7 @@ pub fn identify(
 ) -> Result<Identification, IdentifyError> {
     use IdentifyError as E;
     let outputs = &plan.outputs;
+    crate::data::check_tiny(records, &plan.inputs, outputs).map_err(E::Online)?;
     // Glitches skipped and gaps restarted over, as in a session (`crate::ident::guard`).
     let (learned, guard_notes) =
         crate::ident::guard::screen(records, sample_time(records).map_err(E::Online)?);
