@@ -278,35 +278,11 @@ pub(super) fn select_from(
             judged[c] = Some(Judged::of_owned(results));
         }
     }
-    for c in (0..total).filter(|c| !queued.contains(c)) {
-        if !may_start(c) {
-            continue;
-        }
-        on_start(c);
-        let t0 = Instant::now();
-        let best_bounded = judged
-            .iter()
-            .zip(&list)
-            .filter(|(_, (_, s))| s.activation != Activation::Identity)
-            .filter_map(|(j, _)| j.as_ref().and_then(|j| j.score))
-            .min_by(f64::total_cmp);
-        let spec = &list[c].1;
-        let j = match select_cascade::score(spec, &parts, inputs, outputs, opts.steps_ahead, best_bounded) {
-            Ok(cs) => Judged {
-                fold_scores: cs.fold_scores,
-                score: Some(cs.score),
-                failed: None,
-                note: cs.note,
-                runs: cs.runs,
-            },
-            Err(e) => Judged {
-                failed: Some(e.to_string()),
-                ..Judged::default()
-            },
-        };
-        said(c, t0.elapsed().as_secs_f64(), &j);
-        judged[c] = Some(j);
-    }
+    let cascades: Vec<usize> = (0..total)
+        .filter(|c| !queued.contains(c) && may_start(*c))
+        .collect();
+    let data = (&parts[..], inputs, outputs, opts.steps_ahead);
+    judge_cascades(&list, &cascades, &mut judged, data, (&on_start, &said));
     let skipped_why = |c: usize, spec: &ModelSpec| {
         if too_long(spec) {
             format!(
@@ -334,6 +310,50 @@ pub(super) fn select_from(
         outputs: outputs.to_vec(),
     };
     finish(scores, opts, tally)
+}
+
+/// The training and held-out records of each fold.
+type Parts = [(Vec<Record>, Vec<Record>)];
+
+/// What a candidate's start and end tell the progress line.
+type Announce<'a> = (&'a dyn Fn(usize), &'a dyn Fn(usize, f64, &Judged));
+
+/// The cascades `cascades` of `list`, after the queue: each in two halves of its starts
+/// against the best bounded score so far (`select_cascade`), announced by `on_start` and
+/// told by `said`, into `judged`.
+fn judge_cascades(
+    list: &[(String, ModelSpec)],
+    cascades: &[usize],
+    judged: &mut [Option<Judged>],
+    (parts, inputs, outputs, steps_ahead): (&Parts, &[String], &[String], Option<usize>),
+    (on_start, said): Announce<'_>,
+) {
+    for &c in cascades {
+        on_start(c);
+        let t0 = Instant::now();
+        let best_bounded = judged
+            .iter()
+            .zip(list)
+            .filter(|(_, (_, s))| s.activation != Activation::Identity)
+            .filter_map(|(j, _)| j.as_ref().and_then(|j| j.score))
+            .min_by(f64::total_cmp);
+        let spec = &list[c].1;
+        let j = match select_cascade::score(spec, parts, inputs, outputs, steps_ahead, best_bounded) {
+            Ok(cs) => Judged {
+                fold_scores: cs.fold_scores,
+                score: Some(cs.score),
+                failed: None,
+                note: cs.note,
+                runs: cs.runs,
+            },
+            Err(e) => Judged {
+                failed: Some(e.to_string()),
+                ..Judged::default()
+            },
+        };
+        said(c, t0.elapsed().as_secs_f64(), &j);
+        judged[c] = Some(j);
+    }
 }
 
 /// Each candidate's score from what the folds said (`judged`; None: skipped, and

@@ -346,40 +346,8 @@ fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) ->
         o.notes.push(n);
     }
     o.files = crate::write_fit(stage, &fitted, &summary, &training)?;
-    o.lines.push(if grey {
-        format!(
-            "fitted the pump's grey-box model on {} record(s); estimated: {}",
-            recs.len(),
-            rhonn::sysid::pump_grey::describe_estimates(&fitted.model)
-        )
-    } else if fitted.members.is_empty() {
-        format!(
-            "fitted {} model with {} features per output on {} record(s)",
-            specs[0].kind.with_article(),
-            fitted.model.n_features(),
-            recs.len()
-        )
-    } else {
-        format!(
-            "fitted an ensemble of {} models ({} features per output in all) on {} record(s)",
-            1 + fitted.members.len(),
-            fitted.all_members().map(|m| m.n_features()).sum::<usize>(),
-            recs.len()
-        )
-    });
-    for own in &summary.by_output {
-        o.lines.push(format!(
-            "  output `{}` from a structure of its own: {} {}with {} features per output",
-            own.output,
-            own.model.kind.with_article(),
-            if own.members > 1 {
-                format!("ensemble of {} ", own.members)
-            } else {
-                String::new()
-            },
-            own.features
-        ));
-    }
+    o.lines
+        .extend(fitted_lines(&specs[0], &fitted, &summary, recs.len()));
     if grey {
         // An integrating line drifts in free run: the K-step figure is the one to read.
         let k = specs[0].horizon;
@@ -411,6 +379,53 @@ fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) ->
         training_lines(&mut o, &b.free_run, &label, &fitted.units);
     }
     Ok(o)
+}
+
+/// What was fitted, in words: the model (its kind and size, an ensemble's members, the
+/// grey box's estimates) on `n_records` records, and each output with a structure of its own.
+fn fitted_lines(
+    spec: &rhonn::sysid::ModelSpec,
+    fitted: &rhonn::sysid::FittedModel,
+    summary: &rhonn::sysid::FitSummary,
+    n_records: usize,
+) -> Vec<String> {
+    let grey = spec.kind == rhonn::sysid::Kind::Pump;
+    let mut lines = Vec::new();
+    lines.push(if grey {
+        format!(
+            "fitted the pump's grey-box model on {} record(s); estimated: {}",
+            n_records,
+            rhonn::sysid::pump_grey::describe_estimates(&fitted.model)
+        )
+    } else if fitted.members.is_empty() {
+        format!(
+            "fitted {} model with {} features per output on {} record(s)",
+            spec.kind.with_article(),
+            fitted.model.n_features(),
+            n_records
+        )
+    } else {
+        format!(
+            "fitted an ensemble of {} models ({} features per output in all) on {} record(s)",
+            1 + fitted.members.len(),
+            fitted.all_members().map(|m| m.n_features()).sum::<usize>(),
+            n_records
+        )
+    });
+    for own in &summary.by_output {
+        lines.push(format!(
+            "  output `{}` from a structure of its own: {} {}with {} features per output",
+            own.output,
+            own.model.kind.with_article(),
+            if own.members > 1 {
+                format!("ensemble of {} ", own.members)
+            } else {
+                String::new()
+            },
+            own.features
+        ));
+    }
+    lines
 }
 
 /// When `dir` holds an earlier fit's model that differs from `fitted`: without `force` an

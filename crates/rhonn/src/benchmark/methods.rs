@@ -225,41 +225,13 @@ pub fn run_with(
         runs[1].push(o);
         runs[2].push(a);
     }
-    let names = [
-        (
-            if model.is_some() {
-                "rhonn fit (--model)"
-            } else {
-                "rhonn fit (default)"
-            },
-            fit_structure,
-            fit_s,
-        ),
-        ("rhonn identify (default)", online_structure, online_s),
-        (
-            "ARX (lags by CV)",
-            arx_sel.candidates[arx_sel.best_arx].name.clone(),
-            arx_s,
-        ),
+    let arx_structure = arx_sel.candidates[arx_sel.best_arx].name.clone();
+    let timed = [
+        (fit_structure, fit_s),
+        (online_structure, online_s),
+        (arx_structure, arx_s),
     ];
-    let methods = names
-        .into_iter()
-        .zip(runs)
-        .map(|((method, structure, s), preds)| MethodResult {
-            method: method.into(),
-            structure,
-            train_time_s: s,
-            tests: preds
-                .into_iter()
-                .zip(b.tests.iter().zip(&test_sets))
-                .map(|(p, (r, ts))| TestScore {
-                    test: ts.label.clone(),
-                    rmse: rmse_from(r, &p, ts.scored_from),
-                    prediction: p,
-                })
-                .collect(),
-        })
-        .collect();
+    let methods = method_results(b, model.is_some(), timed, runs, &test_sets);
     Ok(BenchmarkOutcome {
         name: b.name.clone(),
         title: b.spec.title.clone(),
@@ -273,4 +245,39 @@ pub fn run_with(
         fitted,
         online,
     })
+}
+
+/// Each method's row of the table: its name, structure and training time (`timed`, in the
+/// order rhonn fit, rhonn identify, ARX) and its predictions of each test set scored.
+fn method_results(
+    b: &Benchmark,
+    model_given: bool,
+    timed: [(String, f64); 3],
+    runs: [Vec<Vec<Vec<f64>>>; 3],
+    test_sets: &[TestSet],
+) -> Vec<MethodResult> {
+    let fit = if model_given {
+        "rhonn fit (--model)"
+    } else {
+        "rhonn fit (default)"
+    };
+    [fit, "rhonn identify (default)", "ARX (lags by CV)"]
+        .into_iter()
+        .zip(timed)
+        .zip(runs)
+        .map(|((method, (structure, s)), preds)| MethodResult {
+            method: method.into(),
+            structure,
+            train_time_s: s,
+            tests: preds
+                .into_iter()
+                .zip(b.tests.iter().zip(test_sets))
+                .map(|(p, (r, ts))| TestScore {
+                    test: ts.label.clone(),
+                    rmse: rmse_from(r, &p, ts.scored_from),
+                    prediction: p,
+                })
+                .collect(),
+        })
+        .collect()
 }

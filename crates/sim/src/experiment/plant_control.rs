@@ -225,20 +225,7 @@ pub(super) fn run_control<P: Plant>(
             tol,
         )?);
     }
-    let figs = |r: &LoopRun| {
-        let act = crate::activity::activity(&r.u, range, c.period_s);
-        LoopFigures {
-            controller: r.controller,
-            iae: qy.to_display(r.iae),
-            ise: qy.to_display(qy.to_display(r.ise)),
-            final_error: qy.to_display(r.final_error()),
-            time_input_saturated_s: act.time_saturated_s,
-            input_total_variation: qu.to_display(act.total_variation),
-            input_rms_change_per_sample: qu.to_display(act.rms_change_per_sample),
-            time_input_switching_s: act.time_switching_s,
-        }
-    };
-    let [a, b] = [figs(&runs[0]), figs(&runs[1])];
+    let [a, b] = [0, 1].map(|k| loop_figures(&runs[k], range, c.period_s, (&qy, qu)));
     summary.findings.extend(conditions_finding(&plant, c, spec, qu));
     summary.findings.push(format!(
         "{}: IAE {:.1} {u} s against {:.1} for the baseline {} ({:+.1} %); final error {:.3} against {:.3} {u}",
@@ -270,6 +257,27 @@ pub(super) fn run_control<P: Plant>(
         validation: None,
         duration_s: spec.duration_s,
     })
+}
+
+/// A loop's figures in display units: the regulated state's errors and the input's
+/// activity over `range` at the control period `period_s`.
+fn loop_figures(
+    r: &LoopRun,
+    range: (f64, f64),
+    period_s: f64,
+    (qy, qu): (&Quantity, &Quantity),
+) -> LoopFigures {
+    let act = crate::activity::activity(&r.u, range, period_s);
+    LoopFigures {
+        controller: r.controller,
+        iae: qy.to_display(r.iae),
+        ise: qy.to_display(qy.to_display(r.ise)),
+        final_error: qy.to_display(r.final_error()),
+        time_input_saturated_s: act.time_saturated_s,
+        input_total_variation: qu.to_display(act.total_variation),
+        input_rms_change_per_sample: qu.to_display(act.rms_change_per_sample),
+        time_input_switching_s: act.time_switching_s,
+    }
 }
 
 fn loop_columns<P: Plant>(
