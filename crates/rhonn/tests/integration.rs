@@ -21,3 +21,12 @@ mod tanks;
 mod tanks_tuning;
 mod thesis_ch3;
 mod thesis_ch5;
+
+/// A shipped scenario's file, as text (`scenarios/NAME.toml`).
+pub fn shipped(name: &str) -> String {
+    std::fs::read_to_string(format!(
+        "{}/../../scenarios/{name}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+}

@@ -1,15 +1,8 @@
 //! A plant scenario with neither `[identifier]` nor `[control]`: the plant driven by its
 //! inputs alone, its states sampled, and a summary of where each went.
 
+use crate::shipped;
 use rhonn::experiment::{run_plant_scenario, PlantRunOutput, ScenarioSpec};
-
-fn shipped(name: &str) -> String {
-    std::fs::read_to_string(format!(
-        "{}/../../scenarios/{name}.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-}
 
 fn run(text: &str) -> rhonn::Result<PlantRunOutput> {
     run_plant_scenario(&ScenarioSpec::from_toml(text, "open.toml")?, None)

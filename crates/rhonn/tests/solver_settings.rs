@@ -1,15 +1,8 @@
 //! `[solver]` on a plant other than the pump: the tanks' control and identification
 //! scenarios with the solver's profile, tolerances and largest step set in the file.
 
+use crate::shipped;
 use rhonn::experiment::{run_plant_scenario, PlantRunOutput, ScenarioSpec};
-
-fn shipped(name: &str) -> String {
-    std::fs::read_to_string(format!(
-        "{}/../../scenarios/{name}.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-}
 
 /// The shipped tanks control scenario, shortened to 600 s, with `solver` appended.
 fn control(solver: &str) -> rhonn::Result<PlantRunOutput> {
