@@ -1,7 +1,8 @@
 //! Running a [`ScenarioSpec`] on any [`Plant`]: an online identification (then its
-//! frozen model's free run on other inputs), or a controller and its baseline on
-//! identical plants. Produces columns (SI) and a summary (display units) that the
-//! report crate writes as trajectory.csv, validation.csv, summary.json and plots.
+//! frozen model's free run on other inputs), a controller and its baseline on identical
+//! plants, or the plant alone on its inputs. Produces columns (SI) and a summary (display
+//! units) that the report crate writes as trajectory.csv, validation.csv, summary.json and
+//! plots.
 
 use super::any_plant::{IDENTIFY_RTOL, LOOP_RTOL};
 pub(crate) use super::plant_control::check_control_periods;

@@ -266,7 +266,7 @@ impl ScenarioSpec {
         toml::to_string(self).unwrap_or_else(|e| format!("# cannot be written as TOML: {e}"))
     }
 
-    /// The checks that need no plant: name, times, one experiment, none of the sections
+    /// The checks that need no plant: name, times, at most one experiment, none of the sections
     /// only the pump's own runner reads.
     pub fn check_common(&self) -> Result<()> {
         self.check_times()?;
