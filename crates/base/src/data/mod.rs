@@ -83,13 +83,10 @@ pub const MIN_MAGNITUDE: f64 = 1e-150;
 /// Refuse a signal of `records` whose values are not all zero but all below
 /// [`MIN_MAGNITUDE`] in magnitude, naming the record, the column and its largest value.
 pub fn check_tiny(records: &[Record], inputs: &[String], outputs: &[String]) -> Result<()> {
-    let named = |cols: &Vec<Vec<f64>>, names: &[String]| -> Vec<(String, usize)> {
-        names.iter().cloned().zip(0..cols.len()).collect()
-    };
     for r in records {
         for (cols, names) in [(&r.inputs, inputs), (&r.outputs, outputs)] {
-            for (name, i) in named(cols, names) {
-                let largest = cols[i].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            for (name, col) in names.iter().zip(cols) {
+                let largest = col.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 if largest > 0.0 && largest < MIN_MAGNITUDE {
                     return Err(crate::Error::Argument(format!(
                         "{}: column `{name}`: its largest magnitude is {}, below 1e-150: values this small underflow when squared (every variance and least-squares sum); rescale the column (multiply it by a power of ten)",

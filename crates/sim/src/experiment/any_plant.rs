@@ -92,9 +92,10 @@ pub fn identify<P: Plant>(
     weights: Weights<'_>,
     tol: &Tolerances,
 ) -> Result<IdentRun> {
-    let frozen = match weights {
-        Weights::Frozen(w) => Some(w),
-        _ => None,
+    let (frozen, start) = match weights {
+        Weights::Initial => (None, None),
+        Weights::From(w) => (None, Some(w)),
+        Weights::Frozen(w) => (Some(w), None),
     };
     let n = is.states.len();
     let mut sampler = Sampler {
@@ -121,10 +122,6 @@ pub fn identify<P: Plant>(
         sampler.run.weights = w.to_vec();
         return Ok(sampler.run);
     }
-    let start = match weights {
-        Weights::From(w) => Some(w),
-        _ => None,
-    };
     let init = is.ident.initial_state(&is.xhat0, start);
     let sys = Identified::<P>::new(plant, is.ident.clone(), is.states.clone(), is.inputs.clone())?;
     let mut s = solver(sys, x0, &init, tol)?;
@@ -151,20 +148,22 @@ pub fn simulate<P: Plant>(
     tol: &Tolerances,
 ) -> Result<OpenRun> {
     struct Record(OpenRun);
-    impl<P: Plant> Hooks<Alone<P>> for Record {
-        fn instant(&mut self, s: &mut Dopri5<Alone<P>>) -> Result<()> {
+    impl Record {
+        fn take<P: Plant>(&mut self, s: &Dopri5<Alone<P>>) {
             self.0.t.push(s.t());
             for (v, x) in self.0.states.iter_mut().zip(s.state()) {
                 v.push(*x);
             }
+        }
+    }
+    impl<P: Plant> Hooks<Alone<P>> for Record {
+        fn instant(&mut self, s: &mut Dopri5<Alone<P>>) -> Result<()> {
+            self.take(s);
             Ok(())
         }
         fn stepped(&mut self, s: &Dopri5<Alone<P>>, done: bool) -> Result<()> {
             if done {
-                self.0.t.push(s.t());
-                for (v, x) in self.0.states.iter_mut().zip(s.state()) {
-                    v.push(*x);
-                }
+                self.take(s);
             }
             Ok(())
         }

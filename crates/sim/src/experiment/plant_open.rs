@@ -19,11 +19,12 @@ pub(super) fn run_open<P: Plant>(
     mut summary: PlantSummary,
     tol: &Tolerances,
 ) -> Result<PlantRunOutput> {
-    let run = simulate(plant.clone(), x0, (spec.duration_s, spec.output_interval_s), tol)?;
-    let inputs: Vec<_> = plant.inputs().iter().collect();
+    let (states, input_qs) = (plant.states().to_vec(), plant.inputs().to_vec());
+    let run = simulate(plant, x0, (spec.duration_s, spec.output_interval_s), tol)?;
+    let inputs: Vec<_> = input_qs.iter().collect();
     let mut trajectory = time_and_inputs(&spec.input, &run.t, &inputs)?;
     let mut ranges = Vec::new();
-    for (q, v) in plant.states().iter().zip(&run.states) {
+    for (q, v) in states.iter().zip(&run.states) {
         let shown: Vec<f64> = v.iter().map(|x| q.to_display(*x)).collect();
         let (min, max) = shown
             .iter()

@@ -8,8 +8,8 @@ use super::loop_conditions::{Actuator, LoopConditions, SensorNoise, Sensors};
 use super::pump_figures::{Accumulator, AdaptiveReport, Figures};
 use super::pump_ident_figures::IdentAcc;
 use super::pump_settings::{Drive, Scenario, SolverSettings};
-use super::scenario::ProfileSpec;
 use super::sim::{describe, drive, start, Hooks, Instants};
+use super::solver_spec::{Tolerances, DEFAULT_ATOL};
 use super::trace::{Recorder, Sample};
 use crate::control::{CascadeState, Controller, Pi, RhonnCascade};
 use crate::error::{Error, Result};
@@ -17,25 +17,21 @@ use crate::plant::{PumpSystem, PLANT_DIM, P_LINE, STROKE};
 use crate::signal::Signal;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
-use rhonn_ode::{Dopri5, Options, Profile, State, Stats, System};
+use rhonn_ode::{Dopri5, Options, State, Stats, System};
 
-/// Solver options of a scenario for a state of `dim` components (the pump's two
-/// first; identifier states get the relative tolerance and an absolute 1e-9).
+/// Solver options of a scenario for a state of `dim` components (the pump's pressure and
+/// stroke first; the rest get the relative tolerance and an absolute 1e-9), as every
+/// plant's ([`Tolerances::options`]).
 pub fn solver_options<S: rhonn_ode::State>(s: &SolverSettings, dim: usize) -> Options<S> {
-    let mut rtol = S::splat(dim, s.rtol);
-    let mut atol = S::splat(dim, 1e-9);
-    atol.as_mut_slice()[P_LINE] = s.atol_p_line_pa;
-    atol.as_mut_slice()[STROKE] = s.atol_stroke_m;
-    rtol.as_mut_slice()[0] = s.rtol;
-    let mut o = Options::uniform(dim, s.rtol, 1e-9);
-    o.rtol = rtol;
-    o.atol = atol;
-    o.h_max_s = s.max_step_s;
-    o.profile = match s.profile {
-        ProfileSpec::Hairer => Profile::Hairer,
-        ProfileSpec::Ode45 | ProfileSpec::SimulinkOde45 => Profile::Ode45,
+    let mut atol = vec![DEFAULT_ATOL; 2];
+    (atol[P_LINE], atol[STROKE]) = (s.atol_p_line_pa, s.atol_stroke_m);
+    let t = Tolerances {
+        profile: s.profile,
+        rtol: s.rtol,
+        atol,
+        max_step_s: s.max_step_s,
     };
-    o
+    t.options(dim)
 }
 
 /// The sampled controller of one simulation: none (open loop: the current is a
