@@ -22,6 +22,7 @@ import csv
 import json
 import os
 import tempfile
+import warnings as _warnings
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
@@ -363,10 +364,19 @@ class Model:
         -------
         numpy.ndarray of shape (n, p)
             Samples before the first prediction repeat ``y``.
+
+        Warns
+        -----
+        UserWarning
+            An input of ``u`` goes beyond its training range by more than a tenth of that
+            range (the model extrapolates there), as ``rhonn predict`` warns.
         """
-        return self._inner._predict(
+        out, _, said = self._inner._predict(
             _matrix("u", u), _matrix("y", y), _steps(steps_ahead), bool(baseline), _window(init_window)
-        )[0]
+        )
+        for w in said:
+            _warnings.warn(w, UserWarning, stacklevel=2)
+        return out
 
     def score(
         self,

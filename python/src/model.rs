@@ -31,7 +31,7 @@ pub fn load(path: PathBuf) -> PyResult<Model> {
 #[pymethods]
 impl Model {
     /// `rhonn predict` on inputs `u` (n, m) and measured outputs `y` (n, p): the prediction
-    /// (n, p) and its figures as JSON (`Model.predict` and `Model.score`).
+    /// (n, p), its figures as JSON and its warnings (`Model.predict` and `Model.score`).
     #[pyo3(signature = (u, y, steps_ahead=None, baseline=false, init_window=None))]
     fn _predict<'py>(
         &self,
@@ -41,15 +41,15 @@ impl Model {
         steps_ahead: Option<usize>,
         baseline: bool,
         init_window: Option<usize>,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, String)> {
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, String, Vec<String>)> {
         let (inputs, outputs, dt) = self.0.signals();
         let rec = record("the data", dt, &u, &y, inputs, outputs)?;
-        let (cols, json) = py
+        let (cols, json, warnings) = py
             .detach(|| any_model::predict(&self.0, &rec, (steps_ahead, init_window), baseline))
             .map_err(report_err)?;
         let n = cols.first().map_or(0, Vec::len);
         let arr = Array2::from_shape_fn((n, cols.len()), |(k, j)| cols[j][k]);
-        Ok((arr.into_pyarray(py), json))
+        Ok((arr.into_pyarray(py), json, warnings))
     }
 
     /// Write the model as `model.json` (the format `rhonn predict` and `rhonn.load` read).

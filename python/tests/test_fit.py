@@ -287,3 +287,14 @@ def test_an_output_the_arx_predicts_better_gets_it_and_the_model_runs_as_one(tmp
     m.save(tmp_path / "model.json")
     back = rhonn.load(tmp_path / "model.json")
     np.testing.assert_array_equal(back.predict(u, y), pred)
+
+
+def test_inputs_beyond_the_training_range_warn_and_inputs_within_it_do_not(tanks, tanks_model):
+    _, val = tanks
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        tanks_model.predict(val["u"], val["y"])  # the validation record: within the range
+    with pytest.warns(UserWarning, match=r"input `u` of the data spans \[.*the model extrapolates there"):
+        tanks_model.predict(1.5 * np.asarray(val["u"]), val["y"])

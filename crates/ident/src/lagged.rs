@@ -188,6 +188,8 @@ impl Lagged {
                 .zip(scaling.y_scale.iter().copied())
                 .collect(),
             output_range: vec![(0.0, 1.0); ny],
+            // A stream has no training range known in advance.
+            input_range: Vec::new(),
             terms,
             weights: vec![],
         };

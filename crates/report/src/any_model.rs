@@ -8,7 +8,7 @@ use rhonn::data::Record;
 use std::path::Path;
 
 /// A prediction's columns (one per output) and its figures as JSON text.
-pub type Prediction = (Vec<Vec<f64>>, String);
+pub type Prediction = (Vec<Vec<f64>>, String, Vec<String>);
 
 fn json(v: &impl serde::Serialize) -> Result<String> {
     serde_json::to_string(v).map_err(|e| Error::Input(format!("cannot write the figures as JSON: {e}")))
@@ -71,7 +71,8 @@ pub fn save(model: &AnyModel, path: &Path, force: bool) -> Result<()> {
 /// Predict `rec`'s outputs: free run (`steps_ahead` None; seeing only the first
 /// `init_window` outputs when given) or K steps ahead; with `baseline`, the ARX
 /// baseline's prediction and figures instead (prediction.csv's `<y>_hat_arx` and
-/// summary.json's baseline).
+/// summary.json's baseline); and the warnings `rhonn predict` prints (inputs beyond the
+/// training range).
 pub fn predict(
     model: &AnyModel,
     rec: &Record,
@@ -97,15 +98,18 @@ pub fn predict(
         )));
     }
     match model.predict_with(rec, steps_ahead, init_window)? {
-        AnyPrediction::Fitted(p) => match (baseline, p.baseline) {
-            (true, Some((cols, figures))) => Ok((cols, json(&figures)?)),
-            _ => Ok((p.outputs, json(&p.figures)?)),
-        },
+        AnyPrediction::Fitted(p) => {
+            let said = p.inputs_beyond.iter().map(|b| b.said(&rec.source)).collect();
+            match (baseline, p.baseline) {
+                (true, Some((cols, figures))) => Ok((cols, json(&figures)?, said)),
+                _ => Ok((p.outputs, json(&p.figures)?, said)),
+            }
+        }
         AnyPrediction::Online { rows, figures } => {
             let cols = (0..figures.len())
                 .map(|j| rows.iter().map(|r| r[j]).collect())
                 .collect();
-            Ok((cols, json(&figures)?))
+            Ok((cols, json(&figures)?, Vec::new()))
         }
     }
 }

@@ -66,7 +66,10 @@ pub use fitted::{
 };
 use lm::lm;
 pub use predict::check_window;
-pub use predict::{predict, predict_with, samples_needed, PredictSummary, Prediction};
+pub use predict::{
+    inputs_beyond_training, predict, predict_with, samples_needed, InputBeyond, PredictSummary, Prediction,
+    BEYOND_SPAN,
+};
 pub use train::{
     best_arx, fit_records, train, train_beside, train_selected, BaselineSummary, FitRun, FitStructure,
     FitSummary, MemberSummary, OutputStructureSummary, RecordFigures, TrainingFigures,

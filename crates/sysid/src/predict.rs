@@ -27,6 +27,67 @@ pub struct Prediction {
     pub figures: Vec<OutputFigures>,
     /// The ARX baseline's prediction and figures, when the model has one.
     pub baseline: Option<(Vec<Vec<f64>>, Vec<OutputFigures>)>,
+    /// The record's inputs that leave the model's training range ([`inputs_beyond_training`]).
+    pub inputs_beyond: Vec<InputBeyond>,
+}
+
+/// An input of a record that leaves the model's training range.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct InputBeyond {
+    /// The input's column.
+    pub input: String,
+    /// Its (min, max) on the record.
+    pub record_range: (f64, f64),
+    /// Its (min, max) in the training data.
+    pub training_range: (f64, f64),
+    /// The share of the record's samples outside the training range, in [0, 1].
+    pub share_outside: f64,
+}
+
+/// How far beyond its training range, as a share of that range's span, an input must go
+/// for a prediction to say so: a record of the same kind reaches a little past its
+/// training's extremes (noise, a longer record), which says nothing.
+pub const BEYOND_SPAN: f64 = 0.1;
+
+/// The inputs of `record` that go beyond `m`'s training range by more than [`BEYOND_SPAN`]
+/// of its span on either side: there every model extrapolates, a nonlinear one in a way no
+/// training data checked (on the unseen-systems corpus a closed-loop positioning system
+/// tested on pulses met forces 5 x its training's, and its nonlinear models ran free
+/// several times worse than the ARX). Empty for a model that does not keep the range.
+pub fn inputs_beyond_training(m: &crate::Model, record: &Record) -> Vec<InputBeyond> {
+    m.input_range
+        .iter()
+        .zip(&m.inputs)
+        .zip(&record.inputs)
+        .filter_map(|((&(lo, hi), name), u)| {
+            let (min, max) = u.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+                (l.min(v), h.max(v))
+            });
+            let margin = BEYOND_SPAN * (hi - lo);
+            (min < lo - margin || max > hi + margin).then(|| InputBeyond {
+                input: name.clone(),
+                record_range: (min, max),
+                training_range: (lo, hi),
+                share_outside: u.iter().filter(|&&v| v < lo || v > hi).count() as f64 / u.len().max(1) as f64,
+            })
+        })
+        .collect()
+}
+
+impl InputBeyond {
+    /// In words, for the record `source`.
+    pub fn said(&self, source: &str) -> String {
+        let sig = |v: f64| crate::metrics::sig(v, 3);
+        format!(
+            "input `{}` of {source} spans [{}, {}] where the model was trained on [{}, {}] ({} % of its samples outside): the model extrapolates there, a nonlinear one in a way no training data checked; compare its free run with the ARX baseline's",
+            self.input,
+            sig(self.record_range.0),
+            sig(self.record_range.1),
+            sig(self.training_range.0),
+            sig(self.training_range.1),
+            sig(100.0 * self.share_outside)
+        )
+    }
 }
 
 /// What `rhonn predict` writes to `summary.json`.
@@ -49,6 +110,9 @@ pub struct PredictSummary<'a> {
     pub outputs: &'a [OutputFigures],
     /// The baseline's figures.
     pub baseline_arx: Option<&'a [OutputFigures]>,
+    /// The record's inputs beyond the training range (absent: none).
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub inputs_beyond_training: &'a [InputBeyond],
     /// What the figures say, in words.
     pub findings: Vec<String>,
 }
@@ -107,11 +171,15 @@ impl Prediction {
             init_window: self.init_window,
             outputs: &self.figures,
             baseline_arx: self.baseline.as_ref().map(|(_, f)| f.as_slice()),
+            inputs_beyond_training: &self.inputs_beyond,
             findings: findings(
                 &self.mode(),
                 &self.figures,
                 self.baseline.as_ref().map(|(_, f)| f.as_slice()),
-            ),
+            )
+            .into_iter()
+            .chain(self.inputs_beyond.iter().map(|b| b.said(&self.record.source)))
+            .collect(),
         }
     }
 }
@@ -217,6 +285,7 @@ pub fn predict_with(
         }
         None => None,
     };
+    let inputs_beyond = inputs_beyond_training(m, &record);
     Ok(Prediction {
         record,
         resampled_from_s,
@@ -226,6 +295,7 @@ pub fn predict_with(
         first,
         figures,
         baseline,
+        inputs_beyond,
     })
 }
 
@@ -274,6 +344,49 @@ mod tests {
         assert!(e.contains("`steps_ahead` = 0"), "{e}");
         let e = predict(&fitted, &record(3, 0.1), None).unwrap_err().to_string();
         assert!(e.contains("r.csv") && e.contains("at least"), "{e}");
+    }
+
+    #[test]
+    fn inputs_beyond_the_training_range_are_said_and_inputs_within_it_are_not() {
+        let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
+        let spec = ModelSpec {
+            kind: crate::Kind::Arx,
+            ..ModelSpec::default()
+        };
+        let (fitted, _) = train(&[spec], &[record(200, 0.1)], &u, &y).unwrap();
+        assert_eq!(fitted.model.input_range, vec![(-1.0, 1.0)]);
+        // The same kind of record: nothing to say.
+        let p = predict(&fitted, &record(100, 0.1), None).unwrap();
+        assert!(p.inputs_beyond.is_empty(), "{:?}", p.inputs_beyond);
+        // Within a tenth of the span beyond it: nothing either.
+        let mut near = record(100, 0.1);
+        near.inputs[0][5] = 1.19;
+        assert!(predict(&fitted, &near, None).unwrap().inputs_beyond.is_empty());
+        // Three times the training amplitude, on every other hold.
+        let mut far = record(100, 0.1);
+        for (k, v) in far.inputs[0].iter_mut().enumerate() {
+            if (k / 18) % 2 == 0 {
+                *v *= 3.0;
+            }
+        }
+        let p = predict(&fitted, &far, None).unwrap();
+        assert_eq!(p.inputs_beyond.len(), 1, "{:?}", p.inputs_beyond);
+        let b = &p.inputs_beyond[0];
+        assert_eq!((b.record_range, b.training_range), ((-3.0, 3.0), (-1.0, 1.0)));
+        assert!((b.share_outside - 0.54).abs() < 1e-12, "{}", b.share_outside);
+        let said = p.summary("m.json").findings.join("\n");
+        assert!(
+            said.contains("input `u` of r.csv spans [-3, 3] where the model was trained on [-1, 1] (54 % of its samples outside)"),
+            "{said}"
+        );
+        // A model that does not keep the range (online, or saved before it was kept).
+        let mut old = fitted.clone();
+        old.model.input_range.clear();
+        assert!(predict(&old, &far, None).unwrap().inputs_beyond.is_empty());
+        let text = serde_json::to_string(&old.model).unwrap();
+        assert!(!text.contains("input_range"));
+        let back: crate::Model = serde_json::from_str(&text).unwrap();
+        back.validate().unwrap();
     }
 
     /// A model.json whose ARX baseline has lags longer than the record (a hand-edited

@@ -8,7 +8,8 @@
 //! 0.445). An ensemble is a candidate like
 //! the others: chosen only when it beats the best ARX on every fold and every candidate on
 //! the mean. Its members are the best candidates by score that ran in full and have bounded
-//! terms (a polynomial must win by a margin on its own, as the selection asks of it); a free run
+//! terms (a polynomial must win by a margin on its own, as the selection asks of it), among
+//! the best ARX and the structures below it on the mean (`select::may_join`); a free run
 //! of the ensemble is the mean of its members' free runs, as `FittedModel::predict` makes
 //! it once trained on every record.
 

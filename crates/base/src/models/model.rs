@@ -26,6 +26,11 @@ pub struct Model {
     pub output_norm: Vec<(f64, f64)>,
     /// (min, max) of each output in the training data.
     pub output_range: Vec<(f64, f64)>,
+    /// (min, max) of each input in the training data: `rhonn predict` says where a record's
+    /// inputs leave it. Empty for an online model and in a model.json saved before rhonn
+    /// kept it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub input_range: Vec<(f64, f64)>,
     /// High-order terms (rhonn), `[y index, exponent]` factors.
     pub terms: Vec<Vec<[usize; 2]>>,
     /// One weight vector per output.
@@ -116,18 +121,24 @@ impl Model {
         feat[c] = 1.0;
     }
 
-    /// Normalisation and output ranges as a file may hold them: one per input and output,
+    /// Normalisation and ranges as a file may hold them: one per input and output (the
+    /// inputs' ranges may be absent),
     /// means and ranges finite and of magnitude at most 1e150, standard deviations in
     /// [1e-150, 1e150], each range low <= high. Errors name the field and its index.
     pub(crate) fn check_scaling(&self) -> Result<()> {
         const BIG: f64 = 1e150;
         type Pairs<'a> = &'a [(f64, f64)];
-        let lists: [(&str, Pairs, usize); 3] = [
+        let lists: [(&str, Pairs, usize); 4] = [
             ("model.input_norm", &self.input_norm, self.ni()),
             ("model.output_norm", &self.output_norm, self.no()),
             ("model.output_range", &self.output_range, self.no()),
+            ("model.input_range", &self.input_range, self.ni()),
         ];
         for (name, v, n) in lists {
+            // A model without the inputs' range (online, or saved before rhonn kept it).
+            if name == "model.input_range" && v.is_empty() {
+                continue;
+            }
             if v.len() != n {
                 return Err(invalid(
                     name,

@@ -631,6 +631,10 @@ fn predict_into(
             model.display()
         ));
     }
+    for b in &p.inputs_beyond {
+        o.notes
+            .push(format!("warning: {}", b.said(&data.display().to_string())));
+    }
     if let Some(dt) = p.resampled_from_s {
         // Intervals read off decimal times carry float noise: shown to the nanosecond.
         let ns = |v: f64| (v * 1e9).round() / 1e9;
