@@ -192,20 +192,24 @@ fn closed_loop_integrators_get_no_one_step_structure_and_no_ensemble_as_their_re
         "{said}"
     );
     // Its test record's pulses drive the force far beyond the training's: predict says so.
-    let p = rhonn(
-        d.path(),
-        &[
-            "predict",
-            "--model",
-            "f/model.json",
-            "--data",
-            "c/s00-closed-loop-integrator/test_0.csv",
-            "--out",
-            "p",
-        ],
-    );
-    assert!(p.status.success(), "{}", stderr(&p));
-    let warned = stderr(&p);
+    let predict = |record: &str, out: &str| {
+        let data = format!("c/s00-closed-loop-integrator/{record}");
+        let p = rhonn(
+            d.path(),
+            &[
+                "predict",
+                "--model",
+                "f/model.json",
+                "--data",
+                &data,
+                "--out",
+                out,
+            ],
+        );
+        assert!(p.status.success(), "{}", stderr(&p));
+        stderr(&p)
+    };
+    let warned = predict("test_0.csv", "p");
     assert!(
         warned.contains("warning: input `force` of c/s00-closed-loop-integrator/test_0.csv spans [")
             && warned.contains("the model extrapolates there"),
@@ -218,18 +222,6 @@ fn closed_loop_integrators_get_no_one_step_structure_and_no_ensemble_as_their_re
         "{summary}"
     );
     // Its own training record is within the range: nothing said.
-    let p = rhonn(
-        d.path(),
-        &[
-            "predict",
-            "--model",
-            "f/model.json",
-            "--data",
-            "c/s00-closed-loop-integrator/train_0.csv",
-            "--out",
-            "q",
-        ],
-    );
-    assert!(p.status.success(), "{}", stderr(&p));
-    assert!(!stderr(&p).contains("extrapolates"), "{}", stderr(&p));
+    let quiet = predict("train_0.csv", "q");
+    assert!(!quiet.contains("extrapolates"), "{quiet}");
 }

@@ -42,7 +42,7 @@ pub struct CandidateScore {
     pub held_disagreement: Option<f64>,
     /// Set for a lagged RHONN fitted one step ahead whose look-back is shorter than
     /// 1/`SLOW_SPANS` of an output's decorrelation lag: that lag in samples (the slowest
-    /// output's). It cannot replace the best ARX nor join an ensemble ([`one_step_on_slow`]).
+    /// output's). It cannot replace the best ARX nor join an ensemble (`one_step_on_slow`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub slow_one_step: Option<usize>,
 
