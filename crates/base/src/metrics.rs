@@ -78,9 +78,7 @@ pub fn fit_percent(y: &[f64], yhat: &[f64]) -> f64 {
 
 /// RMS error divided by the range of `y`.
 pub fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
-    let (lo, hi) = y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
-        (l.min(v), h.max(v))
-    });
+    let (lo, hi) = extent(y);
     rms_error(y, yhat) / (hi - lo)
 }
 
@@ -97,10 +95,17 @@ pub fn convergence_time(t: &[f64], e: &[f64], band: f64) -> Option<f64> {
 
 /// Range `max - min` of a series.
 pub fn range(y: &[f64]) -> f64 {
-    let (lo, hi) = y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
-        (l.min(v), h.max(v))
-    });
+    let (lo, hi) = extent(y);
     hi - lo
+}
+
+/// `(min, max)` of the values (`(inf, -inf)` when there are none).
+pub fn extent<'a>(values: impl IntoIterator<Item = &'a f64>) -> (f64, f64) {
+    values
+        .into_iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        })
 }
 
 #[cfg(test)]

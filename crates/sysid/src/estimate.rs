@@ -233,16 +233,12 @@ fn blank_model(spec: &ModelSpec, records: &[Record], inputs: &[String], outputs:
             )
         })
         .collect();
-    let range = |column: &dyn Fn(&Record) -> &[f64]| {
-        records
-            .iter()
-            .flat_map(|r| column(r).iter())
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
-                (l.min(v), h.max(v))
-            })
-    };
-    let output_range = (0..no).map(|j| range(&|r| &r.outputs[j])).collect();
-    let input_range = (0..inputs.len()).map(|j| range(&|r| &r.inputs[j])).collect();
+    let output_range = (0..no)
+        .map(|j| crate::metrics::extent(records.iter().flat_map(|r| &r.outputs[j])))
+        .collect();
+    let input_range = (0..inputs.len())
+        .map(|j| crate::metrics::extent(records.iter().flat_map(|r| &r.inputs[j])))
+        .collect();
     Ok(Model {
         spec: spec.clone(),
         inputs: inputs.to_vec(),

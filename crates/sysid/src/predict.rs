@@ -60,9 +60,7 @@ pub fn inputs_beyond_training(m: &crate::Model, record: &Record) -> Vec<InputBey
         .zip(&m.inputs)
         .zip(&record.inputs)
         .filter_map(|((&(lo, hi), name), u)| {
-            let (min, max) = u.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
-                (l.min(v), h.max(v))
-            });
+            let (min, max) = crate::metrics::extent(u);
             let margin = BEYOND_SPAN * (hi - lo);
             (min < lo - margin || max > hi + margin).then(|| InputBeyond {
                 input: name.clone(),
@@ -72,6 +70,16 @@ pub fn inputs_beyond_training(m: &crate::Model, record: &Record) -> Vec<InputBey
             })
         })
         .collect()
+}
+
+impl Prediction {
+    /// The warnings of a record's inputs beyond the training range, in words.
+    pub fn input_warnings(&self) -> Vec<String> {
+        self.inputs_beyond
+            .iter()
+            .map(|b| b.said(&self.record.source))
+            .collect()
+    }
 }
 
 impl InputBeyond {
@@ -178,7 +186,7 @@ impl Prediction {
                 self.baseline.as_ref().map(|(_, f)| f.as_slice()),
             )
             .into_iter()
-            .chain(self.inputs_beyond.iter().map(|b| b.said(&self.record.source)))
+            .chain(self.input_warnings())
             .collect(),
         }
     }

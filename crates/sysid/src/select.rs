@@ -421,12 +421,7 @@ fn scores_of(
 /// Each single structure's `held_disagreement` (`probes::disagreements`) among those whose
 /// mean fold score is below the best ARX's: the structures that could replace it.
 fn held_disagreements(scores: &mut [CandidateScore], runs: &[Vec<HeldOut>]) {
-    let Some(arx) = scores
-        .iter()
-        .filter(|c| c.model.kind == Kind::Arx)
-        .filter_map(|c| c.score)
-        .min_by(f64::total_cmp)
-    else {
+    let Some(arx) = best_arx_score(scores) else {
         return;
     };
     let folds = runs.iter().map(Vec::len).max().unwrap_or(0);
@@ -454,11 +449,7 @@ fn append_ensembles(
     tests: &[&[Record]],
     progress: &(dyn Fn(&str) + Sync),
 ) {
-    let arx = scored
-        .iter()
-        .filter(|c| c.is_single_arx())
-        .filter_map(|c| c.score)
-        .min_by(f64::total_cmp);
+    let arx = best_arx_score(scored);
     let entries: Vec<select_ensemble::Entry> = scored
         .iter()
         .zip(runs)
@@ -500,6 +491,15 @@ fn append_ensembles(
         progress(&format!("{}: {what}", e.name));
         scored.push(e);
     }
+}
+
+/// The best single ARX's mean fold score (the reference; None: no ARX has one).
+fn best_arx_score(scores: &[CandidateScore]) -> Option<f64> {
+    scores
+        .iter()
+        .filter(|c| c.is_single_arx())
+        .filter_map(|c| c.score)
+        .min_by(f64::total_cmp)
 }
 
 /// May `c` be an ensemble's member, `arx` the best ARX's score: judged in full, a single

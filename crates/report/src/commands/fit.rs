@@ -631,9 +631,8 @@ fn predict_into(
             model.display()
         ));
     }
-    for b in &p.inputs_beyond {
-        o.notes
-            .push(format!("warning: {}", b.said(&data.display().to_string())));
+    for w in p.input_warnings() {
+        o.notes.push(format!("warning: {w}"));
     }
     if let Some(dt) = p.resampled_from_s {
         // Intervals read off decimal times carry float noise: shown to the nanosecond.
