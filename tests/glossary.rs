@@ -174,6 +174,27 @@ fn the_glossary_names_every_figure_the_outputs_write() {
         assert!(o.status.success(), "{args:?}: {}", stderr(&o));
         read_summary(&d.path().join(args[0]));
     }
+    // The online selection on two outputs (each output's own bank).
+    crate::identify::two_outputs_csv(&d.path().join("two.csv"), 3000, 3);
+    crate::identify::two_outputs_csv(&d.path().join("two_val.csv"), 1500, 4);
+    let o = rhonn(
+        d.path(),
+        &[
+            "identify",
+            "--data",
+            "two.csv",
+            "--validate",
+            "two_val.csv",
+            "--inputs",
+            "u1,u2",
+            "--outputs",
+            "y1,y2",
+            "--out",
+            "two",
+        ],
+    );
+    assert!(o.status.success(), "two outputs: {}", stderr(&o));
+    read_summary(&d.path().join("two"));
     for (s, runs) in [("control-adaptive", "4"), ("tanks-control", "3")] {
         let out = format!("campaign-{s}");
         let o = rhonn(

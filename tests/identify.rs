@@ -733,3 +733,106 @@ fn steps_ahead_without_validation_is_refused_and_an_output_as_input_is_warned() 
         stderr(&o)
     );
 }
+
+/// Two outputs of different nature side by side, as CSV: `y1` a linear lag of `u1`, `y2`
+/// a nonlinear system driven by `u2` (steps every 9 and 13 samples, from `seed`).
+pub(crate) fn two_outputs_csv(path: &Path, n: usize, seed: u64) {
+    let mut s = seed;
+    let mut next = move || {
+        // A small linear congruential generator: the test needs varied steps, not quality.
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((s >> 33) as f64 / (1u64 << 31) as f64) * 2.0 - 1.0
+    };
+    let (mut y1, mut y2, mut u1, mut u2) = (0.0_f64, 0.0_f64, 0.0, 0.0);
+    let mut text = String::from("t,u1,u2,y1,y2\n");
+    for k in 0..n {
+        if k % 13 == 0 {
+            u1 = next();
+        }
+        if k % 9 == 0 {
+            u2 = 2.0 * next();
+        }
+        text.push_str(&format!("{},{u1},{u2},{y1},{y2}\n", k as f64 * 0.1));
+        y1 = 0.9 * y1 + 0.2 * u1;
+        y2 = 0.8 * y2 + 0.3 * u2 + 0.4 * u2 * (2.0 * y2).tanh();
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+/// With several outputs each output has its own bank: an output whose own winner runs
+/// free better than the joint winner takes it, model.json holds the `per-output`
+/// structure, weights.csv names its weights, and `rhonn predict` gives the validation's
+/// figures.
+#[test]
+fn two_outputs_of_different_nature_each_get_their_own_structure_and_predict_as_validated() {
+    let d = tempfile::tempdir().unwrap();
+    two_outputs_csv(&d.path().join("two.csv"), 3000, 3);
+    two_outputs_csv(&d.path().join("val.csv"), 1500, 4);
+    let io = ["--inputs", "u1,u2", "--outputs", "y1,y2"];
+    let mut args = vec![
+        "identify",
+        "--data",
+        "two.csv",
+        "--validate",
+        "val.csv",
+        "--out",
+        "id",
+    ];
+    args.extend(io);
+    let o = rhonn(d.path(), &args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(out.contains("from a structure of its own"), "{out}");
+    let read = |f: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.path().join(f)).unwrap()).unwrap()
+    };
+    let (s, m) = (read("id/summary.json"), read("id/model.json"));
+    let by = s["selection"]["by_output"].as_array().unwrap();
+    let names: Vec<&str> = by.iter().map(|o| o["output"].as_str().unwrap()).collect();
+    assert_eq!(names, ["y1", "y2"]);
+    let own: Vec<usize> = (0..2).filter(|&j| by[j]["own"].as_bool().unwrap()).collect();
+    assert!(!own.is_empty(), "{by:?}");
+    assert_eq!(m["model"]["structure"], "per-output");
+    let parts = m["model"]["per_output"]["own"].as_array().unwrap();
+    assert_eq!(
+        parts
+            .iter()
+            .map(|p| p["output"].as_u64().unwrap() as usize)
+            .collect::<Vec<_>>(),
+        own
+    );
+    assert_eq!(m["own_y_bounds"].as_array().unwrap().len(), own.len());
+    let header = std::fs::read_to_string(d.path().join("id/weights.csv")).unwrap();
+    let header = header.lines().next().unwrap().to_string();
+    // (Weights are listed one by one only when they are few: then each part's are.)
+    if header.contains("w_y1_0") {
+        for j in &own {
+            assert!(header.contains(&format!("w_y{}_own_0", j + 1)), "{header}");
+        }
+    }
+    let o = rhonn(
+        d.path(),
+        &[
+            "predict",
+            "--model",
+            "id/model.json",
+            "--data",
+            "val.csv",
+            "--out",
+            "p",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let p = read("p/summary.json");
+    for j in 0..2 {
+        let validated = s["validation"][j]["free_run_rms_error"].as_f64().unwrap();
+        let predicted = p["figures"][j]["rms_error"].as_f64().unwrap();
+        assert!(
+            (validated - predicted).abs() <= 1e-12 * validated.abs().max(1e-12),
+            "y{}: identify {validated}, predict {predicted}",
+            j + 1
+        );
+    }
+}

@@ -225,3 +225,50 @@ def test_the_online_identifier_and_the_stream_command_give_the_same_figures(tank
     streamed = [float(line.split(",")[1]) for line in out[1:]]
     assert streamed == y_hat[1:]
     assert json.loads((tmp_path / "s" / "model.json").read_text()) == model
+
+
+def _two_outputs(path, n, seed):
+    """Two outputs of different nature side by side: `y1` a linear lag of `u1`, `y2` a
+    nonlinear system driven by `u2`, written as CSV and read back (the loop and the command
+    see the same numbers)."""
+    rng = np.random.default_rng(seed)
+    u1 = np.repeat(rng.uniform(-1, 1, n // 13 + 1), 13)[:n]
+    u2 = np.repeat(rng.uniform(-2, 2, n // 9 + 1), 9)[:n]
+    y1, y2 = np.zeros(n), np.zeros(n)
+    for k in range(n - 1):
+        y1[k + 1] = 0.9 * y1[k] + 0.2 * u1[k]
+        y2[k + 1] = 0.8 * y2[k] + 0.3 * u2[k] + 0.4 * u2[k] * np.tanh(2 * y2[k])
+    t = np.arange(n) * 0.1
+    np.savetxt(path, np.column_stack([t, u1, u2, y1, y2]), delimiter=",", header="t,u1,u2,y1,y2", comments="")
+    return read_csv(path)
+
+
+def test_on_two_outputs_each_output_has_its_own_bank_as_in_rhonn_identify(tmp_path, rhonn_bin):
+    """No model, two outputs: the loop runs each output's own bank beside the joint one and
+    gives `rhonn identify --epochs 1`'s selection (`by_output` included), its per-output
+    model and its free run on a validation record."""
+    est = _two_outputs(tmp_path / "two.csv", 3000, 3)
+    val = _two_outputs(tmp_path / "val.csv", 1500, 4)
+    subprocess.run(
+        [rhonn_bin, "identify", "--data", "two.csv", "--validate", "val.csv", "--inputs", "u1,u2",
+         "--outputs", "y1,y2", "--epochs", "1", "--out", "id"],
+        check=True, capture_output=True, cwd=tmp_path,
+    )
+    summary = json.loads((tmp_path / "id/summary.json").read_text())
+    cli_model = json.loads((tmp_path / "id/model.json").read_text())
+    ident = rhonn.OnlineIdentifier(["u1", "u2"], ["y1", "y2"], dt=0.1, samples=len(est["t"]))
+    for k in range(len(est["t"])):
+        ident.update(est["t"][k], [est["u1"][k], est["u2"][k]], [est["y1"][k], est["y2"][k]])
+    assert ident.selection == summary["selection"]
+    assert [o["output"] for o in ident.selection["by_output"]] == ["y1", "y2"]
+    model = ident.freeze()
+    saved = json.loads(model.to_json())
+    assert saved["model"]["structure"] == cli_model["model"]["structure"] == "per-output"
+    for key in ("weights", "scaling", "own_y_bounds"):
+        assert saved[key] == cli_model[key], key
+    with pytest.raises(ValueError, match="differ in length"):
+        ident.weights
+    free = model.predict(np.column_stack([val["u1"], val["u2"]]), np.column_stack([val["y1"], val["y2"]]))
+    validation = read_csv(tmp_path / "id/validation.csv")
+    np.testing.assert_array_equal(free[:, 0], validation["y1_free_run"])
+    np.testing.assert_array_equal(free[:, 1], validation["y2_free_run"])

@@ -54,10 +54,32 @@ pub(crate) trait OnlineEngine: Debug + Send + Sync {
     fn term_names(&self, outputs: &[String], inputs: &[String]) -> Vec<String>;
     /// Number of terms (weights) per neuron.
     fn n_terms(&self) -> usize;
+    /// The length of each weight vector, in `weights`' order (every neuron's `n_terms`,
+    /// but for a `per-output` structure, whose parts differ).
+    fn weight_lengths(&self) -> Vec<usize> {
+        self.weights().iter().map(Vec::len).collect()
+    }
+    /// What each weight vector belongs to, in `weights`' order: its output's name.
+    fn weight_labels(&self, outputs: &[String]) -> Vec<String> {
+        outputs.to_vec()
+    }
     /// The scaling.
     fn scaling(&self) -> &Scaling;
     /// Hold the estimate within `b` (output units, per output).
     fn set_y_bounds(&mut self, b: Vec<[f64; 2]>);
+    /// A `per-output` structure's own parts' ranges (`OnlineModel::own_y_bounds`): empty
+    /// for every other structure.
+    fn own_y_bounds(&self) -> Vec<Option<[f64; 2]>> {
+        Vec::new()
+    }
+    /// Set them (a saved model read back).
+    fn set_own_y_bounds(&mut self, _b: &[Option<[f64; 2]>]) {}
+    /// Track the outputs' range from `[lo, hi]` itself, widened by `margin` (a
+    /// `per-output` structure: each part by its own), and return `true`; or leave it to
+    /// `OnlineIdentifier::track_bounds` (`false`, the default).
+    fn track_bounds(&mut self, _lo: &[f64], _hi: &[f64], _margin: f64) -> bool {
+        false
+    }
     /// Everything that changes with a sample.
     fn snapshot(&self) -> Box<dyn EngineState>;
     /// Restore a snapshot of this engine (one of another engine is ignored).

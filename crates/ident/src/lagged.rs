@@ -72,6 +72,7 @@ fn normalised_bounds(scaling: &Scaling, ny: usize) -> Vec<(f64, f64)> {
 pub fn first_prediction(spec: &OnlineSpec) -> usize {
     match spec.structure {
         super::OnlineStructure::Lagged => model_spec(spec, &spec.lags.clone().unwrap_or_default()).max_lag(),
+        super::OnlineStructure::PerOutput => spec.per_output.as_ref().map_or(1, |p| p.most(first_prediction)),
         _ => 1,
     }
 }
@@ -84,6 +85,10 @@ pub fn first_prediction(spec: &OnlineSpec) -> usize {
 pub fn outputs_read_in_free_run(spec: &OnlineSpec) -> usize {
     match spec.structure {
         super::OnlineStructure::Cascade => spec.cascade.clone().unwrap_or_default().settle.max(1),
+        super::OnlineStructure::PerOutput => spec
+            .per_output
+            .as_ref()
+            .map_or(1, |p| p.most(outputs_read_in_free_run)),
         _ => first_prediction(spec),
     }
 }

@@ -452,6 +452,7 @@ mod lagged;
 pub use lagged::{first_prediction, outputs_read_in_free_run};
 mod online;
 mod online_spec;
+mod per_output;
 mod recordings;
 mod session;
 pub mod shared_spec;
@@ -459,6 +460,7 @@ mod spec;
 mod stream;
 pub use online::{widened, InputHold, OnlineIdentifier, OnlineModel, OnlineSpec, Scaling, Snapshot};
 pub use online_spec::{CascadeOnlineSpec, LagSpec, OnlineStructure};
+pub use per_output::{OwnStructure, PerOutputSpec};
 pub use recordings::{
     check_outputs_vary, identify_records, identify_records_scaled, predict_records, record_scaling,
     sample_time, OnlineFigures, OnlineRun, WarmUp, MAX_LISTED_WEIGHTS,

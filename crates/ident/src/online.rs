@@ -30,6 +30,7 @@ use super::engine::{EngineState, OnlineEngine};
 use super::lagged::LaggedOnline;
 use super::online_spec::{check_spec, OnlineStructure};
 pub use super::online_spec::{InputHold, OnlineSpec, Scaling};
+use super::per_output::PerOutputOnline;
 use crate::error::{invalid, Result};
 use serde::{Deserialize, Serialize};
 
@@ -52,6 +53,11 @@ pub struct OnlineModel {
     pub scaling: Scaling,
     /// Weights per neuron (normalised units).
     pub weights: Vec<Vec<f64>>,
+    /// The `per-output` structure: the range each output's own structure holds its
+    /// estimate in (output units), in `model.per_output.own`'s order (null: unbounded);
+    /// `scaling.y_bounds` is the joint structure's. Absent for every other structure.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub own_y_bounds: Vec<Option<[f64; 2]>>,
 }
 
 impl OnlineModel {
@@ -75,6 +81,7 @@ impl OnlineModel {
             model: spec,
             scaling: id.scaling().clone(),
             weights: id.weights(),
+            own_y_bounds: id.engine.own_y_bounds(),
         }
     }
 
@@ -91,8 +98,18 @@ impl OnlineModel {
         }
         let (ny, nu) = (self.outputs.len(), self.inputs.len());
         let mut id = OnlineIdentifier::new(&self.model, ny, nu, self.sample_time_s, self.scaling.clone())?;
-        let l = id.n_terms();
-        if self.weights.len() != ny || self.weights.iter().any(|w| w.len() != l) {
+        let lengths = id.weight_lengths();
+        if self.weights.iter().map(Vec::len).ne(lengths.iter().copied()) {
+            let allowed = match lengths.iter().all(|&n| n == id.n_terms()) {
+                true => format!(
+                    "{ny} vectors of {} weights (one per output, one per term)",
+                    id.n_terms()
+                ),
+                false => format!(
+                    "{} vectors of lengths {lengths:?} (the joint model's, then each output's own)",
+                    lengths.len()
+                ),
+            };
             return Err(invalid(
                 "weights",
                 format!(
@@ -100,7 +117,7 @@ impl OnlineModel {
                     self.weights.len(),
                     self.weights.iter().map(Vec::len).collect::<Vec<_>>()
                 ),
-                format!("{ny} vectors of {l} weights (one per output, one per term)"),
+                allowed,
             ));
         }
         if let Some((i, k)) = self
@@ -117,9 +134,38 @@ impl OnlineModel {
         }
         id.engine.check_weights(&self.weights)?;
         id.set_weights(&self.weights);
+        let own = self.model.per_output.as_ref().map_or(0, |p| p.own.len());
+        if !self.own_y_bounds.is_empty() || own > 0 {
+            check_own_bounds(&self.own_y_bounds, own)?;
+            id.engine.set_own_y_bounds(&self.own_y_bounds);
+        }
         id.freeze(true);
         Ok(id)
     }
+}
+
+/// A `per-output` model's `own_y_bounds`: one entry per output with a structure of its
+/// own, each null or finite `[low, high]` with low < high.
+fn check_own_bounds(b: &[Option<[f64; 2]>], own: usize) -> Result<()> {
+    if b.len() != own {
+        return Err(invalid(
+            "own_y_bounds",
+            format!("{} entries", b.len()),
+            format!("{own} (one per output with a structure of its own, in `model.per_output.own`'s order)"),
+        ));
+    }
+    for (k, r) in b.iter().enumerate() {
+        if let Some([lo, hi]) = r {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi && lo.abs() <= 1e150 && hi.abs() <= 1e150) {
+                return Err(invalid(
+                    format!("own_y_bounds[{k}]"),
+                    format!("[{lo}, {hi}]"),
+                    "null, or finite [low, high] with low < high, of magnitude at most 1e150",
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// What [`OnlineIdentifier::snapshot`] saves.
@@ -176,9 +222,46 @@ impl OnlineIdentifier {
             OnlineStructure::Continuous => Box::new(Continuous::new(spec, ny, nu, period_s, scaling)?),
             OnlineStructure::Lagged => Box::new(LaggedOnline::new(spec, ny, nu, period_s, scaling)?),
             OnlineStructure::Cascade => Box::new(CascadeOnline::new(spec, ny, nu, period_s, scaling)?),
+            OnlineStructure::PerOutput => {
+                let build = |s: &OnlineSpec, n: usize, sc: Scaling| -> Result<Box<dyn OnlineEngine>> {
+                    Ok(Box::new(OnlineIdentifier::new(s, n, nu, period_s, sc)?))
+                };
+                Box::new(PerOutputOnline::new(spec, ny, scaling, &build)?)
+            }
         };
         Ok(OnlineIdentifier {
             engine,
+            range: None,
+            frozen: false,
+            free_run: false,
+        })
+    }
+
+    /// The `per-output` structure `spec` of identifiers that have learned already: `joint`
+    /// for every output and, per `(output, identifier)` of `own`, that output's own (as
+    /// the bank over a stream ends: each as it stands, still learning).
+    pub(crate) fn per_output(
+        joint: OnlineIdentifier,
+        own: Vec<(usize, OnlineIdentifier)>,
+        spec: &OnlineSpec,
+    ) -> Result<Self> {
+        let p = spec
+            .per_output
+            .as_ref()
+            .filter(|p| p.own.iter().map(|o| o.output).eq(own.iter().map(|(j, _)| *j)))
+            .ok_or_else(|| {
+                invalid(
+                    "model.per_output",
+                    "other outputs",
+                    "the outputs of the identifiers given",
+                )
+            })?;
+        let own = own
+            .into_iter()
+            .map(|(j, id)| (j, Box::new(id) as Box<dyn OnlineEngine>))
+            .collect();
+        Ok(OnlineIdentifier {
+            engine: Box::new(PerOutputOnline::from_parts(Box::new(joint), own, p)),
             range: None,
             frozen: false,
             free_run: false,
@@ -190,6 +273,9 @@ impl OnlineIdentifier {
     /// range), each sample learned from widens it before the next estimate. A bound of
     /// data not yet seen is never used, so an online identifier may use it.
     pub fn track_bounds(&mut self, lo: Vec<f64>, hi: Vec<f64>, margin: f64) {
+        if self.engine.track_bounds(&lo, &hi, margin) {
+            return;
+        }
         let r = SeenRange { lo, hi, margin };
         self.set_y_bounds(widened(&r.lo, &r.hi, r.margin));
         self.range = Some(r);
@@ -287,6 +373,19 @@ impl OnlineIdentifier {
         self.engine.n_terms()
     }
 
+    /// The length of each weight vector, in [`OnlineIdentifier::weights`]' order: every
+    /// neuron's [`OnlineIdentifier::n_terms`], but for the `per-output` structure, whose
+    /// parts differ (the joint model's vectors, then each own structure's).
+    pub fn weight_lengths(&self) -> Vec<usize> {
+        self.engine.weight_lengths()
+    }
+
+    /// What each weight vector belongs to, in [`OnlineIdentifier::weights`]' order: its
+    /// output's name (`<output>_own` for an output's structure of its own).
+    pub fn weight_labels(&self, outputs: &[String]) -> Vec<String> {
+        self.engine.weight_labels(outputs)
+    }
+
     /// The scaling.
     pub fn scaling(&self) -> &Scaling {
         self.engine.scaling()
@@ -301,5 +400,78 @@ impl OnlineIdentifier {
     /// Restore a [`OnlineIdentifier::snapshot`] (of this identifier).
     pub fn restore(&mut self, snap: &Snapshot) {
         self.engine.restore(&*snap.0);
+    }
+}
+
+/// An identifier is an engine too: a part of a `per-output` structure (`per_output.rs`),
+/// which holds each part through the trait and so does not import this module. Each part
+/// keeps its own range tracking.
+impl OnlineEngine for OnlineIdentifier {
+    fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<&[f64]> {
+        OnlineIdentifier::update(self, t, u, y)
+    }
+    fn estimate(&self) -> &[f64] {
+        self.engine.estimate()
+    }
+    fn freeze(&mut self, frozen: bool) {
+        OnlineIdentifier::freeze(self, frozen);
+    }
+    fn set_free_run(&mut self, free: bool) {
+        OnlineIdentifier::set_free_run(self, free);
+    }
+    fn reset(&mut self) {
+        OnlineIdentifier::reset(self);
+    }
+    fn new_pass(&mut self) {
+        OnlineIdentifier::new_pass(self);
+    }
+    fn set_estimate(&mut self, y: &[f64]) {
+        OnlineIdentifier::set_estimate(self, y);
+    }
+    fn weights(&self) -> Vec<Vec<f64>> {
+        OnlineIdentifier::weights(self)
+    }
+    fn set_weights(&mut self, w: &[Vec<f64>]) {
+        OnlineIdentifier::set_weights(self, w);
+    }
+    fn term_names(&self, outputs: &[String], inputs: &[String]) -> Vec<String> {
+        OnlineIdentifier::term_names(self, outputs, inputs)
+    }
+    fn n_terms(&self) -> usize {
+        OnlineIdentifier::n_terms(self)
+    }
+    fn weight_lengths(&self) -> Vec<usize> {
+        OnlineIdentifier::weight_lengths(self)
+    }
+    fn weight_labels(&self, outputs: &[String]) -> Vec<String> {
+        OnlineIdentifier::weight_labels(self, outputs)
+    }
+    fn scaling(&self) -> &Scaling {
+        OnlineIdentifier::scaling(self)
+    }
+    fn set_y_bounds(&mut self, b: Vec<[f64; 2]>) {
+        self.engine.set_y_bounds(b);
+    }
+    fn own_y_bounds(&self) -> Vec<Option<[f64; 2]>> {
+        self.engine.own_y_bounds()
+    }
+    fn set_own_y_bounds(&mut self, b: &[Option<[f64; 2]>]) {
+        self.engine.set_own_y_bounds(b);
+    }
+    fn track_bounds(&mut self, lo: &[f64], hi: &[f64], margin: f64) -> bool {
+        OnlineIdentifier::track_bounds(self, lo.to_vec(), hi.to_vec(), margin);
+        true
+    }
+    fn snapshot(&self) -> Box<dyn EngineState> {
+        self.engine.snapshot()
+    }
+    fn restore(&mut self, s: &dyn EngineState) {
+        self.engine.restore(s);
+    }
+    fn check_weights(&self, w: &[Vec<f64>]) -> Result<()> {
+        self.engine.check_weights(w)
+    }
+    fn box_clone(&self) -> Box<dyn OnlineEngine> {
+        Box::new(self.clone())
     }
 }

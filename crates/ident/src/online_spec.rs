@@ -25,6 +25,10 @@ pub struct OnlineSpec {
     /// The settings of the `cascade` structure.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cascade: Option<CascadeOnlineSpec>,
+    /// The settings of the `per-output` structure: the joint structure and the outputs
+    /// with a structure of their own.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub per_output: Option<super::PerOutputSpec>,
     /// Learning law (a `[law]` table as in scenarios); default `filtered-error` with
     /// `gamma = gain / (T L)` per neuron (T the sample time, L the number of terms).
     pub law: Option<LawSpec>,
@@ -67,6 +71,7 @@ impl Default for OnlineSpec {
             structure: OnlineStructure::Continuous,
             lags: None,
             cascade: None,
+            per_output: None,
             law: None,
             gain: 0.5,
             degree: 2,
@@ -96,6 +101,9 @@ pub enum OnlineStructure {
     /// `rhonn fit`'s continuous-time cascade with hidden neurons, its parameters and
     /// hidden levels estimated together by extended Kalman filters from several starts.
     Cascade,
+    /// A joint structure of every output and, for some outputs, a structure of their own
+    /// (`per_output`): what `rhonn identify` chooses when outputs differ.
+    PerOutput,
 }
 
 impl OnlineStructure {
@@ -345,23 +353,7 @@ pub(super) fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64,
         return Err(invalid("model.dead_zone", spec.dead_zone, "a finite number >= 0"));
     }
     check_scaling(s, ny, nu)?;
-    if spec.structure != OnlineStructure::Lagged && spec.lags.is_some() {
-        return Err(invalid(
-            "model.lags",
-            "a table",
-            "only with `structure = \"lagged\"`",
-        ));
-    }
-    if spec.structure != OnlineStructure::Cascade && spec.cascade.is_some() {
-        return Err(invalid(
-            "model.cascade",
-            "a table",
-            "only with `structure = \"cascade\"`",
-        ));
-    }
-    if spec.structure == OnlineStructure::Cascade {
-        check_cascade(spec)?;
-    }
+    check_tables(spec, ny)?;
     if spec.structure == OnlineStructure::Lagged {
         let continuous_only = [
             ("a_per_s", spec.a_per_s.is_some()),
@@ -384,6 +376,37 @@ pub(super) fn check_spec(spec: &OnlineSpec, ny: usize, nu: usize, period_s: f64,
         ));
     }
     Ok(())
+}
+
+/// Each structure's own table (`lags`, `cascade`, `per_output`) only with that structure,
+/// and checked.
+fn check_tables(spec: &OnlineSpec, ny: usize) -> Result<()> {
+    let only = |key: &str, structure: &str| {
+        Err(invalid(
+            format!("model.{key}"),
+            "a table",
+            format!("only with `structure = \"{structure}\"`"),
+        ))
+    };
+    if spec.structure != OnlineStructure::Lagged && spec.lags.is_some() {
+        return only("lags", "lagged");
+    }
+    if spec.structure != OnlineStructure::Cascade && spec.cascade.is_some() {
+        return only("cascade", "cascade");
+    }
+    if spec.structure == OnlineStructure::Cascade {
+        check_cascade(spec)?;
+    }
+    match (spec.structure == OnlineStructure::PerOutput, &spec.per_output) {
+        (true, Some(p)) => p.check(ny),
+        (true, None) => Err(invalid(
+            "model.per_output",
+            "absent",
+            "a `per_output` table with `structure = \"per-output\"`",
+        )),
+        (false, Some(_)) => only("per_output", "per-output"),
+        (false, None) => Ok(()),
+    }
 }
 
 /// Offsets and scales within what the arithmetic can carry: every value finite, offsets

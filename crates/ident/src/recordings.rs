@@ -224,7 +224,7 @@ pub fn identify_records_scaled(
     };
     let mut max_norm_per_pass = Vec::new();
     let (mut estimates, mut weight_norms, mut weights) = (Vec::new(), Vec::new(), Vec::new());
-    let listed = ny * id.n_terms() <= MAX_LISTED_WEIGHTS;
+    let listed = id.weight_lengths().iter().sum::<usize>() <= MAX_LISTED_WEIGHTS;
     let (mut u, mut y) = (vec![0.0; nu], vec![0.0; ny]);
     for pass in 0..spec.epochs {
         let last = pass + 1 == spec.epochs;

@@ -146,8 +146,10 @@ impl OnlineSession {
                     )));
                 }
                 let settings = bank_settings(opts.samples)?;
-                let cands = default_candidates(ny, opts.samples.unwrap_or(usize::MAX));
-                Engine::Bank(Box::new(OnlineBank::new(cands, ny, nu, dt, settings)?))
+                let n = opts.samples.unwrap_or(usize::MAX);
+                let bank = OnlineBank::new(default_candidates(ny, n), ny, nu, dt, settings)?
+                    .with_own_banks(default_candidates(1, n))?;
+                Engine::Bank(Box::new(bank))
             }
             Some(spec) => {
                 if opts.samples.is_some() {
@@ -240,10 +242,10 @@ impl OnlineSession {
     /// candidates are dropped).
     pub fn freeze(&mut self) -> Result<OnlineModel> {
         if let Engine::Bank(b) = &self.engine {
-            let (sel, id) = b.selection()?;
+            let (sel, id) = self.bank_selection(b)?;
             self.engine = Engine::One {
                 inner: Box::new(id),
-                spec: Box::new(sel.chosen_spec().clone()),
+                spec: Box::new(sel.chosen_spec()),
             };
         }
         let Engine::One { inner, spec } = &mut self.engine else {
@@ -277,7 +279,7 @@ impl OnlineSession {
     pub fn current(&self) -> Result<Cow<'_, OnlineIdentifier>> {
         match &self.engine {
             Engine::One { inner, .. } => Ok(Cow::Borrowed(inner.as_ref())),
-            Engine::Bank(b) => Ok(Cow::Owned(b.selection()?.1)),
+            Engine::Bank(b) => Ok(Cow::Owned(self.bank_selection(b)?.1)),
         }
     }
 
@@ -292,7 +294,7 @@ impl OnlineSession {
     pub fn selection(&self) -> Result<Option<BankSelection>> {
         match &self.engine {
             Engine::One { .. } => Ok(None),
-            Engine::Bank(b) => Ok(Some(b.selection()?.0)),
+            Engine::Bank(b) => Ok(Some(self.bank_selection(b)?.0)),
         }
     }
 
@@ -304,6 +306,16 @@ impl OnlineSession {
                 .map_err(|e| Error::Argument(format!("cannot write the selection as JSON: {e}")))
         };
         self.selection()?.map(text).transpose()
+    }
+
+    /// The bank's selection and winner, its outputs named as in this session.
+    fn bank_selection(&self, b: &OnlineBank) -> Result<(BankSelection, OnlineIdentifier)> {
+        let (mut sel, id) = b.selection()?;
+        for o in &mut sel.by_output {
+            o.output.clone_from(&self.outputs[o.index]);
+            o.selection.by_output.clear();
+        }
+        Ok((sel, id))
     }
 
     /// The given model's identifier (None while choosing online).

@@ -145,11 +145,15 @@ fn weights_csv(
         .collect();
     columns.push(col("error_energy", energy));
     if run.weights.first().is_some_and(|r| !r.is_empty()) {
-        let l = run.identifier.n_terms();
-        for (i, o) in outputs.iter().enumerate() {
+        // One column per weight, `w_<output>_<k>`, in the weight vectors' order (a
+        // `per-output` structure's own parts are `w_<output>_own_<k>`).
+        let lengths = run.identifier.weight_lengths();
+        let mut at = 0;
+        for (label, l) in run.identifier.weight_labels(outputs).iter().zip(lengths) {
             for k in 0..l {
-                columns.push(col(format!("w_{o}_{k}"), flat(&run.weights, i * l + k)));
+                columns.push(col(format!("w_{label}_{k}"), flat(&run.weights, at + k)));
             }
+            at += l;
         }
     }
     crate::write_trace_csv(w, &Trace { columns })

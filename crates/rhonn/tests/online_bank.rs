@@ -201,7 +201,7 @@ fn the_bank_in_a_loop_gives_the_figures_of_the_bank_over_recordings() {
     // One pass of the winner, retrained with the bank's warm-up: the same weights.
     let spec = OnlineSpec {
         epochs: 1,
-        ..batch.chosen_spec().clone()
+        ..batch.chosen_spec()
     };
     let run = rhonn::ident::identify_records_scaled(&spec, &recs, &out, Some(settings.warmup)).unwrap();
     assert_eq!(run.identifier.weights(), winner.weights());
@@ -240,4 +240,210 @@ fn warm_up_scaling_uses_nothing_after_the_window() {
         "{got:?}"
     );
     assert_eq!(run.identifier.scaling().y_offset, wa.scaling.y_offset);
+}
+
+/// Two outputs of different nature side by side: `y1` a linear lag of `u1`, `y2` the
+/// nonlinear system of [`record`] driven by `u2`.
+fn two_outputs(n: usize, seed: u64) -> Record {
+    let nonlinear = record(n, seed, 0.4, 0.005);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0xabc);
+    let (mut y, mut u) = (0.0_f64, 0.0);
+    let (mut us, mut ys) = (vec![], vec![]);
+    for k in 0..n {
+        if k % 13 == 0 {
+            u = rng.gen_range(-1.0..1.0);
+        }
+        us.push(u);
+        ys.push(y);
+        y = 0.9 * y + 0.2 * u;
+    }
+    Record {
+        source: format!("two{seed}.csv"),
+        t: nonlinear.t.clone(),
+        inputs: vec![us, nonlinear.inputs[0].clone()],
+        outputs: vec![ys, nonlinear.outputs[0].clone()],
+    }
+}
+
+/// Free-run RMS error of each output of `id` (frozen) on `test`.
+fn free_run_each(id: &rhonn::ident::OnlineIdentifier, test: &Record) -> Vec<f64> {
+    let mut id = id.clone();
+    let p = predict_records(&mut id, std::slice::from_ref(test), None).unwrap();
+    (0..test.outputs.len())
+        .map(|j| {
+            let e = (0..test.len()).map(|k| test.outputs[j][k] - p[0][k][j]);
+            (e.map(|x| x * x).sum::<f64>() / test.len() as f64).sqrt()
+        })
+        .collect()
+}
+
+#[test]
+fn with_two_outputs_of_different_nature_each_output_gets_its_own_bank_and_the_better_structure() {
+    use rhonn::ident::bank::select_per_output;
+    use rhonn::ident::{identify_records_scaled, OnlineModel, OnlineStructure};
+    let (train, test) = (two_outputs(3000, 3), two_outputs(1500, 4));
+    let outs = vec!["y1".to_string(), "y2".to_string()];
+    let sel = select_per_output(std::slice::from_ref(&train), &outs).unwrap();
+    let joint = &sel.candidates[sel.chosen];
+    assert_eq!(sel.by_output.len(), 2, "{sel:?}");
+    // Each output's verdict is its own bank's winner against the joint winner on it, on
+    // the same prequential windows.
+    for (j, o) in sel.by_output.iter().enumerate() {
+        let own = o.selection.candidates[o.selection.chosen].free_run_nrmse.unwrap();
+        assert_eq!(o.joint_free_run_nrmse, Some(joint.free_run_by_output[j]));
+        assert_eq!(o.own, own < joint.free_run_by_output[j], "{o:?}");
+    }
+    // The nonlinear output takes a structure of its own, which the one-structure bank
+    // could not offer.
+    assert!(sel.by_output[1].own, "{:?}", sel.by_output[1]);
+    let spec = sel.chosen_spec();
+    assert_eq!(spec.structure, OnlineStructure::PerOutput);
+    let run = identify_records_scaled(&spec, std::slice::from_ref(&train), &outs, Some(sel.warmup)).unwrap();
+    // Its weights: the joint model's vector per output, then each own structure's, each
+    // labelled (weights.csv's `w_<label>_<k>`).
+    let own = &spec.per_output.as_ref().unwrap().own;
+    let labels = run.identifier.weight_labels(&outs);
+    let expected: Vec<String> = (outs.iter().cloned())
+        .chain(own.iter().map(|o| format!("{}_own", outs[o.output])))
+        .collect();
+    assert_eq!(labels, expected);
+    let w = run.identifier.weights();
+    assert_eq!(
+        w.iter().map(Vec::len).collect::<Vec<_>>(),
+        run.identifier.weight_lengths()
+    );
+    // An output's own structure is the very model its own bank's winner is when learned
+    // alone: the same free run, bit for bit.
+    for o in own {
+        let alone = rhonn::ident::OnlineSpec {
+            epochs: spec.epochs,
+            ..o.model.clone()
+        };
+        let name = [outs[o.output].clone()];
+        let one = |r: &Record| Record {
+            outputs: vec![r.outputs[o.output].clone()],
+            ..r.clone()
+        };
+        let single = identify_records_scaled(&alone, &[one(&train)], &name, Some(sel.warmup)).unwrap();
+        let (a, b) = (
+            free_run_each(&run.identifier, &test),
+            free_run_each(&single.identifier, &one(&test)),
+        );
+        assert_eq!(a[o.output].to_bits(), b[0].to_bits(), "output {}", o.output);
+    }
+    // The combined model runs free on a record it never saw better than the joint winner
+    // on the nonlinear output.
+    let joint_run =
+        identify_records_scaled(&joint.spec, std::slice::from_ref(&train), &outs, Some(sel.warmup)).unwrap();
+    let (mine, theirs) = (
+        free_run_each(&run.identifier, &test),
+        free_run_each(&joint_run.identifier, &test),
+    );
+    assert!(mine[1] < theirs[1], "per output {mine:?}, joint {theirs:?}");
+    // Saved and read back (model.json), it predicts the same, bit for bit; an edited
+    // weight vector of the wrong length is refused with the lengths expected.
+    let saved = OnlineModel::of(
+        &run.identifier,
+        spec.clone(),
+        &["u1".into(), "u2".into()],
+        &outs,
+        0.1,
+    );
+    let back: OnlineModel = serde_json::from_str(&serde_json::to_string(&saved).unwrap()).unwrap();
+    let again = free_run_each(&back.identifier().unwrap(), &test);
+    assert_eq!(
+        mine.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+        again.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+    );
+    let mut bad = saved.clone();
+    bad.weights.last_mut().unwrap().push(0.0);
+    let e = bad.identifier().unwrap_err().to_string();
+    assert!(e.contains("weights") && e.contains("each output's own"), "{e}");
+    assert!(sel
+        .findings()
+        .iter()
+        .any(|f| f.contains("output `y2` from a structure of its own")));
+}
+
+#[test]
+fn a_per_output_spec_with_a_wrong_output_names_the_key() {
+    use rhonn::ident::{OnlineIdentifier, OnlineStructure, OwnStructure, PerOutputSpec, Scaling};
+    let spec = |output: usize| OnlineSpec {
+        structure: OnlineStructure::PerOutput,
+        per_output: Some(PerOutputSpec {
+            joint: Box::default(),
+            own: vec![OwnStructure {
+                output,
+                model: OnlineSpec::default(),
+            }],
+        }),
+        ..OnlineSpec::default()
+    };
+    assert!(OnlineIdentifier::new(&spec(1), 2, 1, 0.1, Scaling::identity(2, 1)).is_ok());
+    let e = OnlineIdentifier::new(&spec(2), 2, 1, 0.1, Scaling::identity(2, 1))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("model.per_output.own[0].output") && e.contains("below 2"),
+        "{e}"
+    );
+    let mut bad = spec(0);
+    bad.per_output.as_mut().unwrap().own[0].model.degree = 9;
+    let e = OnlineIdentifier::new(&bad, 2, 1, 0.1, Scaling::identity(2, 1))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("model.per_output.own[0].model.degree"), "{e}");
+    let loose = OnlineSpec {
+        per_output: spec(0).per_output,
+        ..OnlineSpec::default()
+    };
+    let e = OnlineIdentifier::new(&loose, 2, 1, 0.1, Scaling::identity(2, 1))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("model.per_output") && e.contains("per-output"), "{e}");
+}
+
+/// A user's own loop (`OnlineSession`, Python's `OnlineIdentifier` without a model) on two
+/// outputs runs each output's own bank too: the same verdicts as `rhonn identify` over the
+/// recording, and, frozen, the model that one pass of the chosen structure learns.
+#[test]
+fn the_loop_on_two_outputs_gives_the_per_output_verdicts_of_the_recordings() {
+    use rhonn::ident::bank::select_per_output;
+    use rhonn::ident::{identify_records_scaled, OnlineSession, SessionOptions};
+    let r = two_outputs(3000, 3);
+    let outs = vec!["y1".to_string(), "y2".to_string()];
+    let batch = select_per_output(std::slice::from_ref(&r), &outs).unwrap();
+    let dt = rhonn::ident::sample_time(std::slice::from_ref(&r)).unwrap();
+    let opts = SessionOptions {
+        samples: Some(r.len()),
+        ..SessionOptions::default()
+    };
+    let mut s = OnlineSession::new(vec!["u1".into(), "u2".into()], outs.clone(), dt, None, opts).unwrap();
+    for k in 0..r.len() {
+        let e = s
+            .update(
+                r.t[k],
+                &[r.inputs[0][k], r.inputs[1][k]],
+                &[r.outputs[0][k], r.outputs[1][k]],
+            )
+            .unwrap();
+        assert!(e.iter().all(|v| v.is_finite()));
+    }
+    let streamed = s.selection().unwrap().unwrap();
+    assert_eq!(streamed.by_output, batch.by_output);
+    assert_eq!(streamed.chosen_spec(), batch.chosen_spec());
+    assert!(
+        streamed.by_output.iter().any(|o| o.own),
+        "{:?}",
+        streamed.by_output
+    );
+    let frozen = s.freeze().unwrap();
+    let one_pass = rhonn::ident::OnlineSpec {
+        epochs: 1,
+        ..batch.chosen_spec()
+    };
+    let run =
+        identify_records_scaled(&one_pass, std::slice::from_ref(&r), &outs, Some(batch.warmup)).unwrap();
+    assert_eq!(frozen.weights, run.identifier.weights());
+    assert_eq!(&frozen.scaling, run.identifier.scaling());
 }

@@ -263,6 +263,7 @@ fn the_frozen_model_round_trips_and_bad_parameters_are_refused() {
         model: spec.clone(),
         scaling: run.identifier.scaling().clone(),
         weights: run.identifier.weights(),
+        own_y_bounds: Vec::new(),
     };
     let text = serde_json::to_string(&model).unwrap();
     let back: OnlineModel = serde_json::from_str(&text).unwrap();

@@ -14,6 +14,7 @@
 //! continuous neurons' law; the cascade's bounded chain).
 
 mod lane;
+mod per_output;
 mod stream;
 
 use super::online::{OnlineIdentifier, OnlineSpec};
@@ -22,6 +23,7 @@ use super::WarmUp;
 use crate::data::Record;
 use crate::error::{invalid, Result};
 use lane::Lane;
+pub use per_output::{select_per_output, OutputSelection, FINAL_TOLERANCE};
 use serde::Serialize;
 pub use stream::OnlineBank;
 
@@ -48,10 +50,18 @@ pub struct CandidateScore {
     /// Free run of the frozen copy over each window of the second half, as the one-step
     /// figure (the ranking figure; None: failed).
     pub free_run_nrmse: Option<f64>,
+    /// With several outputs: the free-run figure of each output (its mean is
+    /// `free_run_nrmse`); empty for one output or a candidate that failed.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub free_run_by_output: Vec<f64>,
     /// The candidate as it ended the pass, frozen, run free over the stream's last
     /// `checked` samples (restarted from measurements at their start and at each
     /// record's), as the one-step figure (None: failed, or its free run was not finite).
     pub final_free_run_nrmse: Option<f64>,
+    /// With several outputs: the final free-run figure of each output; empty for one
+    /// output or a candidate without the figure.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub final_free_run_by_output: Vec<f64>,
     /// Why it has no figures (it diverged, or its settings do not fit the data).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
@@ -85,12 +95,35 @@ pub struct BankSelection {
     /// constant there).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// With several outputs: each output's own bank, and whether its winner predicts it
+    /// (`per_output::select_per_output`). Empty for one output.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub by_output: Vec<OutputSelection>,
 }
 
 impl BankSelection {
-    /// The winner's settings.
-    pub fn chosen_spec(&self) -> &OnlineSpec {
-        &self.candidates[self.chosen].spec
+    /// The winner's settings: with outputs that took a structure of their own, the
+    /// `per-output` structure of the winner and theirs.
+    pub fn chosen_spec(&self) -> OnlineSpec {
+        per_output::combined(&self.candidates[self.chosen].spec, &self.by_output)
+    }
+
+    /// The winner's name: with outputs that took a structure of their own, each output's
+    /// (`per output: y1 the joint <joint winner>; y2 its own <its own winner>`).
+    pub fn chosen_name(&self) -> String {
+        let joint = &self.candidates[self.chosen].name;
+        if self.by_output.iter().all(|o| !o.own) {
+            return joint.clone();
+        }
+        let each: Vec<String> = self
+            .by_output
+            .iter()
+            .map(|o| match o.own {
+                true => format!("{} its own {}", o.output, o.selection.chosen_name()),
+                false => format!("{} the joint {joint}", o.output),
+            })
+            .collect();
+        format!("per output: {}", each.join("; "))
     }
 
     /// What was found, in words.
@@ -147,6 +180,7 @@ impl BankSelection {
                 out.join(", ")
             ));
         }
+        v.extend(self.by_output.iter().map(OutputSelection::finding));
         v.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
         v
     }
@@ -388,6 +422,7 @@ fn score(
     tail: &lane::Tail,
 ) -> (CandidateScore, Option<OnlineIdentifier>) {
     let (one, free) = (l.one.nrmse(sd), l.free.nrmse(sd));
+    let by_output = l.free.nrmse_each(sd).filter(|v| v.len() > 1);
     let failed = match (&l.failed, free) {
         (Some(f), _) => Some(f.clone()),
         (None, None) => Some(format!(
@@ -398,33 +433,49 @@ fn score(
     };
     let ok = failed.is_none();
     let checked = tail.len();
-    let (final_nrmse, ruled_out) = match (&l.id, ok && checked > 0) {
-        (Some(id), true) => match lane::final_free_run(id, &l.candidate.spec, tail) {
-            Ok(Some(s)) => match s.nrmse(sd) {
-                Some(v) if v < 1.0 => (Some(v), None),
-                Some(v) => (
-                    Some(v),
-                    Some(format!(
-                        "frozen as it ended, it ran free over the last {checked} samples at {v:.3} of the output's standard deviation, worse than the output's mean (1)"
-                    )),
-                ),
-                None => (None, Some(format!("no sample of its final free run over the last {checked} samples came after its first prediction"))),
-            },
-            Ok(None) => (None, Some(format!("frozen as it ended, its free run over the last {checked} samples was not finite"))),
-            Err(e) => (None, Some(format!("frozen as it ended, its free run over the last {checked} samples failed: {e}"))),
-        },
-        _ => (None, None),
+    let (final_nrmse, final_each, ruled_out) = match (&l.id, ok && checked > 0) {
+        (Some(id), true) => final_check(id, &l.candidate.spec, sd, tail),
+        _ => (None, None, None),
     };
     let c = CandidateScore {
         name: l.candidate.name,
         spec: l.candidate.spec,
         one_step_nrmse: one.filter(|_| ok),
         free_run_nrmse: free.filter(|_| ok),
+        free_run_by_output: by_output.filter(|_| ok).unwrap_or_default(),
         final_free_run_nrmse: final_nrmse,
+        final_free_run_by_output: final_each.filter(|v| v.len() > 1).unwrap_or_default(),
         failed,
         ruled_out,
     };
     (c, l.id)
+}
+
+/// A candidate's final check: `id` (as it ended) frozen and run free over `tail`; its
+/// figure (averaged over outputs), each output's, and why it is ruled out (worse than the
+/// outputs' mean, not finite, or failed).
+fn final_check(
+    id: &OnlineIdentifier,
+    spec: &OnlineSpec,
+    sd: &[f64],
+    tail: &lane::Tail,
+) -> (Option<f64>, Option<Vec<f64>>, Option<String>) {
+    let checked = tail.len();
+    match lane::final_free_run(id, spec, tail) {
+        Ok(Some(s)) => match s.nrmse(sd) {
+            Some(v) if v < 1.0 => (Some(v), s.nrmse_each(sd), None),
+            Some(v) => (
+                Some(v),
+                s.nrmse_each(sd),
+                Some(format!(
+                    "frozen as it ended, it ran free over the last {checked} samples at {v:.3} of the output's standard deviation, worse than the output's mean (1)"
+                )),
+            ),
+            None => (None, None, Some(format!("no sample of its final free run over the last {checked} samples came after its first prediction"))),
+        },
+        Ok(None) => (None, None, Some(format!("frozen as it ended, its free run over the last {checked} samples was not finite"))),
+        Err(e) => (None, None, Some(format!("frozen as it ended, its free run over the last {checked} samples failed: {e}"))),
+    }
 }
 
 /// The bank's verdict on its lanes: every candidate's figures, the winner (lowest
@@ -497,6 +548,7 @@ fn judge(
         candidates: scored,
         chosen,
         warnings,
+        by_output: Vec::new(),
     };
     Ok((selection, winner))
 }

@@ -27,6 +27,9 @@ pub struct OnlineBank {
     held: Vec<f64>,
     t_last: Option<f64>,
     record_starts: bool,
+    /// With several outputs: each output's own bank (`super::per_output`), fed that
+    /// output alone.
+    own: Vec<OnlineBank>,
 }
 
 impl OnlineBank {
@@ -73,7 +76,20 @@ impl OnlineBank {
             held: vec![0.0; ny],
             t_last: None,
             record_starts: true,
+            own: Vec::new(),
         })
+    }
+
+    /// With several outputs, also run each output's own bank of `candidates` (one
+    /// output each), as `rhonn identify` does over recordings
+    /// ([`super::select_per_output`]); nothing for one output.
+    pub fn with_own_banks(mut self, candidates: Vec<Candidate>) -> Result<Self> {
+        if self.ny > 1 {
+            self.own = (0..self.ny)
+                .map(|_| OnlineBank::new(candidates.clone(), 1, self.nu, self.dt, self.settings))
+                .collect::<Result<_>>()?;
+        }
+        Ok(self)
     }
 
     /// How it judges.
@@ -103,6 +119,7 @@ impl OnlineBank {
             if self.kept.len() >= self.settings.warmup {
                 self.start_lanes();
             }
+            self.update_own(t, u, y, None)?;
             return Ok(&self.estimate);
         }
         if starts {
@@ -111,16 +128,39 @@ impl OnlineBank {
         for l in &mut self.lanes {
             l.update(t, u, y);
         }
-        if let Some(k) = self.leader() {
+        let leader = self.leader();
+        if let Some(k) = leader {
             self.estimate.copy_from_slice(&self.lanes[k].estimate);
         }
+        self.update_own(t, u, y, leader)?;
         Ok(&self.estimate)
+    }
+
+    /// Feed each output's own bank its output; where its leader runs free better than the
+    /// joint leader on that output so far, the estimate of that output is its leader's.
+    fn update_own(&mut self, t: f64, u: &[f64], y: &[f64], leader: Option<usize>) -> Result<()> {
+        if self.own.is_empty() {
+            return Ok(());
+        }
+        let sd = self.spread.sd();
+        let joint = leader.and_then(|k| self.lanes[k].free.nrmse_each(&sd));
+        for (j, b) in self.own.iter_mut().enumerate() {
+            let e = b.update(t, u, &y[j..=j])?[0];
+            let mine = b.leader().and_then(|k| b.lanes[k].free.nrmse(&b.spread.sd()));
+            if let (Some(m), Some(theirs)) = (mine, joint.as_ref().map(|v| v[j])) {
+                if m < theirs {
+                    self.estimate[j] = e;
+                }
+            }
+        }
+        Ok(())
     }
 
     /// A new record starts with the next sample (the weights stay).
     pub fn reset(&mut self) {
         self.record_starts = true;
         self.t_last = None;
+        self.own.iter_mut().for_each(OnlineBank::reset);
     }
 
     /// The warm-up window is full (or the stream ends): normalise every candidate by it
@@ -181,7 +221,27 @@ impl OnlineBank {
             }
             me.start_lanes();
         }
-        judge(me.lanes, &me.spread.sd(), me.settings, &me.tail)
+        let (mut sel, id) = judge(me.lanes, &me.spread.sd(), me.settings, &me.tail)?;
+        if me.own.is_empty() {
+            return Ok((sel, id));
+        }
+        let mut own_ids = Vec::new();
+        for (j, b) in me.own.iter().enumerate() {
+            // An output whose own bank cannot choose keeps the joint winner.
+            let Ok((own_sel, own_id)) = b.selection() else {
+                continue;
+            };
+            let v = super::per_output::verdict(&sel, j, &format!("y{j}"), own_sel);
+            if v.own {
+                own_ids.push((j, own_id));
+            }
+            sel.by_output.push(v);
+        }
+        if own_ids.is_empty() {
+            return Ok((sel, id));
+        }
+        let combined = OnlineIdentifier::per_output(id, own_ids, &sel.chosen_spec())?;
+        Ok((sel, combined))
     }
 
     fn check(&self, t: f64, u: &[f64], y: &[f64]) -> Result<()> {

@@ -8,7 +8,7 @@
 use super::{Benchmark, Published};
 use crate::data::{within_window, Record};
 use crate::error::Result;
-use crate::ident::bank::{default_candidates, select, BankSelection};
+use crate::ident::bank::{select_per_output, BankSelection};
 use crate::ident::{identify_records_scaled, predict_records, OnlineModel};
 use crate::sysid::{self, FittedModel};
 use serde::Serialize;
@@ -137,9 +137,8 @@ fn fit_default(
 fn online_default(b: &Benchmark) -> Result<(OnlineModel, BankSelection, f64)> {
     let outs = &b.spec.outputs;
     let start = Instant::now();
-    let total = b.train.iter().map(Record::len).sum();
-    let sel = select(default_candidates(outs.len(), total), &b.train, outs)?;
-    let spec = sel.chosen_spec().clone();
+    let sel = select_per_output(&b.train, outs)?;
+    let spec = sel.chosen_spec();
     let run = identify_records_scaled(&spec, &b.train, outs, Some(sel.warmup))?;
     let dt = crate::ident::sample_time(&b.train)?;
     let model = OnlineModel::of(&run.identifier, spec, &b.spec.inputs, outs, dt);
@@ -174,7 +173,7 @@ pub fn run_with(
     let (fitted, fit_structure, fit_s, warnings) = fit_default(b, model, &named)?;
     progress(&format!("{}: rhonn identify (online selection)", b.name));
     let (online, online_selection, online_s) = online_default(b)?;
-    let online_structure = online_selection.candidates[online_selection.chosen].name.clone();
+    let online_structure = online_selection.chosen_name();
     let warnings: Vec<String> = warnings
         .iter()
         .map(|w| format!("rhonn fit: {w}"))

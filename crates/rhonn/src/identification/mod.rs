@@ -9,7 +9,7 @@ pub mod compare;
 
 use crate::data::Record;
 use crate::error::Error;
-use crate::ident::bank::{default_candidates, select};
+use crate::ident::bank::select_per_output;
 use crate::ident::{
     identify_records_scaled, predict_records, sample_time, OnlineModel, OnlineRun, OnlineSpec,
 };
@@ -209,10 +209,8 @@ pub fn identify(
     let (mut spec, bank) = match &plan.given {
         Some(s) => (s.clone(), None),
         None => {
-            let total = records.iter().map(|r| r.len()).sum();
-            let sel =
-                select(default_candidates(outputs.len(), total), records, outputs).map_err(E::Online)?;
-            (sel.chosen_spec().clone(), Some(sel))
+            let sel = select_per_output(records, outputs).map_err(E::Online)?;
+            (sel.chosen_spec(), Some(sel))
         }
     };
     if let Some(e) = plan.epochs {
