@@ -96,13 +96,7 @@ impl OnlineIdentifier {
     /// choosing online: the leading candidate's.
     #[getter]
     fn weights<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let w = self.session.current().map_err(rhonn_err)?.weights();
-        let lengths: Vec<usize> = w.iter().map(Vec::len).collect();
-        if lengths.windows(2).any(|p| p[0] != p[1]) {
-            return Err(value_error(format!(
-                "weights: the per-output structure's weight vectors differ in length ({lengths:?}: the joint model's, then each output's own), so they are no array; read them as lists from `freeze().to_json()`'s \"weights\""
-            )));
-        }
+        let w = self.session.weight_rows().map_err(rhonn_err)?;
         PyArray2::from_vec2(py, &w).map_err(|e| value_error(e.to_string()))
     }
 

@@ -283,6 +283,19 @@ impl OnlineSession {
         }
     }
 
+    /// The current identifier's weights as rows of one length (an array's): an error for a
+    /// `per-output` structure, whose parts' vectors differ in length.
+    pub fn weight_rows(&self) -> Result<Vec<Vec<f64>>> {
+        let w = self.current()?.weights();
+        let lengths: Vec<usize> = w.iter().map(Vec::len).collect();
+        if lengths.windows(2).any(|p| p[0] != p[1]) {
+            return Err(argument(format!(
+                "weights: the per-output structure's weight vectors differ in length ({lengths:?}: the joint model's, then each output's own), so they make no array; read them as lists from the frozen model's JSON (\"weights\")"
+            )));
+        }
+        Ok(w)
+    }
+
     /// The current identifier's term names, in weight order (inputs and outputs by their
     /// names in this session).
     pub fn term_names(&self) -> Result<Vec<String>> {

@@ -1,11 +1,13 @@
-//! The default selection's speed on several outputs: `cargo bench -p rhonn --bench
+//! The default selections' speed on several outputs: `cargo bench -p rhonn --bench
 //! selection` prints a table (wall time of `rhonn fit`'s default selection, the candidates
-//! the work budget let run, the choice). The records are systems of the unseen-systems
+//! the work budget let run, the choice; then of `rhonn identify`'s online bank, a bank per
+//! output beside the joint one, and its choice). The records are systems of the unseen-systems
 //! corpus (`rhonn::corpus`, seed 100 on) side by side: each output its own system, each
 //! input its own excitation. Timed once each: the selection is deterministic, its time is
 //! what varies with the machine.
 
 use rhonn::data::Record;
+use rhonn::ident::bank::select_per_output;
 use rhonn::sysid::select::{select, SelectOptions};
 use std::time::Instant;
 
@@ -33,8 +35,8 @@ fn side_by_side(k: usize, records: usize, len: usize) -> Vec<Record> {
 }
 
 fn main() {
-    println!("| inputs x outputs | records x samples | selection [s] | candidates run | chosen |");
-    println!("|---|---|---|---|---|");
+    println!("| inputs x outputs | records x samples | selection [s] | candidates run | chosen | online bank [s] | online choice |");
+    println!("|---|---|---|---|---|---|---|");
     for (k, records, len) in [(4, 4, 1800), (6, 66, 605)] {
         let recs = side_by_side(k, records, len);
         let names = |p: &str| (1..=k).map(|j| format!("{p}{j}")).collect::<Vec<_>>();
@@ -47,12 +49,16 @@ fn main() {
             &|_| {},
         )
         .expect("the selection runs");
+        let fit_s = start.elapsed().as_secs_f64();
         let ran = sel.candidates.iter().filter(|c| c.score.is_some()).count();
+        let start = Instant::now();
+        let online = select_per_output(&recs, &names("y")).expect("the online bank runs");
         println!(
-            "| {k} x {k} | {records} x {len} | {:.1} | {ran} of {} | {} |",
-            start.elapsed().as_secs_f64(),
+            "| {k} x {k} | {records} x {len} | {fit_s:.1} | {ran} of {} | {} | {:.1} | {} |",
             sel.candidates.len(),
-            sel.chosen_name()
+            sel.chosen_name(),
+            start.elapsed().as_secs_f64(),
+            online.chosen_name()
         );
     }
 }
