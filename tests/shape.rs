@@ -411,3 +411,57 @@ fn the_architecture_is_a_map() {
         );
     }
 }
+
+/// Every learning law is one file of `law/` implementing `LearningLaw`, registered by a
+/// `Rule` variant and its one arm in `Rule::law`: every other method of `Rule` (the
+/// derivative, the sampled update, the gain, the rate) goes through that arm, so a new law
+/// touches no other `match`; docs/ARCHITECTURE.md says so.
+#[test]
+fn every_learning_law_is_one_file_and_one_arm_in_the_registry() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = root.join("crates/base/src/law");
+    let text = std::fs::read_to_string(dir.join("mod.rs")).unwrap();
+    let start = text.find("pub enum Rule {").expect("the registry's enum");
+    let body = &text[start..start + text[start..].find("\n}").unwrap()];
+    let variants: Vec<(&str, &str)> = body
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.starts_with("///"))
+        .filter_map(|l| l.trim_end_matches("),").split_once('('))
+        .collect();
+    assert!(variants.len() >= 2, "{variants:?}");
+    let registry = &text[text.find("fn law(&self) -> &dyn LearningLaw").expect("Rule::law")..];
+    let registry = &registry[..registry.find("\n    }\n").unwrap()];
+    let impls: String = ["impl LearningLaw for Rule {", "for Rule {\n    fn law_states"]
+        .iter()
+        .map(|h| {
+            let at = text.find(h).unwrap_or_else(|| panic!("no `{h}`"));
+            text[at..at + text[at..].find("\n}\n").unwrap()].to_string()
+        })
+        .collect();
+    assert!(
+        !impls.contains("Rule::"),
+        "a method of Rule matches on the laws itself:\n{impls}"
+    );
+    for (variant, ty) in variants {
+        assert_eq!(
+            registry.matches(&format!("Rule::{variant}(")).count(),
+            1,
+            "{variant}: one arm in Rule::law"
+        );
+        let files: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| {
+                std::fs::read_to_string(p).is_ok_and(|s| s.contains(&format!("impl LearningLaw for {ty} {{")))
+            })
+            .map(|p| p.display().to_string())
+            .collect();
+        assert_eq!(files.len(), 1, "{ty}: implemented in {files:?}");
+    }
+    let arch = std::fs::read_to_string(root.join("docs/ARCHITECTURE.md")).unwrap();
+    assert!(
+        arch.contains("`Rule::law`"),
+        "docs/ARCHITECTURE.md does not name `Rule::law`"
+    );
+}

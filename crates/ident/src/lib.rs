@@ -106,7 +106,7 @@ impl Identifier {
     /// An identifier in `mode`.
     pub fn new(net: Network, law: Law, mode: Mode) -> Self {
         let n = net.n;
-        let scalar_gains = law.rule.scalar_gains().map(|g| g.collect());
+        let scalar_gains = LearningLaw::scalar_gains(&law.rule);
         Identifier {
             net,
             law,

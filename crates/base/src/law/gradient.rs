@@ -35,6 +35,28 @@ impl LearningLaw for Gradient {
         "gradient"
     }
 
+    fn gain(&self, neuron: usize) -> Option<&Gain> {
+        self.gamma.get(neuron)
+    }
+
+    fn scalar_gains(&self) -> Option<Vec<f64>> {
+        self.gamma
+            .iter()
+            .map(|g| match g {
+                Gain::Scalar(s) => Some(*s),
+                Gain::Matrix(_) => None,
+            })
+            .collect()
+    }
+
+    /// The gain itself (a matrix's: the sum of its entries' magnitudes).
+    fn rate(&self, neuron: usize, _states: &[f64], _l: usize) -> f64 {
+        match &self.gamma[neuron] {
+            Gain::Scalar(v) => *v,
+            Gain::Matrix(m) => m.iter().map(|v| v.abs()).sum::<f64>(),
+        }
+    }
+
     fn derivative(
         &self,
         neuron: usize,

@@ -23,6 +23,11 @@ impl LearningLaw for LeastSquares {
         "least-squares"
     }
 
+    /// The covariance's trace.
+    fn rate(&self, _neuron: usize, states: &[f64], l: usize) -> f64 {
+        (0..l).map(|k| states[k * l + k]).sum::<f64>()
+    }
+
     fn law_states(&self, l: usize) -> usize {
         l * l
     }

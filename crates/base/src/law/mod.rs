@@ -17,8 +17,9 @@
 //! [`least_squares`]; the robust modifications [`sigma`] (switching, smooth) and
 //! [`projection`] (onto a ball) act on a gradient step. The filtered-error and
 //! filtered-regressor structures (how the regressor phi is formed from z) are the
-//! identifier's ([`Structure`]). Adding a law: one file implementing [`LearningLaw`], one
-//! arm in [`Rule`] and [`LawSpec`], and its test.
+//! identifier's ([`Structure`]). Adding a law: one file implementing [`LearningLaw`], a
+//! [`Rule`] variant with its arm in `Rule::law`, a [`LawSpec`] variant (its TOML form) with
+//! its arm in [`LawSpec::check`], and its test.
 //!
 //! Reference: Kosmatopoulos, Polycarpou, Christodoulou, Ioannou, IEEE TNN 6(2), 1995;
 //! Rovithakis, Christodoulou, *Adaptive Control with RHONNs*, 2000; Ioannou, Sun,
@@ -68,6 +69,20 @@ pub trait LearningLaw {
     );
     /// Sampled: one update of the weights and the law states for one sample.
     fn update(&self, neuron: usize, phi: &[f64], e: f64, w: &mut [f64], states: &mut [f64], work: &mut [f64]);
+    /// Neuron `neuron`'s gain Gamma, for a law that has one (a gradient law: the sigma
+    /// modifications act through it); None by default.
+    fn gain(&self, _neuron: usize) -> Option<&Gain> {
+        None
+    }
+    /// Every neuron's scalar gain, when each is one (the identifier's fast paths); None
+    /// by default.
+    fn scalar_gains(&self) -> Option<Vec<f64>> {
+        None
+    }
+    /// A bound on how fast neuron `neuron`'s weights move per unit error and regressor,
+    /// from its law states (`l` regressor terms): the online identifier's substeps
+    /// follow it.
+    fn rate(&self, neuron: usize, states: &[f64], l: usize) -> f64;
 }
 
 /// The learning laws a scenario can name, each one file.
@@ -80,31 +95,11 @@ pub enum Rule {
 }
 
 impl Rule {
+    /// The law: the registry's one arm per law.
     fn law(&self) -> &dyn LearningLaw {
         match self {
             Rule::Gradient(g) => g,
             Rule::LeastSquares(l) => l,
-        }
-    }
-
-    /// Scalar gains of a gradient law (the identifier's fast paths), or None.
-    pub fn scalar_gains(&self) -> Option<impl Iterator<Item = f64> + '_> {
-        match self {
-            Rule::Gradient(g) if g.gamma.iter().all(|g| matches!(g, Gain::Scalar(_))) => {
-                Some(g.gamma.iter().map(|g| match g {
-                    Gain::Scalar(s) => *s,
-                    Gain::Matrix(_) => unreachable!("checked above"),
-                }))
-            }
-            _ => None,
-        }
-    }
-
-    /// Neuron i's gain of a gradient law.
-    pub fn gain(&self, i: usize) -> Option<&Gain> {
-        match self {
-            Rule::Gradient(g) => g.gamma.get(i),
-            Rule::LeastSquares(_) => None,
         }
     }
 }
@@ -130,13 +125,19 @@ impl LearningLaw for Rule {
         ds: &mut [f64],
         work: &mut [f64],
     ) {
-        match self {
-            Rule::Gradient(g) => g.derivative(i, phi, e, s, dw, ds, work),
-            Rule::LeastSquares(l) => l.derivative(i, phi, e, s, dw, ds, work),
-        }
+        self.law().derivative(i, phi, e, s, dw, ds, work)
     }
     fn update(&self, i: usize, phi: &[f64], e: f64, w: &mut [f64], s: &mut [f64], work: &mut [f64]) {
         self.law().update(i, phi, e, w, s, work)
+    }
+    fn gain(&self, i: usize) -> Option<&Gain> {
+        self.law().gain(i)
+    }
+    fn scalar_gains(&self) -> Option<Vec<f64>> {
+        self.law().scalar_gains()
+    }
+    fn rate(&self, i: usize, states: &[f64], l: usize) -> f64 {
+        self.law().rate(i, states, l)
     }
 }
 
@@ -162,16 +163,10 @@ impl rhonn_core::ident::NeuronLaw<f64> for Rule {
     }
     #[inline]
     fn gain(&self, i: usize) -> Option<rhonn_core::law::Gain<'_, f64>> {
-        Rule::gain(self, i).map(Gain::as_core)
+        LearningLaw::gain(self, i).map(Gain::as_core)
     }
     fn rate(&self, i: usize, states: &[f64], l: usize) -> f64 {
-        match self {
-            Rule::Gradient(g) => match &g.gamma[i] {
-                Gain::Scalar(v) => *v,
-                Gain::Matrix(m) => m.iter().map(|v| v.abs()).sum::<f64>(),
-            },
-            Rule::LeastSquares(_) => (0..l).map(|k| states[k * l + k]).sum::<f64>(),
-        }
+        LearningLaw::rate(self, i, states, l)
     }
 }
 
