@@ -56,7 +56,7 @@ pub const FINAL_TOLERANCE: f64 = 1.1;
 /// the joint winner on 6 of the 9 outputs where it was chosen (the arm's `y2`: 1.45
 /// against 0.125, after 0.0879 on its own training record). It stays in each output's
 /// bank, its figures listed; with one output it is the bank's as before.
-fn may_stand_alone(spec: &OnlineSpec) -> bool {
+pub(super) fn may_stand_alone(spec: &OnlineSpec) -> bool {
     !(spec.structure == OnlineStructure::Lagged && spec.activation == crate::models::Activation::Identity)
 }
 

@@ -137,7 +137,8 @@ impl OnlineBank {
     }
 
     /// Feed each output's own bank its output; where its leader runs free better than the
-    /// joint leader on that output so far, the estimate of that output is its leader's.
+    /// joint leader on that output so far (and may stand alone: not the polynomial NARX,
+    /// as the verdict requires), the estimate of that output is its leader's.
     fn update_own(&mut self, t: f64, u: &[f64], y: &[f64], leader: Option<usize>) -> Result<()> {
         if self.own.is_empty() {
             return Ok(());
@@ -146,7 +147,10 @@ impl OnlineBank {
         let joint = leader.and_then(|k| self.lanes[k].free.nrmse_each(&sd));
         for (j, b) in self.own.iter_mut().enumerate() {
             let e = b.update(t, u, &y[j..=j])?[0];
-            let mine = b.leader().and_then(|k| b.lanes[k].free.nrmse(&b.spread.sd()));
+            let mine = b
+                .leader()
+                .filter(|&k| super::per_output::may_stand_alone(&b.lanes[k].candidate.spec))
+                .and_then(|k| b.lanes[k].free.nrmse(&b.spread.sd()));
             if let (Some(m), Some(theirs)) = (mine, joint.as_ref().map(|v| v[j])) {
                 if m < theirs {
                     self.estimate[j] = e;
