@@ -1,14 +1,15 @@
-//! The cascaded tanks learned three ways through the library, as the commands do: `rhonn
+//! The cascaded tanks learned four ways through the library, as the commands do: `rhonn
 //! fit`'s default (the structure selected by cross-validation on the estimation record),
-//! `rhonn identify`'s default (the online bank), and a model learned one sample at a time
-//! in a loop of one's own (Python's `OnlineIdentifier`); each run free on validation.csv.
+//! `rhonn fit --model` (the shipped `models/cascaded-tanks.toml`), `rhonn identify`'s
+//! default (the online bank), and a model learned one sample at a time in a loop of one's
+//! own (Python's `OnlineIdentifier`); each run free on validation.csv.
 //! `cargo run --release -p rhonn-report --example learn_tanks [DATA_DIR]`
 //! (default `data/cascaded-tanks`).
 
 use rhonn::ident::{OnlineSession, SessionOptions};
 use rhonn::identification::{identify, IdentifyPlan};
 use rhonn::metrics::sig;
-use rhonn::sysid::{fit_records, predict, select::SelectOptions, FitStructure};
+use rhonn::sysid::{fit_records, parse_spec_file, predict, select::SelectOptions, FitStructure};
 use rhonn_report::read_record;
 use std::path::PathBuf;
 
@@ -34,6 +35,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let p = predict(&fit.fitted, &validation, None)?; // free run; Some(K): K steps ahead
     println!(
         "rhonn fit: {} V free-run RMS error on validation",
+        sig(p.figures[0].rms_error, 4)
+    );
+
+    // `rhonn fit --model`: a structure of one's own.
+    let specs = parse_spec_file(&std::fs::read_to_string("models/cascaded-tanks.toml")?)?;
+    let given = fit_records(
+        FitStructure::Given(specs),
+        std::slice::from_ref(&estimation),
+        &u,
+        &y,
+        &|_| {},
+    )?;
+    let p = predict(&given.fitted, &validation, None)?;
+    println!(
+        "rhonn fit --model: {} V free-run RMS error on validation",
         sig(p.figures[0].rms_error, 4)
     );
 
