@@ -54,9 +54,25 @@ fn a_small_fixed_sample_of_the_corpus_is_judged_and_written() {
             "{}: rhonn {fit} against the ARX's {arx}",
             &r[col("system")]
         );
+        // rhonn identify's default beside them: its ratio to the ARX on its own samples,
+        // finite, and its structure named.
+        let online: f64 = r[col("online_ratio")].parse().unwrap();
+        let online_rmse: f64 = r[col("online_rmse")].parse().unwrap();
+        assert!(
+            online.is_finite() && online > 0.0 && online_rmse.is_finite(),
+            "{online}"
+        );
+        assert!(!r[col("online_structure")].is_empty() && !r[col("online_structure")].starts_with("failed"));
         n += 1;
     }
     assert_eq!(n, 2);
+    let s = &summary["summary"];
+    assert!(s["online_median_ratio"].as_f64().unwrap().is_finite(), "{s}");
+    assert!(s["online_at_most_arx"].as_u64().unwrap() <= 2, "{s}");
+    assert!(
+        text.contains("online (rhonn identify's default): median ratio"),
+        "{text}"
+    );
     assert!(d.path().join("c/report.html").is_file());
 }
 

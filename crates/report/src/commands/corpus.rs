@@ -41,6 +41,9 @@ struct Row<'a> {
     flagged_no_better_than_mean: bool,
     fit_structure: &'a str,
     arx_structure: &'a str,
+    online_rmse: Option<f64>,
+    online_ratio: Option<f64>,
+    online_structure: &'a str,
     failed: &'a str,
 }
 
@@ -53,7 +56,7 @@ struct SummaryFile<'a> {
     systems: &'a [Judged],
 }
 
-const PROTOCOL: &str = "each system's default rhonn fit and ARX (lags by cross-validation) trained on its training records only, run free on its test records; RMS error from the later of the two models' first predictions; ratio = rhonn / ARX per output";
+const PROTOCOL: &str = "each system's default rhonn fit and ARX (lags by cross-validation) trained on its training records only, run free on its test records; RMS error from the later of the two models' first predictions; ratio = rhonn / ARX per output; online_ratio = rhonn identify's default online model (trained on the same records, frozen) / ARX over the samples from the later of their first predictions";
 
 fn rows(judged: &[Judged]) -> Vec<Row<'_>> {
     let mut v = Vec::new();
@@ -72,6 +75,9 @@ fn rows(judged: &[Judged]) -> Vec<Row<'_>> {
             flagged_no_better_than_mean: false,
             fit_structure: &j.fit_structure,
             arx_structure: &j.arx_structure,
+            online_rmse: None,
+            online_ratio: None,
+            online_structure: &j.online_structure,
             failed: j.failed.as_deref().unwrap_or(""),
         };
         if j.outputs.is_empty() {
@@ -85,6 +91,8 @@ fn rows(judged: &[Judged]) -> Vec<Row<'_>> {
                 test_std: Some(o.test_std),
                 ratio: Some(o.ratio),
                 flagged_no_better_than_mean: o.flagged_no_better_than_mean,
+                online_rmse: o.online_rmse,
+                online_ratio: o.online_ratio,
                 ..row("")
             });
         }
@@ -95,32 +103,33 @@ fn rows(judged: &[Judged]) -> Vec<Row<'_>> {
 fn table(judged: &[Judged], s: &Summary, seed: u64) -> Vec<String> {
     let mut lines = vec![
         format!("unseen-systems corpus, seed {seed}: free-run RMS error on each system's test records, rhonn fit (default) over the ARX (lags by CV), both trained on train only"),
-        "system | family | train / test input | output | rhonn / ARX | rhonn | ARX | test std | rhonn's structure".into(),
+        "system | family | train / test input | output | rhonn / ARX | rhonn | ARX | test std | rhonn's structure | online / ARX".into(),
     ];
     for j in judged {
         if let Some(f) = &j.failed {
             lines.push(format!("{} | {} | failed: {f}", j.system, j.family.name()));
         }
         for o in &j.outputs {
-            lines.push(
-                format!(
-                    "{} | {} | {} / {} | {} | {} | {} | {} | {} | {}",
-                    j.system,
-                    j.family.name(),
-                    j.train_input.name(),
-                    j.test_input.name(),
-                    o.output,
-                    sig(o.ratio, 3),
-                    sig(o.fit_rmse, 3),
-                    sig(o.arx_rmse, 3),
-                    sig(o.test_std, 3),
-                    j.fit_structure
-                ) + if o.flagged_no_better_than_mean {
+            lines.push(format!(
+                "{} | {} | {} / {} | {} | {} | {} | {} | {} | {}{} | {}",
+                j.system,
+                j.family.name(),
+                j.train_input.name(),
+                j.test_input.name(),
+                o.output,
+                sig(o.ratio, 3),
+                sig(o.fit_rmse, 3),
+                sig(o.arx_rmse, 3),
+                sig(o.test_std, 3),
+                j.fit_structure,
+                if o.flagged_no_better_than_mean {
                     " (the fit said: no better than the mean)"
                 } else {
                     ""
                 },
-            );
+                o.online_ratio
+                    .map_or_else(|| j.online_structure.clone(), |r| sig(r, 3)),
+            ));
         }
     }
     lines.push(format!(
@@ -134,6 +143,14 @@ fn table(judged: &[Judged], s: &Summary, seed: u64) -> Vec<String> {
         s.scored,
         s.above_std_where_arx_below,
         s.failed
+    ));
+    lines.push(format!(
+        "online (rhonn identify's default): median ratio {}; worst {} ({}); at most 1.01 x the ARX: {} of {}",
+        sig(s.online_median_ratio, 3),
+        sig(s.online_worst_ratio, 3),
+        s.online_worst,
+        s.online_at_most_arx,
+        s.scored
     ));
     lines
 }

@@ -8,8 +8,8 @@
 use super::{Benchmark, Published};
 use crate::data::{within_window, Record};
 use crate::error::Result;
-use crate::ident::bank::{select_per_output, BankSelection};
-use crate::ident::{identify_records_scaled, predict_records, OnlineModel};
+use crate::ident::bank::BankSelection;
+use crate::ident::{predict_records, OnlineModel};
 use crate::sysid::{self, FittedModel};
 use serde::Serialize;
 use std::time::Instant;
@@ -132,16 +132,10 @@ fn fit_default(
     ))
 }
 
-/// rhonn identify's default: the bank picks online, the winner trained for its passes
-/// with the bank's warm-up scaling, then frozen.
+/// rhonn identify's default on the benchmark's training records, timed.
 fn online_default(b: &Benchmark) -> Result<(OnlineModel, BankSelection, f64)> {
-    let outs = &b.spec.outputs;
     let start = Instant::now();
-    let sel = select_per_output(&b.train, outs)?;
-    let spec = sel.chosen_spec();
-    let run = identify_records_scaled(&spec, &b.train, outs, Some(sel.warmup))?;
-    let dt = crate::ident::sample_time(&b.train)?;
-    let model = OnlineModel::of(&run.identifier, spec, &b.spec.inputs, outs, dt);
+    let (model, sel) = crate::identification::online_default(&b.train, &b.spec.inputs, &b.spec.outputs)?;
     Ok((model, sel, start.elapsed().as_secs_f64()))
 }
 

@@ -242,6 +242,11 @@ pub struct OutputScore {
     /// Whether the selection said that nothing it tried beat this output's training mean
     /// on the folds (`model.json`'s `no_better_than_mean`).
     pub flagged_no_better_than_mean: bool,
+    /// rhonn identify's default online model (the bank, frozen after its passes), scored
+    /// from the later of its first prediction and the two models' (None: it failed).
+    pub online_rmse: Option<f64>,
+    /// `online_rmse` over the ARX's on the same samples.
+    pub online_ratio: Option<f64>,
 }
 
 /// What [`judge`] found on one system.
@@ -265,6 +270,8 @@ pub struct Judged {
     pub arx_structure: String,
     /// Per output (empty when a fit failed).
     pub outputs: Vec<OutputScore>,
+    /// The online model's structure (`rhonn identify`'s default), or why it failed.
+    pub online_structure: String,
     /// What the default fit warned of (its selection's and the data's warnings).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub fit_warnings: Vec<String>,
@@ -286,6 +293,7 @@ pub fn judge(sys: &System, opts: &SelectOptions, progress: &(dyn Fn(&str) + Sync
         train_samples: sys.train.iter().map(Record::len).sum(),
         fit_structure: String::new(),
         arx_structure: String::new(),
+        online_structure: String::new(),
         outputs: Vec::new(),
         fit_warnings: Vec::new(),
         failed: None,
@@ -328,13 +336,21 @@ fn judge_into(
             }
         }
     }
+    let online = online_scores(sys, &arx);
+    j.online_structure = match &online {
+        Ok((name, _)) => name.clone(),
+        Err(e) => format!("failed: {e}"),
+    };
+    let online = online.map(|(_, s)| s).unwrap_or_default();
     j.outputs = outs
         .iter()
         .zip(sq)
         .zip(scored)
-        .map(|((name, [f, a]), y)| {
+        .enumerate()
+        .map(|(o, ((name, [f, a]), y))| {
             let n = y.len().max(1) as f64;
             let (fit_rmse, arx_rmse) = ((f / n).sqrt(), (a / n).sqrt());
+            let on = online.get(o).copied();
             OutputScore {
                 output: name.clone(),
                 fit_rmse,
@@ -342,10 +358,44 @@ fn judge_into(
                 test_std: std_dev(&y),
                 ratio: fit_rmse / arx_rmse,
                 flagged_no_better_than_mean: flagged.contains(name),
+                online_rmse: on.map(|(m, _)| m),
+                online_ratio: on.map(|(m, a)| m / a),
             }
         })
         .collect();
     Ok(())
+}
+
+/// rhonn identify's default on `sys` (trained on its training records, frozen), run free on
+/// its test records: its structure's name and, per output, its RMS error and the ARX's over
+/// the same samples (from the later of the two models' first predictions).
+fn online_scores(sys: &System, arx: &sysid::FittedModel) -> Result<(String, Vec<(f64, f64)>)> {
+    let (ins, outs) = (&sys.inputs, &sys.outputs);
+    let (model, sel) = crate::identification::online_default(&sys.train, ins, outs)?;
+    let lag = crate::ident::outputs_read_in_free_run(&model.model);
+    let mut id = model.identifier()?;
+    let mut sq = vec![[0.0f64; 2]; outs.len()];
+    let mut n = vec![0usize; outs.len()];
+    for r in &sys.tests {
+        let on = crate::ident::predict_records(&mut id, std::slice::from_ref(r), None)?.remove(0);
+        let a = sysid::predict(arx, r, None)?;
+        for (o, y) in r.outputs.iter().enumerate() {
+            for k in lag.max(a.first)..y.len() {
+                sq[o][0] += (on[k][o] - y[k]).powi(2);
+                sq[o][1] += (a.outputs[o][k] - y[k]).powi(2);
+                n[o] += 1;
+            }
+        }
+    }
+    let scores = sq
+        .iter()
+        .zip(&n)
+        .map(|([m, a], &n)| {
+            let n = n.max(1) as f64;
+            ((m / n).sqrt(), (a / n).sqrt())
+        })
+        .collect();
+    Ok((sel.chosen_name(), scores))
 }
 
 /// The corpus's verdict on rhonn's default against the ARX, over every system's outputs.
@@ -365,36 +415,63 @@ pub struct Summary {
     pub at_most_arx: usize,
     /// Outputs where rhonn is above the test's standard deviation while the ARX is below.
     pub above_std_where_arx_below: usize,
+    /// The same for rhonn identify's default online model: the median of its ratio to the
+    /// ARX, the largest and where, and the outputs at most 1.01 x the ARX (of those it
+    /// scored).
+    pub online_median_ratio: f64,
+    /// See `online_median_ratio`.
+    pub online_worst_ratio: f64,
+    /// See `online_median_ratio`.
+    pub online_worst: String,
+    /// See `online_median_ratio`.
+    pub online_at_most_arx: usize,
 }
 
-/// The median and the worst over `rows`.
-pub fn summarise(rows: &[Judged]) -> Summary {
+/// The ratios `of` each output gives (where it gives one), sorted, each with its system
+/// and output.
+fn sorted_ratios(rows: &[Judged], of: impl Fn(&OutputScore) -> Option<f64>) -> Vec<(f64, String)> {
     let mut ratios: Vec<(f64, String)> = rows
         .iter()
         .flat_map(|j| {
             j.outputs
                 .iter()
-                .map(move |o| (o.ratio, format!("{} {}", j.system, o.output)))
+                .filter_map(|o| Some((of(o)?, format!("{} {}", j.system, o.output))))
+                .collect::<Vec<_>>()
         })
         .collect();
     ratios.sort_by(|a, b| a.0.total_cmp(&b.0));
+    ratios
+}
+
+/// The median of sorted ratios (NaN for none).
+fn median(ratios: &[(f64, String)]) -> f64 {
     let n = ratios.len();
-    let median = match n {
+    match n {
         0 => f64::NAN,
         _ if n % 2 == 1 => ratios[n / 2].0,
         _ => 0.5 * (ratios[n / 2 - 1].0 + ratios[n / 2].0),
-    };
+    }
+}
+
+/// The median and the worst over `rows`.
+pub fn summarise(rows: &[Judged]) -> Summary {
+    let ratios = sorted_ratios(rows, |o| Some(o.ratio));
+    let online = sorted_ratios(rows, |o| o.online_ratio);
     let outs = || rows.iter().flat_map(|j| &j.outputs);
     Summary {
-        scored: n,
+        scored: ratios.len(),
         failed: rows.iter().filter(|j| j.failed.is_some()).count(),
-        median_ratio: median,
+        median_ratio: median(&ratios),
         worst_ratio: ratios.last().map_or(f64::NAN, |r| r.0),
         worst: ratios.last().map_or(String::new(), |r| r.1.clone()),
         at_most_arx: outs().filter(|o| o.ratio <= 1.01).count(),
         above_std_where_arx_below: outs()
             .filter(|o| o.fit_rmse > o.test_std && o.arx_rmse < o.test_std)
             .count(),
+        online_median_ratio: median(&online),
+        online_worst_ratio: online.last().map_or(f64::NAN, |r| r.0),
+        online_worst: online.last().map_or(String::new(), |r| r.1.clone()),
+        online_at_most_arx: online.iter().filter(|r| r.0 <= 1.01).count(),
     }
 }
 

@@ -270,6 +270,22 @@ pub fn identify(
     })
 }
 
+/// `rhonn identify`'s default on `records` without validation or figures: the bank
+/// chooses (a bank per output beside the joint one), the winner is trained for its passes
+/// with the bank's warm-up scaling and frozen (`rhonn benchmark`'s and `rhonn corpus`'s
+/// online model).
+pub fn online_default(
+    records: &[Record],
+    inputs: &[String],
+    outputs: &[String],
+) -> crate::Result<(OnlineModel, crate::ident::bank::BankSelection)> {
+    let sel = select_per_output(records, outputs)?;
+    let spec = sel.chosen_spec();
+    let run = identify_records_scaled(&spec, records, outputs, Some(sel.warmup))?;
+    let dt = sample_time(records)?;
+    Ok((OnlineModel::of(&run.identifier, spec, inputs, outputs, dt), sel))
+}
+
 /// Sources as a comma-separated list, for messages.
 fn sources(records: &[Record]) -> String {
     records
