@@ -3,11 +3,12 @@
 //! own bank, on that output alone from every input, with the one-output candidates
 //! (the polynomial NARX, the cascade) among them. An output takes its own bank's winner
 //! where that winner ran free better, on the same prequential windows, than the joint
-//! winner did on that output; the model is then the `per-output` structure
-//! ([`crate::PerOutputSpec`]): the joint winner for every output, and those outputs' own.
-//! Both figures are the same measure on the same samples (each output's free-run RMS
-//! error over its standard deviation, over the windows of the stream's second half), so
-//! nothing but the training data decides.
+//! winner did on that output, its final check is within [`FINAL_TOLERANCE`] of the joint
+//! winner's there, and it is not the polynomial NARX (`may_stand_alone`); the model is
+//! then the `per-output` structure ([`crate::PerOutputSpec`]): the joint winner for every
+//! output, and those outputs' own. The figures compared are the same measure on the same
+//! samples (each output's free-run RMS error over its standard deviation), so nothing but
+//! the training data decides.
 
 use super::{default_candidates, select, BankSelection};
 use crate::data::Record;
@@ -30,8 +31,9 @@ pub struct OutputSelection {
     /// the stream's second half).
     pub joint_final_free_run_nrmse: Option<f64>,
     /// Whether this output's own winner predicts it: it ran free better than the joint
-    /// winner on this output over the prequential windows, and its final check is within
-    /// `bank::FINAL_TOLERANCE` (1.1) of the joint winner's there.
+    /// winner on this output over the prequential windows, its final check is within
+    /// `bank::FINAL_TOLERANCE` (1.1) of the joint winner's there, and it is not the
+    /// polynomial NARX.
     pub own: bool,
     /// This output's own bank (every candidate's figures on this output alone).
     pub selection: BankSelection,
