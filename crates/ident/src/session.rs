@@ -326,7 +326,6 @@ impl OnlineSession {
         let (mut sel, id) = b.selection()?;
         for o in &mut sel.by_output {
             o.output.clone_from(&self.outputs[o.index]);
-            o.selection.by_output.clear();
         }
         Ok((sel, id))
     }
