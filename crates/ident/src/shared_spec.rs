@@ -33,6 +33,7 @@ const FIT_TO_ONLINE: &[(&str, Option<&str>)] = &[
     ("horizon", None),
     ("max_terms", None),
     ("term_selection", None),
+    ("nonlinear_in", None),
     ("pump", None),
 ];
 

@@ -31,6 +31,11 @@ pub fn parameters(spec: &ModelSpec, ni: usize, no: usize) -> usize {
         Kind::WienerHammerstein => spec.na + spec.nb + spec.degree + 2,
         Kind::Cascade => super::cascade::n_params(spec.neurons, ni),
         Kind::Pump => 8,
+        Kind::StateSpace => {
+            let nx = spec.na * no;
+            let nt = crate::models::state_space::Monomials::of(spec, nx, ni).len();
+            (nx + no) * (nx + ni + nt + 1)
+        }
     }
 }
 
@@ -46,6 +51,7 @@ pub fn work(spec: &ModelSpec, samples: usize, ni: usize, no: usize) -> f64 {
         (Kind::WienerHammerstein, _) => n * p * p * epochs,
         (Kind::Cascade, _) => n * p * p * epochs * spec.starts.max(1) as f64,
         (Kind::Pump, _) => n * p * p * epochs,
+        (Kind::StateSpace, _) => 2.0 * n * p * p * epochs,
     }
 }
 

@@ -52,6 +52,7 @@ mod select_cascade;
 mod select_ensemble;
 mod select_mean;
 pub mod select_rule;
+mod state_space;
 mod term_selection;
 mod train;
 mod wiener_hammerstein;
@@ -79,7 +80,7 @@ use crate::data::Record;
 use crate::error::{invalid, Result};
 pub(crate) use crate::models::{check_regressor_count, lagged_terms, model_kind, n_phi};
 pub use crate::models::{
-    Activation, Estimator, Kind, Model, ModelSpec, OutputFigures, TermSelection, MAX_REGRESSORS,
+    Activation, Estimator, Kind, Model, ModelSpec, NonlinearIn, OutputFigures, TermSelection, MAX_REGRESSORS,
 };
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
@@ -92,6 +93,7 @@ pub(crate) fn fitter(kind: Kind) -> &'static dyn kinds::Fit {
         Kind::Cascade => &cascade::Cascade,
         Kind::Pump => &pump_grey::PumpGrey,
         Kind::WienerHammerstein => &wiener_hammerstein::WienerHammerstein,
+        Kind::StateSpace => &state_space::StateSpace,
     }
 }
 

@@ -35,31 +35,88 @@ pub(super) fn lm_with_columns(
     resid: &(dyn Fn(&[f64], &mut Vec<f64>) -> bool + Sync),
     column: Column,
 ) -> f64 {
-    let np = theta.len();
     let mut r0 = Vec::new();
     if !resid(theta, &mut r0) {
         return f64::INFINITY;
     }
-    let cost = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
-    let mut c0 = cost(&r0);
-    let mut lambda = 1e-2;
-    let mut r1 = Vec::new();
-    for _ in 0..iters {
-        // A stop asked for (Python's Ctrl-C): the caller's `cancel::check` says so.
-        if crate::cancel::requested() {
-            break;
-        }
-        let nr = r0.len();
+    let mut p = Differences {
+        fd_rel,
+        resid,
+        column,
+        r0,
+        r1: Vec::new(),
+    };
+    minimise(&mut p, theta, iters)
+}
+
+/// Levenberg-Marquardt from the normal equations: `normal(theta)` gives `(J^T J, J^T r,
+/// cost)` at `theta` (None: not simulated there), for a model whose Jacobian is computed
+/// along with its residuals (forward sensitivities) rather than by differences; `cost(theta)`
+/// the sum of squared residuals alone (a trial step's, cheaper). The same damping, steps and
+/// stopping rule as [`lm`].
+pub(super) fn lm_normal(theta: &mut Vec<f64>, iters: usize, cost: Cost, normal: Normal) -> f64 {
+    let Some((jtj, g, c)) = normal(theta) else {
+        return f64::INFINITY;
+    };
+    let mut p = Exact {
+        cost_at: cost,
+        normal,
+        at: (jtj, g),
+        cost: c,
+        pending: None,
+    };
+    minimise(&mut p, theta, iters)
+}
+
+/// The sum of squared residuals at a point, or None (see [`lm_normal`]).
+pub(super) type Cost<'a> = &'a (dyn Fn(&[f64]) -> Option<f64> + Sync);
+
+/// `(J^T J, J^T r, sum of squared residuals)` at a point, or None (see [`lm_normal`]).
+pub(super) type Normal<'a> = &'a (dyn Fn(&[f64]) -> Option<(DMatrix<f64>, DVector<f64>, f64)> + Sync);
+
+/// What the damped iteration needs of a least-squares problem.
+trait Problem {
+    /// The cost at the current point.
+    fn cost(&self) -> f64;
+    /// `J^T J` and `J^T r` at the current point `theta`.
+    fn normal(&mut self, theta: &[f64]) -> (DMatrix<f64>, DVector<f64>);
+    /// The cost at `theta` (None or not finite: a step to avoid), kept for [`Problem::accept`].
+    fn trial(&mut self, theta: &[f64]) -> Option<f64>;
+    /// The last trial point becomes the current one.
+    fn accept(&mut self);
+}
+
+/// The residuals' Jacobian by forward differences, a column per parameter in parallel.
+struct Differences<'a> {
+    fd_rel: f64,
+    resid: &'a (dyn Fn(&[f64], &mut Vec<f64>) -> bool + Sync),
+    column: Column<'a>,
+    r0: Vec<f64>,
+    r1: Vec<f64>,
+}
+
+fn sum_sq(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum::<f64>()
+}
+
+impl Problem for Differences<'_> {
+    fn cost(&self) -> f64 {
+        sum_sq(&self.r0)
+    }
+
+    fn normal(&mut self, theta: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
+        let (np, nr) = (theta.len(), self.r0.len());
+        let r0 = &self.r0;
         // The columns in parallel: each is a full evaluation of the residuals.
         let columns: Vec<Option<Vec<f64>>> = (0..np)
             .into_par_iter()
             .map(|p| {
-                let h = fd_rel * theta[p].abs().max(1e-3);
-                let mut th = theta.clone();
+                let h = self.fd_rel * theta[p].abs().max(1e-3);
+                let mut th = theta.to_vec();
                 th[p] += h;
                 let mut r = Vec::new();
-                (column(&th, p, &r0, &mut r) && r.len() == nr)
-                    .then(|| r.iter().zip(&r0).map(|(a, b)| (a - b) / h).collect())
+                ((self.column)(&th, p, r0, &mut r) && r.len() == nr)
+                    .then(|| r.iter().zip(r0).map(|(a, b)| (a - b) / h).collect())
             })
             .collect();
         let mut jac = DMatrix::<f64>::zeros(nr, np);
@@ -71,7 +128,72 @@ pub(super) fn lm_with_columns(
             }
         }
         let jtj = jac.transpose() * &jac;
-        let g = jac.transpose() * DVector::from_column_slice(&r0);
+        let g = jac.transpose() * DVector::from_column_slice(r0);
+        (jtj, g)
+    }
+
+    fn trial(&mut self, theta: &[f64]) -> Option<f64> {
+        (self.resid)(theta, &mut self.r1).then(|| sum_sq(&self.r1))
+    }
+
+    fn accept(&mut self) {
+        std::mem::swap(&mut self.r0, &mut self.r1);
+    }
+}
+
+/// The normal equations given by the model (see [`lm_normal`]).
+struct Exact<'a> {
+    cost_at: Cost<'a>,
+    normal: Normal<'a>,
+    /// The normal equations at the current point.
+    at: (DMatrix<f64>, DVector<f64>),
+    cost: f64,
+    /// The last trial point and its cost.
+    pending: Option<(Vec<f64>, f64)>,
+}
+
+impl Problem for Exact<'_> {
+    fn cost(&self) -> f64 {
+        self.cost
+    }
+
+    fn normal(&mut self, _theta: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
+        self.at.clone()
+    }
+
+    fn trial(&mut self, theta: &[f64]) -> Option<f64> {
+        let c = (self.cost_at)(theta)?;
+        self.pending = Some((theta.to_vec(), c));
+        Some(c)
+    }
+
+    fn accept(&mut self) {
+        if let Some((theta, c)) = self.pending.take() {
+            // The normal equations of the accepted point (its cost was computed; a point
+            // whose sensitivities fail where its cost did not keeps zero equations, and the
+            // next step stops).
+            let n = theta.len();
+            let (a, g) = (self.normal)(&theta)
+                .map(|(a, g, _)| (a, g))
+                .unwrap_or_else(|| (DMatrix::zeros(n, n), DVector::zeros(n)));
+            self.at = (a, g);
+            self.cost = c;
+        }
+    }
+}
+
+/// The damped Gauss-Newton iteration shared by [`lm`] and [`lm_normal`]: at most `iters`
+/// iterations from `theta` (left at the best point found); returns its cost.
+fn minimise(p: &mut impl Problem, theta: &mut Vec<f64>, iters: usize) -> f64 {
+    let np = theta.len();
+    let mut c0 = p.cost();
+    let mut lambda = 1e-2;
+    for _ in 0..iters {
+        // A stop asked for (Python's Ctrl-C): the caller's `cancel::check` says so.
+        if crate::cancel::requested() {
+            break;
+        }
+        let (jtj, g) = p.normal(theta);
         let mut improved = false;
         for _ in 0..10 {
             let mut a = jtj.clone();
@@ -84,11 +206,10 @@ pub(super) fn lm_with_columns(
             };
             let step = ch.solve(&g);
             let th: Vec<f64> = theta.iter().zip(step.iter()).map(|(t, s)| t - s).collect();
-            if resid(&th, &mut r1) {
-                let c1 = cost(&r1);
+            if let Some(c1) = p.trial(&th) {
                 if c1.is_finite() && c1 < c0 {
                     *theta = th;
-                    std::mem::swap(&mut r0, &mut r1);
+                    p.accept();
                     let rel = (c0 - c1) / c0;
                     c0 = c1;
                     lambda = (lambda / 3.0).max(1e-9);

@@ -19,6 +19,7 @@ pub mod kinds;
 mod lagged;
 mod model;
 pub mod pump_grey;
+pub mod state_space;
 pub mod wiener_hammerstein;
 
 pub(crate) use model::hold;
@@ -46,6 +47,9 @@ pub enum Kind {
     /// A linear filter, a static polynomial and a linear filter, from the best linear
     /// approximation (see the `wiener_hammerstein` module).
     WienerHammerstein,
+    /// A discrete-time nonlinear state-space model, from the best linear approximation
+    /// (see the `state_space` module).
+    StateSpace,
 }
 
 impl Kind {
@@ -58,6 +62,7 @@ impl Kind {
             Kind::Cascade => "a cascade",
             Kind::Pump => "the pump's grey-box",
             Kind::WienerHammerstein => "a Wiener-Hammerstein",
+            Kind::StateSpace => "a state-space",
         }
     }
 }
@@ -70,6 +75,7 @@ pub fn model_kind(kind: Kind) -> &'static dyn kinds::Structure {
         Kind::Cascade => &cascade::Cascade,
         Kind::Pump => &pump_grey::PumpGrey,
         Kind::WienerHammerstein => &wiener_hammerstein::WienerHammerstein,
+        Kind::StateSpace => &state_space::StateSpace,
     }
 }
 
@@ -144,6 +150,26 @@ impl TermSelection {
     }
 }
 
+/// What the nonlinear terms of a `state-space` model are made of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum NonlinearIn {
+    /// The states and the inputs (default; PNLSS's full polynomial).
+    #[default]
+    StatesAndInputs,
+    /// The states alone: the inputs enter linearly (a force on a mechanical system with a
+    /// nonlinear spring or hysteresis); fewer terms, and no polynomial of an input that
+    /// leaves its training range.
+    States,
+}
+
+impl NonlinearIn {
+    /// Whether it is the default (a spec file leaves it out then).
+    pub fn is_default(&self) -> bool {
+        *self == NonlinearIn::StatesAndInputs
+    }
+}
+
 /// A model structure as `--model SPEC.toml` writes it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -197,6 +223,10 @@ pub struct ModelSpec {
     /// unmeasured state, such as the pump's stroke in the current's past) with a small
     /// nonlinear part (default: every lag).
     pub nonlinear_lags: Option<usize>,
+    /// What the nonlinear terms of a `state-space` model take: `states-and-inputs`
+    /// (default) or `states`.
+    #[serde(skip_serializing_if = "NonlinearIn::is_default")]
+    pub nonlinear_in: NonlinearIn,
     /// Neurons of a `cascade` model, the last one measured (default 2).
     pub neurons: usize,
     /// Learn each `cascade` neuron's activation exponent (default true; else 1/2).
@@ -234,6 +264,7 @@ impl Default for ModelSpec {
             max_terms: None,
             term_selection: TermSelection::Weight,
             nonlinear_lags: None,
+            nonlinear_in: NonlinearIn::StatesAndInputs,
             neurons: 2,
             free_exponents: true,
             starts: 16,
