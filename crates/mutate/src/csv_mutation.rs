@@ -52,22 +52,9 @@ pub fn mutate_csv(text: &str, rng: &mut ChaCha8Rng) -> Mutant {
             names: vec!["line".into()],
         };
     }
-    let join = |h: &[String], r: &[Vec<String>], sep: &str| {
-        let mut s = h.join(sep);
-        s.push('\n');
-        for row in r {
-            s.push_str(&row.join(sep));
-            s.push('\n');
-        }
-        s
-    };
     let k = rng.gen_range(0..rows.len());
     let line = k + 2;
-    let line_names = |extra: &[&str]| {
-        let mut v = vec![format!("line {line}"), "line".to_string()];
-        v.extend(extra.iter().map(|s| s.to_lowercase()));
-        v
-    };
+    let line_names = |extra: &[&str]| line_names(line, extra);
     let mut r = rows.clone();
     let mut h = header.clone();
     let (what, names) = match rng.gen_range(0..20) {
@@ -92,19 +79,7 @@ pub fn mutate_csv(text: &str, rng: &mut ChaCha8Rng) -> Mutant {
             }
             (format!("column {} constant {v}", h[c]), vec![h[c].to_lowercase()])
         }
-        7 => {
-            r.remove(k);
-            (format!("line {line} deleted"), line_names(&["t"]))
-        }
-        8 => {
-            r.insert(k, r[k].clone());
-            (format!("line {line} doubled"), line_names(&["t"]))
-        }
-        9 => {
-            let j = (k + 1).min(r.len() - 1);
-            r.swap(k, j);
-            (format!("lines {line} and {} swapped", j + 2), line_names(&["t"]))
-        }
+        c @ 7..=9 => row_fault(c, k, &mut r),
         10 => {
             // Times rounded to 1e-6 s, as some benchmark files are: must read as uniform.
             map_times(&mut r, |t| format!("{:.6}", t * (1.0 + 3e-9)));
@@ -156,11 +131,7 @@ fn stream_fault(
     r: &mut Vec<Vec<String>>,
 ) -> (String, Vec<String>) {
     let line = k + 2;
-    let line_names = |extra: &[&str]| {
-        let mut v = vec![format!("line {line}"), "line".to_string()];
-        v.extend(extra.iter().map(|s| s.to_lowercase()));
-        v
-    };
+    let line_names = |extra: &[&str]| line_names(line, extra);
     match rng.gen_range(0..4) {
         0 => {
             // A sensor glitch: finite, inside the files' range, far outside the signal's.
@@ -205,6 +176,48 @@ fn stream_fault(
             (
                 format!("column {} renamed {name}", b + 1),
                 vec![name.to_lowercase()],
+            )
+        }
+    }
+}
+
+/// The CSV text of header `h` and rows `r`, cells separated by `sep`.
+fn join(h: &[String], r: &[Vec<String>], sep: &str) -> String {
+    let mut s = h.join(sep);
+    s.push('\n');
+    for row in r {
+        s.push_str(&row.join(sep));
+        s.push('\n');
+    }
+    s
+}
+
+/// What an error about line `line` names: the line, and the `extra` names.
+fn line_names(line: usize, extra: &[&str]) -> Vec<String> {
+    let mut v = vec![format!("line {line}"), "line".to_string()];
+    v.extend(extra.iter().map(|s| s.to_lowercase()));
+    v
+}
+
+/// Row `k` of `r` deleted (7), doubled (8) or swapped with the next (9): what was done and
+/// what an error about it names.
+fn row_fault(choice: i32, k: usize, r: &mut Vec<Vec<String>>) -> (String, Vec<String>) {
+    let line = k + 2;
+    match choice {
+        7 => {
+            r.remove(k);
+            (format!("line {line} deleted"), line_names(line, &["t"]))
+        }
+        8 => {
+            r.insert(k, r[k].clone());
+            (format!("line {line} doubled"), line_names(line, &["t"]))
+        }
+        _ => {
+            let j = (k + 1).min(r.len() - 1);
+            r.swap(k, j);
+            (
+                format!("lines {line} and {} swapped", j + 2),
+                line_names(line, &["t"]),
             )
         }
     }

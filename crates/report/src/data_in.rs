@@ -159,17 +159,11 @@ pub fn read_record(
     read_record_timed(path, "t", inputs, outputs, min_rows)
 }
 
-/// [`read_record`] with the time \[s\] in the column `time` (`--time-column`).
-pub fn read_record_timed(
-    path: &Path,
-    time: &str,
-    inputs: &[String],
-    outputs: &[String],
-    min_rows: usize,
-) -> Result<Record, DataError> {
-    let file = path.display().to_string();
+/// The CSV reader of `path` (through its gzip decoder for a `.gz`) and its header;
+/// `file` names it in errors.
+fn open_csv(path: &Path, file: &str) -> Result<(CsvReader, Vec<String>), DataError> {
     let unreadable = |e: &dyn std::fmt::Display| DataError::Unreadable {
-        file: file.clone(),
+        file: file.to_string(),
         message: e.to_string(),
     };
     if path.is_dir() {
@@ -192,27 +186,51 @@ pub fn read_record_timed(
         .iter()
         .map(|s| s.to_string())
         .collect();
-    let find = |name: &str| {
-        let mut at = header
-            .iter()
-            .enumerate()
-            .filter(|(_, h)| *h == name)
-            .map(|(k, _)| k);
-        match (at.next(), at.next()) {
-            (Some(first), Some(second)) => Err(DataError::DuplicateColumn {
-                file: file.clone(),
-                column: name.to_string(),
-                first: first + 1,
-                second: second + 1,
-            }),
-            (Some(first), None) => Ok(first),
-            (None, _) => Err(DataError::MissingColumn {
-                file: file.clone(),
-                column: name.to_string(),
-                available: header.join(", "),
-            }),
-        }
+    Ok((rd, header))
+}
+
+/// A CSV reader of a file, plain or gzip.
+type CsvReader = csv::Reader<rhonn::error::LineLimited<Box<dyn std::io::Read>>>;
+
+/// The index of column `name` in `header`: an error naming `file` when it is missing or
+/// twice there.
+fn column_index(header: &[String], name: &str, file: &str) -> Result<usize, DataError> {
+    let mut at = header
+        .iter()
+        .enumerate()
+        .filter(|(_, h)| *h == name)
+        .map(|(k, _)| k);
+    match (at.next(), at.next()) {
+        (Some(first), Some(second)) => Err(DataError::DuplicateColumn {
+            file: file.to_string(),
+            column: name.to_string(),
+            first: first + 1,
+            second: second + 1,
+        }),
+        (Some(first), None) => Ok(first),
+        (None, _) => Err(DataError::MissingColumn {
+            file: file.to_string(),
+            column: name.to_string(),
+            available: header.join(", "),
+        }),
+    }
+}
+
+/// [`read_record`] with the time \[s\] in the column `time` (`--time-column`).
+pub fn read_record_timed(
+    path: &Path,
+    time: &str,
+    inputs: &[String],
+    outputs: &[String],
+    min_rows: usize,
+) -> Result<Record, DataError> {
+    let file = path.display().to_string();
+    let unreadable = |e: &dyn std::fmt::Display| DataError::Unreadable {
+        file: file.clone(),
+        message: e.to_string(),
     };
+    let (mut rd, header) = open_csv(path, &file)?;
+    let find = |name: &str| column_index(&header, name, &file);
     let it = find(time)?;
     let ii: Vec<usize> = inputs.iter().map(|c| find(c)).collect::<Result<_, _>>()?;
     let io: Vec<usize> = outputs.iter().map(|c| find(c)).collect::<Result<_, _>>()?;

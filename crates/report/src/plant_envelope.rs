@@ -88,29 +88,7 @@ pub fn plant_envelope(
         .collect();
     let sp = pick(&setpoint);
     let names = [out.to_string(), base.clone()];
-    let mut csv = Vec::new();
-    {
-        let mut w = csv::Writer::from_writer(&mut csv);
-        let mut h = vec!["t".to_string()];
-        for n in &names {
-            for q in ["min", "q05", "median", "q95", "max"] {
-                h.push(format!("{n}_{q}_{unit}"));
-            }
-        }
-        h.push(format!("{reference}_{unit}"));
-        w.write_record(&h)?;
-        for (k, tk) in grid.iter().enumerate() {
-            let mut r = vec![tk.to_string()];
-            for e in &envelopes {
-                for v in [&e.min, &e.q05, &e.median, &e.q95, &e.max] {
-                    r.push(format!("{:.4}", v[k]));
-                }
-            }
-            r.push(sp.get(k).map_or(String::new(), |v| v.to_string()));
-            w.write_record(&r)?;
-        }
-        w.flush().map_err(csv::Error::from)?;
-    }
+    let csv = envelope_csv(&names, &reference, &unit, &grid, &envelopes, &sp)?;
     // The baseline first, so that the controller under test lies on top.
     let plot = EnvelopePlot {
         title: format!(
@@ -137,4 +115,40 @@ pub fn plant_envelope(
         svg: plot.render(900, 450),
         runs: traces[0].len(),
     }))
+}
+
+/// `envelope.csv`: time, then per series its min, 5 %, median, 95 % and max, then the
+/// set-point (display units).
+fn envelope_csv(
+    names: &[String; 2],
+    reference: &str,
+    unit: &str,
+    grid: &[f64],
+    envelopes: &[Envelope],
+    sp: &[f64],
+) -> Result<Vec<u8>> {
+    let mut csv = Vec::new();
+    {
+        let mut w = csv::Writer::from_writer(&mut csv);
+        let mut h = vec!["t".to_string()];
+        for n in names {
+            for q in ["min", "q05", "median", "q95", "max"] {
+                h.push(format!("{n}_{q}_{unit}"));
+            }
+        }
+        h.push(format!("{reference}_{unit}"));
+        w.write_record(&h)?;
+        for (k, tk) in grid.iter().enumerate() {
+            let mut r = vec![tk.to_string()];
+            for e in envelopes {
+                for v in [&e.min, &e.q05, &e.median, &e.q95, &e.max] {
+                    r.push(format!("{:.4}", v[k]));
+                }
+            }
+            r.push(sp.get(k).map_or(String::new(), |v| v.to_string()));
+            w.write_record(&r)?;
+        }
+        w.flush().map_err(csv::Error::from)?;
+    }
+    Ok(csv)
 }

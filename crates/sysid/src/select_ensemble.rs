@@ -14,7 +14,7 @@
 //! it once trained on every record.
 
 use super::folds::{fold_output_scores, held_out_score, HeldOut, PartRun};
-use super::{Activation, Kind, ModelSpec};
+use super::ModelSpec;
 use crate::data::Record;
 use crate::error::Result;
 
@@ -84,9 +84,7 @@ fn mean_of(members: &[&HeldOut]) -> HeldOut {
 
 /// May candidate `c` be an ensemble's member: judged in full, with bounded terms.
 fn may_join(c: &Entry) -> bool {
-    c.score.is_some()
-        && c.full
-        && !(c.model.kind == Kind::Rhonn && c.model.activation == Activation::Identity)
+    c.score.is_some() && c.full && !c.model.polynomial_terms()
 }
 
 /// The ensembles of the best of the candidates `scored`, judged on the folds' held-out
@@ -145,6 +143,7 @@ mod tests {
     use super::super::folds::{folds, held_out_runs};
     use super::super::{fit, FittedModel};
     use super::*;
+    use crate::models::{Activation, Kind};
 
     /// `n` samples of a saturating first-order system under a staircase input.
     fn record(n: usize) -> Record {

@@ -24,7 +24,6 @@
 //! the folds ran 3 x worse on a test of steps).
 
 use super::select_candidates::{CandidateScore, DISAGREEMENT_LIMIT, POLYNOMIAL_MARGIN};
-use super::{Activation, Kind};
 use serde::Serialize;
 
 /// What the rule chose among the candidates by one measure of their error.
@@ -74,8 +73,7 @@ pub(super) fn choose(candidates: &[CandidateScore], measure: &[Option<(&[f64], f
             candidates[i].name
         ));
     }
-    let polynomial =
-        |c: &CandidateScore| c.model.activation == Activation::Identity && c.model.kind == Kind::Rhonn;
+    let polynomial = |c: &CandidateScore| c.model.polynomial_terms();
     let best_eligible = |bounded_only: bool| {
         scored(false)
             .filter(|&(i, f, _)| beats_arx(i, f) && !(bounded_only && polynomial(&candidates[i])))

@@ -348,6 +348,13 @@ impl ModelSpec {
         model_kind(self.kind).max_lag(self)
     }
 
+    /// Whether its terms are unbounded polynomials (`activation = "identity"` in a lagged
+    /// `rhonn` or a `state-space` model): the selection asks them to win by a margin and
+    /// keeps them out of ensembles.
+    pub fn polynomial_terms(&self) -> bool {
+        self.activation == Activation::Identity && matches!(self.kind, Kind::Rhonn | Kind::StateSpace)
+    }
+
     /// The lags in words, e.g. `na 4 nb 4 nk 1`.
     pub fn lags_name(&self) -> String {
         format!("na {} nb {} nk {}", self.na, self.nb, self.nk)

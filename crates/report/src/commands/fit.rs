@@ -557,15 +557,8 @@ fn edited_note(model: &Path) -> Result<Option<String>> {
     })
 }
 
-fn predict_into(
-    model: &Path,
-    (data, time): (&Path, &str),
-    out: &Path,
-    steps: Option<usize>,
-    window: Option<usize>,
-) -> Result<Outcome> {
-    let edited = edited_note(model)?;
-    let text = read_text(model)?;
+/// `--steps-ahead` and `--init-window` checked: K >= 1, N >= 1, not both.
+fn check_prediction_options(steps: Option<usize>, window: Option<usize>) -> Result<()> {
     if steps == Some(0) {
         return Err(Error::Input(
             "--steps-ahead 0 is not allowed: give K >= 1, or leave it out for a free run".into(),
@@ -585,6 +578,45 @@ fn predict_into(
         }
         _ => {}
     }
+    Ok(())
+}
+
+/// A line per output: the prediction's figures, and the ARX baseline's beside them.
+fn figure_lines(fitted: &rhonn::sysid::FittedModel, p: &rhonn::sysid::Prediction) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mode = p.mode();
+    for (j, f) in p.figures.iter().enumerate() {
+        let unit = unit_of(&fitted.units, &f.output);
+        let mut line = format!(
+            "{} ({mode}): rms error {}{unit}, fit {}, nrmse {}",
+            f.output,
+            rhonn::metrics::sig(f.rms_error, 4),
+            super::percent(f.fit_percent),
+            super::ratio(f.nrmse)
+        );
+        if let (Some((_, fb)), Some(b)) = (&p.baseline, &fitted.baseline) {
+            line += &format!(
+                "; ARX baseline ({}): rms error {}{unit}, fit {}",
+                b.spec.lags_name(),
+                rhonn::metrics::sig(fb[j].rms_error, 4),
+                super::percent(fb[j].fit_percent)
+            );
+        }
+        lines.push(line);
+    }
+    lines
+}
+
+fn predict_into(
+    model: &Path,
+    (data, time): (&Path, &str),
+    out: &Path,
+    steps: Option<usize>,
+    window: Option<usize>,
+) -> Result<Outcome> {
+    let edited = edited_note(model)?;
+    let text = read_text(model)?;
+    check_prediction_options(steps, window)?;
     // A file that is no JSON at all is named with the line and column where it breaks,
     // before its kind is asked; a refused check is the context of what refused it.
     let any = AnyModel::parse(&text, &model.display().to_string()).map_err(|e| match e {
@@ -646,25 +678,6 @@ fn predict_into(
         ));
     }
     o.files = crate::write_prediction(out, fitted, &p, &model.display().to_string())?;
-    let mode = p.mode();
-    for (j, f) in p.figures.iter().enumerate() {
-        let unit = unit_of(&fitted.units, &f.output);
-        let mut line = format!(
-            "{} ({mode}): rms error {}{unit}, fit {}, nrmse {}",
-            f.output,
-            rhonn::metrics::sig(f.rms_error, 4),
-            super::percent(f.fit_percent),
-            super::ratio(f.nrmse)
-        );
-        if let (Some((_, fb)), Some(b)) = (&p.baseline, &fitted.baseline) {
-            line += &format!(
-                "; ARX baseline ({}): rms error {}{unit}, fit {}",
-                b.spec.lags_name(),
-                rhonn::metrics::sig(fb[j].rms_error, 4),
-                super::percent(fb[j].fit_percent)
-            );
-        }
-        o.lines.push(line);
-    }
+    o.lines.extend(figure_lines(fitted, &p));
     Ok(o)
 }
