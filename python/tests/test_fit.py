@@ -298,3 +298,26 @@ def test_inputs_beyond_the_training_range_warn_and_inputs_within_it_do_not(tanks
         tanks_model.predict(val["u"], val["y"])  # the validation record: within the range
     with pytest.warns(UserWarning, match=r"input `u` of the data spans \[.*the model extrapolates there"):
         tanks_model.predict(1.5 * np.asarray(val["u"]), val["y"])
+
+
+def test_a_state_space_model_from_python_is_the_commands(tmp_path, tanks, root, rhonn_bin):
+    """`kind = "state-space"` through `rhonn.fit` and through `rhonn fit --model`: the same
+    model.json's prediction, sample for sample, free and 5 steps ahead."""
+    est, val = tanks
+    spec = {"kind": "state-space", "na": 2, "nk": 0, "degree": 2, "activation": "identity",
+            "settle": 5, "epochs": 15}
+    m = rhonn.fit(est["u"], est["y"], dt=4.0, model=spec, inputs=["u"], outputs=["y"])
+    assert m.summary["model"]["kind"] == "state-space"
+    toml = "\n".join(f"{k} = {json.dumps(v)}" for k, v in spec.items())
+    (tmp_path / "ss.toml").write_text(toml + "\n")
+    data = root / "data/cascaded-tanks"
+    run = lambda *a: subprocess.run([rhonn_bin, *map(str, a)], check=True, capture_output=True, cwd=root)
+    run("fit", "--data", data / "estimation.csv", "--inputs", "u", "--outputs", "y",
+        "--model", tmp_path / "ss.toml", "--out", tmp_path / "fit")
+    for steps, folder in ((None, "pred"), (5, "pred5")):
+        extra = ["--steps-ahead", "5"] if steps else []
+        run("predict", "--model", tmp_path / "fit/model.json", "--data", data / "validation.csv",
+            "--out", tmp_path / folder, *extra)
+        csv = read_csv(tmp_path / folder / "prediction.csv")
+        pred = m.predict(val["u"], val["y"], steps_ahead=steps)
+        np.testing.assert_allclose(pred[:, 0], csv["y_hat"], rtol=0, atol=1e-9)

@@ -16,50 +16,23 @@
 //! Bouc-Wen (1.31e10, chosen there), not on Silverbox (2.08e10) or Wiener-Hammerstein
 //! (3.2e10), where a faster candidate is chosen.
 
-use super::lagged_terms;
-use super::{n_phi, Estimator, Kind, ModelSpec};
+use super::ModelSpec;
 
 /// The default budget per candidate, in work units (about 6 ns each on one core).
 pub const DEFAULT_BUDGET: f64 = 1.5e10;
 
-/// The parameters of `spec` for `ni` inputs and `no` outputs: per output, its features
-/// (lagged regressors, high-order terms, bias); a Wiener-Hammerstein's filters and
-/// polynomial; a cascade's neurons.
+/// The parameters of `spec` for `ni` inputs and `no` outputs, as its kind counts them
+/// (`kinds::Fit::parameters`: a lagged model's features per output, a Wiener-Hammerstein's
+/// filters and polynomial, a cascade's neurons, a state-space model's matrices).
 pub fn parameters(spec: &ModelSpec, ni: usize, no: usize) -> usize {
-    match spec.kind {
-        Kind::Arx | Kind::Rhonn => n_phi(spec, ni, no) + lagged_terms(spec, ni, no).len() + 1,
-        Kind::WienerHammerstein => spec.na + spec.nb + spec.degree + 2,
-        Kind::Cascade => super::cascade::n_params(spec.neurons, ni),
-        Kind::Pump => 8,
-        Kind::StateSpace => {
-            let nx = spec.na * no;
-            let nt = crate::models::state_space::Monomials::of(spec, nx, ni).len();
-            (nx + no) * (nx + ni + nt + 1)
-        }
-    }
+    super::fitter(spec.kind).parameters(spec, ni, no)
 }
 
 /// The estimated work of training `spec` once on `samples` samples (see the module's
-/// docs).
+/// docs and each kind's `kinds::Fit::work`).
 pub fn work(spec: &ModelSpec, samples: usize, ni: usize, no: usize) -> f64 {
-    let n = samples as f64;
     let p = parameters(spec, ni, no) as f64;
-    let (no, epochs) = (no as f64, spec.epochs.max(1) as f64);
-    match (spec.kind, spec.law) {
-        (Kind::Arx | Kind::Rhonn, Estimator::SimulationError) => n * p * p * (1.0 + epochs * no * no),
-        (Kind::Arx | Kind::Rhonn, _) => n * p * p,
-        (Kind::WienerHammerstein, _) => n * p * p * epochs,
-        (Kind::Cascade, _) => n * p * p * epochs * spec.starts.max(1) as f64,
-        (Kind::Pump, _) => n * p * p * epochs,
-        // Per iteration one pass of forward sensitivities (each sample moves the states'
-        // nx x p sensitivities through (nx + outputs) rows) and J^T J by matrix products,
-        // which run about 32 times faster per multiply-add than the scalar loops a unit
-        // stands for.
-        (Kind::StateSpace, _) => {
-            let nx = (spec.na as f64) * no;
-            n * epochs * ((nx + no) * nx * p + p * p / 32.0)
-        }
-    }
+    super::fitter(spec.kind).work(spec, samples as f64, p, no as f64)
 }
 
 /// The estimated work of judging `spec` on `folds` folds of `samples` samples in all
@@ -84,6 +57,7 @@ pub fn works(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Estimator;
 
     #[test]
     fn work_grows_with_samples_outputs_and_free_run_training() {

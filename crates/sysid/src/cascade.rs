@@ -121,6 +121,15 @@ impl super::kinds::Fit for Cascade {
     fn fit(&self, spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()> {
         fit(spec, records, m).map(|_| ())
     }
+
+    fn parameters(&self, spec: &ModelSpec, ni: usize, _no: usize) -> usize {
+        n_params(spec.neurons, ni)
+    }
+
+    /// Every one of its seeded starts trained on the free-run error.
+    fn work(&self, spec: &ModelSpec, n: f64, p: f64, _no: f64) -> f64 {
+        n * p * p * spec.epochs.max(1) as f64 * spec.starts.max(1) as f64
+    }
 }
 
 #[path = "cascade_free_runs.rs"]

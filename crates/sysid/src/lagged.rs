@@ -3,7 +3,7 @@
 //! the weights by [`fit_weights`](super::estimate).
 
 use super::kinds::Fit;
-use super::{check_regressor_count, Model, ModelSpec};
+use super::{check_regressor_count, Estimator, Model, ModelSpec};
 use crate::data::Record;
 use crate::error::Result;
 
@@ -16,5 +16,19 @@ impl Fit for Lagged {
         check_regressor_count(spec, ni, no)?;
         m.terms = super::lagged_terms(spec, ni, no);
         super::estimate::fit_weights(m, records)
+    }
+
+    fn parameters(&self, spec: &ModelSpec, ni: usize, no: usize) -> usize {
+        super::n_phi(spec, ni, no) + super::lagged_terms(spec, ni, no).len() + 1
+    }
+
+    /// Least squares accumulate the normal equations (`n p^2`); on the free-run error,
+    /// each iteration a free run per weight of every output.
+    fn work(&self, spec: &ModelSpec, n: f64, p: f64, no: f64) -> f64 {
+        let epochs = spec.epochs.max(1) as f64;
+        match spec.law {
+            Estimator::SimulationError => n * p * p * (1.0 + epochs * no * no),
+            _ => n * p * p,
+        }
     }
 }

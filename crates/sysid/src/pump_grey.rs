@@ -135,4 +135,8 @@ impl super::kinds::Fit for PumpGrey {
     fn fit(&self, spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()> {
         fit(spec, records, m)
     }
+
+    fn parameters(&self, _spec: &ModelSpec, _ni: usize, _no: usize) -> usize {
+        8
+    }
 }

@@ -361,6 +361,10 @@ impl super::kinds::Fit for WienerHammerstein {
     fn fit(&self, spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()> {
         fit(spec, records, m)
     }
+
+    fn parameters(&self, spec: &ModelSpec, _ni: usize, _no: usize) -> usize {
+        spec.na + spec.nb + spec.degree + 2
+    }
 }
 
 #[path = "wiener_hammerstein_basis.rs"]

@@ -609,6 +609,10 @@ pub fn random_start(co: Coords, ymin: f64, ymax: f64, n_rec: usize, rng: &mut Ch
 pub struct Cascade;
 
 impl super::kinds::Structure for Cascade {
+    fn with_article(&self, _kind: super::Kind) -> &'static str {
+        "a cascade"
+    }
+
     fn check_spec(&self, spec: &ModelSpec) -> Result<()> {
         use super::{int_in, Estimator};
         int_in("neurons", spec.neurons, 1, 4)?;

@@ -13,6 +13,10 @@ use crate::error::Result;
 /// What a model kind provides: its own spec rules, prediction and the check of a stored
 /// model.
 pub trait Structure: Sync {
+    /// The kind with its article, for messages ("an ARX", "a cascade"); `kind` tells the
+    /// kinds that share an implementation apart.
+    fn with_article(&self, kind: super::Kind) -> &'static str;
+
     /// Check the keys of `spec` this kind has rules of its own for (the common keys are
     /// checked first by [`ModelSpec::check`]).
     fn check_spec(&self, spec: &ModelSpec) -> Result<()>;
@@ -46,6 +50,11 @@ pub trait Structure: Sync {
     /// their own (`summary.json`'s `parameters`); None otherwise.
     fn named_parameters(&self, _m: &Model) -> Option<std::collections::BTreeMap<String, f64>> {
         None
+    }
+
+    /// Whether `spec`'s terms are unbounded polynomials (see `ModelSpec::polynomial_terms`).
+    fn polynomial_terms(&self, _spec: &ModelSpec) -> bool {
+        false
     }
 
     /// Whether a free run is held within the outputs' widened training range, so that

@@ -12,6 +12,18 @@ use crate::net::Terms;
 pub(crate) struct Lagged;
 
 impl Structure for Lagged {
+    fn polynomial_terms(&self, spec: &ModelSpec) -> bool {
+        spec.kind == super::Kind::Rhonn && spec.activation == super::Activation::Identity
+    }
+
+    fn with_article(&self, kind: super::Kind) -> &'static str {
+        if kind == super::Kind::Arx {
+            "an ARX"
+        } else {
+            "a RHONN"
+        }
+    }
+
     fn check_spec(&self, spec: &ModelSpec) -> Result<()> {
         if spec.kind == Kind::Rhonn {
             int_in("degree", spec.degree, 1, 5)?;

@@ -56,14 +56,7 @@ impl Kind {
     /// The kind with its article, for messages: "an ARX", "a RHONN", "a cascade", "the
     /// pump's grey-box".
     pub fn with_article(self) -> &'static str {
-        match self {
-            Kind::Arx => "an ARX",
-            Kind::Rhonn => "a RHONN",
-            Kind::Cascade => "a cascade",
-            Kind::Pump => "the pump's grey-box",
-            Kind::WienerHammerstein => "a Wiener-Hammerstein",
-            Kind::StateSpace => "a state-space",
-        }
+        model_kind(self).with_article(self)
     }
 }
 
@@ -352,7 +345,7 @@ impl ModelSpec {
     /// `rhonn` or a `state-space` model): the selection asks them to win by a margin and
     /// keeps them out of ensembles.
     pub fn polynomial_terms(&self) -> bool {
-        self.activation == Activation::Identity && matches!(self.kind, Kind::Rhonn | Kind::StateSpace)
+        model_kind(self.kind).polynomial_terms(self)
     }
 
     /// The lags in words, e.g. `na 4 nb 4 nk 1`.

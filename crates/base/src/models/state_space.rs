@@ -488,6 +488,14 @@ pub fn bounds(m: &Model, j: usize) -> (f64, f64) {
 pub struct StateSpace;
 
 impl super::kinds::Structure for StateSpace {
+    fn polynomial_terms(&self, spec: &ModelSpec) -> bool {
+        spec.activation == Activation::Identity && spec.degree >= 2
+    }
+
+    fn with_article(&self, _kind: super::Kind) -> &'static str {
+        "a state-space"
+    }
+
     fn check_spec(&self, spec: &ModelSpec) -> Result<()> {
         int_in("degree", spec.degree, 1, MAX_DEGREE)?;
         int_in("na", spec.na, 1, 8)?;

@@ -315,6 +315,10 @@ pub fn predict(m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec
 pub struct WienerHammerstein;
 
 impl super::kinds::Structure for WienerHammerstein {
+    fn with_article(&self, _kind: super::Kind) -> &'static str {
+        "a Wiener-Hammerstein"
+    }
+
     fn check_spec(&self, spec: &ModelSpec) -> Result<()> {
         use super::{int_in, Estimator};
         int_in("degree", spec.degree, 1, MAX_DEGREE)?;

@@ -435,6 +435,10 @@ pub fn predict(m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec
 pub struct PumpGrey;
 
 impl super::kinds::Structure for PumpGrey {
+    fn with_article(&self, _kind: super::Kind) -> &'static str {
+        "the pump's grey-box"
+    }
+
     fn check_spec(&self, spec: &ModelSpec) -> Result<()> {
         super::int_in("settle", spec.settle, 1, 1000)?;
         spec.pump.check(spec.law)
