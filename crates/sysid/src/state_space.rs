@@ -18,7 +18,8 @@
 //!    `epochs` iterations per stage; the states' ranges are then taken again.
 //!
 //! Training is deterministic: the same data and spec give the same bits on any number of
-//! threads (the Jacobian's columns are computed in parallel, each on its own).
+//! threads (the Jacobian is exact, from forward sensitivities, its sums taken in a fixed
+//! grouping: `state_space_normal.rs`).
 
 use super::lm::lm_normal;
 use super::{Model, ModelSpec};
@@ -45,6 +46,7 @@ pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result
             ),
         ));
     }
+    Monomials::check_count(spec, nx, ni)?;
     let data: Vec<Data> = records.iter().map(|r| normalised(m, r)).collect();
     let windows = training_windows(spec, &data);
     let linear = Monomials::new(nx + ni, 0, 1, spec.activation);
@@ -290,7 +292,7 @@ impl super::kinds::Fit for StateSpace {
 
     fn parameters(&self, spec: &ModelSpec, ni: usize, no: usize) -> usize {
         let nx = spec.na * no;
-        (nx + no) * (nx + ni + Monomials::of(spec, nx, ni).len() + 1)
+        (nx + no).saturating_mul((nx + ni + 1).saturating_add(Monomials::count(spec, nx, ni)))
     }
 
     /// Per iteration one pass of forward sensitivities (each sample moves the states'

@@ -248,3 +248,25 @@ fn two_inputs_and_two_outputs_run_as_one_model_with_states_side_by_side() {
         );
     }
 }
+
+#[test]
+fn too_many_terms_are_refused_before_they_are_made() {
+    let s = spec();
+    assert_eq!(Monomials::count(&s, 2, 1), Monomials::of(&s, 2, 1).len());
+    let states = ModelSpec {
+        nonlinear_in: crate::NonlinearIn::States,
+        degree: 4,
+        ..s.clone()
+    };
+    assert_eq!(
+        Monomials::count(&states, 3, 2),
+        Monomials::of(&states, 3, 2).len()
+    );
+    // 60 inputs of degree 5: about 10 million terms, refused at once, naming the field.
+    let wide = ModelSpec { degree: 5, ..s };
+    let e = Monomials::check_count(&wide, 2, 60).unwrap_err().to_string();
+    assert!(
+        e.contains("model.degree") && e.contains("at most 2000 terms"),
+        "{e}"
+    );
+}

@@ -37,6 +37,8 @@ use nalgebra::{DMatrix, DVector};
 pub const MAX_DEGREE: usize = 5;
 /// Most states.
 pub const MAX_STATES: usize = 32;
+/// Most terms a model may have (its `J^T J` grows with the square of its parameters).
+pub const MAX_TERMS: usize = 2000;
 /// A simulated state or output beyond this (normalised units) marks an unstable model.
 pub const DIVERGED: f64 = 1e6;
 
@@ -59,6 +61,43 @@ impl Monomials {
             spec.degree,
             spec.activation,
         )
+    }
+
+    /// How many terms [`Monomials::of`] makes, counted without making them (saturating):
+    /// every monomial of degree 2..=`degree` of its variables, `C(m + d, d) - 1 - m`.
+    pub fn count(spec: &ModelSpec, nx: usize, ni: usize) -> usize {
+        let m = if spec.nonlinear_in == NonlinearIn::States {
+            nx
+        } else {
+            nx + ni
+        } as u128;
+        if spec.degree < 2 {
+            return 0;
+        }
+        let mut c: u128 = 1;
+        for k in 1..=spec.degree as u128 {
+            c = c * (m + k) / k;
+            if c > u64::MAX as u128 {
+                return usize::MAX;
+            }
+        }
+        usize::try_from(c - 1 - m).unwrap_or(usize::MAX)
+    }
+
+    /// [`Monomials::count`] within [`MAX_TERMS`], or the error naming `model.degree`.
+    pub fn check_count(spec: &ModelSpec, nx: usize, ni: usize) -> Result<()> {
+        let n = Monomials::count(spec, nx, ni);
+        if n > MAX_TERMS {
+            return Err(invalid(
+                "model.degree",
+                spec.degree,
+                format!(
+                    "at most {MAX_TERMS} terms in all: {nx} states and {ni} inputs make {n} of degree 2 to                      {}; lower `degree` or `na`, or set `nonlinear_in = \"states\"`",
+                    spec.degree
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The terms of `n_vars` variables (states then inputs), the last `n_inputs_out` of
@@ -254,6 +293,7 @@ impl Params {
                 format!("[states >= 1, {ni} inputs, {no} outputs] (the model's columns)"),
             ));
         }
+        Monomials::check_count(spec, nx, ni)?;
         let nt = Monomials::of(spec, nx, ni).len();
         let mut p = Params::zeros(nx, ni, no, has_d == 1, nt);
         let nfree = p.free().len();
