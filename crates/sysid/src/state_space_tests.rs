@@ -270,3 +270,25 @@ fn too_many_terms_are_refused_before_they_are_made() {
         "{e}"
     );
 }
+
+#[test]
+fn the_same_bits_on_one_thread_and_on_four() {
+    // Subsections (`multi-step`) make many windows, summed by several tasks at once.
+    let (i, o) = names();
+    let train = system(10, 1200, 0.01);
+    let s = ModelSpec {
+        law: Estimator::MultiStep,
+        horizon: 40,
+        settle: 4,
+        epochs: 8,
+        ..spec()
+    };
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| fit(&s, std::slice::from_ref(&train), &i, &o).unwrap().weights)
+    };
+    assert_eq!(on(1), on(4));
+}
