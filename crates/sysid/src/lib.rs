@@ -97,6 +97,18 @@ pub(crate) fn fitter(kind: Kind) -> &'static dyn kinds::Fit {
     }
 }
 
+/// Least squares (the block structures' and the state-space models' linear starts) with a ridge of 1e-9 of the mean diagonal (normal equations, Cholesky);
+/// None when the columns are collinear even so.
+pub(crate) fn least_squares(a: &DMatrix<f64>, t: &DVector<f64>) -> Option<DVector<f64>> {
+    let n = a.ncols();
+    let mut ata = a.transpose() * a;
+    let mean_diag = (0..n).map(|i| ata[(i, i)]).sum::<f64>() / n as f64;
+    for i in 0..n {
+        ata[(i, i)] += 1e-9 * mean_diag;
+    }
+    Some(ata.cholesky()?.solve(&(a.transpose() * t)))
+}
+
 #[cfg(test)]
 #[path = "tests.rs"]
 mod tests;

@@ -22,7 +22,7 @@
 //! grouping: `state_space_normal.rs`).
 
 use super::lm::lm_normal;
-use super::{Model, ModelSpec};
+use super::{least_squares, Model, ModelSpec};
 use crate::data::Record;
 use crate::error::{invalid, Result};
 pub(crate) use crate::models::state_space::*;
@@ -184,17 +184,6 @@ fn linear_start(spec: &ModelSpec, data: &[Data], ni: usize, no: usize) -> Result
         p.bias[j] = th[ncol - 1] / (1.0 + coef_a.iter().sum::<f64>()).abs().max(1e-3);
     }
     Ok(p)
-}
-
-/// Least squares with a ridge of 1e-9 of the mean diagonal; None when singular even so.
-fn least_squares(a: &DMatrix<f64>, t: &DVector<f64>) -> Option<DVector<f64>> {
-    let n = a.ncols();
-    let mut ata = a.transpose() * a;
-    let mean_diag = (0..n).map(|i| ata[(i, i)]).sum::<f64>() / n.max(1) as f64;
-    for i in 0..n {
-        ata[(i, i)] += 1e-9 * mean_diag + 1e-300;
-    }
-    Some(ata.cholesky()?.solve(&(a.transpose() * t)))
 }
 
 /// The states of `p`'s free runs over every record (nx values a sample, all records).

@@ -15,6 +15,7 @@
 //! a fixed grouping, so the result is the same bits on any number of threads.
 
 use super::{Data, Monomials, Params, DIVERGED};
+use crate::law::dot;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
@@ -247,8 +248,4 @@ fn combine(m: &[f64], s: &[f64], np: usize, out: &mut [f64]) {
             }
         }
     }
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }

@@ -14,7 +14,7 @@
 //! see only the inputs, so they are the same in both).
 //!
 
-use super::{lm, Model, ModelSpec};
+use super::{least_squares, lm, Model, ModelSpec};
 use crate::data::Record;
 use crate::error::{invalid, Result};
 pub(crate) use crate::models::wiener_hammerstein::*;
@@ -183,18 +183,6 @@ fn best_linear_approximation(spec: &ModelSpec, data: &[(Vec<f64>, Vec<f64>)], b:
     });
     set(&mut p, &free);
     p
-}
-
-/// Least squares with a ridge of 1e-9 of the mean diagonal (normal equations, Cholesky);
-/// None when the columns are collinear even so.
-fn least_squares(a: &DMatrix<f64>, t: &DVector<f64>) -> Option<DVector<f64>> {
-    let n = a.ncols();
-    let mut ata = a.transpose() * a;
-    let mean_diag = (0..n).map(|i| ata[(i, i)]).sum::<f64>() / n as f64;
-    for i in 0..n {
-        ata[(i, i)] += 1e-9 * mean_diag;
-    }
-    Some(ata.cholesky()?.solve(&(a.transpose() * t)))
 }
 
 /// Roots of `c[0] z^n + c[1] z^(n-1) + ... + c[n]` (leading zeros dropped).

@@ -31,6 +31,7 @@
 use super::{int_in, Activation, Estimator, Model, ModelSpec, NonlinearIn};
 use crate::data::Record;
 use crate::error::{invalid, Result};
+use crate::law::dot;
 use nalgebra::{DMatrix, DVector};
 
 /// Highest degree of the terms.
@@ -425,10 +426,6 @@ impl Params {
                 .collect(),
         )
     }
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// The monomials of model `m`.
