@@ -186,6 +186,34 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
     assert_eq!(std::fs::read_to_string(dir.join("runs.csv")).unwrap(), full);
     assert_eq!(std::fs::read_to_string(dir.join("envelope.csv")).unwrap(), env);
     assert!(!dir.join("runs.partial.csv").exists());
+    // Cut inside its last figure, a row keeps its number of fields but not its line
+    // break: it is run again, not kept with a shortened number.
+    let mut partial = lines[..41].join("\n");
+    partial.push('\n');
+    partial.push_str(&lines[41][..lines[41].len() - 2]);
+    std::fs::write(dir.join("runs.partial.csv"), partial).unwrap();
+    std::fs::remove_file(dir.join("runs.csv")).unwrap();
+    let o = rhonn(
+        d.path(),
+        &[
+            "campaign",
+            "tanks-control",
+            "--runs",
+            "200",
+            "--seed",
+            "4",
+            "--out",
+            "c",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("its last row was cut and is ignored")
+            && stderr(&o).contains("resuming: 40 runs already done"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read_to_string(dir.join("runs.csv")).unwrap(), full);
     // Another seed into the same folder is refused.
     let o = rhonn(
         d.path(),

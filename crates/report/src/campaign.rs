@@ -7,11 +7,12 @@
 //! bytes whatever the thread count or sharding) and `DIR/summary.json` the statistics.
 
 pub use crate::campaign_options::{on_threads, CampaignOptions, CampaignOutcome, Progress};
-use crate::campaign_plots::{envelope_files, histograms};
-use crate::campaign_runner::{self, CampaignKind, Done};
+use crate::campaign_plots::envelope_files;
+use crate::campaign_runner::{self, CampaignKind, Done, Runs};
+use crate::worst_runs::{Candidate, Ranker};
 use crate::Error;
 use rhonn::experiment::campaign::{
-    statistics, Envelope, FigureStats, Plan, PumpCampaign, RunRow, RunTraces, Sampling, TOLERANCES,
+    Envelope, FigureStats, Plan, PumpCampaign, RunRow, RunTraces, Sampling, TOLERANCES,
 };
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -107,10 +108,6 @@ fn record(spec: &PumpCampaign, r: &RunRow) -> Vec<String> {
     v
 }
 
-/// A run's row, its CSV fields, and its trace rows (kept as read, so that a merge or a
-/// resume writes the same bytes).
-pub(crate) type Row = Done<RunRow>;
-
 /// The pump's reading of a `runs.csv` row: the drawn values, and the figures or the
 /// failure.
 fn parse_row(index: u64, rec: &[String]) -> std::result::Result<RunRow, String> {
@@ -136,12 +133,11 @@ fn parse_row(index: u64, rec: &[String]) -> std::result::Result<RunRow, String> 
 }
 
 /// The envelope of the kept traces, per series, from their CSV fields.
-fn envelopes(rows: &[Row], points: usize) -> Vec<(String, Envelope, usize)> {
+fn envelopes(runs: &Runs, points: usize) -> Vec<(String, Envelope, usize)> {
     let mut out = Vec::new();
     for name in ["p_line", "p_line_pi"] {
-        let traces: Vec<Vec<f64>> = rows
-            .iter()
-            .flat_map(|r| r.traces.iter())
+        let traces: Vec<Vec<f64>> = runs
+            .traces()
             .filter(|t| t.get(1).map(String::as_str) == Some(name))
             .map(|t| t[2..].iter().map(|x| x.parse().unwrap_or(f64::NAN)).collect())
             .collect();
@@ -152,6 +148,72 @@ fn envelopes(rows: &[Row], points: usize) -> Vec<(String, Envelope, usize)> {
         out.push((name.to_string(), Envelope::of(&refs, points), traces.len()));
     }
     out
+}
+
+/// What one pass over the runs gives: the failure reasons with how many runs gave each
+/// (in the order of their first run), the runs that finished, and the worst runs.
+struct Tally {
+    failures: Vec<(String, usize)>,
+    ok: usize,
+    ranked: Vec<Candidate>,
+}
+
+fn tally(names: &[String], runs: &Runs) -> Result<Tally> {
+    let key = crate::worst_runs::key_figure(names);
+    let mut ranker = Ranker::new(key.map(|_| true));
+    let mut failures: std::collections::HashMap<String, (u64, usize)> = Default::default();
+    let mut ok = 0;
+    runs.for_each(|index, fields, _| {
+        let r = parse_row(index, fields).map_err(Error::Campaign)?;
+        match &r.outcome {
+            Ok(_) => ok += 1,
+            Err(e) => {
+                let f = failures.entry(e.clone()).or_insert((index, 0));
+                f.0 = f.0.min(index);
+                f.1 += 1;
+            }
+        }
+        ranker.add(crate::worst_runs::pump_candidate(&r, key));
+        Ok(())
+    })?;
+    let mut failures: Vec<(String, (u64, usize))> = failures.into_iter().collect();
+    failures.sort_by_key(|(_, (first, _))| *first);
+    Ok(Tally {
+        failures: failures.into_iter().map(|(m, (_, n))| (m, n)).collect(),
+        ok,
+        ranked: ranker.ranked(),
+    })
+}
+
+/// Each figure's statistics and the histograms' panels, one figure at a time (a pass over
+/// the runs each: the values of one figure in memory at once).
+fn figures(
+    names: &[String],
+    scenario: &str,
+    runs: &Runs,
+) -> Result<(Vec<FigureStats>, Vec<crate::Histogram>)> {
+    let mut stats = Vec::new();
+    let mut panels = Vec::new();
+    for (k, name) in names.iter().enumerate() {
+        let mut v = Vec::new();
+        runs.for_each(|index, fields, failed| {
+            if !failed {
+                let r = parse_row(index, fields).map_err(Error::Campaign)?;
+                v.extend(r.outcome.ok().map(|f| f[k]));
+            }
+            Ok(())
+        })?;
+        if crate::campaign_plots::shown(names, name) {
+            panels.push(crate::Histogram::new(
+                format!("{scenario}: {name}"),
+                name.clone(),
+                &v,
+                30,
+            ));
+        }
+        stats.push(rhonn::experiment::campaign::figure_stats(name, v));
+    }
+    Ok((stats, panels))
 }
 
 /// What `summary.json` holds.
@@ -178,59 +240,42 @@ fn finish(
     dir: &Path,
     file: &CampaignFile,
     spec: &PumpCampaign,
-    mut rows: Vec<Row>,
+    runs: &Runs,
     notes: Vec<String>,
 ) -> Result<CampaignOutcome> {
-    rows.sort_by_key(|r| r.index);
-    let mut buf = Vec::new();
-    {
-        let mut w = csv::Writer::from_writer(&mut buf);
-        w.write_record(header(spec))?;
-        for r in &rows {
-            w.write_record(&r.fields)?;
-        }
-        w.flush().map_err(csv::Error::from)?;
-    }
     let (_, grid) = spec.envelope_grid();
-    let env = envelopes(&rows, grid.len());
+    let env = envelopes(runs, grid.len());
     let env_files = envelope_files(
         spec,
         &file.scenario,
         traces_header(spec),
-        rows.iter().flat_map(|r| r.traces.iter()),
+        runs.traces(),
         &grid,
         &env,
     )?;
     let envelope_runs = env.iter().map(|(n, _, k)| (n.clone(), *k)).collect();
-    let rows: Vec<RunRow> = rows.into_iter().map(|r| r.row).collect();
     let names = spec.figure_names();
-    let mut failures: Vec<(String, usize)> = Vec::new();
-    for r in &rows {
-        if let Err(e) = &r.outcome {
-            match failures.iter_mut().find(|(m, _)| m == e) {
-                Some((_, n)) => *n += 1,
-                None => failures.push((e.clone(), 1)),
-            }
-        }
-    }
-    let ok = rows.iter().filter(|r| r.outcome.is_ok()).count();
-    let (key, worst) = crate::worst_runs::describe(spec, &names, &rows)
+    let Tally { failures, ok, ranked } = tally(&names, runs)?;
+    let key = crate::worst_runs::key_figure(&names);
+    let worst = crate::worst_runs::describe(spec, &ranked)
         .map_err(|e| Error::Campaign(format!("cannot write a worst run's scenario: {e}")))?;
     let worst_runs: Vec<_> = worst.iter().map(|(w, _)| w.clone()).collect();
     let worst_files: Vec<String> = worst.iter().map(|(w, _)| w.file.clone()).collect();
+    let (stats, panels) = figures(&names, &file.scenario, runs)?;
+    let n = runs.len();
     let summary = CampaignSummary {
         campaign: file,
         runs_ok: ok,
-        runs_failed: rows.len() - ok,
+        runs_failed: n - ok,
         failures,
         plan: spec.plan(),
-        figures: statistics(&names, &rows),
+        figures: stats,
         envelope_runs,
-        findings: crate::worst_runs::findings(key, &worst_runs),
+        findings: crate::worst_runs::findings(key.map(|(_, k)| k), &worst_runs),
         worst_runs,
     };
     let mut out = crate::OutputSet::new(dir)?;
-    out.write("runs.csv", |w| w.write_all(&buf))?;
+    out.write("runs.csv", |w| runs.write_csv(&header(spec), w))?;
     out.write("summary.json", |w| {
         serde_json::to_writer_pretty(&mut *w, &summary).map_err(std::io::Error::other)?;
         writeln!(w)
@@ -242,7 +287,7 @@ fn finish(
     for (w, text) in &worst {
         out.write(&w.file, |f| f.write_all(text.as_bytes()))?;
     }
-    let svg = histograms(&names, &rows, &file.scenario);
+    let svg = crate::Histogram::render(&panels, 3);
     out.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
     if let Some((traces_buf, env_buf, svg)) = env_files {
         out.write("traces.csv", |w| w.write_all(&traces_buf))?;
@@ -260,8 +305,8 @@ fn finish(
     Ok(CampaignOutcome {
         scenario: file.scenario.clone(),
         dir: dir.to_path_buf(),
-        runs: rows.len(),
-        failed: rows.len() - ok,
+        runs: n,
+        failed: n - ok,
         already_complete: false,
         notes,
     })
@@ -381,22 +426,20 @@ impl CampaignKind for PumpKind {
         let failed = row.outcome.is_err();
         Ok((row, failed))
     }
-    fn wants_traces(&self, d: &Row) -> bool {
-        d.index < self.file.envelope_runs && !d.failed
+    fn wants_traces(&self, index: u64, failed: bool) -> bool {
+        index < self.file.envelope_runs && !failed
     }
-    fn run(&self, i: u64) -> Row {
+    fn run(&self, i: u64) -> Done {
         let keep = i < self.file.envelope_runs;
         let (row, tr) = self.spec.run_one(self.file.seed, i, self.sampling, keep);
         Done {
-            index: i,
             fields: record(&self.spec, &row),
             traces: tr.map(|t| trace_records(i, &t)).unwrap_or_default(),
             failed: row.outcome.is_err(),
-            row,
         }
     }
-    fn finish(&self, dir: &Path, rows: Vec<Row>, notes: Vec<String>) -> Result<CampaignOutcome> {
-        finish(dir, &self.file, &self.spec, rows, notes)
+    fn finish(&self, dir: &Path, runs: &Runs, notes: Vec<String>) -> Result<CampaignOutcome> {
+        finish(dir, &self.file, &self.spec, runs, notes)
     }
 }
 

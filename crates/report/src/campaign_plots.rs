@@ -4,7 +4,6 @@
 use crate::Result;
 use rhonn::experiment::campaign::Envelope;
 use rhonn::experiment::campaign::PumpCampaign;
-use rhonn::experiment::campaign::RunRow;
 
 /// The envelope files of a campaign of `scenario` that kept traces: traces.csv (its
 /// `header`, then the `traces` rows), envelope.csv and envelope.svg (None without
@@ -103,8 +102,10 @@ fn baseline_label(spec: &PumpCampaign) -> &'static str {
     }
 }
 
-/// Histograms of the figures that judge a controller (or every figure otherwise).
-pub(crate) fn histograms(names: &[String], rows: &[RunRow], scenario: &str) -> String {
+/// Whether `name` gets a histogram panel among a pump campaign's figures `names`: the
+/// key figures (IAE, the largest settled deviation, the time below P_min, each of the
+/// controller and of its baseline, and the fits) when there are any, else every figure.
+pub(crate) fn shown(names: &[String], name: &str) -> bool {
     let key = |n: &str| {
         [
             "iae_mpa_s",
@@ -117,19 +118,5 @@ pub(crate) fn histograms(names: &[String], rows: &[RunRow], scenario: &str) -> S
         .contains(&n)
             || n.ends_with("fit_percent")
     };
-    let any_key = names.iter().any(|n| key(n));
-    let panels: Vec<crate::Histogram> = names
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| !any_key || key(n))
-        .map(|(k, n)| crate::Histogram {
-            title: format!("{}: {n}", scenario),
-            x_label: n.clone(),
-            values: rows
-                .iter()
-                .filter_map(|r| r.outcome.as_ref().ok().map(|f| f[k]))
-                .collect(),
-        })
-        .collect();
-    crate::Histogram::render(&panels, 3, 30)
+    !names.iter().any(|n| key(n)) || key(name)
 }

@@ -7,6 +7,8 @@
 //! [`CampaignKind`]'s: `campaign.rs` (the pump's runner) and `plant_campaign.rs`.
 
 use crate::campaign_options::{CampaignOutcome, Progress};
+use crate::campaign_rows::RowFormat;
+pub(crate) use crate::campaign_rows::{io_err, Runs};
 use crate::Error;
 use rayon::prelude::*;
 use serde::de::DeserializeOwned;
@@ -21,25 +23,12 @@ fn err(msg: String) -> Error {
     Error::Campaign(msg)
 }
 
-/// An input/output error on `path`: what was tried and what the path is.
-pub(crate) fn io_err(verb: &str, path: &Path, e: std::io::Error) -> Error {
-    err(format!(
-        "cannot {verb} {}: {}",
-        path.display(),
-        rhonn::error::path_problem(path, &e)
-    ))
-}
-
-/// One finished run as the campaign's files hold it.
+/// One run as it was just made: what the campaign's files get of it.
 #[derive(Debug, Clone)]
-pub(crate) struct Done<R> {
-    /// What the kind reads of the row (parsed figures, or nothing).
-    pub row: R,
-    /// Its run index.
-    pub index: u64,
-    /// Its `runs.csv` fields, as written (a resume or a merge writes the same bytes).
+pub(crate) struct Done {
+    /// Its `runs.csv` fields.
     pub fields: Vec<String>,
-    /// Its `traces.csv` rows, as written.
+    /// Its `traces.csv` rows.
     pub traces: Vec<Vec<String>>,
     /// Whether the run failed.
     pub failed: bool,
@@ -47,8 +36,8 @@ pub(crate) struct Done<R> {
 
 /// What differs between the campaigns of the two scenario formats.
 pub(crate) trait CampaignKind: Sync + Sized {
-    /// What a run's row gives the kind's `finish`.
-    type Row: Send;
+    /// The kind's reading of a row.
+    type Row;
     /// `campaign.json`'s content.
     type File: Serialize + DeserializeOwned + PartialEq + Clone;
     /// What `campaign.json` is, in an error ("a campaign file").
@@ -70,13 +59,22 @@ pub(crate) trait CampaignKind: Sync + Sized {
     /// The kind's reading of a row's fields (an error in words).
     fn parse(&self, index: u64, fields: &[String]) -> std::result::Result<(Self::Row, bool), String>;
     /// Whether a finished run should have traces (one without is run again on resume).
-    fn wants_traces(&self, _done: &Done<Self::Row>) -> bool {
+    fn wants_traces(&self, _index: u64, _failed: bool) -> bool {
         false
     }
     /// Make run `index`.
-    fn run(&self, index: u64) -> Done<Self::Row>;
-    /// Write the finished folder from every run, sorted by index.
-    fn finish(&self, dir: &Path, rows: Vec<Done<Self::Row>>, notes: Vec<String>) -> Result<CampaignOutcome>;
+    fn run(&self, index: u64) -> Done;
+    /// Write the finished folder from every run (read back from `runs`, one at a time).
+    fn finish(&self, dir: &Path, runs: &Runs, notes: Vec<String>) -> Result<CampaignOutcome>;
+}
+
+/// How the rows of the campaign `c` read.
+fn format_of<C: CampaignKind>(c: &C) -> RowFormat<'_> {
+    RowFormat {
+        header: c.header(),
+        failed: Box::new(|index, fields| c.parse(index, fields).map(|(_, failed)| failed)),
+        traces_header: c.traces_header(),
+    }
 }
 
 fn write_json_atomic(path: &Path, value: &impl Serialize) -> Result<()> {
@@ -108,10 +106,11 @@ pub(crate) fn run<C: CampaignKind>(
     // One campaign writes a folder at a time (a second is refused, not interleaved).
     let _lock = crate::folder::FolderLock::acquire(dir)?;
     let mut notes = Vec::new();
+    let format = format_of(c);
     let meta = dir.join("campaign.json");
     let partial = dir.join("runs.partial.csv");
     let partial_tr = dir.join("traces.partial.csv");
-    let mut done: Vec<Done<C::Row>> = Vec::new();
+    let mut kept: Option<Runs> = None;
     if meta.exists() {
         if read_file::<C>(&meta)? != *c.file() {
             return Err(err(format!(
@@ -120,11 +119,18 @@ pub(crate) fn run<C: CampaignKind>(
             )));
         }
         if partial.exists() {
-            done = read_rows(c, &partial, &mut notes)?;
-            attach_traces(c, &partial_tr, &mut done)?;
+            let mut runs = Runs::scan(
+                &format,
+                vec![partial.clone()],
+                indices,
+                "in the partial file",
+                &mut notes,
+            )?;
+            runs.attach_traces(&format, &partial_tr)?;
             // A run whose traces were lost is run again.
-            done.retain(|d| !c.wants_traces(d) || !d.traces.is_empty());
-            notes.push(format!("resuming: {} runs already done", done.len()));
+            runs.drop_runs_without_traces(|index, failed| c.wants_traces(index, failed));
+            notes.push(format!("resuming: {} runs already done", runs.len()));
+            kept = Some(runs);
         } else if dir.join("runs.csv").exists() {
             return Ok(CampaignOutcome {
                 scenario: c.scenario().to_string(),
@@ -138,40 +144,65 @@ pub(crate) fn run<C: CampaignKind>(
     } else {
         write_json_atomic(&meta, c.file())?;
     }
-    rewrite_partial(c, &partial, &partial_tr, &done)?;
-    let have: std::collections::HashSet<u64> = done.iter().map(|d| d.index).collect();
-    let todo: Vec<u64> = (indices[0]..indices[1]).filter(|i| !have.contains(i)).collect();
-    let new_rows = run_missing(c, &todo, &partial, &partial_tr, progress)?;
-    done.extend(new_rows);
-    done.sort_by_key(|d| d.index);
-    c.finish(dir, done, notes)
+    rewrite_partial(c, &partial, &partial_tr, kept.as_ref())?;
+    let todo: Vec<u64> = (indices[0]..indices[1])
+        .filter(|&i| !kept.as_ref().is_some_and(|r| r.has(i)))
+        .collect();
+    drop(kept);
+    run_missing(c, &todo, &partial, &partial_tr, progress)?;
+    let mut runs = Runs::scan(&format, vec![partial], indices, "in the partial file", &mut notes)?;
+    runs.attach_traces(&format, &partial_tr)?;
+    if !runs.complete() {
+        return Err(err(format!(
+            "{} holds {} of this campaign's {} runs after the run: run the same command again to resume",
+            dir.display(),
+            runs.len(),
+            indices[1] - indices[0]
+        )));
+    }
+    c.finish(dir, &runs, notes)
 }
 
-/// Write the partial files afresh with the rows kept (a row cut by a kill is dropped).
+/// Write the partial files afresh with the rows kept (a row cut by a kill is dropped),
+/// through temporary files renamed over them.
 fn rewrite_partial<C: CampaignKind>(
     c: &C,
     partial: &Path,
     partial_tr: &Path,
-    done: &[Done<C::Row>],
+    kept: Option<&Runs>,
 ) -> Result<()> {
-    fn csv_err(p: &Path) -> impl Fn(csv::Error) -> Error + '_ {
-        move |e| err(format!("cannot write {}: {e}", p.display()))
-    }
-    let mut w = csv::Writer::from_path(partial).map_err(csv_err(partial))?;
-    w.write_record(c.header()).map_err(csv_err(partial))?;
-    for d in done {
-        w.write_record(&d.fields).map_err(csv_err(partial))?;
-    }
-    w.flush().map_err(|e| io_err("write", partial, e))?;
+    let tmp = |p: &Path| p.with_extension("csv.tmp");
+    let write = |p: &Path, f: &dyn Fn(&mut dyn std::io::Write) -> std::io::Result<()>| -> Result<()> {
+        let t = tmp(p);
+        let file = std::fs::File::create(&t).map_err(|e| io_err("write", &t, e))?;
+        let mut w = std::io::BufWriter::new(file);
+        f(&mut w)
+            .and_then(|_| std::io::Write::flush(&mut w))
+            .map_err(|e| io_err("write", &t, e))?;
+        std::fs::rename(&t, p).map_err(|e| io_err("write", p, e))
+    };
+    write(partial, &|w| match kept {
+        Some(r) => r.write_csv(&c.header(), w),
+        None => csv_header(&c.header(), w),
+    })?;
     if let Some(h) = c.traces_header() {
-        let mut wt = csv::Writer::from_path(partial_tr).map_err(csv_err(partial_tr))?;
-        wt.write_record(h).map_err(csv_err(partial_tr))?;
-        for t in done.iter().flat_map(|d| &d.traces) {
-            wt.write_record(t).map_err(csv_err(partial_tr))?;
-        }
-        wt.flush().map_err(|e| io_err("write", partial_tr, e))?;
+        write(partial_tr, &|w| {
+            let mut wt = csv::Writer::from_writer(w);
+            wt.write_record(&h)?;
+            for t in kept.into_iter().flat_map(|r| r.traces()) {
+                wt.write_record(t)?;
+            }
+            wt.flush()
+        })?;
     }
     Ok(())
+}
+
+/// A CSV file's header line.
+fn csv_header(header: &[String], w: &mut dyn std::io::Write) -> std::io::Result<()> {
+    let mut c = csv::Writer::from_writer(w);
+    c.write_record(header)?;
+    c.flush()
 }
 
 /// The partial files open for appending, and the runs counted so far.
@@ -191,7 +222,7 @@ fn run_missing<C: CampaignKind>(
     partial: &Path,
     partial_tr: &Path,
     progress: &(dyn Fn(Progress) + Sync),
-) -> Result<Vec<Done<C::Row>>> {
+) -> Result<()> {
     let append = |p: &Path| -> Result<csv::Writer<std::fs::File>> {
         let f = std::fs::OpenOptions::new()
             .append(true)
@@ -207,125 +238,47 @@ fn run_missing<C: CampaignKind>(
         err: None,
     });
     let start = Instant::now();
-    let rows: Vec<Done<C::Row>> = todo
-        .par_iter()
-        .filter_map(|&i| {
-            // A stop asked for (`rhonn::cancel`, Python's Ctrl-C): no run more; those done
-            // are in the partial file, which a later call resumes.
-            if rhonn::cancel::requested() {
-                return None;
+    // Nothing of a run is kept here: its row is in the partial file, read back at the end.
+    todo.par_iter().for_each(|&i| {
+        // A stop asked for (`rhonn::cancel`, Python's Ctrl-C): no run more; those done
+        // are in the partial file, which a later call resumes.
+        if rhonn::cancel::requested() {
+            return;
+        }
+        let d = c.run(i);
+        let Ok(mut guard) = state.lock() else {
+            return;
+        };
+        let p = &mut *guard;
+        let mut res = Ok(());
+        if let Some(wt) = &mut p.wt {
+            for t in &d.traces {
+                res = res.and(wt.write_record(t).map_err(std::io::Error::other));
             }
-            let d = c.run(i);
-            let Ok(mut guard) = state.lock() else {
-                return Some(d);
-            };
-            let p = &mut *guard;
-            let mut res = Ok(());
-            if let Some(wt) = &mut p.wt {
-                for t in &d.traces {
-                    res = res.and(wt.write_record(t).map_err(std::io::Error::other));
-                }
-                res = res.and_then(|_| wt.flush());
-            }
-            res = res
-                .and_then(|_| p.w.write_record(&d.fields).map_err(std::io::Error::other))
-                .and_then(|_| p.w.flush());
-            if let Err(e) = res {
-                p.err.get_or_insert(e);
-            }
-            p.n += 1;
-            p.failed += usize::from(d.failed);
-            progress(Progress {
-                scenario: c.scenario(),
-                done: p.n,
-                total: todo.len(),
-                failed: p.failed,
-                elapsed_s: start.elapsed().as_secs_f64(),
-            });
-            Some(d)
-        })
-        .collect();
+            res = res.and_then(|_| wt.flush());
+        }
+        res = res
+            .and_then(|_| p.w.write_record(&d.fields).map_err(std::io::Error::other))
+            .and_then(|_| p.w.flush());
+        if let Err(e) = res {
+            p.err.get_or_insert(e);
+        }
+        p.n += 1;
+        p.failed += usize::from(d.failed);
+        progress(Progress {
+            scenario: c.scenario(),
+            done: p.n,
+            total: todo.len(),
+            failed: p.failed,
+            elapsed_s: start.elapsed().as_secs_f64(),
+        });
+    });
     rhonn::cancel::check()?;
     let p = state
         .into_inner()
         .map_err(|_| err("a campaign worker panicked".into()))?;
     if let Some(e) = p.err {
         return Err(err(format!("cannot append to {}: {e}", partial.display())));
-    }
-    Ok(rows)
-}
-
-/// A reader of the CSV file `path`, whose header must be `want`.
-fn reader(path: &Path, want: &[String]) -> Result<csv::Reader<std::fs::File>> {
-    let mut rd = csv::ReaderBuilder::new()
-        .flexible(false)
-        .from_path(path)
-        .map_err(|e| err(format!("cannot read {}: {e}", path.display())))?;
-    let got: Vec<String> = rd
-        .headers()
-        .map_err(|e| err(format!("cannot read {}: {e}", path.display())))?
-        .iter()
-        .map(String::from)
-        .collect();
-    if got != want {
-        return Err(err(format!(
-            "{}: the header does not match this campaign's scenario",
-            path.display()
-        )));
-    }
-    Ok(rd)
-}
-
-/// The rows of a `runs.csv` or `runs.partial.csv` (its header must be the campaign's); a
-/// row cut by an interruption ends the reading, with a warning.
-fn read_rows<C: CampaignKind>(c: &C, path: &Path, notes: &mut Vec<String>) -> Result<Vec<Done<C::Row>>> {
-    let mut rd = reader(path, &c.header())?;
-    let mut rows = Vec::new();
-    for (line, rec) in rd.records().enumerate() {
-        let Ok(rec) = rec else {
-            notes.push(format!(
-                "warning: {} line {}: an incomplete row is ignored",
-                path.display(),
-                line + 2
-            ));
-            break;
-        };
-        let fields: Vec<String> = rec.iter().map(String::from).collect();
-        let at = |e: String| err(format!("{} line {}: {e}", path.display(), line + 2));
-        let index = fields[0]
-            .parse::<u64>()
-            .map_err(|_| at(format!("run `{}` is not an index", fields[0])))?;
-        let (row, failed) = c.parse(index, &fields).map_err(at)?;
-        rows.push(Done {
-            row,
-            index,
-            fields,
-            traces: Vec::new(),
-            failed,
-        });
-    }
-    Ok(rows)
-}
-
-/// Attach the rows of a `traces.csv` or `traces.partial.csv` (if the campaign keeps
-/// traces and the file exists) to their runs; rows of runs not in `rows` are dropped (a
-/// kill between the two files).
-fn attach_traces<C: CampaignKind>(c: &C, path: &Path, rows: &mut [Done<C::Row>]) -> Result<()> {
-    let Some(header) = c.traces_header() else {
-        return Ok(());
-    };
-    if !path.exists() {
-        return Ok(());
-    }
-    let mut rd = reader(path, &header)?;
-    let at: std::collections::HashMap<u64, usize> =
-        rows.iter().enumerate().map(|(k, r)| (r.index, k)).collect();
-    for rec in rd.records() {
-        let Ok(rec) = rec else { break };
-        let Ok(index) = rec[0].parse::<u64>() else { break };
-        if let Some(&k) = at.get(&index) {
-            rows[k].traces.push(rec.iter().map(String::from).collect());
-        }
     }
     Ok(())
 }
@@ -358,25 +311,28 @@ pub(crate) fn merge<C: CampaignKind>(dirs: &[PathBuf], out: &Path) -> Result<Cam
         }
     }
     let c = C::from_file(&whole)?;
-    let (mut rows, mut notes) = (Vec::new(), Vec::new());
+    let mut notes = Vec::new();
+    let files = dirs.iter().map(|d| d.join("runs.csv")).collect();
+    let format = format_of(&c);
+    let mut runs = Runs::scan(
+        &format,
+        files,
+        [0, C::runs(&whole)],
+        "among the shards",
+        &mut notes,
+    )?;
     for d in dirs {
-        let mut r = read_rows(&c, &d.join("runs.csv"), &mut notes)?;
-        attach_traces(&c, &d.join("traces.csv"), &mut r)?;
-        rows.extend(r);
+        runs.attach_traces(&format, &d.join("traces.csv"))?;
     }
-    rows.sort_by_key(|d| d.index);
-    if let Some(w) = rows.windows(2).find(|w| w[0].index == w[1].index) {
-        return Err(err(format!("run {} appears twice among the shards", w[0].index)));
-    }
-    if rows.len() as u64 != C::runs(&whole) {
+    if !runs.complete() {
         return Err(err(format!(
             "the shards hold {} of the campaign's {} runs: some shard is missing",
-            rows.len(),
+            runs.len(),
             C::runs(&whole)
         )));
     }
     std::fs::create_dir_all(out).map_err(|e| io_err("create", out, e))?;
     let _lock = crate::folder::FolderLock::acquire(out)?;
     write_json_atomic(&out.join("campaign.json"), c.file())?;
-    c.finish(out, rows, notes)
+    c.finish(out, &runs, notes)
 }

@@ -22,6 +22,7 @@ mod benchmark_data;
 pub mod campaign;
 mod campaign_options;
 mod campaign_plots;
+mod campaign_rows;
 mod campaign_runner;
 pub mod commands;
 mod csv_out;

@@ -11,9 +11,10 @@
 
 use crate::atomic::OutputSet;
 use crate::campaign_options::{CampaignOptions, CampaignOutcome, Progress};
-use crate::campaign_runner::{self, CampaignKind, Done};
+use crate::campaign_runner::{self, CampaignKind, Done, Runs};
+use crate::worst_runs::Ranker;
 use crate::{write_json, Error};
-use rhonn::experiment::campaign::{draw_parameters, quantile_sorted, FigureStats};
+use rhonn::experiment::campaign::{draw_parameters, figure_stats, FigureStats};
 use rhonn::experiment::{nominal_plant_parameters, run_plant_scenario, ScenarioSpec};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
@@ -174,7 +175,7 @@ impl CampaignKind for PlantCampaign {
             None => Err("no status".into()),
         }
     }
-    fn run(&self, i: u64) -> Done<()> {
+    fn run(&self, i: u64) -> Done {
         let values = draw_parameters(
             &self.base,
             &self.tol,
@@ -192,71 +193,84 @@ impl CampaignKind for PlantCampaign {
             })
             .map_err(|e| e.to_string());
         Done {
-            row: (),
-            index: i,
             fields: row(i, &values, &outcome, self.fig_names.len()),
             traces: Vec::new(),
             failed: outcome.is_err(),
         }
     }
-    fn finish(&self, dir: &Path, rows: Vec<Done<()>>, notes: Vec<String>) -> Result<CampaignOutcome> {
-        let rows: Vec<(u64, Vec<String>)> = rows.into_iter().map(|d| (d.index, d.fields)).collect();
-        finish(self, dir, &self.header(), &rows, &self.fig_names, notes)
+    fn finish(&self, dir: &Path, runs: &Runs, notes: Vec<String>) -> Result<CampaignOutcome> {
+        finish(self, dir, runs, notes)
     }
 }
 
-/// Each figure's finite values over the runs that finished (read once), and their
-/// statistics.
-fn figure_statistics(
-    rows: &[(u64, Vec<String>)],
-    fig_names: &[String],
-    n_params: usize,
-) -> (Vec<Vec<f64>>, Vec<FigureStats>) {
-    let values: Vec<Vec<f64>> = (0..fig_names.len())
-        .map(|k| {
-            rows.iter()
-                .filter(|(_, r)| r[1] == "ok")
-                .filter_map(|(_, r)| r[2 + n_params + k].parse::<f64>().ok())
-                .filter(|x| x.is_finite())
-                .collect()
-        })
-        .collect();
-    let stats: Vec<FigureStats> = fig_names
-        .iter()
-        .zip(&values)
-        .map(|(name, v)| {
-            let mut v = v.clone();
-            v.sort_by(f64::total_cmp);
-            let q = |p: f64| quantile_sorted(&v, p);
-            FigureStats {
-                figure: name.clone(),
-                min: q(0.0),
-                q05: q(0.05),
-                median: q(0.5),
-                q95: q(0.95),
-                max: q(1.0),
-                mean: if v.is_empty() {
-                    f64::NAN
-                } else {
-                    v.iter().sum::<f64>() / v.len() as f64
-                },
+/// Each figure's statistics and histogram panel, one figure at a time (a pass over the
+/// runs each: the values of one figure in memory at once).
+fn figures(job: &PlantCampaign, runs: &Runs) -> Result<(Vec<FigureStats>, Vec<crate::Histogram>)> {
+    let mut stats = Vec::new();
+    let mut panels = Vec::new();
+    for (k, name) in job.fig_names.iter().enumerate() {
+        let mut v = Vec::new();
+        runs.for_each(|_, r, failed| {
+            if !failed {
+                v.extend(
+                    r[2 + job.n_params + k]
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|x| x.is_finite()),
+                );
             }
-        })
-        .collect();
-    (values, stats)
+            Ok(())
+        })?;
+        panels.push(crate::Histogram::new(
+            format!("{}: {name}", job.spec.name),
+            name.clone(),
+            &v,
+            30,
+        ));
+        stats.push(figure_stats(name, v));
+    }
+    Ok((stats, panels))
 }
 
-fn finish(
+/// One pass over the runs: the worst runs (see `worst_runs::describe_plant`) and the
+/// drawn values of the finished runs kept for the envelope, in index order.
+#[allow(clippy::type_complexity)]
+fn worst_and_kept(
     job: &PlantCampaign,
-    dir: &Path,
-    header: &[String],
-    rows: &[(u64, Vec<String>)],
-    fig_names: &[String],
-    notes: Vec<String>,
-) -> Result<CampaignOutcome> {
-    let (spec, n_params, envelope_runs) = (&job.spec, job.n_params, job.file.envelope_runs);
-    let failed = rows.iter().filter(|(_, r)| r[1] != "ok").count();
-    let (values, stats) = figure_statistics(rows, fig_names, n_params);
+    runs: &Runs,
+) -> Result<(Vec<(crate::worst_runs::WorstRun, String)>, Vec<Vec<f64>>)> {
+    let (spec, n_params, fig_names) = (&job.spec, job.n_params, &job.fig_names);
+    let params = nominal_plant_parameters(&spec.plant.kind)?;
+    let names: Vec<&str> = params.iter().map(|p| p.name).collect();
+    let key = crate::worst_runs::plant_key_figure(fig_names);
+    let mut ranker = Ranker::new(key.map(|(_, larger)| larger));
+    let mut kept: Vec<(u64, Vec<f64>)> = Vec::new();
+    runs.for_each(|index, r, failed| {
+        let values: Vec<f64> = r[2..2 + n_params]
+            .iter()
+            .map(|v| v.parse().unwrap_or(f64::NAN))
+            .collect();
+        if index < job.file.envelope_runs && !failed {
+            kept.push((index, values.clone()));
+        }
+        ranker.add(crate::worst_runs::Candidate {
+            index,
+            values,
+            value: key.and_then(|(k, _)| r[2 + n_params + k].parse::<f64>().ok()),
+            error: failed.then(|| r[1].trim_start_matches("failed: ").to_string()),
+        });
+        Ok(())
+    })?;
+    kept.sort_by_key(|(i, _)| *i);
+    let worst = crate::worst_runs::describe_plant(spec, &names, &ranker.ranked())
+        .map_err(|e| err(format!("cannot write a worst run's scenario: {e}")))?;
+    Ok((worst, kept.into_iter().map(|(_, v)| v).collect()))
+}
+
+fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> Result<CampaignOutcome> {
+    let spec = &job.spec;
+    let (n, failed) = (runs.len(), runs.failed());
+    let (stats, panels) = figures(job, runs)?;
     #[derive(Serialize)]
     struct Summary<'a> {
         scenario: &'a str,
@@ -269,7 +283,8 @@ fn finish(
         /// Runs whose traces make the envelope, per series (as the pump's campaigns).
         envelope_runs: Vec<(String, usize)>,
     }
-    let envelope = crate::plant_envelope::plant_envelope(spec, rows, n_params, envelope_runs)?;
+    let (worst, kept) = worst_and_kept(job, runs)?;
+    let envelope = crate::plant_envelope::plant_envelope(spec, &kept)?;
     let envelope_counts: Vec<(String, usize)> = match (&envelope, &spec.control) {
         (Some(e), Some(c)) => vec![
             (c.output.clone(), e.runs),
@@ -277,26 +292,19 @@ fn finish(
         ],
         _ => Vec::new(),
     };
-    let worst = worst_runs(spec, rows, fig_names, n_params)?;
     let worst_list: Vec<_> = worst.iter().map(|(w, _)| w.clone()).collect();
     let worst_files: Vec<String> = worst.iter().map(|(w, _)| w.file.clone()).collect();
+    let fig_names = &job.fig_names;
     let key = crate::worst_runs::plant_key_figure(fig_names).map(|(k, _)| fig_names[k].as_str());
     let mut set = OutputSet::new(dir)?;
     for (w, text) in &worst {
         set.write(&w.file, |f| f.write_all(text.as_bytes()))?;
     }
-    set.write("runs.csv", |w| {
-        let mut c = csv::Writer::from_writer(w);
-        c.write_record(header)?;
-        for (_, r) in rows {
-            c.write_record(r)?;
-        }
-        c.flush()
-    })?;
+    set.write("runs.csv", |w| runs.write_csv(&job.header(), w))?;
     let summary = Summary {
         scenario: &spec.name,
         plant: &spec.plant.kind,
-        runs: rows.len(),
+        runs: n,
         failed,
         figures: stats,
         findings: crate::worst_runs::findings(key, &worst_list),
@@ -305,16 +313,7 @@ fn finish(
     };
     set.write("summary.json", |w: &mut dyn Write| write_json(w, &summary))?;
     // One histogram per figure over the runs that finished.
-    let panels: Vec<crate::Histogram> = fig_names
-        .iter()
-        .zip(values)
-        .map(|(name, values)| crate::Histogram {
-            title: format!("{}: {name}", spec.name),
-            x_label: name.clone(),
-            values,
-        })
-        .collect();
-    let svg = crate::Histogram::render(&panels, 3, 30);
+    let svg = crate::Histogram::render(&panels, 3);
     set.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
     if let Some(env) = &envelope {
         set.write("envelope.csv", |w| w.write_all(&env.csv))?;
@@ -335,37 +334,11 @@ fn finish(
     Ok(CampaignOutcome {
         scenario: spec.name.clone(),
         dir: dir.to_path_buf(),
-        runs: rows.len(),
+        runs: n,
         failed,
         already_complete: false,
         notes,
     })
-}
-
-/// The worst runs of the campaign's rows (see `worst_runs::describe_plant`).
-fn worst_runs(
-    spec: &ScenarioSpec,
-    rows: &[(u64, Vec<String>)],
-    fig_names: &[String],
-    n_params: usize,
-) -> Result<Vec<(crate::worst_runs::WorstRun, String)>> {
-    let params = nominal_plant_parameters(&spec.plant.kind)?;
-    let names: Vec<&str> = params.iter().map(|p| p.name).collect();
-    let key = crate::worst_runs::plant_key_figure(fig_names);
-    let runs: Vec<crate::worst_runs::Candidate> = rows
-        .iter()
-        .map(|(i, r)| crate::worst_runs::Candidate {
-            index: *i,
-            values: r[2..2 + n_params]
-                .iter()
-                .map(|v| v.parse().unwrap_or(f64::NAN))
-                .collect(),
-            value: key.and_then(|(k, _)| r[2 + n_params + k].parse::<f64>().ok()),
-            error: (r[1] != "ok").then(|| r[1].trim_start_matches("failed: ").to_string()),
-        })
-        .collect();
-    crate::worst_runs::describe_plant(spec, &names, key.map(|(_, larger)| larger), &runs)
-        .map_err(|e| err(format!("cannot write a worst run's scenario: {e}")))
 }
 
 /// Whether the campaign folder `dir` holds a plant scenario's campaign (its

@@ -23,14 +23,9 @@ pub struct PlantEnvelope {
     pub runs: usize,
 }
 
-/// The envelope of `rows` (runs.csv rows: index, status, `n_params` drawn values, figures)
-/// of a control scenario; None for other scenarios or when no kept run finished.
-pub fn plant_envelope(
-    spec: &ScenarioSpec,
-    rows: &[(u64, Vec<String>)],
-    n_params: usize,
-    envelope_runs: u64,
-) -> Result<Option<PlantEnvelope>> {
+/// The envelope of the kept runs (each finished run's drawn values, in index order) of a
+/// control scenario; None for other scenarios or when no kept run finished.
+pub fn plant_envelope(spec: &ScenarioSpec, kept: &[Vec<f64>]) -> Result<Option<PlantEnvelope>> {
     let Some(control) = &spec.control else {
         return Ok(None);
     };
@@ -38,19 +33,9 @@ pub fn plant_envelope(
     let (base, reference) = (format!("{out}_baseline"), format!("{out}_ref"));
     // The kept runs again, on every core (in index order: the same bytes whatever the
     // threads).
-    let kept: Vec<&(u64, Vec<String>)> = rows
-        .iter()
-        .filter(|(index, r)| *index < envelope_runs && r[1] == "ok")
-        .collect();
     let runs: Vec<PlantRunOutput> = kept
         .par_iter()
-        .map(|(_, r)| {
-            let values: Vec<f64> = r[2..2 + n_params]
-                .iter()
-                .map(|v| v.parse().unwrap_or(f64::NAN))
-                .collect();
-            run_plant_scenario(spec, Some(&values))
-        })
+        .map(|values| run_plant_scenario(spec, Some(values)))
         .collect::<rhonn::Result<_>>()?;
     let mut traces: [Vec<Vec<f64>>; 2] = [Vec::new(), Vec::new()];
     let (mut t, mut setpoint, mut unit) = (Vec::new(), Vec::new(), String::new());

@@ -189,18 +189,22 @@ pub fn residual_histograms(
     let panels: Vec<crate::Histogram> = outputs
         .iter()
         .enumerate()
-        .map(|(j, name)| crate::Histogram {
-            title: format!("{name}: residuals (measured - predicted)"),
-            x_label: format!("{name} - {name}_hat"),
-            values: record.outputs[j]
+        .map(|(j, name)| {
+            let residuals: Vec<f64> = record.outputs[j]
                 .iter()
                 .zip(&predicted[j])
                 .skip(first)
                 .map(|(y, yh)| y - yh)
-                .collect(),
+                .collect();
+            crate::Histogram::new(
+                format!("{name}: residuals (measured - predicted)"),
+                format!("{name} - {name}_hat"),
+                &residuals,
+                40,
+            )
         })
         .collect();
-    crate::Histogram::render(&panels, 2, 40)
+    crate::Histogram::render(&panels, 2)
 }
 
 #[cfg(test)]

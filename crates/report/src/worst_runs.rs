@@ -49,13 +49,41 @@ pub struct Candidate {
     pub error: Option<String>,
 }
 
-/// The failed runs first, then the worst key figures (the largest when `larger_is_worse`,
-/// else the smallest; None: no key figure, failed runs only), ties by index; at most
-/// [`WORST`].
-pub fn rank(runs: &[Candidate], larger_is_worse: Option<bool>) -> Vec<&Candidate> {
-    let mut out: Vec<&Candidate> = runs.iter().filter(|r| r.error.is_some()).collect();
-    out.truncate(WORST);
-    if let Some(larger) = larger_is_worse {
+/// The ranking of a campaign's runs, one run at a time and in any order: the failed runs
+/// first (the lowest indices), then the worst key figures (the largest when
+/// `larger_is_worse`, else the smallest; None: no key figure, failed runs only), ties by
+/// index; at most [`WORST`]. It keeps at most [`WORST`] of each, not every run.
+#[derive(Debug, Clone)]
+pub struct Ranker {
+    larger_is_worse: Option<bool>,
+    failed: Vec<Candidate>,
+    worst: Vec<Candidate>,
+}
+
+impl Ranker {
+    /// An empty ranking.
+    pub fn new(larger_is_worse: Option<bool>) -> Self {
+        Ranker {
+            larger_is_worse,
+            failed: Vec::new(),
+            worst: Vec::new(),
+        }
+    }
+
+    /// One more run.
+    pub fn add(&mut self, c: Candidate) {
+        if c.error.is_some() {
+            self.failed.push(c);
+            self.failed.sort_by_key(|c| c.index);
+            self.failed.truncate(WORST);
+            return;
+        }
+        let Some(larger) = self.larger_is_worse else {
+            return;
+        };
+        if !c.value.is_some_and(f64::is_finite) {
+            return;
+        }
         let badness = |r: &Candidate| {
             let v = r.value.unwrap_or(f64::NAN);
             if larger {
@@ -64,19 +92,20 @@ pub fn rank(runs: &[Candidate], larger_is_worse: Option<bool>) -> Vec<&Candidate
                 -v
             }
         };
-        let mut ok: Vec<&Candidate> = runs
-            .iter()
-            .filter(|r| r.error.is_none() && r.value.is_some_and(f64::is_finite))
-            .collect();
-        ok.sort_by(|a, b| badness(b).total_cmp(&badness(a)).then(a.index.cmp(&b.index)));
-        let rest = WORST - out.len();
-        out.extend(ok.into_iter().take(rest));
+        self.worst.push(c);
+        self.worst
+            .sort_by(|a, b| badness(b).total_cmp(&badness(a)).then(a.index.cmp(&b.index)));
+        self.worst.truncate(WORST);
     }
-    out
-}
 
-/// The key figure's name and the listed runs, each with its scenario file's text.
-pub type Listed = (Option<&'static str>, Vec<(WorstRun, String)>);
+    /// The failed runs, then the worst, at most [`WORST`] in all.
+    pub fn ranked(self) -> Vec<Candidate> {
+        let mut out = self.failed;
+        let rest = WORST - out.len();
+        out.extend(self.worst.into_iter().take(rest));
+        out
+    }
+}
 
 /// The ranked runs of a campaign over scenario `name`, each described with its
 /// parameters' `names` and written as the scenario `scenario_toml(run, description)` gives
@@ -84,7 +113,7 @@ pub type Listed = (Option<&'static str>, Vec<(WorstRun, String)>);
 fn list(
     name: &str,
     names: &[&str],
-    ranked: &[&Candidate],
+    ranked: &[Candidate],
     scenario_toml: impl Fn(&Candidate, String) -> Result<String, toml::ser::Error>,
 ) -> Result<Vec<(WorstRun, String)>, toml::ser::Error> {
     let mut out = Vec::new();
@@ -117,30 +146,32 @@ fn list(
     Ok(out)
 }
 
-/// The worst runs of a pump campaign, with their scenario files' text.
-pub fn describe(spec: &PumpCampaign, names: &[String], rows: &[RunRow]) -> Result<Listed, toml::ser::Error> {
-    let key = key_figure(names);
-    let runs: Vec<Candidate> = rows
-        .iter()
-        .map(|r| Candidate {
-            index: r.index,
-            values: r.values.to_vec(),
-            value: match (&r.outcome, key) {
-                (Ok(v), Some((i, _))) => Some(v[i]),
-                _ => None,
-            },
-            error: r.outcome.as_ref().err().cloned(),
-        })
-        .collect();
-    let ranked = rank(&runs, key.map(|_| true));
+/// A pump campaign's run as the ranking by the key figure `key` ([`key_figure`]) sees it.
+pub fn pump_candidate(r: &RunRow, key: Option<(usize, &str)>) -> Candidate {
+    Candidate {
+        index: r.index,
+        values: r.values.to_vec(),
+        value: match (&r.outcome, key) {
+            (Ok(v), Some((i, _))) => Some(v[i]),
+            _ => None,
+        },
+        error: r.outcome.as_ref().err().cloned(),
+    }
+}
+
+/// The worst runs of a pump campaign (`ranked` by [`Ranker`] with larger worse), with
+/// their scenario files' text.
+pub fn describe(
+    spec: &PumpCampaign,
+    ranked: &[Candidate],
+) -> Result<Vec<(WorstRun, String)>, toml::ser::Error> {
     let param_names: Vec<&str> = TOLERANCES.iter().map(|p| p.name).collect();
-    let listed = list(spec.name(), &param_names, &ranked, |c, description| {
+    list(spec.name(), &param_names, ranked, |c, description| {
         let mut values = [0.0; 5];
         values.copy_from_slice(&c.values);
         let name = format!("{}-run-{}", spec.name(), c.index);
         toml::to_string(&spec.run_scenario(&values, name, description))
-    })?;
-    Ok((key.map(|(_, k)| k), listed))
+    })
 }
 
 /// The figure a plant campaign's runs are ranked by, and whether larger is worse: the
@@ -158,16 +189,14 @@ pub fn plant_key_figure(names: &[String]) -> Option<(usize, bool)> {
         })
 }
 
-/// [`describe`] for a plant campaign: the scenario with the plant's parameters set to
-/// the run's.
+/// [`describe`] for a plant campaign (`ranked` by [`Ranker`]): the scenario with the
+/// plant's parameters set to the run's.
 pub fn describe_plant(
     spec: &rhonn::experiment::ScenarioSpec,
     param_names: &[&str],
-    larger_is_worse: Option<bool>,
-    runs: &[Candidate],
+    ranked: &[Candidate],
 ) -> Result<Vec<(WorstRun, String)>, toml::ser::Error> {
-    let ranked = rank(runs, larger_is_worse);
-    list(&spec.name, param_names, &ranked, |c, description| {
+    list(&spec.name, param_names, ranked, |c, description| {
         let mut run_spec = spec.clone();
         run_spec.name = format!("{}-run-{}", spec.name, c.index);
         run_spec.description = description;
@@ -259,7 +288,7 @@ mod tests {
             values: [0.0; 5],
             outcome,
         };
-        let rows = vec![
+        let rows = [
             row(0, Ok(vec![1.0, 3.0])),
             row(1, Err("diverged".to_string())),
             row(2, Ok(vec![9.0, 5.0])),
@@ -267,8 +296,14 @@ mod tests {
         ];
         let sc = rhonn::experiment::preset::load_any("control-adaptive").unwrap();
         let spec = PumpCampaign::of(&sc).unwrap().unwrap();
-        let (key, w) = describe(&spec, &names, &rows).unwrap();
-        assert_eq!(key, Some("iae_mpa_s"));
+        let key = key_figure(&names);
+        assert_eq!(key.map(|(_, k)| k), Some("iae_mpa_s"));
+        let mut ranker = Ranker::new(Some(true));
+        // In any order: the same ranking.
+        for r in rows.iter().rev() {
+            ranker.add(pump_candidate(r, key));
+        }
+        let w = describe(&spec, &ranker.ranked()).unwrap();
         assert_eq!(w.iter().map(|(r, _)| r.run).collect::<Vec<_>>(), [1, 2, 0]);
         assert_eq!(significant(0.0), "0");
         assert_eq!(significant(1439.5071749), "1439.51");

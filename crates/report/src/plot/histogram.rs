@@ -3,15 +3,27 @@
 use super::{safe_axis, FIRST};
 use plotters::prelude::*;
 
-/// A histogram panel: how many values fall in each of `bins` equal bins.
+/// A histogram panel: how many values fall in each of its equal bins (the values
+/// themselves are not kept: a campaign's panels are made one figure at a time).
 #[derive(Debug, Clone)]
 pub struct Histogram {
     /// Caption.
     pub title: String,
     /// X axis label, with unit.
     pub x_label: String,
-    /// The values (non-finite ones are left out).
-    pub values: Vec<f64>,
+    /// The bins' span `(lo, hi)` and their counts ([`bin_counts`]).
+    pub bins: (f64, f64, Vec<usize>),
+}
+
+impl Histogram {
+    /// The panel of `values` (non-finite ones are left out) over `bins` equal bins.
+    pub fn new(title: impl Into<String>, x_label: impl Into<String>, values: &[f64], bins: usize) -> Self {
+        Histogram {
+            title: title.into(),
+            x_label: x_label.into(),
+            bins: bin_counts(values, bins),
+        }
+    }
 }
 
 /// Bin edges and counts of `values` over `bins` equal bins spanning their range.
@@ -38,12 +50,11 @@ pub fn bin_counts(values: &[f64], bins: usize) -> (f64, f64, Vec<usize>) {
 fn draw_histogram<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     h: &Histogram,
-    bins: usize,
 ) -> Result<(), String>
 where
     DB::ErrorType: 'static,
 {
-    let (lo, hi, counts) = bin_counts(&h.values, bins);
+    let (lo, hi, counts) = (h.bins.0, h.bins.1, &h.bins.2);
     let (lo, hi) = safe_axis((lo, hi));
     let top = counts.iter().copied().max().unwrap_or(1).max(1) as f64 * 1.05;
     let mut chart = ChartBuilder::on(area)
@@ -67,7 +78,7 @@ where
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(|e| e.to_string())?;
-    let w = (hi - lo) / bins as f64;
+    let w = (hi - lo) / counts.len().max(1) as f64;
     chart
         .draw_series(counts.iter().enumerate().map(|(k, &c)| {
             let x0 = lo + k as f64 * w;
@@ -99,7 +110,7 @@ pub(crate) fn axis_with_unit(name: &str) -> String {
 
 impl Histogram {
     /// Render panels in a grid of `cols` columns into one SVG document.
-    pub fn render(panels: &[Histogram], cols: usize, bins: usize) -> String {
+    pub fn render(panels: &[Histogram], cols: usize) -> String {
         let cols = cols.max(1);
         let rows = panels.len().div_ceil(cols).max(1);
         let mut svg = String::new();
@@ -110,7 +121,7 @@ impl Histogram {
             let areas = root.split_evenly((rows, cols));
             for (area, h) in areas.iter().zip(panels) {
                 // As for time plots: a layout error leaves that panel blank.
-                let _ = draw_histogram(area, h, bins);
+                let _ = draw_histogram(area, h);
             }
             root.present().expect("presenting an SVG string");
         }

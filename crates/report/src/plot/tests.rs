@@ -33,15 +33,7 @@ fn histogram_axes_have_units_few_ticks_and_whole_counts() {
     assert_eq!(axis_with_unit("ise_mpa2_s"), "ise_mpa2_s [MPa^2 s]");
     assert_eq!(axis_with_unit("controller_iae"), "controller_iae");
     let values: Vec<f64> = (0..200).map(|k| 550_000.0 + 500.0 * f64::from(k)).collect();
-    let svg = Histogram::render(
-        &[Histogram {
-            title: "x".into(),
-            x_label: "max_abs_deviation_mpa".into(),
-            values,
-        }],
-        1,
-        20,
-    );
+    let svg = Histogram::render(&[Histogram::new("x", "max_abs_deviation_mpa", &values, 20)], 1);
     assert!(svg.contains("max_abs_deviation_mpa [MPa]") && svg.contains("number of runs"));
     assert!(
         !svg.contains("550000.0") && !svg.contains(".5<"),
@@ -54,15 +46,7 @@ fn bins_count_every_value_once() {
     let (lo, hi, c) = bin_counts(&[0.0, 0.5, 1.0, 1.0, f64::NAN, 0.26], 4);
     assert_eq!((lo, hi), (0.0, 1.0));
     assert_eq!(c, vec![1, 1, 1, 2]);
-    let svg = Histogram::render(
-        &[Histogram {
-            title: "ISE".into(),
-            x_label: "ISE [MPa^2 s]".into(),
-            values: vec![1.0, 2.0, 2.5],
-        }],
-        1,
-        10,
-    );
+    let svg = Histogram::render(&[Histogram::new("ISE", "ISE [MPa^2 s]", &[1.0, 2.0, 2.5], 10)], 1);
     assert!(svg.contains("ISE [MPa^2 s]") && svg.contains("runs"));
 }
 
@@ -85,12 +69,8 @@ fn extreme_values_give_a_plot_not_a_hang() {
         };
         let svg = TimePlot::render(&[p], 400, 200);
         assert!(svg.contains("<svg"), "{t:?} {y:?}");
-        let h = Histogram {
-            title: "h".into(),
-            x_label: "y [V]".into(),
-            values: y,
-        };
-        assert!(Histogram::render(&[h], 1, 10).contains("<svg"));
+        let h = Histogram::new("h", "y [V]", &y, 10);
+        assert!(Histogram::render(&[h], 1).contains("<svg"));
     }
     assert_eq!(safe_axis((-1.0, 2.5)), (-1.0, 2.5));
     assert_eq!(safe_axis((f64::NEG_INFINITY, f64::NAN)), (-1e300, 0.0));

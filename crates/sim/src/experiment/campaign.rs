@@ -472,28 +472,35 @@ pub fn statistics(names: &[String], rows: &[RunRow]) -> Vec<FigureStats> {
         .iter()
         .enumerate()
         .map(|(k, name)| {
-            let mut v: Vec<f64> = rows
+            let v: Vec<f64> = rows
                 .iter()
                 .filter_map(|r| r.outcome.as_ref().ok().map(|f| f[k]))
-                .filter(|x| x.is_finite())
                 .collect();
-            v.sort_by(f64::total_cmp);
-            let q = |p: f64| quantile_sorted(&v, p);
-            FigureStats {
-                figure: name.clone(),
-                min: q(0.0),
-                q05: q(0.05),
-                median: q(0.5),
-                q95: q(0.95),
-                max: q(1.0),
-                mean: if v.is_empty() {
-                    f64::NAN
-                } else {
-                    v.iter().sum::<f64>() / v.len() as f64
-                },
-            }
+            figure_stats(name, v)
         })
         .collect()
+}
+
+/// One figure's statistics over the values of the runs that finished, in any order
+/// (the non-finite ones are left out; quantiles by [`quantile_sorted`], the mean summed
+/// in ascending order: the same figures whatever order the runs came in).
+pub fn figure_stats(name: &str, mut v: Vec<f64>) -> FigureStats {
+    v.retain(|x| x.is_finite());
+    v.sort_by(f64::total_cmp);
+    let q = |p: f64| quantile_sorted(&v, p);
+    FigureStats {
+        figure: name.to_string(),
+        min: q(0.0),
+        q05: q(0.05),
+        median: q(0.5),
+        q95: q(0.95),
+        max: q(1.0),
+        mean: if v.is_empty() {
+            f64::NAN
+        } else {
+            v.iter().sum::<f64>() / v.len() as f64
+        },
+    }
 }
 
 #[cfg(test)]
