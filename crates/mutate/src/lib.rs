@@ -4,9 +4,11 @@
 //! model specs, a model.json of every kind, every shipped scenario) is mutated once per
 //! case with a seeded hostile change (extreme or non-finite numbers, wrong types, keys
 //! lost or unknown, rows lost, doubled or swapped, times rounded or in milliseconds, another
-//! delimiter, the text truncated) and the command run on it with a timeout. A case passes
-//! when the command exits 0 having written no NaN, infinity or JSON null, or exits 2
-//! leaving no output folder; no case may panic, hang, or leave a temporary file. Refusals
+//! delimiter, the text truncated) and the command run on it with a timeout, in one of the
+//! ways of [`flavor`] (into the folder holding the input, a recording grown long, two
+//! writers at once, killed and run again). A case passes when the command exits 0 having
+//! written no NaN, infinity or JSON null, or exits 2 leaving no output folder; no case may
+//! panic, hang, or leave a temporary file. Refusals
 //! are counted by whether the message names the file and the field, column or line.
 //!
 //! `cargo run --release -p rhonn-mutate -- --bin target/release/rhonn --cases 20000` runs a
@@ -15,6 +17,7 @@
 
 pub mod corpus;
 pub mod csv_mutation;
+pub mod flavor;
 pub mod mutant;
 pub mod mutation;
 mod outcome;
@@ -22,6 +25,7 @@ mod outcome;
 pub use outcome::{Failure, Report, SurfaceStats};
 
 use corpus::Surface;
+use flavor::Flavor;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::PathBuf;
@@ -98,7 +102,8 @@ pub fn run(cfg: &Config) -> anyhow::Result<Report> {
                     }
                 };
                 let (what, stderr, verdict) = run_mutant(cfg, s, i, m);
-                report.lock().unwrap().add(i, s, what, &stderr, verdict);
+                let flavor = flavor::of(i, s).name();
+                report.lock().unwrap().add(i, s, (what, flavor), &stderr, verdict);
             });
         }
     });
@@ -112,26 +117,41 @@ pub fn run_case(cfg: &Config, s: &Surface, i: usize) -> (String, String, Verdict
     run_mutant(cfg, s, i, mutation::mutate(&s.base, s.format, &mut rng))
 }
 
-/// Run mutant `m` of surface `s` as case `i`; its folder is removed when it passes.
-pub fn run_mutant(cfg: &Config, s: &Surface, i: usize, m: mutation::Mutant) -> (String, String, Verdict) {
+/// Run mutant `m` of surface `s` as case `i` (in its [`flavor::of`]); its folder is
+/// removed when it passes.
+pub fn run_mutant(cfg: &Config, s: &Surface, i: usize, mut m: mutation::Mutant) -> (String, String, Verdict) {
     let dir = cfg.work.join(format!("case-{i:06}"));
     let _ = std::fs::remove_dir_all(&dir);
     if let Err(e) = std::fs::create_dir_all(&dir) {
         return (m.what, String::new(), Verdict::Failed(format!("harness: {e}")));
     }
     let file = corpus::mutant_path(&dir, s);
-    // One case in four writes its output into the folder that holds its input (an input
-    // inside `--out`): the input must come out unchanged, and a refusal must add nothing.
-    let out = if i % 4 == 3 { dir.clone() } else { dir.join("out") };
+    let flavor = flavor::of(i, s);
+    // An input inside `--out`: the input must come out unchanged, and a refusal must add
+    // nothing.
+    let out = match flavor {
+        Flavor::InputInOut => dir.clone(),
+        _ => dir.join("out"),
+    };
+    if flavor == Flavor::LongRecord {
+        m.text = flavor::grown(&m.text, flavor::LONG_ROWS);
+        m.what = format!("{}; grown to {} rows", m.what, flavor::LONG_ROWS);
+    }
     if let Err(e) = std::fs::write(&file, &m.text) {
         return (m.what, String::new(), Verdict::Failed(format!("harness: {e}")));
     }
     let args = corpus::case_args(s, &file, &out);
-    let (code, stderr) = match spawn(cfg, &args, &dir) {
+    let run = match flavor {
+        Flavor::TwoWriters => two_writers(cfg, s, &args, &dir, &out, &m.names),
+        Flavor::Killed(after) => killed(cfg, s, &args, after, (&dir, &out), &m.names),
+        _ => spawn(cfg, &args, &dir, "stderr.txt")
+            .map(|(code, stderr)| (outcome::judge(code, &stderr, &dir, &out, s, &m.names), stderr)),
+    };
+    let (verdict, stderr) = match run {
         Ok(x) => x,
         Err(e) => return (m.what, String::new(), Verdict::Failed(e)),
     };
-    let verdict = match outcome::judge(code, &stderr, &dir, &out, s, &m.names) {
+    let verdict = match verdict {
         Verdict::Failed(f) => Verdict::Failed(f),
         v => match std::fs::read_to_string(&file) {
             Ok(t) if t == m.text => v,
@@ -144,9 +164,108 @@ pub fn run_mutant(cfg: &Config, s: &Surface, i: usize, m: mutation::Mutant) -> (
     (m.what, stderr, verdict)
 }
 
+/// Whether `out` holds a folder `rhonn report` renders (exit 0): one run's whole folder.
+fn reported(cfg: &Config, out: &std::path::Path, dir: &std::path::Path) -> Result<bool, String> {
+    let args = ["report".to_string(), out.display().to_string()];
+    spawn(cfg, &args, dir, "stderr-report.txt").map(|(code, _)| code == Some(0))
+}
+
+/// Whether `out` shows anything but hidden entries (a run's stage is hidden).
+fn shows_files(out: &std::path::Path) -> bool {
+    std::fs::read_dir(out).is_ok_and(|d| {
+        d.flatten()
+            .any(|e| !e.file_name().to_string_lossy().starts_with('.'))
+    })
+}
+
+/// Two writers into one folder at once: each exits 0 or refuses (2); when one succeeded,
+/// the folder is one run's, whole (`rhonn report` renders it) and holds no NaN; when both
+/// refused, neither wrote it. Nothing temporary is left.
+fn two_writers(
+    cfg: &Config,
+    s: &Surface,
+    args: &[String],
+    dir: &std::path::Path,
+    out: &std::path::Path,
+    names: &[String],
+) -> Result<(Verdict, String), String> {
+    let (a, b) = std::thread::scope(|scope| {
+        let a = scope.spawn(|| spawn(cfg, args, dir, "stderr-a.txt"));
+        let b = scope.spawn(|| spawn(cfg, args, dir, "stderr-b.txt"));
+        (a.join(), b.join())
+    });
+    let ((ca, ea), (cb, eb)) = (
+        a.map_err(|_| "harness: a writer's thread panicked".to_string())??,
+        b.map_err(|_| "harness: a writer's thread panicked".to_string())??,
+    );
+    let stderr = format!("{ea}{eb}");
+    for (code, e) in [(ca, &ea), (cb, &eb)] {
+        if e.contains("panicked") || code == Some(101) {
+            return Ok((Verdict::Failed("panic".into()), stderr));
+        }
+        if !matches!(code, Some(0 | 2)) {
+            return Ok((Verdict::Failed(format!("a writer's exit code {code:?}")), stderr));
+        }
+    }
+    if ca != Some(0) && cb != Some(0) {
+        return Ok((outcome::judge(ca, &ea, dir, out, s, names), stderr));
+    }
+    let v = outcome::judge(Some(0), &stderr, dir, out, s, names);
+    if matches!(v, Verdict::Failed(_)) {
+        return Ok((v, stderr));
+    }
+    if !reported(cfg, out, dir)? {
+        return Ok((
+            Verdict::Failed(
+                "two writers: `rhonn report` refused the folder (not one run's whole folder)".into(),
+            ),
+            stderr,
+        ));
+    }
+    Ok((v, stderr))
+}
+
+/// A run killed `after` its start (if still running), then run again: after the kill the
+/// folder shows nothing or one run's whole folder; the rerun is judged as any case (it
+/// also removes what the killed run left hidden).
+fn killed(
+    cfg: &Config,
+    s: &Surface,
+    args: &[String],
+    after: Duration,
+    (dir, out): (&std::path::Path, &std::path::Path),
+    names: &[String],
+) -> Result<(Verdict, String), String> {
+    let mut child = Command::new(&cfg.bin)
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .map_err(|e| format!("harness: {e}"))?;
+    if child.wait_timeout(after).map_err(|e| e.to_string())?.is_none() {
+        let _ = child.kill();
+    }
+    let _ = child.wait();
+    if shows_files(out) && !reported(cfg, out, dir)? {
+        return Ok((
+            Verdict::Failed("killed: the folder shows files that are not one run's whole folder".into()),
+            String::new(),
+        ));
+    }
+    let (code, stderr) = spawn(cfg, &flavor::rerun_args(args), dir, "stderr.txt")?;
+    Ok((outcome::judge(code, &stderr, dir, out, s, names), stderr))
+}
+
 /// Run the command with a timeout; `Ok((exit code or None if killed by a signal, stderr))`.
-fn spawn(cfg: &Config, args: &[String], dir: &std::path::Path) -> Result<(Option<i32>, String), String> {
-    let err_path = dir.join("stderr.txt");
+fn spawn(
+    cfg: &Config,
+    args: &[String],
+    dir: &std::path::Path,
+    err_name: &str,
+) -> Result<(Option<i32>, String), String> {
+    let err_path = dir.join(err_name);
     let err_file = std::fs::File::create(&err_path).map_err(|e| format!("harness: {e}"))?;
     let mut child = Command::new(&cfg.bin)
         .args(args)

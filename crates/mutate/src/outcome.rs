@@ -170,6 +170,8 @@ pub struct Report {
     /// Refusals whose message names neither the file nor the field (case, surface, what,
     /// message).
     pub unnamed: Vec<Failure>,
+    /// Cases per way of running them (`flavor::Flavor::name`).
+    pub flavors: BTreeMap<String, usize>,
 }
 
 impl Report {
@@ -181,7 +183,15 @@ impl Report {
         r
     }
 
-    pub(crate) fn add(&mut self, case: usize, s: &Surface, what: String, stderr: &str, v: Verdict) {
+    pub(crate) fn add(
+        &mut self,
+        case: usize,
+        s: &Surface,
+        (what, flavor): (String, &str),
+        stderr: &str,
+        v: Verdict,
+    ) {
+        *self.flavors.entry(flavor.to_string()).or_default() += 1;
         let st = self.surfaces.entry(s.name.clone()).or_default();
         st.cases += 1;
         let item = |reason: String| Failure {
@@ -252,6 +262,8 @@ impl Report {
             "errors naming the file and the field, column or line: {:.1} %\n",
             100.0 * self.named_share()
         ));
+        let flavors: Vec<String> = self.flavors.iter().map(|(f, n)| format!("{f} {n}")).collect();
+        s.push_str(&format!("cases run: {}\n", flavors.join(", ")));
         for f in &self.failures {
             s.push_str(&format!(
                 "FAILED case {} ({}; {}): {}\n  {}\n",
