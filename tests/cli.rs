@@ -322,7 +322,7 @@ fn bad_adaptive_controller_settings_are_clear_errors() {
         ),
         (
             shipped.replace("ti_s = 0.07", "ti_s = 0.0"),
-            "`control.baseline.ti_s` = 0 is not allowed: a number > 0",
+            "`control.baseline.ti_s` = 0 is not allowed: finite and > 0",
         ),
         (
             shipped.replace("kind = \"pump-cascade-pi\"", "kind = \"pid\""),

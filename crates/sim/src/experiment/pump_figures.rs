@@ -184,8 +184,9 @@ pub struct BaselineReport {
 }
 
 impl BaselineReport {
-    /// The baseline's settings and (empty) figures.
-    pub fn of(b: &super::pump_controllers::Baseline, figures: Figures) -> Self {
+    /// The baseline's settings, as the scenario gives them, and its figures.
+    pub fn of(b: &super::pump_controllers::PumpLoop, figures: Figures) -> Self {
+        use crate::control::LoopSpec;
         let mut r = BaselineReport {
             controller: b.name(),
             tuning: None,
@@ -196,18 +197,18 @@ impl BaselineReport {
             stroke_gain: None,
             figures,
         };
-        match b {
-            super::pump_controllers::Baseline::Pi(s) => {
-                r.kp_a_per_mpa = Some(s.kp * crate::units::PA_PER_MPA);
-                r.ti_s = s.ti_s;
+        match &b.controller {
+            LoopSpec::Pi(l) => {
+                r.kp_a_per_mpa = Some(l.kp);
+                r.ti_s = l.ti_s;
             }
-            super::pump_controllers::Baseline::CascadePi(s) => {
-                let g = s.gains_mpa();
-                r.kp_mm_per_mpa = Some(g.kp_mm_per_mpa);
-                r.ti_s = g.ti_s;
-                r.setpoint_weight = Some(g.setpoint_weight);
-                r.stroke_gain = Some(g.stroke_gain);
+            LoopSpec::PumpCascadePi(l) => {
+                r.kp_mm_per_mpa = Some(l.kp_mm_per_mpa);
+                r.ti_s = l.ti_s;
+                r.setpoint_weight = Some(l.setpoint_weight);
+                r.stroke_gain = Some(l.stroke_gain);
             }
+            _ => {}
         }
         r
     }

@@ -11,7 +11,7 @@ use super::pump_settings::{Drive, Scenario, SolverSettings};
 use super::sim::{describe, drive, start, Hooks, Instants};
 use super::solver_spec::{Tolerances, DEFAULT_ATOL};
 use super::trace::{Recorder, Sample};
-use crate::control::{CascadeState, Controller, Pi, RhonnCascade};
+use crate::control::{CascadeState, Controller};
 use crate::error::{Error, Result};
 use crate::plant::{PumpSystem, PLANT_DIM, P_LINE, STROKE};
 use crate::signal::Signal;
@@ -42,35 +42,13 @@ pub(super) enum Ctl {
 }
 
 impl Ctl {
-    pub(super) fn of(sc: &Scenario) -> Ctl {
-        let p = &sc.params;
-        match &sc.drive {
-            Drive::OpenLoop(_) => Ctl::Open,
-            Drive::Pi(s) => {
-                let mut pi = Pi::new(s.kp, s.ti_s, p.t_control, s.bias, 0.0, p.i_max);
-                pi.measured = [P_LINE];
-                Ctl::Closed(Box::new(pi))
-            }
-            Drive::Adaptive(a) => Ctl::Closed(Box::new(cascade_for(sc, &a.cascade))),
-            Drive::CascadePi(s) => Ctl::Closed(Box::new(s.controller(p.t_control))),
-        }
+    /// The controller of `sc`'s drive, built by the controller registry.
+    pub(super) fn of(sc: &Scenario) -> Result<Ctl> {
+        Ok(match sc.drive.closed() {
+            None => Ctl::Open,
+            Some(l) => Ctl::Closed(l.build(&sc.params, &super::pump_run::plant_initial(sc))?),
+        })
     }
-}
-
-/// The adaptive cascade of a scenario (`control::pump_cascade`), from its set-point at
-/// t = 0 (P_min without one).
-fn cascade_for(sc: &Scenario, settings: &crate::control::CascadeSettings) -> RhonnCascade {
-    let p_ref0 = sc
-        .drive
-        .setpoint()
-        .map_or(crate::plant::PumpParams::default().p_min, |s| s.eval(0.0));
-    crate::control::pump_cascade(
-        settings.clone(),
-        (sc.params.i_max, sc.params.x_max, sc.params.p_max),
-        sc.params.t_control,
-        p_ref0,
-        sc.initial[P_LINE],
-    )
 }
 
 /// The loop conditions of a pump run (`loop_conditions`, as any plant's): pressure and
@@ -93,7 +71,7 @@ fn conditions(sc: &Scenario, i0: f64) -> LoopConditions {
             },
         ],
         dither: match &sc.drive {
-            Drive::Pi(s) => s.dither.clone(),
+            Drive::Closed(l) => l.dither.clone(),
             _ => None,
         },
         delay_periods: p.delay_periods,

@@ -368,29 +368,9 @@ pub(crate) fn serialize_raised<S: serde::Serializer>(
 /// `[control]` of the pump runner's controller `c`: its range, period and delay the
 /// plant's, an adaptive controller's baseline written out (the robust cascade PI when unset).
 fn raised_control(spec: &PumpSettings, c: &ControlSpec) -> ControlSpec {
-    use super::pump_controllers::{baseline_kind, BaselineKeys, PI_BASELINE, ROBUST};
-    use crate::control::{PiLoop, PumpCascadePiLoop};
     let p_line = || "p_line".to_string();
     let adaptive = matches!(c.controller, LoopSpec::PumpRhonnAdaptive(_));
-    let baseline = adaptive.then(|| {
-        let k = BaselineKeys::of(c.baseline.as_ref());
-        if baseline_kind(k.kind, k.kp_a_per_mpa) == "pi" {
-            LoopSpec::Pi(PiLoop {
-                state: p_line(),
-                kp: k.kp_a_per_mpa.unwrap_or(PI_BASELINE[0]),
-                ti_s: k.ti_s.unwrap_or(PI_BASELINE[1]),
-                bias: None,
-            })
-        } else {
-            LoopSpec::PumpCascadePi(PumpCascadePiLoop {
-                state: p_line(),
-                kp_mm_per_mpa: k.kp_mm_per_mpa.unwrap_or(ROBUST.kp_mm_per_mpa),
-                ti_s: k.ti_s.unwrap_or(ROBUST.ti_s),
-                setpoint_weight: k.setpoint_weight.unwrap_or(ROBUST.setpoint_weight),
-                stroke_gain: k.stroke_gain.unwrap_or(ROBUST.stroke_gain),
-            })
-        }
-    });
+    let baseline = adaptive.then(|| super::pump_controllers::adaptive_baseline(c));
     ControlSpec {
         input: "current".into(),
         input_range: [0.0, spec.plant.i_max_a],

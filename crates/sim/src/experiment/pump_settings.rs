@@ -3,13 +3,9 @@
 //! accepts. Every failure names the field, the value and what is allowed (in the file's
 //! keys, see `pump_scenario::lower_checked`); unknown keys are errors.
 
-use super::pump_controllers::{
-    check_baseline, check_cascade_pi, check_named_cascade_pi, check_pi, Baseline, BaselineKeys,
-    CascadePiGainsMpa, CascadePiSettings, PiSettings,
-};
+use super::pump_controllers::{adaptive_baseline, named_cascade_pi, PumpLoop};
 use super::scenario::{check_folder_name, ControlSpec, ProfileSpec, SolverSpec};
 use super::solver_spec::SolverDefaults;
-use crate::control::CascadeSettings;
 use crate::error::{invalid, Error, Result};
 use crate::ident::{IdentSettings, IdentifierSpec};
 use crate::plant::{PumpParams, PumpParamsSpec};
@@ -86,17 +82,15 @@ pub(crate) struct PumpSettings {
     pub campaign: Option<super::campaign_plan::CampaignSpec>,
 }
 
-/// A checked adaptive controller and its PI baseline (SI).
+/// A checked adaptive controller and its baselines.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AdaptiveSettings {
-    /// Set-point \[Pa\].
-    pub setpoint: Signal,
-    /// The cascade's settings.
-    pub cascade: CascadeSettings,
+    /// The adaptive controller.
+    pub adaptive: PumpLoop,
     /// The baseline run beside it on an identical plant (same set-point).
-    pub baseline: Baseline,
+    pub baseline: PumpLoop,
     /// A second baseline (a named cascade PI tuning) run beside it too.
-    pub second_baseline: Option<(&'static str, Baseline)>,
+    pub second_baseline: Option<(&'static str, PumpLoop)>,
 }
 
 /// How the current is produced.
@@ -104,32 +98,34 @@ pub struct AdaptiveSettings {
 pub enum Drive {
     /// An open-loop profile \[A\].
     OpenLoop(Signal),
-    /// A PI regulator.
-    Pi(PiSettings),
-    /// The RHONN adaptive cascade, compared with a baseline in the same run.
+    /// A controller (the PI, the cascade PI).
+    Closed(Box<PumpLoop>),
+    /// The RHONN adaptive cascade, compared with its baselines in the same run.
     Adaptive(Box<AdaptiveSettings>),
-    /// The cascade PI.
-    CascadePi(CascadePiSettings),
 }
 
 impl Drive {
-    /// The set-point of a regulated run.
-    pub fn setpoint(&self) -> Option<&Signal> {
+    /// The loop that drives the current (None for an open-loop profile).
+    pub fn closed(&self) -> Option<&PumpLoop> {
         match self {
             Drive::OpenLoop(_) => None,
-            Drive::Pi(s) => Some(&s.setpoint),
-            Drive::Adaptive(a) => Some(&a.setpoint),
-            Drive::CascadePi(s) => Some(&s.setpoint),
+            Drive::Closed(l) => Some(l),
+            Drive::Adaptive(a) => Some(&a.adaptive),
         }
     }
 
-    /// The current at t = 0 of a regulated run \[A\] (None for an open-loop profile).
+    /// The set-point of a regulated run.
+    pub fn setpoint(&self) -> Option<&Signal> {
+        self.closed().map(|l| &l.setpoint)
+    }
+
+    /// The current at t = 0 of a regulated run \[A\] (None for an open-loop profile; an
+    /// adaptive run's is its baseline's, so that both start alike).
     pub fn bias(&self) -> Option<f64> {
         match self {
             Drive::OpenLoop(_) => None,
-            Drive::Pi(s) => Some(s.bias),
-            Drive::Adaptive(a) => Some(a.baseline.bias()),
-            Drive::CascadePi(s) => Some(s.bias),
+            Drive::Closed(l) => Some(l.bias),
+            Drive::Adaptive(a) => Some(a.baseline.bias),
         }
     }
 }
@@ -192,14 +188,11 @@ impl PumpSettings {
     }
 
     /// The kind of the adaptive controller's baseline, `"pi"` or `"cascade-pi"`
-    /// ([`super::pump_controllers::baseline_kind`] of its `[control.baseline]`); none without an adaptive
-    /// controller.
+    /// ([`adaptive_baseline`] of its `[control]`); none without an adaptive controller.
     pub fn adaptive_baseline_kind(&self) -> Option<&'static str> {
         let c = self.controller.as_ref()?;
-        matches!(c.controller, crate::control::LoopSpec::PumpRhonnAdaptive(_)).then(|| {
-            let k = BaselineKeys::of(c.baseline.as_ref());
-            super::pump_controllers::baseline_kind(k.kind, k.kp_a_per_mpa)
-        })
+        matches!(c.controller, crate::control::LoopSpec::PumpRhonnAdaptive(_))
+            .then(|| adaptive_baseline(c).name())
     }
 
     fn check_setpoint(&self, setpoint_mpa: &SignalSpec, params: &PumpParams) -> Result<Signal> {
@@ -277,7 +270,8 @@ impl PumpSettings {
                 format!("a stroke in [0, {}] mm (x_max)", self.plant.x_max_mm),
             ));
         }
-        let drive = self.check_drive(&params, &mut warnings)?;
+        let state0 = [p0 * PA_PER_MPA, x0 * M_PER_MM, 0.0];
+        let drive = self.check_drive(&params, &state0, &mut warnings)?;
         let demand_lim = crate::signal::spec_limits(
             0.0,
             f64::INFINITY,
@@ -339,7 +333,7 @@ impl PumpSettings {
     }
 
     /// The current's drive: an open-loop profile or a controller.
-    fn check_drive(&self, params: &PumpParams, warnings: &mut Vec<String>) -> Result<Drive> {
+    fn check_drive(&self, params: &PumpParams, x0: &[f64], warnings: &mut Vec<String>) -> Result<Drive> {
         let current_lim = crate::signal::spec_limits(0.0, params.i_max, None, None);
         Ok(match (&self.current_a, &self.controller) {
             (Some(_), Some(_)) => {
@@ -363,47 +357,43 @@ impl PumpSettings {
                 }
                 Drive::OpenLoop(sig)
             }
-            (None, Some(c)) => self.check_controller(c, params)?,
+            (None, Some(c)) => self.check_controller(c, params, x0)?,
         })
     }
 
-    /// The pressure's controller of `[control]` (its kinds and keys checked by `lower`).
-    fn check_controller(&self, c: &ControlSpec, params: &PumpParams) -> Result<Drive> {
+    /// The pressure's controller of `[control]` (its kinds and keys checked by `lower`),
+    /// each loop checked by building it through the controller registry.
+    fn check_controller(&self, c: &ControlSpec, params: &PumpParams, x0: &[f64]) -> Result<Drive> {
         use crate::control::LoopSpec;
         let setpoint = self.check_setpoint(&c.setpoint, params)?;
+        let lp = |spec: LoopSpec, field: &str| PumpLoop::new(setpoint.clone(), spec, params, x0, field);
         Ok(match &c.controller {
-            LoopSpec::Pi(l) => {
-                let mut pi = check_pi(l.kp, l.ti_s, l.bias, setpoint, params, "controller.")?;
+            LoopSpec::Pi(_) => {
+                let mut pi = lp(c.controller.clone(), "control.controller")?;
                 let no_clip = crate::signal::spec_limits(f64::NEG_INFINITY, f64::INFINITY, None, None);
                 pi.dither = c
                     .dither
                     .as_ref()
                     .map(|d| d.build("controller.dither_a", 1.0, no_clip))
                     .transpose()?;
-                Drive::Pi(pi)
+                Drive::Closed(Box::new(pi))
             }
-            LoopSpec::PumpRhonnAdaptive(l) => {
-                let cascade = l.check("controller")?;
-                let baseline = check_baseline(BaselineKeys::of(c.baseline.as_ref()), &setpoint, params)?;
+            LoopSpec::PumpRhonnAdaptive(_) => {
                 let second_baseline = match c.second_baseline.as_deref() {
                     None => None,
-                    Some(name) => Some(check_named_cascade_pi(name, &setpoint, params)?),
+                    Some(name) => {
+                        let (name, spec) = named_cascade_pi(name)?;
+                        Some((name, lp(spec, "control.second_baseline")?))
+                    }
                 };
                 Drive::Adaptive(Box::new(AdaptiveSettings {
-                    setpoint,
-                    cascade,
-                    baseline,
+                    adaptive: lp(c.controller.clone(), "control.controller")?,
+                    baseline: lp(adaptive_baseline(c), "control.baseline")?,
                     second_baseline,
                 }))
             }
-            LoopSpec::PumpCascadePi(l) => {
-                let g = CascadePiGainsMpa {
-                    kp_mm_per_mpa: l.kp_mm_per_mpa,
-                    ti_s: l.ti_s,
-                    setpoint_weight: l.setpoint_weight,
-                    stroke_gain: l.stroke_gain,
-                };
-                Drive::CascadePi(check_cascade_pi(g, setpoint, params, "controller.")?)
+            LoopSpec::PumpCascadePi(_) => {
+                Drive::Closed(Box::new(lp(c.controller.clone(), "control.controller")?))
             }
             other => {
                 return Err(invalid(
