@@ -349,3 +349,56 @@ fn bad_tanks_scenarios_name_the_field() {
     );
     assert_eq!(files_in(d.path()), ["s.toml"]);
 }
+
+/// `[campaign]` on the tanks, as on the pump: a parameter fixed, another drawn in a range
+/// of its own, the rest within their stated tolerance; `summary.json` gives the plan; a
+/// key that is no parameter of the tanks is refused naming them.
+#[test]
+fn a_tank_campaign_draws_as_its_campaign_section_says() {
+    let d = tempfile::tempdir().unwrap();
+    let shipped = String::from_utf8(rhonn(d.path(), &["show", "tanks-control"]).stdout).unwrap();
+    let text = format!(
+        "{shipped}\n[campaign]\noutlet_1_mm2 = {{ distribution = \"fixed\" }}\narea_2_cm2 = {{ min = 100.0, max = 110.0 }}\n"
+    );
+    std::fs::write(d.path().join("c.toml"), &text).unwrap();
+    let o = rhonn(d.path(), &["campaign", "c.toml", "--runs", "12", "--out", "c"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let runs = std::fs::read_to_string(d.path().join("c/runs.csv")).unwrap();
+    let head: Vec<&str> = runs.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let (outlet, area2, area1) = (col("outlet_1_mm2"), col("area_2_cm2"), col("area_1_cm2"));
+    let mut areas = Vec::new();
+    for line in runs.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let v = |k: usize| f[k].parse::<f64>().unwrap();
+        assert_eq!(v(outlet), 40.0, "{line}");
+        assert!((100.0..=110.0).contains(&v(area2)), "{line}");
+        assert!((v(area1) / 154.0 - 1.0).abs() <= 0.02 + 1e-12, "{line}");
+        areas.push(v(area2));
+    }
+    assert!(areas.windows(2).any(|w| w[0] != w[1]), "area_2_cm2 is drawn");
+    let s = json(&d.path().join("c/summary.json"));
+    assert_eq!(
+        s["plan"]["params"][col("outlet_1_mm2") - 2]["distribution"],
+        "fixed"
+    );
+    // A key that is no parameter of the tanks: refused by `run` and by `campaign`, naming them.
+    std::fs::write(
+        d.path().join("bad.toml"),
+        format!("{shipped}\n[campaign]\nbeta_mpa = {{ relative = 0.1 }}\n"),
+    )
+    .unwrap();
+    for args in [
+        &["run", "bad.toml", "--out", "r"][..],
+        &["campaign", "bad.toml", "--runs", "2", "--out", "b"],
+    ] {
+        let o = rhonn(d.path(), args);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("campaign.beta_mpa") && stderr(&o).contains("area_1_cm2, area_2_cm2"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(!d.path().join(args[args.len() - 1]).exists());
+    }
+}

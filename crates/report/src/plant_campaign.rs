@@ -14,8 +14,8 @@ use crate::campaign_options::{CampaignOptions, CampaignOutcome, Progress};
 use crate::campaign_runner::{self, CampaignKind, Done, Runs};
 use crate::worst_runs::Ranker;
 use crate::{write_json, Error};
-use rhonn::experiment::campaign::{draw_parameters, figure_stats, FigureStats};
-use rhonn::experiment::{nominal_plant_parameters, run_plant_scenario, ScenarioSpec};
+use rhonn::experiment::campaign::{draw, figure_stats, FigureStats, Plan, Sampling};
+use rhonn::experiment::{campaign_plan, nominal_plant_parameters, run_plant_scenario, ScenarioSpec};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::Path;
@@ -67,19 +67,6 @@ fn row(
     r
 }
 
-/// The plant's parameters a campaign draws, their values in the scenario (nominal unless it
-/// sets them) and their tolerances.
-#[allow(clippy::type_complexity)]
-fn drawn_parameters(spec: &ScenarioSpec) -> Result<(&'static [rhonn::plant::Parameter], Vec<f64>, Vec<f64>)> {
-    let params = nominal_plant_parameters(&spec.plant.kind)?;
-    let base = params
-        .iter()
-        .map(|p| spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal))
-        .collect();
-    let tol = params.iter().map(|p| p.tolerance).collect();
-    Ok((params, base, tol))
-}
-
 /// Run (or resume) a campaign of the plant scenario `spec` in `dir` (see the module).
 pub fn run_plant_campaign(
     spec: &ScenarioSpec,
@@ -87,9 +74,8 @@ pub fn run_plant_campaign(
     dir: &Path,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<CampaignOutcome> {
-    let (params, base, tol) = drawn_parameters(spec)?;
-    let varying = tol.iter().filter(|t| **t > 0.0).count() as u32;
-    let runs = if o.corners { 1u64 << varying } else { o.runs };
+    let plan = campaign_plan(spec)?;
+    let runs = if o.corners { plan.corner_runs() } else { o.runs };
     let nominal = run_plant_scenario(spec, None)?;
     let fig_names: Vec<String> = nominal.summary.figures().into_iter().map(|(n, _)| n).collect();
     let indices = o.shard_indices(runs)?;
@@ -106,9 +92,8 @@ pub fn run_plant_campaign(
     };
     let c = PlantCampaign {
         spec: spec.clone(),
-        n_params: params.len(),
-        base,
-        tol,
+        n_params: plan.params.len(),
+        plan,
         fig_names,
         file,
     };
@@ -120,8 +105,7 @@ struct PlantCampaign {
     spec: ScenarioSpec,
     file: PlantCampaignFile,
     n_params: usize,
-    base: Vec<f64>,
-    tol: Vec<f64>,
+    plan: Plan,
     fig_names: Vec<String>,
 }
 
@@ -144,15 +128,14 @@ impl CampaignKind for PlantCampaign {
     }
     fn from_file(f: &PlantCampaignFile) -> Result<Self> {
         let spec = ScenarioSpec::from_toml(&f.scenario_toml, "campaign.json")?;
-        let (params, base, tol) = drawn_parameters(&spec)?;
+        let plan = campaign_plan(&spec)?;
         let nominal = run_plant_scenario(&spec, None)?;
         Ok(PlantCampaign {
             fig_names: nominal.summary.figures().into_iter().map(|(n, _)| n).collect(),
-            n_params: params.len(),
+            n_params: plan.params.len(),
             spec,
             file: f.clone(),
-            base,
-            tol,
+            plan,
         })
     }
     fn scenario(&self) -> &str {
@@ -176,13 +159,12 @@ impl CampaignKind for PlantCampaign {
         }
     }
     fn run(&self, i: u64) -> Done {
-        let values = draw_parameters(
-            &self.base,
-            &self.tol,
-            self.file.seed,
-            i,
-            self.file.sampling == "corners",
-        );
+        let sampling = if self.file.sampling == "corners" {
+            Sampling::Corners
+        } else {
+            Sampling::Random
+        };
+        let values = draw(&self.plan, self.file.seed, i, sampling);
         let outcome = run_plant_scenario(&self.spec, Some(&values))
             .map(|out| {
                 out.summary
@@ -277,6 +259,8 @@ fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> R
         plant: &'a str,
         runs: usize,
         failed: usize,
+        /// The parameters' distributions as drawn (the plant's parameter order).
+        plan: &'a Plan,
         figures: Vec<FigureStats>,
         worst_runs: Vec<crate::worst_runs::WorstRun>,
         findings: Vec<String>,
@@ -306,6 +290,7 @@ fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> R
         plant: &spec.plant.kind,
         runs: n,
         failed,
+        plan: &job.plan,
         figures: stats,
         findings: crate::worst_runs::findings(key, &worst_list),
         worst_runs: worst_list,

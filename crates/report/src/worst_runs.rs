@@ -167,10 +167,8 @@ pub fn describe(
 ) -> Result<Vec<(WorstRun, String)>, toml::ser::Error> {
     let param_names: Vec<&str> = TOLERANCES.iter().map(|p| p.name).collect();
     list(spec.name(), &param_names, ranked, |c, description| {
-        let mut values = [0.0; 5];
-        values.copy_from_slice(&c.values);
         let name = format!("{}-run-{}", spec.name(), c.index);
-        toml::to_string(&spec.run_scenario(&values, name, description))
+        toml::to_string(&spec.run_scenario(&c.values, name, description))
     })
 }
 

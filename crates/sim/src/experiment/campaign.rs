@@ -11,7 +11,6 @@ use super::scenario::ScenarioSpec;
 use super::trace::NoRecorder;
 use crate::error::Result;
 use crate::signal::SignalSpec;
-use rand::{Rng, SeedableRng};
 use serde::Serialize;
 
 pub use super::campaign_plan::*;
@@ -46,7 +45,7 @@ impl PumpCampaign {
 
     /// Its plan: each uncertain parameter's distribution.
     pub fn plan(&self) -> Plan {
-        self.plan
+        self.plan.clone()
     }
 
     /// The scenario's values of the uncertain parameters (display units, [`TOLERANCES`] order).
@@ -61,9 +60,14 @@ impl PumpCampaign {
     }
 
     /// The scenario of a run with the uncertain parameters at `values` ([`TOLERANCES`]
-    /// order, display units), named `name` (a worst run's file).
-    pub fn run_scenario(&self, values: &[f64; 5], name: String, description: String) -> ScenarioSpec {
-        let mut run = apply(&self.spec, values);
+    /// order, display units; those not given keep the scenario's), named `name` (a worst
+    /// run's file).
+    pub fn run_scenario(&self, values: &[f64], name: String, description: String) -> ScenarioSpec {
+        let mut v = self.base_values();
+        for (a, b) in v.iter_mut().zip(values) {
+            *a = *b;
+        }
+        let mut run = apply(&self.spec, &v);
         run.name = name;
         run.description = description;
         super::pump_scenario::raise(&run)
@@ -120,9 +124,18 @@ pub(crate) fn base_values(spec: &PumpSettings) -> [f64; 5] {
 
 impl Plan {
     /// The plan of `spec`: its `[campaign]` overrides, the thesis's tolerances elsewhere
-    /// ([`Plan::new`]).
+    /// ([`Plan::new`] over [`TOLERANCES`]).
     pub(crate) fn of(spec: &PumpSettings) -> Result<Plan> {
-        Plan::new(spec.campaign.as_ref(), spec.uncertain_values())
+        let params: Vec<Uncertain> = TOLERANCES
+            .iter()
+            .zip(spec.uncertain_values())
+            .map(|(t, value)| Uncertain {
+                name: t.name,
+                value,
+                tolerance: t.tolerance,
+            })
+            .collect();
+        Plan::new(spec.campaign.as_ref(), &params)
     }
 }
 
@@ -341,7 +354,8 @@ pub(crate) fn run_one(
     sampling: Sampling,
     traces: bool,
 ) -> (RunRow, Option<RunTraces>) {
-    let values = draw(plan, seed, index, sampling);
+    let mut values = [0.0; 5];
+    values.copy_from_slice(&draw(plan, seed, index, sampling));
     let sc = apply(spec, &values).check();
     let (outcome, tr) = if traces {
         let (stride, grid) = envelope_grid(spec);
@@ -365,33 +379,6 @@ pub(crate) fn run_one(
         },
         tr,
     )
-}
-
-/// The parameter values of run `index` of a plant campaign (display units, the plant's
-/// order): each `base` value times `1 + tol U(-1, 1)` from the run's own generator, or
-/// with `corners` the corner `index` of the box (bit k high: the k-th varying parameter
-/// at its upper end).
-pub fn draw_parameters(base: &[f64], tol: &[f64], seed: u64, index: u64, corners: bool) -> Vec<f64> {
-    if corners {
-        let mut bit = 0;
-        return base
-            .iter()
-            .zip(tol)
-            .map(|(b, t)| {
-                if *t == 0.0 {
-                    return *b;
-                }
-                let high = (index >> bit) & 1 == 1;
-                bit += 1;
-                b * (1.0 + if high { *t } else { -*t })
-            })
-            .collect();
-    }
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(run_seed(seed, index));
-    base.iter()
-        .zip(tol)
-        .map(|(b, t)| b * (1.0 + t * (2.0 * rng.gen::<f64>() - 1.0)))
-        .collect()
 }
 
 /// Type-7 quantile (linear interpolation between order statistics, numpy's default) of

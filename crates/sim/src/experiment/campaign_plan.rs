@@ -1,7 +1,8 @@
-//! A pump campaign's plan: the `[campaign]` section of a scenario (each uncertain
-//! parameter's distribution and range), checked into a [`Plan`], and the draw of run k,
-//! which depends only on the campaign's seed and k. Knows nothing of scenarios beyond
-//! the section and the values it is centred on.
+//! A campaign's plan, for any plant: the `[campaign]` section of a scenario (a parameter's
+//! distribution and range by its `[plant]` key), checked against the parameters a plant
+//! draws ([`Uncertain`]: the pump's tolerance table, another plant's parameter table)
+//! into a [`Plan`], and the draw of run k, which depends only on the campaign's seed and
+//! k. Knows nothing of scenarios beyond the section and the values it is centred on.
 
 use crate::error::{invalid, Result};
 use rand::{Rng, SeedableRng};
@@ -22,6 +23,17 @@ pub enum DistributionKind {
     Normal,
     /// Not drawn: the scenario's value in every run.
     Fixed,
+}
+
+impl ParamDistSpec {
+    /// Uniform within the parameter's stated tolerance.
+    const DEFAULT: ParamDistSpec = ParamDistSpec {
+        distribution: DistributionKind::Uniform,
+        relative: None,
+        min: None,
+        max: None,
+        std_relative: None,
+    };
 }
 
 /// One parameter's distribution in the scenario file (units of the `[plant]` key).
@@ -46,38 +58,23 @@ pub struct ParamDistSpec {
     pub std_relative: Option<f64>,
 }
 
-/// A scenario's `[campaign]` section: overrides of the uncertain parameters'
-/// distributions; a parameter left out keeps uniform within the thesis's tolerance.
+/// A scenario's `[campaign]` section: overrides of the drawn parameters' distributions,
+/// each by its `[plant]` key (`beta_mpa = { relative = 0.1 }`); a parameter left out keeps
+/// uniform within the plant's stated tolerance (fixed when it states none).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct CampaignSpec {
-    /// Bulk modulus \[MPa\].
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub beta_mpa: Option<ParamDistSpec>,
-    /// Pilot valve flow coefficient mu_1.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub mu_1: Option<ParamDistSpec>,
-    /// Pilot valve flow coefficient mu_2.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub mu_2: Option<ParamDistSpec>,
-    /// Lubricating flow \[dm^3/s\].
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub q_0_dm3_s: Option<ParamDistSpec>,
-    /// Largest demand slew \[dm^3/s^2\] (scales the demand trapezoids' slew too).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub qdot_max_dm3_s2: Option<ParamDistSpec>,
-}
+#[serde(transparent)]
+pub struct CampaignSpec(pub std::collections::BTreeMap<String, ParamDistSpec>);
 
-impl CampaignSpec {
-    fn entries(&self) -> [Option<&ParamDistSpec>; 5] {
-        [
-            self.beta_mpa.as_ref(),
-            self.mu_1.as_ref(),
-            self.mu_2.as_ref(),
-            self.q_0_dm3_s.as_ref(),
-            self.qdot_max_dm3_s2.as_ref(),
-        ]
-    }
+/// A parameter a campaign may draw: its `[plant]` key, the scenario's value (display
+/// units) and the plant's stated relative tolerance (0: none).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Uncertain<'a> {
+    /// The `[plant]` key.
+    pub name: &'a str,
+    /// The scenario's value, display units.
+    pub value: f64,
+    /// Relative half-width of the stated tolerance band (0: none, not drawn by default).
+    pub tolerance: f64,
 }
 
 /// A checked distribution of one parameter (display units).
@@ -136,114 +133,43 @@ impl Distribution {
     }
 }
 
-/// The checked distributions of a campaign's uncertain parameters ([`TOLERANCES`] order).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+/// The checked distributions of a campaign's parameters (the order of the plant's
+/// [`Uncertain`] list).
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Plan {
     /// One per parameter.
-    pub params: [Distribution; 5],
+    pub params: Vec<Distribution>,
 }
 
 impl Plan {
-    /// The plan of a scenario's `[campaign]` section around its values `base` of the
-    /// uncertain parameters (display units, [`TOLERANCES`] order): the section's
-    /// overrides, the thesis's tolerances elsewhere. Every bad entry is an error naming
-    /// `campaign.<key>.<field>`, the value and what is allowed.
-    pub fn new(campaign: Option<&CampaignSpec>, base: [f64; 5]) -> Result<Plan> {
+    /// The plan of a scenario's `[campaign]` section over the parameters `params`: the
+    /// section's overrides, each parameter's stated tolerance elsewhere. Every bad entry
+    /// is an error naming `campaign.<key>.<field>`, the value and what is allowed; a key
+    /// that is no drawn parameter names the plant's.
+    pub fn new(campaign: Option<&CampaignSpec>, params: &[Uncertain]) -> Result<Plan> {
         let none = CampaignSpec::default();
-        let entries = campaign.unwrap_or(&none).entries();
-        let mut params = [Distribution::Fixed { value: 0.0 }; 5];
-        for (j, t) in TOLERANCES.iter().enumerate() {
-            let b = base[j];
-            let field = |f: &str| format!("campaign.{}.{f}", t.name);
-            let default = ParamDistSpec::default();
-            let e = entries[j].unwrap_or(&default);
-            if e.distribution == DistributionKind::Fixed {
-                if e.relative.is_some() || e.min.is_some() || e.max.is_some() || e.std_relative.is_some() {
-                    return Err(invalid(
-                        field("distribution"),
-                        "\"fixed\" with a range or std_relative",
-                        "`fixed` alone (the scenario's value is used)",
-                    ));
-                }
-                params[j] = Distribution::Fixed { value: b };
-                continue;
-            }
-            let (min, max) = match (e.relative, e.min, e.max) {
-                (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
-                    return Err(invalid(
-                        field("relative"),
-                        e.relative.unwrap_or_default(),
-                        "either `relative` or `min` and `max`, not both",
-                    ))
-                }
-                (r, None, None) => {
-                    let r = r.unwrap_or(t.tolerance);
-                    if !(r.is_finite() && r > 0.0 && r < 1.0) {
-                        return Err(invalid(field("relative"), r, "a fraction in (0, 1)"));
-                    }
-                    (b * (1.0 - r), b * (1.0 + r))
-                }
-                (None, Some(lo), Some(hi)) => {
-                    if !(lo.is_finite() && lo > 0.0) {
-                        return Err(invalid(
-                            field("min"),
-                            lo,
-                            format!("a number > 0 in the unit of plant.{}", t.name),
-                        ));
-                    }
-                    if !(hi.is_finite() && hi > lo) {
-                        return Err(invalid(field("max"), hi, format!("a finite number > min = {lo}")));
-                    }
-                    (lo, hi)
-                }
-                (None, lo, _) => {
-                    let (f, v) = if lo.is_some() {
-                        ("max", "missing")
-                    } else {
-                        ("min", "missing")
-                    };
-                    return Err(invalid(field(f), v, "`min` and `max` together"));
-                }
-            };
-            params[j] = match e.distribution {
-                DistributionKind::Uniform => {
-                    if let Some(s) = e.std_relative {
-                        return Err(invalid(
-                            field("std_relative"),
-                            s,
-                            "only with distribution = \"normal\"",
-                        ));
-                    }
-                    Distribution::Uniform { min, max }
-                }
-                DistributionKind::Normal => {
-                    if !(min..=max).contains(&b) {
-                        return Err(invalid(
-                            field("min"),
-                            min,
-                            format!("a range [min, max] = [{min}, {max}] that holds the scenario's value plant.{} = {b} (the normal's mean)", t.name),
-                        ));
-                    }
-                    let s = e.std_relative.unwrap_or((max - min) / (6.0 * b));
-                    if !(s.is_finite() && s > 0.0 && s <= 1.0) {
-                        return Err(invalid(field("std_relative"), s, "a fraction in (0, 1]"));
-                    }
-                    Distribution::Normal {
-                        mean: b,
-                        std: s * b,
-                        min,
-                        max,
-                    }
-                }
-                DistributionKind::Fixed => unreachable!("handled above"),
-            };
+        let entries = &campaign.unwrap_or(&none).0;
+        if let Some(k) = entries
+            .keys()
+            .find(|k| !params.iter().any(|p| p.name == k.as_str()))
+        {
+            let names: Vec<&str> = params.iter().map(|p| p.name).collect();
+            return Err(invalid(
+                format!("campaign.{k}"),
+                "a parameter",
+                format!("one of the plant's parameters: {}", names.join(", ")),
+            ));
         }
+        let params = params
+            .iter()
+            .map(|t| distribution(t, entries.get(t.name)))
+            .collect::<Result<_>>()?;
         Ok(Plan { params })
     }
 
     /// Parameters that vary (not fixed, range wider than a point).
     pub fn varying(&self) -> Vec<usize> {
-        (0..5)
+        (0..self.params.len())
             .filter(|&j| {
                 let (lo, hi) = self.params[j].range();
                 hi > lo
@@ -255,6 +181,101 @@ impl Plan {
     pub fn corner_runs(&self) -> u64 {
         1 << self.varying().len()
     }
+}
+
+/// The distribution of parameter `t` by its `[campaign]` entry `e` (None: uniform within
+/// its stated tolerance, fixed without one).
+fn distribution(t: &Uncertain, e: Option<&ParamDistSpec>) -> Result<Distribution> {
+    let b = t.value;
+    let field = |f: &str| format!("campaign.{}.{f}", t.name);
+    let Some(e) = e.or((t.tolerance > 0.0).then_some(&ParamDistSpec::DEFAULT)) else {
+        return Ok(Distribution::Fixed { value: b });
+    };
+    if e.distribution == DistributionKind::Fixed {
+        if e.relative.is_some() || e.min.is_some() || e.max.is_some() || e.std_relative.is_some() {
+            return Err(invalid(
+                field("distribution"),
+                "\"fixed\" with a range or std_relative",
+                "`fixed` alone (the scenario's value is used)",
+            ));
+        }
+        return Ok(Distribution::Fixed { value: b });
+    }
+    let (min, max) = match (e.relative, e.min, e.max) {
+        (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
+            return Err(invalid(
+                field("relative"),
+                e.relative.unwrap_or_default(),
+                "either `relative` or `min` and `max`, not both",
+            ))
+        }
+        (None, None, None) if t.tolerance == 0.0 => {
+            return Err(invalid(
+                field("relative"),
+                "missing",
+                format!(
+                    "a fraction in (0, 1), or `min` and `max` (plant.{} states no tolerance)",
+                    t.name
+                ),
+            ))
+        }
+        (r, None, None) => {
+            let r = r.unwrap_or(t.tolerance);
+            if !(r.is_finite() && r > 0.0 && r < 1.0) {
+                return Err(invalid(field("relative"), r, "a fraction in (0, 1)"));
+            }
+            (b * (1.0 - r), b * (1.0 + r))
+        }
+        (None, Some(lo), Some(hi)) => {
+            if !(lo.is_finite() && lo > 0.0) {
+                return Err(invalid(
+                    field("min"),
+                    lo,
+                    format!("a number > 0 in the unit of plant.{}", t.name),
+                ));
+            }
+            if !(hi.is_finite() && hi > lo) {
+                return Err(invalid(field("max"), hi, format!("a finite number > min = {lo}")));
+            }
+            (lo, hi)
+        }
+        (None, lo, _) => {
+            let f = if lo.is_some() { "max" } else { "min" };
+            return Err(invalid(field(f), "missing", "`min` and `max` together"));
+        }
+    };
+    Ok(match e.distribution {
+        DistributionKind::Uniform => {
+            if let Some(s) = e.std_relative {
+                return Err(invalid(
+                    field("std_relative"),
+                    s,
+                    "only with distribution = \"normal\"",
+                ));
+            }
+            Distribution::Uniform { min, max }
+        }
+        DistributionKind::Normal => {
+            if !(min..=max).contains(&b) {
+                return Err(invalid(
+                    field("min"),
+                    min,
+                    format!("a range [min, max] = [{min}, {max}] that holds the scenario's value plant.{} = {b} (the normal's mean)", t.name),
+                ));
+            }
+            let s = e.std_relative.unwrap_or((max - min) / (6.0 * b));
+            if !(s.is_finite() && s > 0.0 && s <= 1.0) {
+                return Err(invalid(field("std_relative"), s, "a fraction in (0, 1]"));
+            }
+            Distribution::Normal {
+                mean: b,
+                std: s * b,
+                min,
+                max,
+            }
+        }
+        DistributionKind::Fixed => Distribution::Fixed { value: b },
+    })
 }
 
 /// How the runs' parameters are drawn.
@@ -279,11 +300,11 @@ pub fn run_seed(seed: u64, index: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// The parameter values of run `index` (display units, [`TOLERANCES`] order). Each
+/// The parameter values of run `index` (display units, the plan's order). Each
 /// parameter draws from its own stream of the run's generator, so changing one
 /// parameter's distribution leaves the others' draws as they were.
-pub fn draw(plan: &Plan, seed: u64, index: u64, sampling: Sampling) -> [f64; 5] {
-    let mut v = [0.0; 5];
+pub fn draw(plan: &Plan, seed: u64, index: u64, sampling: Sampling) -> Vec<f64> {
+    let mut v = vec![0.0; plan.params.len()];
     match sampling {
         Sampling::Random => {
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(run_seed(seed, index));

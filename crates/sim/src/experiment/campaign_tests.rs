@@ -99,7 +99,14 @@ fn bad_overrides_name_the_field() {
         let e = s.check().unwrap_err().to_string();
         assert!(e.contains(field), "{text}: {e}");
     }
-    assert!(toml::from_str::<CampaignSpec>("beta = { relative = 0.1 }").is_err());
+    // A key that is no drawn parameter names the pump's.
+    let mut s = spec();
+    s.campaign = Some(toml::from_str("beta = { relative = 0.1 }").unwrap());
+    let e = s.check().unwrap_err().to_string();
+    assert!(
+        e.contains("campaign.beta") && e.contains("beta_mpa, mu_1, mu_2, q_0_dm3_s, qdot_max_dm3_s2"),
+        "{e}"
+    );
 }
 
 #[test]

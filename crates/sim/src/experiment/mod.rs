@@ -27,7 +27,7 @@ mod trace;
 
 pub use bench::{bench, bench_plant, median_run_seconds, BenchFigures};
 pub use loop_conditions::{LoopConditions, SensorNoise};
-pub use plant_run::{nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on};
+pub use plant_run::{campaign_plan, nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on};
 pub use plant_summary::{
     IdentStateFigures, LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, StateRange, WEIGHT_QUANTITIES,
 };

@@ -5,6 +5,7 @@
 //! plots.
 
 use super::any_plant::{IDENTIFY_RTOL, LOOP_RTOL};
+use super::campaign_plan::{Plan, Uncertain};
 pub(crate) use super::plant_control::check_control_periods;
 use super::plant_control::run_control;
 use super::plant_ident::run_identification;
@@ -37,6 +38,33 @@ pub fn run_plant_scenario_on<P: Plant>(plant: &P, spec: &ScenarioSpec) -> Result
     run_on(plant, spec, None)
 }
 
+/// The plan of `spec`'s campaign on its plant (`[plant] kind`, not the pump's): the
+/// `[campaign]` section over the plant's parameter table, each at the scenario's value.
+pub fn campaign_plan(spec: &ScenarioSpec) -> Result<Plan> {
+    struct Of<'a>(&'a ScenarioSpec);
+    impl WithPlant for Of<'_> {
+        type Output = Plan;
+        fn with<P: Plant>(self, nominal: P) -> Result<Plan> {
+            campaign_plan_of(&nominal, self.0)
+        }
+    }
+    with_kind(&spec.plant.kind, Of(spec))
+}
+
+/// [`campaign_plan`] on `plant` (a shipped or a user's own).
+fn campaign_plan_of<P: Plant>(plant: &P, spec: &ScenarioSpec) -> Result<Plan> {
+    let uncertain: Vec<Uncertain> = plant
+        .parameters()
+        .iter()
+        .map(|p| Uncertain {
+            name: p.name,
+            value: spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal),
+            tolerance: p.tolerance,
+        })
+        .collect();
+    Plan::new(spec.campaign.as_ref(), &uncertain)
+}
+
 /// The plant named by a scenario, nominal (for its parameter table).
 pub fn nominal_plant_parameters(kind: &str) -> Result<&'static [crate::plant::Parameter]> {
     struct Parameters;
@@ -50,6 +78,10 @@ pub fn nominal_plant_parameters(kind: &str) -> Result<&'static [crate::plant::Pa
 }
 
 fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>) -> Result<PlantRunOutput> {
+    // `[campaign]` is `rhonn campaign`'s, checked by every run (as the pump's).
+    if spec.campaign.is_some() {
+        campaign_plan_of(nominal, spec)?;
+    }
     let (mut plant, x0) = configure(nominal, &spec.plant)?;
     if let Some(v) = parameters {
         plant = plant.with_parameters(v)?;

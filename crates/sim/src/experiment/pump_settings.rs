@@ -315,7 +315,7 @@ impl PumpSettings {
             ));
         }
         if self.campaign.is_some() {
-            super::campaign_plan::Plan::new(self.campaign.as_ref(), self.uncertain_values())?;
+            super::campaign_plan::Plan::of(self)?;
         }
         Ok(Scenario {
             spec: self.clone(),

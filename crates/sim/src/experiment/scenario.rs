@@ -266,22 +266,17 @@ impl ScenarioSpec {
         toml::to_string(self).unwrap_or_else(|e| format!("# cannot be written as TOML: {e}"))
     }
 
-    /// The checks that need no plant: name, times, at most one experiment, none of the sections
-    /// only the pump's own runner reads.
+    /// The checks that need no plant: name, times, at most one experiment, no key only the
+    /// pump's own runner reads.
     pub fn check_common(&self) -> Result<()> {
         self.check_times()?;
         let second = self.control.as_ref().and_then(|c| c.second_baseline.as_ref());
-        for (field, given) in [
-            ("campaign", self.campaign.is_some()),
-            ("control.second_baseline", second.is_some()),
-        ] {
-            if given {
-                return Err(invalid(
-                    field,
-                    format!("given for the {}", self.plant.kind),
-                    "only for the pump ([plant] kind = \"pump\"), whose scenarios its own runner runs (`rhonn run`, `preset::load_any`)",
-                ));
-            }
+        if second.is_some() {
+            return Err(invalid(
+                "control.second_baseline",
+                format!("given for the {}", self.plant.kind),
+                "only for the pump ([plant] kind = \"pump\"), whose scenarios its own runner runs (`rhonn run`, `preset::load_any`)",
+            ));
         }
         self.check_experiment()
     }
