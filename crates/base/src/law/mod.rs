@@ -33,9 +33,13 @@ pub mod gradient;
 pub mod least_squares;
 pub mod projection;
 pub mod sigma;
+#[cfg(test)]
+mod test_sign_error;
 pub use gain::{Gain, GainSpec};
 pub use gradient::Gradient;
 pub use least_squares::LeastSquares;
+#[cfg(test)]
+use test_sign_error::SignError;
 
 /// The dot product of two equal-length slices (`rhonn_core::law::dot`).
 #[inline(always)]
@@ -92,6 +96,9 @@ pub enum Rule {
     Gradient(Gradient),
     /// [`least_squares`].
     LeastSquares(LeastSquares),
+    /// `test_sign_error` (tests only).
+    #[cfg(test)]
+    TestSignError(SignError),
 }
 
 impl Rule {
@@ -100,6 +107,8 @@ impl Rule {
         match self {
             Rule::Gradient(g) => g,
             Rule::LeastSquares(l) => l,
+            #[cfg(test)]
+            Rule::TestSignError(s) => s,
         }
     }
 }
@@ -210,6 +219,12 @@ pub enum LawSpec {
         m: Vec<f64>,
         /// Leakage sigma_i per neuron.
         sigma: Vec<f64>,
+    },
+    /// Filtered error with the sign-error law (tests only: `test_sign_error`).
+    #[cfg(test)]
+    TestSignError {
+        /// Gain per neuron.
+        gamma: Vec<f64>,
     },
 }
 
@@ -328,6 +343,15 @@ impl LawSpec {
                     sigma: sigma.clone(),
                     ..base("sigma-smooth", Structure::FilteredError, gradient(gamma)?)
                 }
+            }
+            #[cfg(test)]
+            LawSpec::TestSignError { gamma } => {
+                positive(
+                    per_neuron(gamma, n, &format!("{field}.gamma"))?,
+                    &format!("{field}.gamma"),
+                )?;
+                let rule = Rule::TestSignError(SignError { gamma: gamma.clone() });
+                base("test-sign-error", Structure::FilteredError, rule)
             }
         })
     }

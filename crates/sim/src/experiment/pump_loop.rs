@@ -42,11 +42,12 @@ pub(super) enum Ctl {
 }
 
 impl Ctl {
-    /// The controller of `sc`'s drive, built by the controller registry.
-    pub(super) fn of(sc: &Scenario) -> Result<Ctl> {
+    /// The controller of `sc`'s drive, built by the controller registry on the plant
+    /// starting at `x0` (SI).
+    pub(super) fn of(sc: &Scenario, x0: &[f64]) -> Result<Ctl> {
         Ok(match sc.drive.closed() {
             None => Ctl::Open,
-            Some(l) => Ctl::Closed(l.build(&sc.params, &super::pump_run::plant_initial(sc))?),
+            Some(l) => Ctl::Closed(l.build(&sc.params, x0)?),
         })
     }
 }

@@ -116,7 +116,7 @@ fn run_adaptive(sc: &Scenario, a: &AdaptiveSettings, rec: &mut impl Recorder) ->
         plant_initial(sc),
         &mut inj,
         &mut [],
-        Ctl::of(sc)?,
+        Ctl::of(sc, &plant_initial(sc))?,
         true,
     )?;
     let adaptive = adaptive.expect("an adaptive run reports its weights");
@@ -168,7 +168,7 @@ fn run_baseline(
         plant_initial(&base_sc),
         &mut base,
         &mut [],
-        Ctl::of(&base_sc)?,
+        Ctl::of(&base_sc, &plant_initial(&base_sc))?,
         true,
     )?;
     Ok((st_b, fig_b, base.samples))
@@ -176,7 +176,7 @@ fn run_baseline(
 
 /// The plant's initial state: pressure, stroke, and the solenoid carrying the current
 /// commanded at t = 0.
-pub(super) fn plant_initial(sc: &Scenario) -> [f64; PLANT_DIM] {
+fn plant_initial(sc: &Scenario) -> [f64; PLANT_DIM] {
     let mut x = [0.0; PLANT_DIM];
     x[P_LINE] = sc.initial[P_LINE];
     x[STROKE] = sc.initial[STROKE];
@@ -237,7 +237,15 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
             return run_adaptive(sc, a, rec);
         }
         let sys = pump_alone(sc);
-        let (st, fig, _, _, _) = simulate(sc, sys, plant_initial(sc), rec, &mut [], Ctl::of(sc)?, true)?;
+        let (st, fig, _, _, _) = simulate(
+            sc,
+            sys,
+            plant_initial(sc),
+            rec,
+            &mut [],
+            Ctl::of(sc, &plant_initial(sc))?,
+            true,
+        )?;
         return Ok(RunOutput {
             summary: report(sc, st, fig, None),
             validation: None,
@@ -377,7 +385,15 @@ fn validate<St: State>(
     x0.as_mut_slice()[PLANT_DIM..].copy_from_slice(&s0);
     let mut acc = [IdentAcc::new(is, sys.dim(), 0), IdentAcc::new(is, sys.dim(), 1)];
     let mut coll = Collector::new(is, wants);
-    let (st, _, _, _, _) = simulate(sc, sys, x0, &mut coll, &mut acc, Ctl::of(sc)?, false)?;
+    let (st, _, _, _, _) = simulate(
+        sc,
+        sys,
+        x0,
+        &mut coll,
+        &mut acc,
+        Ctl::of(sc, &plant_initial(sc))?,
+        false,
+    )?;
     Ok((st, coll, acc))
 }
 
@@ -401,9 +417,17 @@ fn ident_runs<St: State>(sc: &Scenario, is: &IdentSettings, rec: &mut impl Recor
         let last = epoch == is.epochs;
         let mut ia = [IdentAcc::new(is, sys.dim(), 0)];
         let (st, fig, xf, sys, _) = if last {
-            simulate(sc, sys, x0, rec, &mut ia, Ctl::of(sc)?, true)?
+            simulate(sc, sys, x0, rec, &mut ia, Ctl::of(sc, &plant_initial(sc))?, true)?
         } else {
-            simulate(sc, sys, x0, &mut NoRecorder, &mut [], Ctl::of(sc)?, false)?
+            simulate(
+                sc,
+                sys,
+                x0,
+                &mut NoRecorder,
+                &mut [],
+                Ctl::of(sc, &plant_initial(sc))?,
+                false,
+            )?
         };
         add_stats(&mut total, st);
         weights = Some(sys.ident.weights(&xf.as_slice()[PLANT_DIM..]));

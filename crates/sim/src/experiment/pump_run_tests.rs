@@ -14,7 +14,16 @@ fn alone(sc: &Scenario, w: &[Vec<f64>], mode: Mode) -> (Vec<f64>, Vec<Vec<f64>>)
     let sys =
         Identified::<_, Vec<f64>>::new(pump_system(sc), ident, is.states.clone(), is.inputs.clone()).unwrap();
     let mut coll = Collector::new(is, true);
-    simulate(sc, sys, x0, &mut coll, &mut [], Ctl::of(sc).unwrap(), false).unwrap();
+    simulate(
+        sc,
+        sys,
+        x0,
+        &mut coll,
+        &mut [],
+        Ctl::of(sc, &plant_initial(sc)).unwrap(),
+        false,
+    )
+    .unwrap();
     (coll.t, coll.yhat)
 }
 
