@@ -125,3 +125,53 @@ fn bad_conditions_are_errors_naming_the_field_and_what_is_allowed() {
         "{e}"
     );
 }
+
+/// `output_interval_s` finer than the control period: the trajectory is taken from the
+/// solver's dense output between the control instants (ten samples a period here), the
+/// loop itself unchanged: the same figures to the bit, the same states at the control
+/// instants (within the interpolation's rounding), the input held between them.
+#[test]
+fn a_control_run_sampled_finer_than_its_period_is_the_same_run() {
+    let coarse = run("", "");
+    let text = tanks_control().replace(
+        "duration_s = 2400.0",
+        "duration_s = 900.0\noutput_interval_s = 0.1",
+    );
+    let spec = ScenarioSpec::from_toml(&text, "tanks-fine.toml").unwrap();
+    let fine = run_plant_scenario(&spec, None).unwrap();
+    assert_eq!(fine.summary.control, coarse.summary.control);
+    assert_eq!(fine.summary.findings, coarse.summary.findings);
+    let (t, tc) = (column(&fine, "t"), column(&coarse, "t"));
+    assert_eq!((t.len(), tc.len()), (9000, 900));
+    for name in [
+        "h1",
+        "h2",
+        "h1_baseline",
+        "voltage",
+        "voltage_baseline",
+        "h2_ref",
+        "w_norm",
+    ] {
+        let (f, c) = (column(&fine, name), column(&coarse, name));
+        for k in 0..tc.len() {
+            assert!(
+                (t[10 * k] - tc[k]).abs() < 1e-9,
+                "{name}: t {} against {}",
+                t[10 * k],
+                tc[k]
+            );
+            let scale = c[k].abs().max(1e-3);
+            assert!(
+                (f[10 * k] - c[k]).abs() <= 1e-9 * scale,
+                "{name} at {} s: {} against {}",
+                tc[k],
+                f[10 * k],
+                c[k]
+            );
+        }
+    }
+    // Between the instants the states move and the input holds.
+    let (h2, u) = (column(&fine, "h2"), column(&fine, "voltage"));
+    assert!((1..9).all(|j| u[100 + j] == u[100]));
+    assert!((1..9).any(|j| h2[100 + j] != h2[100]));
+}

@@ -256,6 +256,82 @@ pub struct LoopRun {
     pub iae: f64,
     /// Integral of (y - r)^2, SI^2 s.
     pub ise: f64,
+    /// The plant's states at output instants finer than the control period, from the
+    /// solver's dense output (None: the run is sampled at its control instants).
+    pub samples: Option<DenseSamples>,
+}
+
+/// A run's states at its output instants, from the solver's dense output.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DenseSamples {
+    /// Output instants \[s\].
+    pub t: Vec<f64>,
+    /// Every plant state at each output instant, SI (`states[i][j]`: state i at instant j).
+    pub states: Vec<Vec<f64>>,
+}
+
+impl DenseSamples {
+    /// `values`, one per control instant of `instants`, held to each output instant (the
+    /// value of the last control instant at or before it: what the loop held there).
+    pub fn held(&self, instants: &[f64], values: &[f64]) -> Vec<f64> {
+        // A control instant k * T and an output instant j * dt that are the same decimal
+        // time may differ in the last bit: one within 1e-9 of the gap counts as reached.
+        let tol = 1e-9 * instants.get(1).map_or(1.0, |t1| t1 - instants[0]);
+        let mut k = 0;
+        self.t
+            .iter()
+            .map(|&t| {
+                while k + 1 < instants.len() && instants[k + 1] <= t + tol {
+                    k += 1;
+                }
+                values.get(k).copied().unwrap_or(f64::NAN)
+            })
+            .collect()
+    }
+}
+
+/// Takes a run's states every output interval from each step's dense output.
+struct DenseSampler {
+    clock: Instants,
+    next: u64,
+    count: u64,
+    out: DenseSamples,
+    buf: Vec<f64>,
+}
+
+impl DenseSampler {
+    /// The output instants `0, dt, ...` before `duration_s` of `n` plant states.
+    fn new(dt: f64, duration_s: f64, n: usize) -> Result<Self> {
+        Ok(DenseSampler {
+            clock: Instants::seconds(dt),
+            next: 0,
+            count: sampling_steps(duration_s, dt)?,
+            out: DenseSamples {
+                t: Vec::new(),
+                states: vec![Vec::new(); n],
+            },
+            buf: Vec::new(),
+        })
+    }
+
+    /// The output instants up to the solver's time, from its last step.
+    fn take<S: Integrated>(&mut self, s: &Dopri5<S>) {
+        while self.next < self.count && self.clock.at(self.next) <= s.t() {
+            let t = self.clock.at(self.next);
+            if t == s.t() {
+                self.buf.clear();
+                self.buf.extend_from_slice(s.state());
+            } else {
+                self.buf.resize(s.state().len(), 0.0);
+                s.interpolate(t, &mut self.buf);
+            }
+            self.out.t.push(t);
+            for (col, v) in self.out.states.iter_mut().zip(&self.buf) {
+                col.push(*v);
+            }
+            self.next += 1;
+        }
+    }
 }
 
 impl LoopRun {
@@ -289,7 +365,7 @@ pub fn closed_loop<P: Plant>(
         ctl,
         input,
         (setpoint, period_s, duration_s),
-        &clean,
+        (&clean, None),
         &tol,
     )
 }
@@ -297,14 +373,16 @@ pub fn closed_loop<P: Plant>(
 /// [`closed_loop`] under `conditions`: the controller sees its states through noisy
 /// sensors, and its command, dithered, reaches the plant after the delay. `u` records
 /// what reached the plant; `y_measured` what the controller saw of the regulated state.
-/// `tol`: the solver's settings (see [`LOOP_RTOL`] for the scenarios' default).
+/// With `output_s` (finer than the period), the states are also taken every `output_s`
+/// from the solver's dense output ([`LoopRun::samples`]). `tol`: the solver's settings
+/// (see [`LOOP_RTOL`] for the scenarios' default).
 pub fn closed_loop_with<P: Plant>(
     mut plant: P,
     x0: &[f64],
     ctl: &mut dyn Controller,
     input: usize,
     (setpoint, period_s, duration_s): (&Signal, f64, f64),
-    conditions: &LoopConditions,
+    (conditions, output_s): (&LoopConditions, Option<f64>),
     tol: &Tolerances,
 ) -> Result<LoopRun> {
     let n_meas = ctl.measurements().len();
@@ -327,7 +405,11 @@ pub fn closed_loop_with<P: Plant>(
             y_measured: Vec::new(),
             iae: 0.0,
             ise: 0.0,
+            samples: None,
         },
+        dense: output_s
+            .map(|dt| DenseSampler::new(dt, duration_s, n_states))
+            .transpose()?,
         sensors: Sensors::new(conditions),
         actuator: Actuator::new(conditions),
         noisy: conditions.noisy(),
@@ -340,13 +422,19 @@ pub fn closed_loop_with<P: Plant>(
     };
     let steps = sampling_steps(duration_s, period_s)?;
     let instants = Instants::seconds(period_s);
+    if let Some(d) = hooks.dense.as_mut() {
+        d.take(&s);
+    }
     drive(&mut s, instants.at(steps), Some(instants), &mut hooks)?;
-    Ok(hooks.run)
+    let mut run = hooks.run;
+    run.samples = hooks.dense.map(|d| d.out);
+    Ok(run)
 }
 
 /// A controller on a plant's input at each instant, and the run's samples.
 struct Regulate<'a> {
     run: LoopRun,
+    dense: Option<DenseSampler>,
     meas: Vec<f64>,
     y_idx: usize,
     ctl: &'a mut dyn Controller,
@@ -397,6 +485,12 @@ impl<P: Plant> Hooks<Alone<P>> for Regulate<'_> {
         if let Some(v) = ctl.adaptive(t) {
             run.weights
                 .push([v.w_norm, v.w1_norm, v.w1_distance, v.ball_radius]);
+        }
+        Ok(())
+    }
+    fn stepped(&mut self, s: &Dopri5<Alone<P>>, _done: bool) -> Result<()> {
+        if let Some(d) = self.dense.as_mut() {
+            d.take(s);
         }
         Ok(())
     }

@@ -192,6 +192,8 @@ pub(super) fn run_control<P: Plant>(
             "the controller the one under test is compared with, run on an identical plant",
         )
     })?;
+    // A trajectory finer than the control period comes from the solver's dense output.
+    let output_s = (spec.output_interval_s < c.period_s).then_some(spec.output_interval_s);
     let mut runs = Vec::new();
     for (field, l) in [
         ("control.controller", &c.controller),
@@ -221,7 +223,7 @@ pub(super) fn run_control<P: Plant>(
             ctl.as_mut(),
             k,
             (&sp, c.period_s, spec.duration_s),
-            &conditions,
+            (&conditions, output_s),
             tol,
         )?);
     }
@@ -280,6 +282,9 @@ fn loop_figures(
     }
 }
 
+/// `trajectory.csv`'s columns: at the control instants, or at the output instants of the
+/// dense output (the states there; the set-point, input, measurement, inner set-point and
+/// weights as held since the last control instant).
 fn loop_columns<P: Plant>(
     plant: &P,
     runs: &[LoopRun],
@@ -293,34 +298,44 @@ fn loop_columns<P: Plant>(
         values,
         input: false,
     };
+    // Per run: its instant-held values on the output grid, and its states there.
+    let at = |run: &LoopRun, v: &[f64]| match &run.samples {
+        Some(d) => d.held(&run.t, v),
+        None => v.to_vec(),
+    };
+    let states = |run: &LoopRun| match &run.samples {
+        Some(d) => d.states.clone(),
+        None => run.states.clone(),
+    };
+    let t = runs[0].samples.as_ref().map_or(&runs[0].t, |d| &d.t).clone();
     let mut cols = vec![
-        col("t".into(), TIME, runs[0].t.clone()),
-        col(format!("{}_ref", qy.name), *qy, runs[0].setpoint.clone()),
+        col("t".into(), TIME, t),
+        col(format!("{}_ref", qy.name), *qy, at(&runs[0], &runs[0].setpoint)),
     ];
     for ((run, suffix), inner) in runs.iter().zip(["", "_baseline"]).zip(inner) {
-        for (q, v) in plant.states().iter().zip(&run.states) {
-            cols.push(col(format!("{}{suffix}", q.name), *q, v.clone()));
+        for (q, v) in plant.states().iter().zip(states(run)) {
+            cols.push(col(format!("{}{suffix}", q.name), *q, v));
         }
         cols.push(PlantColumn {
             input: true,
-            ..col(format!("{}{suffix}", qu.name), *qu, run.u.clone())
+            ..col(format!("{}{suffix}", qu.name), *qu, at(run, &run.u))
         });
         if !run.y_measured.is_empty() {
             cols.push(col(
                 format!("{}_measured{suffix}", qy.name),
                 *qy,
-                run.y_measured.clone(),
+                at(run, &run.y_measured),
             ));
         }
         if let (false, Some(q)) = (run.inner_reference.is_empty(), inner) {
             cols.push(col(
                 format!("{}_ref{suffix}", q.name),
                 q,
-                run.inner_reference.clone(),
+                at(run, &run.inner_reference),
             ));
         }
         if !run.weights.is_empty() {
-            let w = |k: usize| run.weights.iter().map(|v| v[k]).collect::<Vec<f64>>();
+            let w = |k: usize| at(run, &run.weights.iter().map(|v| v[k]).collect::<Vec<f64>>());
             let [wq, w1q, ballq] = WEIGHT_QUANTITIES;
             cols.push(col(format!("w_norm{suffix}"), wq, w(0)));
             cols.push(col(format!("w1_norm{suffix}"), w1q, w(1)));

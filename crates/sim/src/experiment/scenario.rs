@@ -27,7 +27,8 @@ pub struct ScenarioSpec {
     pub description: String,
     /// Simulated time \[s\].
     pub duration_s: f64,
-    /// Sample interval of the outputs \[s\] (a control run samples at its period).
+    /// Sample interval of the outputs \[s\] (a control run samples at its period, or at
+    /// this interval from the solver's dense output when it is shorter).
     #[serde(default = "one")]
     pub output_interval_s: f64,
     /// The plant, its parameters and initial state.
