@@ -392,6 +392,11 @@ fn bad_identifier_sections_are_clear_errors() {
             ),
             "`identifier.states[1]` = \"flow\"",
         ),
+        (
+            // Refused at once (it stepped for about 20 s before its solver gave up).
+            shipped.replace("a = [120.0, 41.0]", "a = [1e9, 41.0]"),
+            "`identifier.a[0]` = 1000000000 is not allowed: at most 825000 1/s for a run of duration_s = 40 s",
+        ),
     ];
     assert_bad_scenarios(d.path(), &cases);
 }

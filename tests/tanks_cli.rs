@@ -155,18 +155,16 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
     assert_eq!(full.lines().count(), 201);
     let s = json(&dir.join("summary.json"));
     assert_eq!((s["runs"].as_u64(), s["failed"].as_u64()), (Some(200), Some(0)));
-    // Interrupted after 70 runs, the last row cut in the middle: the same command
-    // resumes, runs the 130 others (and the cut one), and writes the same bytes.
+    // Interrupted after `kept` runs, the next row cut to `cut` of its bytes: the same
+    // command resumes, runs the others (and the cut one), and writes the same bytes.
     let lines: Vec<&str> = full.lines().collect();
-    let mut partial = lines[..71].join("\n");
-    partial.push('\n');
-    partial.push_str(&lines[71][..20]);
-    std::fs::write(dir.join("runs.partial.csv"), partial).unwrap();
-    std::fs::remove_file(dir.join("runs.csv")).unwrap();
-    std::fs::remove_file(dir.join("summary.json")).unwrap();
-    let o = rhonn(
-        d.path(),
-        &[
+    let resume = |kept: usize, cut: usize| {
+        let mut partial = lines[..kept + 1].join("\n");
+        partial.push('\n');
+        partial.push_str(&lines[kept + 1][..cut]);
+        std::fs::write(dir.join("runs.partial.csv"), partial).unwrap();
+        std::fs::remove_file(dir.join("runs.csv")).unwrap();
+        let args = [
             "campaign",
             "tanks-control",
             "--runs",
@@ -175,45 +173,23 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
             "4",
             "--out",
             "c",
-        ],
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("resuming: 70 runs already done"),
-        "{}",
+        ];
+        let o = rhonn(d.path(), &args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(std::fs::read_to_string(dir.join("runs.csv")).unwrap(), full);
+        assert!(!dir.join("runs.partial.csv").exists());
         stderr(&o)
-    );
-    assert_eq!(std::fs::read_to_string(dir.join("runs.csv")).unwrap(), full);
+    };
+    let e = resume(70, 20);
+    assert!(e.contains("resuming: 70 runs already done"), "{e}");
     assert_eq!(std::fs::read_to_string(dir.join("envelope.csv")).unwrap(), env);
-    assert!(!dir.join("runs.partial.csv").exists());
     // Cut inside its last figure, a row keeps its number of fields but not its line
     // break: it is run again, not kept with a shortened number.
-    let mut partial = lines[..41].join("\n");
-    partial.push('\n');
-    partial.push_str(&lines[41][..lines[41].len() - 2]);
-    std::fs::write(dir.join("runs.partial.csv"), partial).unwrap();
-    std::fs::remove_file(dir.join("runs.csv")).unwrap();
-    let o = rhonn(
-        d.path(),
-        &[
-            "campaign",
-            "tanks-control",
-            "--runs",
-            "200",
-            "--seed",
-            "4",
-            "--out",
-            "c",
-        ],
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
+    let e = resume(40, lines[41].len() - 2);
     assert!(
-        stderr(&o).contains("its last row was cut and is ignored")
-            && stderr(&o).contains("resuming: 40 runs already done"),
-        "{}",
-        stderr(&o)
+        e.contains("its last row was cut and is ignored") && e.contains("resuming: 40 runs already done"),
+        "{e}"
     );
-    assert_eq!(std::fs::read_to_string(dir.join("runs.csv")).unwrap(), full);
     // Another seed into the same folder is refused.
     let o = rhonn(
         d.path(),

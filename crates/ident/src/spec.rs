@@ -6,6 +6,7 @@ use crate::error::{invalid, Result};
 use crate::law::LawSpec;
 use crate::net::{Network, Sigmoid, Terms, MAX_TERMS, MAX_Y};
 use crate::plant::{Plant, SignalRef};
+use rhonn_ode::DEFAULT_MAX_STEPS;
 use serde::{Deserialize, Serialize};
 
 /// A sigmoid by name (`"logistic"`, `"tanh"`) or by its parameters `{a, b, c}`.
@@ -289,6 +290,29 @@ impl IdentifierSpec {
                 ))
             }
         })
+    }
+
+    /// Whether the neurons' poles can be integrated over a run of `duration_s` (`field`
+    /// names that duration in an error): an explicit Dormand-Prince step is stable for
+    /// `h a <= 3.3`, so a pole `a` needs at least `a duration_s / 3.3` steps, and a run may
+    /// take [`DEFAULT_MAX_STEPS`]; beyond it the run would step for tens of seconds and fail.
+    pub fn check_pole_speed(&self, duration_s: f64, field: &str) -> Result<()> {
+        let most = 3.3 * DEFAULT_MAX_STEPS as f64 / duration_s;
+        for (k, a) in self.a.iter().enumerate() {
+            if *a > most {
+                return Err(invalid(
+                    format!("identifier.a[{k}]"),
+                    a,
+                    format!(
+                        "at most {} 1/s for a run of {field} = {duration_s} s: a faster neuron needs more than the \
+                         {} steps a run may take (a pole of a 1/s wants steps below 3.3/a s)",
+                        crate::metrics::sig(most, 3),
+                        crate::metrics::sig(DEFAULT_MAX_STEPS as f64, 3)
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// The neurons' poles a_i > 0, one per state.

@@ -77,7 +77,7 @@ mod tableau;
 
 pub use dopri5::{DenseComponent, Dopri5, EventKind, StepResult, MAX_EVENTS};
 pub use error::{Error, Snapshot};
-pub use options::{Options, Profile};
+pub use options::{Options, Profile, DEFAULT_MAX_STEPS};
 pub use state::State;
 pub use stats::Stats;
 pub use system::{Direction, EventAction, System};

@@ -37,6 +37,9 @@ pub struct Options<S: State> {
     pub profile: Profile,
 }
 
+/// The most steps one solve takes by default ([`Options::max_steps`]).
+pub const DEFAULT_MAX_STEPS: u64 = 10_000_000;
+
 impl<S: State> Options<S> {
     /// Hairer profile with the same tolerances on every state.
     pub fn uniform(dim: usize, rtol: f64, atol: f64) -> Self {
@@ -46,7 +49,7 @@ impl<S: State> Options<S> {
             h_max_s: f64::INFINITY,
             h_min_s: 1e-14,
             h_init_s: None,
-            max_steps: 10_000_000,
+            max_steps: DEFAULT_MAX_STEPS,
             event_tol_s: 1e-10,
             profile: Profile::Hairer,
         }

@@ -18,6 +18,13 @@ pub(super) fn run_identification<P: Plant>(
     tol: &Tolerances,
 ) -> Result<PlantRunOutput> {
     let is = ident.check_for(&plant)?;
+    // Refused now, not after tens of seconds of stepping.
+    ident.check_pole_speed(spec.duration_s, "duration_s")?;
+    // (A validation's duration out of its own bounds is refused below, by its own name.)
+    let valid = |d: f64| d.is_finite() && d > 0.0 && d / spec.output_interval_s <= 1e7;
+    if let Some(v) = spec.validation.as_ref().filter(|v| valid(v.duration_s)) {
+        ident.check_pole_speed(v.duration_s, "validation.duration_s")?;
+    }
     let sampling = (spec.duration_s, spec.output_interval_s);
     // Each epoch runs the record again, its weights starting where the last ended; the
     // figures and columns are the last epoch's.

@@ -314,6 +314,9 @@ impl PumpSettings {
                 "absent with controller kind `rhonn-adaptive` (it identifies its own model online)",
             ));
         }
+        if let Some(i) = &self.identifier {
+            i.check_pole_speed(self.duration_s, "duration_s")?;
+        }
         if self.campaign.is_some() {
             super::campaign_plan::Plan::of(self)?;
         }
