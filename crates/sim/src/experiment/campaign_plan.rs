@@ -177,9 +177,13 @@ impl Plan {
             .collect()
     }
 
-    /// Runs of a full-factorial corner campaign: 2 to the number of varying parameters.
+    /// Runs of a full-factorial corner campaign: 2 to the number of varying parameters
+    /// (`u64::MAX` past 63 of them, which the campaign's bound on runs refuses).
     pub fn corner_runs(&self) -> u64 {
-        1 << self.varying().len()
+        u32::try_from(self.varying().len())
+            .ok()
+            .and_then(|k| 1u64.checked_shl(k))
+            .unwrap_or(u64::MAX)
     }
 }
 
