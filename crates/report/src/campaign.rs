@@ -185,37 +185,6 @@ fn tally(names: &[String], runs: &Runs) -> Result<Tally> {
     })
 }
 
-/// Each figure's statistics and the histograms' panels, one figure at a time (a pass over
-/// the runs each: the values of one figure in memory at once).
-fn figures(
-    names: &[String],
-    scenario: &str,
-    runs: &Runs,
-) -> Result<(Vec<FigureStats>, Vec<crate::Histogram>)> {
-    let mut stats = Vec::new();
-    let mut panels = Vec::new();
-    for (k, name) in names.iter().enumerate() {
-        let mut v = Vec::new();
-        runs.for_each(|index, fields, failed| {
-            if !failed {
-                let r = parse_row(index, fields).map_err(Error::Campaign)?;
-                v.extend(r.outcome.ok().map(|f| f[k]));
-            }
-            Ok(())
-        })?;
-        if crate::campaign_plots::shown(names, name) {
-            panels.push(crate::Histogram::new(
-                format!("{scenario}: {name}"),
-                name.clone(),
-                &v,
-                30,
-            ));
-        }
-        stats.push(rhonn::experiment::campaign::figure_stats(name, v));
-    }
-    Ok((stats, panels))
-}
-
 /// What `summary.json` holds.
 #[derive(Debug, Serialize)]
 struct CampaignSummary<'a> {
@@ -261,7 +230,9 @@ fn finish(
         .map_err(|e| Error::Campaign(format!("cannot write a worst run's scenario: {e}")))?;
     let worst_runs: Vec<_> = worst.iter().map(|(w, _)| w.clone()).collect();
     let worst_files: Vec<String> = worst.iter().map(|(w, _)| w.file.clone()).collect();
-    let (stats, panels) = figures(&names, &file.scenario, runs)?;
+    // Figures follow the run, its 5 drawn values, its status and its error.
+    let shown = |name: &str| crate::campaign_plots::shown(&names, name);
+    let (stats, panels) = crate::campaign_rows::figure_statistics(runs, (&names, 8), &file.scenario, shown)?;
     let n = runs.len();
     let summary = CampaignSummary {
         campaign: file,

@@ -313,3 +313,39 @@ impl Runs {
             .map_err(|e| io_err("read", path, e))
     }
 }
+
+/// Each figure's statistics and its histogram panel (when `shown(name)`), one figure at a
+/// time: a pass over the runs each, so that one figure's values are in memory at once.
+/// Figure `k` of a finished run is its field `first + k` (a value that does not read, or is
+/// not finite, is left out of both).
+pub(crate) fn figure_statistics(
+    runs: &Runs,
+    (names, first): (&[String], usize),
+    scenario: &str,
+    shown: impl Fn(&str) -> bool,
+) -> Result<(
+    Vec<rhonn::experiment::campaign::FigureStats>,
+    Vec<crate::Histogram>,
+)> {
+    let mut stats = Vec::new();
+    let mut panels = Vec::new();
+    for (k, name) in names.iter().enumerate() {
+        let mut v = Vec::new();
+        runs.for_each(|_, fields, failed| {
+            if !failed {
+                v.extend(fields.get(first + k).and_then(|x| x.parse::<f64>().ok()));
+            }
+            Ok(())
+        })?;
+        if shown(name) {
+            panels.push(crate::Histogram::new(
+                format!("{scenario}: {name}"),
+                name.clone(),
+                &v,
+                30,
+            ));
+        }
+        stats.push(rhonn::experiment::campaign::figure_stats(name, v));
+    }
+    Ok((stats, panels))
+}

@@ -14,7 +14,7 @@ use crate::campaign_options::{CampaignOptions, CampaignOutcome, Progress};
 use crate::campaign_runner::{self, CampaignKind, Done, Runs};
 use crate::worst_runs::Ranker;
 use crate::{write_json, Error};
-use rhonn::experiment::campaign::{draw, figure_stats, FigureStats, Plan, Sampling};
+use rhonn::experiment::campaign::{draw, FigureStats, Plan, Sampling};
 use rhonn::experiment::{campaign_plan, nominal_plant_parameters, run_plant_scenario, ScenarioSpec};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
@@ -185,35 +185,6 @@ impl CampaignKind for PlantCampaign {
     }
 }
 
-/// Each figure's statistics and histogram panel, one figure at a time (a pass over the
-/// runs each: the values of one figure in memory at once).
-fn figures(job: &PlantCampaign, runs: &Runs) -> Result<(Vec<FigureStats>, Vec<crate::Histogram>)> {
-    let mut stats = Vec::new();
-    let mut panels = Vec::new();
-    for (k, name) in job.fig_names.iter().enumerate() {
-        let mut v = Vec::new();
-        runs.for_each(|_, r, failed| {
-            if !failed {
-                v.extend(
-                    r[2 + job.n_params + k]
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|x| x.is_finite()),
-                );
-            }
-            Ok(())
-        })?;
-        panels.push(crate::Histogram::new(
-            format!("{}: {name}", job.spec.name),
-            name.clone(),
-            &v,
-            30,
-        ));
-        stats.push(figure_stats(name, v));
-    }
-    Ok((stats, panels))
-}
-
 /// One pass over the runs: the worst runs (see `worst_runs::describe_plant`) and the
 /// drawn values of the finished runs kept for the envelope, in index order.
 #[allow(clippy::type_complexity)]
@@ -252,7 +223,10 @@ fn worst_and_kept(
 fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> Result<CampaignOutcome> {
     let spec = &job.spec;
     let (n, failed) = (runs.len(), runs.failed());
-    let (stats, panels) = figures(job, runs)?;
+    // Figures follow the run, its status and its drawn values.
+    let first = 2 + job.n_params;
+    let (stats, panels) =
+        crate::campaign_rows::figure_statistics(runs, (&job.fig_names, first), &spec.name, |_| true)?;
     #[derive(Serialize)]
     struct Summary<'a> {
         scenario: &'a str,
