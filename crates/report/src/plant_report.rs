@@ -64,6 +64,10 @@ fn label(name: &str) -> String {
         format!("{base} (baseline)")
     } else if let Some(base) = name.strip_suffix("_ref") {
         format!("{base} set-point")
+    } else if let Some(base) = name.strip_suffix("_hat_series_parallel") {
+        format!("{base} series-parallel (frozen)")
+    } else if let Some(base) = name.strip_suffix("_hat_parallel") {
+        format!("{base} free run (frozen)")
     } else if let Some(base) = name.strip_suffix("_hat") {
         format!("{base} estimated")
     } else {
@@ -109,7 +113,12 @@ pub fn write_plant_run(dir: &Path, output: &PlantRunOutput) -> Result<Vec<PathBu
     }
     if let Some(v) = &output.validation {
         set.write("validation.csv", |w| write_columns(w, v))?;
-        let title = format!("{name} (frozen weights, free run)");
+        let same_data = v.iter().any(|c| c.name.ends_with("_hat_series_parallel"));
+        let title = if same_data {
+            format!("{name} (frozen weights on the training inputs)")
+        } else {
+            format!("{name} (frozen weights, free run)")
+        };
         plots.push((
             "validation.svg",
             TimePlot::render(&panels(&title, v, |c| !is_in(c)), 900, 380),

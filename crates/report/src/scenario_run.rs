@@ -109,11 +109,20 @@ fn plant_lines(output: &PlantRunOutput) -> Vec<String> {
             "  {}: online (second half) rms error {:.3} {}, fit {:.1} %",
             f.state, f.training_rms_error, f.unit, f.training_fit_percent
         );
-        if let (Some(r), Some(p)) = (f.validation_rms_error, f.validation_fit_percent) {
-            line += &format!(
-                "; frozen, free run on the validation inputs: rms error {r:.3} {}, fit {p:.1} %",
-                f.unit
-            );
+        match (f.validation_rms_error, f.validation_fit_percent, f.series_parallel_fit_percent) {
+            (Some(r), Some(p), Some(sp)) => {
+                line += &format!(
+                    "; frozen on the training inputs: series-parallel fit {sp:.1} %, free run rms error {r:.3} {}, fit {p:.1} %",
+                    f.unit
+                )
+            }
+            (Some(r), Some(p), None) => {
+                line += &format!(
+                    "; frozen, free run on the validation inputs: rms error {r:.3} {}, fit {p:.1} %",
+                    f.unit
+                )
+            }
+            _ => {}
         }
         lines.push(line);
     }

@@ -120,3 +120,66 @@ fn an_identifier_s_epochs_and_validate_are_done_not_ignored() {
         "{e}"
     );
 }
+
+/// `validate = true` (the default) without a `[validation]` section on a plant other than
+/// the pump (it was read and ignored there): the frozen model runs again on the training
+/// inputs, its series-parallel estimate and its free run in one integration, as the pump's
+/// runner validates thesis-ch5: validation.csv's columns are the pump's names, the summary
+/// has both figures per state, and `validate = false` leaves the validation out.
+#[test]
+fn without_a_validation_section_the_frozen_model_runs_again_on_the_training_inputs() {
+    let text = shipped("tanks-identify");
+    let text = &text[..text.find("[validation]").unwrap()];
+    let text = text.replace("duration_s = 6000.0", "duration_s = 3000.0");
+    let out = run(&text).unwrap();
+    let v = out
+        .validation
+        .as_ref()
+        .expect("a validation on the training inputs");
+    let names: Vec<&str> = v.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "t",
+            "voltage",
+            "h1",
+            "h1_hat_series_parallel",
+            "h1_hat_parallel",
+            "h2",
+            "h2_hat_series_parallel",
+            "h2_hat_parallel"
+        ]
+    );
+    // The same inputs and plant: the measured levels are the training run's (each run
+    // steps its own way: to the solver's tolerance).
+    let (h_train, h_again) = (column(&out, "h2"), &v[5].values);
+    assert_eq!(h_train.len(), h_again.len());
+    let worst = h_train
+        .iter()
+        .zip(h_again)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-5, "{worst} m");
+    for s in out.summary.identification.as_ref().unwrap() {
+        let (sp, free) = (
+            s.series_parallel_fit_percent.unwrap(),
+            s.validation_fit_percent.unwrap(),
+        );
+        // On the measured levels the frozen model tracks; running free it drifts more.
+        assert!(sp > 90.0 && sp >= free, "{s:?}");
+        assert!(
+            s.series_parallel_rms_error.unwrap() <= s.validation_rms_error.unwrap(),
+            "{s:?}"
+        );
+    }
+    assert!(
+        out.summary.findings[0].contains("series-parallel"),
+        "{:?}",
+        out.summary.findings
+    );
+    let off = run(&text.replace("law = {", "validate = false\nlaw = {")).unwrap();
+    assert!(off.validation.is_none());
+    assert!(off.summary.identification.unwrap()[0]
+        .series_parallel_fit_percent
+        .is_none());
+}

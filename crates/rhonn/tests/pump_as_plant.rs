@@ -124,13 +124,48 @@ fn thesis_ch5_through_the_generic_runner_learns_the_thesis_weights() {
         .iter()
         .map(|s| s.final_weight_norm)
         .collect();
-    let own = rhonn::experiment::run_full(
+    let own_run = rhonn::experiment::run_full(
         &preset::load_any("thesis-ch5").unwrap().pump_run().unwrap(),
         &mut Trace::default(),
     )
-    .unwrap()
-    .model
     .unwrap();
+    // `validate = true` (the default) without `[validation]`: the frozen model runs again on
+    // the training inputs, series-parallel and free, as the pump's runner validates; the
+    // fits over the whole run (sampled every 10 ms here, integrated on the dense output
+    // there) agree.
+    let valid = out.validation.as_ref().expect("a same-data validation");
+    let col = |name: &str| {
+        &valid
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap_or_else(|| panic!("{name}"))
+            .values
+    };
+    let id = own_run.summary.identification.as_ref().unwrap();
+    for (k, s) in ["p_line", "stroke"].iter().enumerate() {
+        for (mode, own) in [
+            ("series_parallel", &id.series_parallel[k]),
+            ("parallel", &id.parallel[k]),
+        ] {
+            let fit = rhonn::metrics::fit_percent(col(s), col(&format!("{s}_hat_{mode}")));
+            eprintln!(
+                "{s} {mode}: fit {fit:.4} % (generic, sampled) vs {:.4} % (own runner)",
+                own.fit_percent
+            );
+            // Within 1 % of the figure (the headline tolerance for the move).
+            assert!(
+                (fit - own.fit_percent).abs() <= 0.01 * own.fit_percent.abs().max(100.0),
+                "{s} {mode}: {fit} vs {}",
+                own.fit_percent
+            );
+        }
+    }
+    let figs = &out.summary.identification.as_ref().unwrap()[0];
+    assert!(
+        figs.series_parallel_fit_percent.is_some() && figs.validation_fit_percent.is_some(),
+        "{figs:?}"
+    );
+    let own = own_run.model.unwrap();
     for (k, w) in own.weights.iter().enumerate() {
         let norm = w.iter().map(|v| v * v).sum::<f64>().sqrt();
         eprintln!(

@@ -40,8 +40,13 @@ pub struct IdentRun {
     pub t: Vec<f64>,
     /// Per identified state: its values (SI).
     pub y: Vec<Vec<f64>>,
-    /// Per identified state: the online estimate.
+    /// Per identified state: the online estimate (with [`Weights::Frozen`], the frozen
+    /// model's free run).
     pub y_hat: Vec<Vec<f64>>,
+    /// Per identified state, with [`Weights::Frozen`] only (else empty): the frozen model's
+    /// series-parallel estimate (its regressor on the measured states), from the same
+    /// integration as its free run.
+    pub y_hat_series_parallel: Vec<Vec<f64>>,
     /// The final weights, one vector per neuron.
     pub weights: Vec<Vec<f64>>,
 }
@@ -103,6 +108,11 @@ pub fn identify<P: Plant>(
             t: Vec::new(),
             y: vec![Vec::new(); n],
             y_hat: vec![Vec::new(); n],
+            y_hat_series_parallel: if frozen.is_some() {
+                vec![Vec::new(); n]
+            } else {
+                Vec::new()
+            },
             weights: Vec::new(),
         },
         idx: is.states.iter().filter_map(|s| s.state_index()).collect(),
@@ -212,6 +222,13 @@ impl Sampler {
         for (k, &i) in self.idx.iter().enumerate() {
             self.run.y[k].push(x[i]);
             self.run.y_hat[k].push(self.hats[i].unwrap_or(f64::NAN));
+        }
+        // A frozen model's series-parallel copy (slot 0) rides on the same integration.
+        if !self.run.y_hat_series_parallel.is_empty() {
+            solver.system().hats(x, 0, &mut self.hats);
+            for (k, &i) in self.idx.iter().enumerate() {
+                self.run.y_hat_series_parallel[k].push(self.hats[i].unwrap_or(f64::NAN));
+            }
         }
     }
 }
@@ -597,6 +614,13 @@ mod tests {
         .unwrap();
         assert_eq!(frozen.weights, run.weights);
         assert_eq!(frozen.y_hat[0][0], 0.0);
+        // The series-parallel copy rides along: one estimate per sample, on the measured
+        // level (close to it, as while training), while the training run has none.
+        let sp = &frozen.y_hat_series_parallel;
+        assert_eq!((sp.len(), sp[0].len()), (1, frozen.t.len()));
+        assert!(run.y_hat_series_parallel.is_empty());
+        let sp_rms = crate::metrics::rms_error(&frozen.y[0][25..], &sp[0][25..]);
+        assert!(sp_rms < 5e-3, "{sp_rms}");
         // Less than one sample: an error, not an empty or doubled record.
         let e = identify(
             Tanks::new(TanksParams::default(), Input::Held(5.0)),

@@ -1,6 +1,7 @@
 //! A plant scenario's `[identifier]` experiment: the online identification, then its
-//! frozen model's free run on the `[validation]` inputs, their figures per state and
-//! the columns of `trajectory.csv` and `validation.csv`.
+//! frozen model's free run on the `[validation]` inputs (or, without that section, its
+//! series-parallel and free runs on the training inputs again, as the thesis validates),
+//! their figures per state and the columns of `trajectory.csv` and `validation.csv`.
 
 use super::any_plant::{identify, IdentRun, Weights};
 use super::plant_summary::{time_and_inputs, IdentStateFigures, PlantColumn, PlantRunOutput, PlantSummary};
@@ -39,39 +40,9 @@ pub(super) fn run_identification<P: Plant>(
             tol,
         )?;
     }
-    let validation = match &spec.validation {
-        Some(_) if !is.validate => {
-            return Err(invalid(
-                "validation",
-                "a section",
-                "absent with identifier.validate = false (no frozen-weight run), or validate = true",
-            ))
-        }
-        Some(v) => {
-            // As many output samples as the run may hold (check_times' bound).
-            if !(v.duration_s.is_finite()
-                && v.duration_s > 0.0
-                && v.duration_s / spec.output_interval_s <= 1e7)
-            {
-                return Err(invalid(
-                    "validation.duration_s",
-                    v.duration_s,
-                    "finite, > 0 and at most 10,000,000 output intervals (output_interval_s)",
-                ));
-            }
-            let p = drive(plant.clone(), &v.input, "validation.input")?;
-            let sampling = (v.duration_s, spec.output_interval_s);
-            Some(identify(
-                p,
-                x0,
-                &is,
-                sampling,
-                Weights::Frozen(&train.weights),
-                tol,
-            )?)
-        }
-        None => None,
-    };
+    let validation = frozen_run(&plant, x0, spec, &is, &train.weights, tol)?;
+    // Without `[validation]`, the frozen model runs again on the training inputs.
+    let same_data = spec.validation.is_none() && validation.is_some();
     let quantities: Vec<Quantity> = is.states.iter().map(|s| *s.quantity(&plant)).collect();
     let half = spec.duration_s / 2.0;
     let (tr_rms, tr_fit) = (train.rms_after(half), train.fit_percent_after(half));
@@ -79,6 +50,13 @@ pub(super) fn run_identification<P: Plant>(
         .as_ref()
         .map(|v| v.t.last().copied().unwrap_or(0.0) / 10.0)
         .unwrap_or(0.0);
+    let sp = validation.as_ref().filter(|_| same_data).map(|v| {
+        let sp = IdentRun {
+            y_hat: v.y_hat_series_parallel.clone(),
+            ..v.clone()
+        };
+        (sp.rms_after(after), sp.fit_percent_after(after))
+    });
     let mut figs = Vec::new();
     for (k, q) in quantities.iter().enumerate() {
         let (v_rms, v_fit) = match &validation {
@@ -88,6 +66,10 @@ pub(super) fn run_identification<P: Plant>(
             ),
             None => (None, None),
         };
+        let (sp_rms, sp_fit) = match &sp {
+            Some((rms, fit)) => (Some(q.to_display(rms[k])), Some(fit[k])),
+            None => (None, None),
+        };
         figs.push(IdentStateFigures {
             state: q.name,
             unit: q.display_unit,
@@ -95,21 +77,18 @@ pub(super) fn run_identification<P: Plant>(
             training_fit_percent: tr_fit[k],
             validation_rms_error: v_rms,
             validation_fit_percent: v_fit,
+            series_parallel_rms_error: sp_rms,
+            series_parallel_fit_percent: sp_fit,
             final_weight_norm: train.weights[k].iter().map(|w| w * w).sum::<f64>().sqrt(),
         });
-        summary.findings.push(match v_fit {
-            Some(f) => format!(
-                "{}: fit {:.1} % while learning online (second half), {f:.1} % running free with frozen weights on the validation inputs",
-                q.name, tr_fit[k]
-            ),
-            None => format!("{}: fit {:.1} % while learning online (second half)", q.name, tr_fit[k]),
-        });
+        summary.findings.push(finding(q.name, tr_fit[k], v_fit, sp_fit));
     }
     summary.identification = Some(figs);
     let inputs: Vec<&Quantity> = plant.inputs().iter().collect();
     let trajectory = ident_columns(&spec.input, &train, &quantities, &inputs)?;
     let validation = match (&validation, &spec.validation) {
         (Some(v), Some(vs)) => Some(ident_columns(&vs.input, v, &quantities, &inputs)?),
+        (Some(v), None) => Some(same_data_columns(&spec.input, v, &quantities, &inputs)?),
         _ => None,
     };
     Ok(PlantRunOutput {
@@ -118,6 +97,88 @@ pub(super) fn run_identification<P: Plant>(
         validation,
         duration_s: spec.duration_s,
     })
+}
+
+/// The frozen model's run: on the inputs of `[validation]` when there is one, else, with
+/// `validate = true`, on the training inputs again (as the thesis validates the pump's):
+/// its free run and, from the same integration, its series-parallel estimate.
+fn frozen_run<P: Plant>(
+    plant: &P,
+    x0: &[f64],
+    spec: &ScenarioSpec,
+    is: &crate::ident::IdentSettings,
+    weights: &[Vec<f64>],
+    tol: &Tolerances,
+) -> Result<Option<IdentRun>> {
+    let Some(v) = &spec.validation else {
+        if !is.validate {
+            return Ok(None);
+        }
+        let sampling = (spec.duration_s, spec.output_interval_s);
+        return identify(plant.clone(), x0, is, sampling, Weights::Frozen(weights), tol).map(Some);
+    };
+    if !is.validate {
+        return Err(invalid(
+            "validation",
+            "a section",
+            "absent with identifier.validate = false (no frozen-weight run), or validate = true",
+        ));
+    }
+    // As many output samples as the run may hold (check_times' bound).
+    if !(v.duration_s.is_finite() && v.duration_s > 0.0 && v.duration_s / spec.output_interval_s <= 1e7) {
+        return Err(invalid(
+            "validation.duration_s",
+            v.duration_s,
+            "finite, > 0 and at most 10,000,000 output intervals (output_interval_s)",
+        ));
+    }
+    let p = drive(plant.clone(), &v.input, "validation.input")?;
+    let sampling = (v.duration_s, spec.output_interval_s);
+    identify(p, x0, is, sampling, Weights::Frozen(weights), tol).map(Some)
+}
+
+/// A state's finding: its fit while learning, and the frozen model's (free run on the
+/// validation inputs, or series-parallel and free run on the training inputs again).
+fn finding(state: &str, training: f64, free_run: Option<f64>, series_parallel: Option<f64>) -> String {
+    match (free_run, series_parallel) {
+        (Some(f), Some(sp)) => format!(
+            "{state}: fit {training:.1} % while learning online (second half); with frozen weights on the same inputs {sp:.1} % series-parallel, {f:.1} % running free"
+        ),
+        (Some(f), None) => format!(
+            "{state}: fit {training:.1} % while learning online (second half), {f:.1} % running free with frozen weights on the validation inputs"
+        ),
+        _ => format!("{state}: fit {training:.1} % while learning online (second half)"),
+    }
+}
+
+/// Columns of the frozen model run again on the training inputs: time, each input, then
+/// per identified state its values, its series-parallel and its free-run estimates (the
+/// names of the pump's validation.csv).
+fn same_data_columns(
+    inputs_spec: &std::collections::BTreeMap<String, crate::signal::SignalSpec>,
+    run: &IdentRun,
+    quantities: &[Quantity],
+    inputs: &[&Quantity],
+) -> Result<Vec<PlantColumn>> {
+    let mut cols = time_and_inputs(inputs_spec, &run.t, inputs)?;
+    for (k, q) in quantities.iter().enumerate() {
+        for (name, values) in [
+            (q.name.to_string(), &run.y[k]),
+            (
+                format!("{}_hat_series_parallel", q.name),
+                &run.y_hat_series_parallel[k],
+            ),
+            (format!("{}_hat_parallel", q.name), &run.y_hat[k]),
+        ] {
+            cols.push(PlantColumn {
+                name,
+                quantity: *q,
+                values: values.clone(),
+                input: false,
+            });
+        }
+    }
+    Ok(cols)
 }
 
 /// Columns of an identification run: time, each input as the scenario gives it, each

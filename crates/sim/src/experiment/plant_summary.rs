@@ -41,6 +41,14 @@ pub struct IdentStateFigures {
     /// Fit \[%\] of the same (left out of JSON without a validation or when undefined).
     #[serde(skip_serializing_if = "crate::metrics::absent_or_undefined")]
     pub validation_fit_percent: Option<f64>,
+    /// With `validate = true` and no `[validation]` (the frozen model run again on the
+    /// training inputs): RMS error of its series-parallel estimate (its regressor on the
+    /// measured states) after the run's first tenth; left out of JSON otherwise.
+    #[serde(skip_serializing_if = "crate::metrics::absent_or_undefined")]
+    pub series_parallel_rms_error: Option<f64>,
+    /// Fit \[%\] of the same (left out of JSON otherwise, or when undefined).
+    #[serde(skip_serializing_if = "crate::metrics::absent_or_undefined")]
+    pub series_parallel_fit_percent: Option<f64>,
     /// |w| of the neuron at the end of training.
     pub final_weight_norm: f64,
 }
@@ -122,6 +130,9 @@ impl PlantSummary {
                 format!("{}_training_fit_percent", s.state),
                 s.training_fit_percent,
             ));
+            if let Some(f) = s.series_parallel_fit_percent {
+                v.push((format!("{}_series_parallel_fit_percent", s.state), f));
+            }
             if let Some(f) = s.validation_fit_percent {
                 v.push((format!("{}_validation_fit_percent", s.state), f));
             }
@@ -217,10 +228,15 @@ mod tests {
             training_fit_percent: 90.0,
             validation_rms_error: None,
             validation_fit_percent: None,
+            series_parallel_rms_error: None,
+            series_parallel_fit_percent: None,
             final_weight_norm: 0.5,
         };
         let json = serde_json::to_string(&f).unwrap();
-        assert!(!json.contains("null") && !json.contains("validation"), "{json}");
+        assert!(
+            !json.contains("null") && !json.contains("validation") && !json.contains("series"),
+            "{json}"
+        );
         let with = IdentStateFigures {
             validation_rms_error: Some(2.0),
             validation_fit_percent: Some(80.0),
