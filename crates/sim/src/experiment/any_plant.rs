@@ -119,23 +119,27 @@ pub fn identify<P: Plant>(
         // The training identifier's estimates, or the frozen model's parallel copy's.
         slot: usize::from(frozen.is_some()),
         hats: Vec::new(),
+        dense: tol.max_step_s.is_finite(),
+        clock: Instants::seconds(sample_s),
+        next: 0,
+        count: sampling_steps(duration_s, sample_s)?,
+        buf: Vec::new(),
     };
-    let steps = sampling_steps(duration_s, sample_s)?;
-    let instants = Instants::seconds(sample_s);
-    let t_end = instants.at(steps);
+    let t_end = sampler.clock.at(sampler.count);
+    let stops = (!sampler.dense).then_some(sampler.clock);
     let np = plant.dim();
     if let Some(w) = frozen {
         let init = FrozenPair::<P>::initial_state(&is.ident, &is.xhat0);
         let sys = FrozenPair::<P>::new(plant, &is.ident, w, is.states.clone(), is.inputs.clone())?;
         let mut s = solver(sys, x0, &init, tol)?;
-        drive(&mut s, t_end, Some(instants), &mut sampler)?;
+        drive(&mut s, t_end, stops, &mut sampler)?;
         sampler.run.weights = w.to_vec();
         return Ok(sampler.run);
     }
     let init = is.ident.initial_state(&is.xhat0, start);
     let sys = Identified::<P>::new(plant, is.ident.clone(), is.states.clone(), is.inputs.clone())?;
     let mut s = solver(sys, x0, &init, tol)?;
-    drive(&mut s, t_end, Some(instants), &mut sampler)?;
+    drive(&mut s, t_end, stops, &mut sampler)?;
     sampler.run.weights = s.system().ident.weights(&s.state()[np..]);
     Ok(sampler.run)
 }
@@ -204,28 +208,62 @@ fn sampling_steps(duration_s: f64, period_s: f64) -> Result<u64> {
 }
 
 /// Takes an identification's samples: the identified states and model `slot`'s
-/// estimates, at every instant and at the end.
+/// estimates at every output instant (the end included). Nothing discrete happens at a
+/// sample of an identification (no controller, no measurement fed back), so where the
+/// solver's settings bound its step (`[solver] max_step_ms`, as the pump's scenarios do)
+/// the samples come from each step's dense output and the solver steps as the dynamics
+/// ask; where they leave it unbounded the run stops at each sample, which bounds the step
+/// at the sample interval (the accuracy every such run was measured at).
 struct Sampler {
     run: IdentRun,
     /// The identified plant states.
     idx: Vec<usize>,
     slot: usize,
     hats: Vec<Option<f64>>,
+    /// Whether the samples come from the dense output (else the run stops at each).
+    dense: bool,
+    /// The output instants: the next to take, and how many before the end.
+    clock: Instants,
+    next: u64,
+    count: u64,
+    buf: Vec<f64>,
 }
 
 impl Sampler {
-    fn record<S: Integrated>(&mut self, solver: &Dopri5<S>) {
-        let x = solver.state();
+    /// The samples at the output instants in the solver's last step (and its end when
+    /// `done`).
+    fn take<S: Integrated>(&mut self, solver: &Dopri5<S>, done: bool) {
+        while self.dense && self.next < self.count && self.clock.at(self.next) <= solver.t() {
+            let t = self.clock.at(self.next);
+            self.next += 1;
+            if t == solver.t() {
+                self.buf.clear();
+                self.buf.extend_from_slice(solver.state());
+            } else {
+                self.buf.resize(solver.state().len(), 0.0);
+                solver.interpolate(t, &mut self.buf);
+            }
+            self.record(solver.system(), t);
+        }
+        if done {
+            self.buf.clear();
+            self.buf.extend_from_slice(solver.state());
+            self.record(solver.system(), solver.t());
+        }
+    }
+
+    fn record<S: Integrated>(&mut self, system: &S, t: f64) {
+        let x = &self.buf;
         self.hats.resize(x.len(), None);
-        solver.system().hats(x, self.slot, &mut self.hats);
-        self.run.t.push(solver.t());
+        system.hats(x, self.slot, &mut self.hats);
+        self.run.t.push(t);
         for (k, &i) in self.idx.iter().enumerate() {
             self.run.y[k].push(x[i]);
             self.run.y_hat[k].push(self.hats[i].unwrap_or(f64::NAN));
         }
         // A frozen model's series-parallel copy (slot 0) rides on the same integration.
         if !self.run.y_hat_series_parallel.is_empty() {
-            solver.system().hats(x, 0, &mut self.hats);
+            system.hats(x, 0, &mut self.hats);
             for (k, &i) in self.idx.iter().enumerate() {
                 self.run.y_hat_series_parallel[k].push(self.hats[i].unwrap_or(f64::NAN));
             }
@@ -234,14 +272,16 @@ impl Sampler {
 }
 
 impl<S: Integrated> Hooks<S> for Sampler {
+    /// A run that stops at each sample (`drive` with instants): the sample is the state.
     fn instant(&mut self, solver: &mut Dopri5<S>) -> Result<()> {
-        self.record(solver);
+        self.buf.clear();
+        self.buf.extend_from_slice(solver.state());
+        self.next += 1;
+        self.record(solver.system(), solver.t());
         Ok(())
     }
     fn stepped(&mut self, solver: &Dopri5<S>, done: bool) -> Result<()> {
-        if done {
-            self.record(solver);
-        }
+        self.take(solver, done);
         Ok(())
     }
 }
@@ -603,6 +643,28 @@ mod tests {
         .unwrap();
         assert_eq!((run.t.len(), run.y.len(), run.weights.len()), (201, 1, 1));
         assert!(run.rms_after(100.0)[0] < 5e-3, "{:?}", run.rms_after(100.0));
+        // With the step bounded by the settings the samples come from the dense output: the
+        // same instants, the same levels to the solver's accuracy.
+        let bounded = Tolerances {
+            max_step_s: 10.0,
+            ..tol.clone()
+        };
+        let dense = identify(
+            tanks.clone(),
+            &[0.0, 0.0],
+            &is,
+            (200.0, 1.0),
+            Weights::Initial,
+            &bounded,
+        )
+        .unwrap();
+        assert_eq!(dense.t, run.t);
+        let apart = dense.y[0]
+            .iter()
+            .zip(&run.y[0])
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(apart > 0.0 && apart < 1e-5, "{apart} m");
         let frozen = identify(
             tanks,
             &[0.0, 0.0],
