@@ -1,9 +1,10 @@
-//! "The README's glossary defines every figure name the outputs print" (now
-//! docs/reference/glossary.md): every figure a
-//! command writes (summary.json of each shipped scenario, of `rhonn fit` and `rhonn
-//! identify`, the columns and statistics of campaigns) is named in the README's
-//! "Glossary of the figures". Settings echoed back (scenario, solver, model,
-//! parameters) are documented with the scenarios, not here.
+//! Every field every command writes is explained from the same source as the field: its
+//! doc comment, walked into `docs/reference/fields.md` (`rhonn_report::fields`). This test
+//! runs the commands (summary.json of each shipped scenario, of `rhonn fit`, `predict`,
+//! `identify`, `benchmark`, `corpus`, `bench` and `campaign`) and checks that each key path
+//! they write is a row of that reference; the figures a campaign names (runs.csv's columns,
+//! made from the runs' figures) are named by the glossary's patterns
+//! (docs/reference/glossary.md).
 
 use crate::util;
 
@@ -13,57 +14,46 @@ use std::collections::BTreeSet;
 use std::path::Path;
 use util::{rhonn, stderr};
 
-/// Subtrees of a summary.json that echo settings or hold data, not figures (`members`: an
-/// ensemble's structures, each a `model`; the fit's own figures of them are named at the
-/// summary's top level too).
-const NOT_FIGURES: [&str; 13] = [
-    "plan",
-    "spec",
-    "scenario",
-    "solver",
-    "model",
-    "members",
-    "parameters",
-    "campaign",
-    "rhonn_version",
-    "final_weights",
-    "terms",
-    "records",
-    "regulated",
-];
-
-/// The names of a JSON tree's figures: keys whose value is a number, null, a boolean or
-/// a list of them (or of lists of them); objects are walked (lists of objects too).
-fn figure_keys(v: &serde_json::Value, out: &mut BTreeSet<String>) {
+/// Every key path of a JSON tree, lists' indices as `[]` (`selection.candidates[].score`).
+fn key_paths(v: &serde_json::Value, prefix: &str, out: &mut BTreeSet<String>) {
     use serde_json::Value;
-    let Value::Object(map) = v else {
-        if let Value::Array(items) = v {
-            items.iter().for_each(|i| figure_keys(i, out));
-        }
-        return;
-    };
-    for (k, v) in map {
-        if NOT_FIGURES.contains(&k.as_str()) {
-            continue;
-        }
-        let scalar = |x: &Value| x.is_number() || x.is_null() || x.is_boolean();
-        match v {
-            Value::Object(_) => figure_keys(v, out),
-            Value::Array(a) if a.iter().any(Value::is_object) => figure_keys(v, out),
-            // Numbers, or lists of numbers (one per neuron, pass or step).
-            Value::Array(a)
-                if !a.is_empty()
-                    && a.iter()
-                        .all(|x| scalar(x) || x.as_array().is_some_and(|i| i.iter().all(scalar))) =>
-            {
-                out.insert(k.clone());
+    match v {
+        Value::Object(map) => {
+            for (k, v) in map {
+                let p = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                out.insert(p.clone());
+                key_paths(v, &p, out);
             }
-            x if scalar(x) => {
-                out.insert(k.clone());
-            }
-            _ => {}
+        }
+        Value::Array(items) => items
+            .iter()
+            .for_each(|i| key_paths(i, &format!("{prefix}[]"), out)),
+        _ => {}
+    }
+}
+
+/// Whether a row of the reference names `path` (`rhonn_report::fields::names`) or holds
+/// it: a row with no rows below it (an echoed setting, a map of settings) covers what is
+/// inside it.
+fn covered(rows: &[String], path: &str) -> bool {
+    use rhonn_report::fields::names;
+    if rows.iter().any(|r| names(r, path)) {
+        return true;
+    }
+    // A prefix that is a leaf row.
+    let mut p = path.to_string();
+    while let Some(cut) = p.rfind(['.', '[']) {
+        p.truncate(cut);
+        let leaf = |r: &&String| names(r, &p) && !rows.iter().any(|x| x.starts_with(&format!("{r}.")));
+        if rows.iter().any(|r| leaf(&r)) {
+            return true;
         }
     }
+    false
 }
 
 /// The names the glossary's first column gives in backticks (`*` and `...` stand for
@@ -96,9 +86,10 @@ fn the_glossary_names_every_figure_the_outputs_write() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let d = tempfile::tempdir().unwrap();
     let mut keys = BTreeSet::new();
+    let mut paths = BTreeSet::new();
     let mut read_summary = |dir: &Path| {
         let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-        figure_keys(&serde_json::from_str(&text).unwrap(), &mut keys);
+        key_paths(&serde_json::from_str(&text).unwrap(), "", &mut paths);
     };
     let list = rhonn(d.path(), &["scenarios"]);
     let scenarios: Vec<String> = String::from_utf8_lossy(&list.stdout)
@@ -221,16 +212,37 @@ fn the_glossary_names_every_figure_the_outputs_write() {
         for f in figures {
             keys.insert(f["figure"].as_str().unwrap().to_string());
         }
-        figure_keys(&summary, &mut keys);
+        key_paths(&summary, "", &mut paths);
     }
+    // Every key path written is a row of the fields' reference (or lies inside a row that
+    // has no rows of its own: an echoed setting, a map).
+    let rows: Vec<String> = rhonn_report::fields::outputs()
+        .iter()
+        .flat_map(|o| rhonn_report::fields::rows(&o.schema))
+        .map(|(p, _)| p)
+        .collect();
+    // (The rule itself: a field, a list's field, an echoed setting's inside; not a stranger.)
+    assert!(covered(&rows, "selection.candidates[].score") && covered(&rows, "scenario.plant.kind"));
+    assert!(!covered(&rows, "selection.no_such_figure") && !covered(&rows, "no_such_key"));
+    let unexplained: Vec<&String> = paths.iter().filter(|p| !covered(&rows, p)).collect();
+    assert!(
+        unexplained.is_empty(),
+        "key paths the outputs write but no field's doc comment explains: {unexplained:?}"
+    );
+    // A campaign's figure is a run's field (the pump's `iae_mpa_s`) or a name the glossary's
+    // patterns give (a plant's `h1_training_fit_percent`, `controller_iae`).
     let glossary = std::fs::read_to_string(root.join("docs/reference/glossary.md")).unwrap();
     let names = glossary_names(&glossary);
+    let field_names: BTreeSet<&str> = rows
+        .iter()
+        .map(|r| r.rsplit('.').next().unwrap().trim_end_matches("[]"))
+        .collect();
     let missing: Vec<&String> = keys
         .iter()
-        .filter(|k| !names.iter().any(|n| matches(n, k)))
+        .filter(|k| !field_names.contains(k.as_str()) && !names.iter().any(|n| matches(n, k)))
         .collect();
     assert!(
         missing.is_empty(),
-        "figures the outputs write but the glossary does not name: {missing:?}"
+        "campaign figures neither a field nor named by the glossary: {missing:?}"
     );
 }

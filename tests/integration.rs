@@ -13,6 +13,7 @@ mod corpus;
 mod custom_plant;
 mod determinism;
 mod docs;
+mod fields;
 mod fit_advice;
 mod fit_predict;
 mod folders;

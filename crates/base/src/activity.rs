@@ -9,7 +9,7 @@ use serde::Serialize;
 pub const SWITCH_WINDOW: usize = 10;
 
 /// An actuator's activity over a run (the command's units).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ActuatorActivity {
     /// Sum over the instants of |u(k) - u(k-1)|.
     pub total_variation: f64,

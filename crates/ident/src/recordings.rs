@@ -9,7 +9,7 @@ use crate::metrics;
 use serde::Serialize;
 
 /// Per output: how well the online estimate followed it.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct OnlineFigures {
     /// Output column.
     pub output: String,

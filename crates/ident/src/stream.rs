@@ -36,7 +36,7 @@ pub struct StreamStep {
 }
 
 /// What a stream gave (`summary.json` of `rhonn identify --stream`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct StreamSummary {
     /// Samples taken.
     pub samples: usize,

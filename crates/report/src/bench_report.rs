@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// One measurement of a comparison file: a tool's median time of one run.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Compared {
     /// What was run (e.g. "thesis-ch5 training").
@@ -47,12 +47,22 @@ pub fn read_compared(path: &Path) -> Result<Vec<Compared>> {
     Ok(v)
 }
 
-#[derive(Serialize)]
+/// `rhonn bench`'s `summary.json`.
+#[derive(Serialize, schemars::JsonSchema)]
 struct BenchSummary<'a> {
+    /// rhonn's version.
     rhonn_version: &'static str,
+    /// Each scenario's timing.
     bench: &'a [BenchFigures],
+    /// The same scenarios timed by other tools (`--compare`), beside rhonn's.
     compared: &'a [Compared],
+    /// What the figures say, in words.
     findings: Vec<String>,
+}
+
+/// The schema of `summary.json` (`fields`).
+pub(crate) fn schema() -> serde_json::Value {
+    schemars::schema_for!(BenchSummary<'static>).to_value()
 }
 
 /// Write `summary.json`, `bench.svg` and `report.html` into `dir`.

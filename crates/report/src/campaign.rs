@@ -38,7 +38,7 @@ impl<T, E: std::fmt::Display> Ctx<T> for std::result::Result<T, E> {
 }
 
 /// What a campaign folder holds in `campaign.json`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct CampaignFile {
     /// The scenario as run (TOML), so that a merge can check it.
     pub scenario_toml: String,
@@ -186,10 +186,12 @@ fn tally(names: &[String], runs: &Runs) -> Result<Tally> {
 }
 
 /// What `summary.json` holds.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, schemars::JsonSchema)]
 struct CampaignSummary<'a> {
     campaign: &'a CampaignFile,
+    /// Runs that finished.
     runs_ok: usize,
+    /// Runs that failed (their figures NaN in runs.csv).
     runs_failed: usize,
     /// Failure reasons and how many runs gave each.
     failures: Vec<(String, usize)>,
@@ -202,6 +204,11 @@ struct CampaignSummary<'a> {
     worst_runs: Vec<crate::worst_runs::WorstRun>,
     /// The worst runs in words.
     findings: Vec<String>,
+}
+
+/// The schema of `summary.json` (`fields`).
+pub(crate) fn schema() -> serde_json::Value {
+    schemars::schema_for!(CampaignSummary<'static>).to_value()
 }
 
 /// Write `runs.csv` (sorted) and `summary.json` atomically, then drop the partial file.

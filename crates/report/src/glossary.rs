@@ -1,7 +1,7 @@
-//! The glossary of the figures (docs/reference/glossary.md, compiled in), so that a report's
-//! table says in words what each key of summary.json is. The glossary's first column names
-//! the keys (in backticks; `*` and `...` stand for any text), its second says what they
-//! are; `tests/glossary.rs` checks that it names every key the outputs write.
+//! The glossary of the figures (docs/reference/glossary.md, compiled in): the concepts
+//! behind them and the names a campaign's columns take. Its first column names them (in
+//! backticks; `*` and `...` stand for any text), its second says what they are. A report's
+//! table reads each field's own doc comment first ([`crate::fields`]), this for the rest.
 
 const GLOSSARY: &str = include_str!("../../../docs/reference/glossary.md");
 
@@ -67,7 +67,7 @@ mod tests {
     fn keys_are_described_by_their_last_name() {
         let d = describe("figures.regulation.iae_mpa_s").unwrap();
         assert!(d.starts_with("IAE of a pump run"), "{d}");
-        assert!(describe("selection.candidates[3].final_free_run_nrmse").is_some());
+        assert!(describe("identification.parallel[1].convergence_time_s").is_some());
         assert!(describe("no_such_key_anywhere").is_none());
         let activity = describe("figures.regulation.current_rms_change_per_sample_a").unwrap();
         assert!(activity.contains("actuator activity"), "{activity}");

@@ -104,14 +104,20 @@ fn render(dir: &Path, shown: &Path) -> Result<String> {
         h.push_str("<h2>Figures and settings (summary.json)</h2>\n");
         let mut rows = Vec::new();
         flatten("", s, &mut rows);
-        h.push_str("<table><tr><th>field</th><th>value</th><th>what it is (glossary)</th></tr>\n");
+        h.push_str("<table><tr><th>field</th><th>value</th><th>what it is</th></tr>\n");
+        let fields = crate::fields::Describer::for_summary(s);
         for (k, v) in rows {
             let class = if v.parse::<f64>().is_ok() {
                 " class=\"num\""
             } else {
                 ""
             };
-            let what = crate::glossary::describe(&k).unwrap_or_default();
+            // The field's own doc comment, else the glossary's word for its name.
+            let what = fields
+                .describe(&k)
+                .map(str::to_string)
+                .or_else(|| crate::glossary::describe(&k))
+                .unwrap_or_default();
             let _ = writeln!(
                 h,
                 "<tr><td>{}</td><td{class}>{}</td><td class=\"what\">{}</td></tr>",

@@ -306,6 +306,32 @@ fn validation_plot(
     TimePlot::render(&panels, 900, 380)
 }
 
+/// `rhonn predict`'s `summary.json` for an online model.
+#[derive(Serialize, schemars::JsonSchema)]
+struct Summary<'a> {
+    /// The model file.
+    model: &'a str,
+    /// Its online structure (`kind`).
+    kind: &'a str,
+    /// The record predicted.
+    data: &'a str,
+    /// `free run`, or `K steps ahead`.
+    mode: String,
+    /// Samples at the start of the record that set the model's state before it predicts
+    /// (`--init-window`); left out when not given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    init_window: Option<usize>,
+    /// Per output: the prediction's figures.
+    figures: &'a [OnlinePredictionFigures],
+    /// What the figures say, in words.
+    findings: Vec<String>,
+}
+
+/// The schema of an online model's prediction `summary.json` (`fields`).
+pub(crate) fn prediction_schema() -> serde_json::Value {
+    schemars::schema_for!(Summary<'static>).to_value()
+}
+
 /// `rhonn predict` on an online model: prediction.csv (t, per output `<name>` and
 /// `<name>_hat`), summary.json and prediction.svg.
 pub fn write_online_prediction(
@@ -317,17 +343,6 @@ pub fn write_online_prediction(
     (steps_ahead, init_window): (Option<usize>, Option<usize>),
     figures: &[OnlinePredictionFigures],
 ) -> Result<Vec<PathBuf>> {
-    #[derive(Serialize)]
-    struct Summary<'a> {
-        model: &'a str,
-        kind: &'a str,
-        data: &'a str,
-        mode: String,
-        #[serde(skip_serializing_if = "Option::is_none")]
-        init_window: Option<usize>,
-        figures: &'a [OnlinePredictionFigures],
-        findings: Vec<String>,
-    }
     let mode = steps_ahead.map_or("free run".to_string(), |k| format!("{k} steps ahead"));
     let mut set = OutputSet::new(dir)?;
     set.write("prediction.csv", |w| {

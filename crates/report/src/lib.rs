@@ -27,6 +27,7 @@ mod campaign_runner;
 pub mod commands;
 mod csv_out;
 mod data_in;
+pub mod fields;
 pub mod folder;
 pub mod glossary;
 mod html;

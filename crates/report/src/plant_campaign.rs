@@ -220,6 +220,34 @@ fn worst_and_kept(
     Ok((worst, kept.into_iter().map(|(_, v)| v).collect()))
 }
 
+/// A plant campaign's `summary.json`.
+#[derive(Serialize, schemars::JsonSchema)]
+struct Summary<'a> {
+    /// The scenario's name.
+    scenario: &'a str,
+    /// The plant (`[plant] kind`).
+    plant: &'a str,
+    /// Runs in the campaign.
+    runs: usize,
+    /// Runs that failed (their figures NaN in runs.csv).
+    failed: usize,
+    /// The parameters' distributions as drawn (the plant's parameter order).
+    plan: &'a Plan,
+    /// Each figure's statistics over the runs that finished.
+    figures: Vec<FigureStats>,
+    /// The failed runs and those with the worst key figure, each with its scenario file.
+    worst_runs: Vec<crate::worst_runs::WorstRun>,
+    /// The worst runs in words.
+    findings: Vec<String>,
+    /// Runs whose traces make the envelope, per series (as the pump's campaigns).
+    envelope_runs: Vec<(String, usize)>,
+}
+
+/// The schema of `summary.json` (`fields`).
+pub(crate) fn schema() -> serde_json::Value {
+    schemars::schema_for!(Summary<'static>).to_value()
+}
+
 fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> Result<CampaignOutcome> {
     let spec = &job.spec;
     let (n, failed) = (runs.len(), runs.failed());
@@ -227,20 +255,6 @@ fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> R
     let first = 2 + job.n_params;
     let (stats, panels) =
         crate::campaign_rows::figure_statistics(runs, (&job.fig_names, first), &spec.name, |_| true)?;
-    #[derive(Serialize)]
-    struct Summary<'a> {
-        scenario: &'a str,
-        plant: &'a str,
-        runs: usize,
-        failed: usize,
-        /// The parameters' distributions as drawn (the plant's parameter order).
-        plan: &'a Plan,
-        figures: Vec<FigureStats>,
-        worst_runs: Vec<crate::worst_runs::WorstRun>,
-        findings: Vec<String>,
-        /// Runs whose traces make the envelope, per series (as the pump's campaigns).
-        envelope_runs: Vec<(String, usize)>,
-    }
     let (worst, kept) = worst_and_kept(job, runs)?;
     let envelope = crate::plant_envelope::plant_envelope(spec, &kept)?;
     let envelope_counts: Vec<(String, usize)> = match (&envelope, &spec.control) {

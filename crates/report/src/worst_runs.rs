@@ -10,7 +10,7 @@ use serde::Serialize;
 pub const WORST: usize = 5;
 
 /// One listed run.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct WorstRun {
     /// Run index.
     pub run: u64,

@@ -32,7 +32,7 @@ pub struct Prediction {
 }
 
 /// An input of a record that leaves the model's training range.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct InputBeyond {
     /// The input's column.
     pub input: String,
@@ -99,7 +99,7 @@ impl InputBeyond {
 }
 
 /// What `rhonn predict` writes to `summary.json`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct PredictSummary<'a> {
     /// rhonn's version.
     pub rhonn_version: &'static str,

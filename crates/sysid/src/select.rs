@@ -85,7 +85,7 @@ pub fn min_samples(ny: usize, opts: &SelectOptions) -> usize {
 }
 
 /// What the selection found (written to `summary.json` as `selection`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Selection {
     /// "free run" or "K samples ahead".
     pub judged_by: String,

@@ -6,19 +6,21 @@ use super::{Estimator, Kind, ModelSpec};
 use serde::Serialize;
 
 /// One candidate's result.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct CandidateScore {
     /// A short name, e.g. "rhonn na 2 nb 2".
     pub name: String,
     /// The structure (an ensemble's first member).
+    #[schemars(with = "serde_json::Value")]
     pub model: ModelSpec,
     /// An ensemble's members, the best first: its prediction is the mean of theirs
     /// (`select_ensemble`). Empty for a single structure.
     #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[schemars(with = "serde_json::Value")]
     pub members: Vec<ModelSpec>,
     /// Normalised RMS error per fold (empty when it failed or was skipped).
     pub fold_scores: Vec<f64>,
-    /// Their mean (None when it failed or was skipped).
+    /// Their mean (null when it failed or was skipped).
     pub score: Option<f64>,
     /// Its estimated work on the folds, in work units (`budget`).
     pub work: f64,

@@ -127,7 +127,7 @@ pub(super) fn choose(candidates: &[CandidateScore], measure: &[Option<(&[f64], f
 }
 
 /// One output's structure (`summary.json`'s `selection.by_output`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct OutputChoice {
     /// The output's name.
     pub output: String,

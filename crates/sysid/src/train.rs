@@ -9,7 +9,7 @@ use crate::error::Result;
 use serde::Serialize;
 
 /// The figures of one model on one record.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct RecordFigures {
     /// The record's source (file name).
     pub data: String,
@@ -18,7 +18,7 @@ pub struct RecordFigures {
 }
 
 /// One step ahead and free run, on every training record.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct TrainingFigures {
     /// One step ahead.
     pub one_step: Vec<RecordFigures>,
@@ -27,9 +27,10 @@ pub struct TrainingFigures {
 }
 
 /// An ensemble member's structure and size.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct MemberSummary {
     /// Its structure.
+    #[schemars(with = "serde_json::Value")]
     pub model: ModelSpec,
     /// Features per output.
     pub features: usize,
@@ -38,11 +39,12 @@ pub struct MemberSummary {
 }
 
 /// An output a structure of its own predicts (the selection's `by_output`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct OutputStructureSummary {
     /// The output.
     pub output: String,
     /// Its structure (an ensemble's first member).
+    #[schemars(with = "serde_json::Value")]
     pub model: ModelSpec,
     /// Its members (1: a single structure).
     pub members: usize,
@@ -51,7 +53,7 @@ pub struct OutputStructureSummary {
 }
 
 /// The ARX baseline's size and training figures.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct BaselineSummary {
     /// Its lags, e.g. `na 4 nb 4 nk 1`.
     pub structure: String,
@@ -66,11 +68,12 @@ pub struct BaselineSummary {
 }
 
 /// What `rhonn fit` writes to `summary.json`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct FitSummary {
     /// rhonn's version.
     pub rhonn_version: &'static str,
     /// The (first member's) structure.
+    #[schemars(with = "serde_json::Value")]
     pub model: ModelSpec,
     /// Features per output.
     pub features: usize,
@@ -87,7 +90,8 @@ pub struct FitSummary {
     /// composite model's).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub by_output: Vec<OutputStructureSummary>,
-    /// The ARX baseline with the same lags (a RHONN or cascade).
+    /// The ARX baseline: the best ARX on the folds of a selection, else the ARX with the
+    /// model's lags (`chosen_as` says which).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub baseline_arx: Option<BaselineSummary>,
     /// A `pump` model's parameters by name, SI (the estimated ones and the fixed ones).

@@ -13,7 +13,7 @@ pub const TIME_JITTER: f64 = 1e-3;
 
 /// What putting a record on a uniform grid changed (`Record::regrid`), for the messages
 /// and summary.json.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct Regrid {
     /// The record.
     pub source: String,

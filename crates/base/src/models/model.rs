@@ -45,7 +45,7 @@ pub(crate) fn hold(v: f64, (lo, hi): (f64, f64)) -> f64 {
 }
 
 /// Figures of one output.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct OutputFigures {
     /// Output name.
     pub output: String,

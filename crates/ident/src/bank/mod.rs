@@ -28,21 +28,23 @@ use serde::Serialize;
 pub use stream::OnlineBank;
 
 /// A candidate of the bank: a name and its settings.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Candidate {
     /// A short name, e.g. "lagged RHONN na 4 nb 4 degree 2".
     pub name: String,
     /// The settings, as a `--model` spec would give them.
+    #[schemars(with = "serde_json::Value")]
     pub spec: OnlineSpec,
 }
 
 /// One candidate's prequential figures.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct CandidateScore {
     /// Its name.
     pub name: String,
     /// Its settings (`epochs`: the passes the winner is trained for once chosen; the bank
     /// itself judges every candidate on one pass).
+    #[schemars(with = "serde_json::Value")]
     pub spec: OnlineSpec,
     /// One step ahead, predicted before learned, over the second half of the stream:
     /// RMS error / the output's standard deviation, averaged over outputs (None: failed).
@@ -72,7 +74,7 @@ pub struct CandidateScore {
 }
 
 /// What the bank found (`summary.json`'s `selection`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct BankSelection {
     /// How the candidates were judged, in words.
     pub judged_by: String,
@@ -307,7 +309,7 @@ pub fn window_for(samples: usize) -> usize {
 }
 
 /// How the bank judges a stream.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct BankSettings {
     /// Samples at the stream's start whose means, standard deviations and range
     /// normalise every candidate (nothing after them is used to scale).

@@ -17,7 +17,7 @@ use crate::{OnlineSpec, OnlineStructure, OwnStructure, PerOutputSpec};
 use serde::Serialize;
 
 /// One output's own bank and the verdict.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct OutputSelection {
     /// The output.
     pub output: String,

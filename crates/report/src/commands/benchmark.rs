@@ -28,7 +28,7 @@ pub struct BenchmarkRequest {
 }
 
 /// One row of the table: one output of one test set.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Row {
     /// The benchmark.
     pub benchmark: String,
@@ -84,11 +84,19 @@ pub struct Row {
 }
 
 /// `summary.json` of the whole run.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, schemars::JsonSchema)]
 struct Summary<'a> {
+    /// rhonn's version.
     rhonn_version: &'static str,
+    /// How every model was trained and judged, in words.
     protocol: &'static str,
+    /// One row per benchmark, test set, output and method (benchmark.csv's rows).
     rows: &'a [Row],
+}
+
+/// The schema of `summary.json` (`fields`).
+pub(crate) fn schema() -> serde_json::Value {
+    schemars::schema_for!(Summary<'static>).to_value()
 }
 
 const PROTOCOL: &str = "every model trained on the benchmark's training records only (structure and settings chosen by cross-validation inside them), run free on each test set from its start-up window; RMS error from the first sample every model predicts (the window, or a model's largest lag if later), in the data's units";

@@ -26,7 +26,7 @@ pub struct CorpusRequest {
 }
 
 /// One row of corpus.csv: one output of one system.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, schemars::JsonSchema)]
 struct Row<'a> {
     system: &'a str,
     family: &'static str,
@@ -47,13 +47,24 @@ struct Row<'a> {
     failed: &'a str,
 }
 
-#[derive(Serialize)]
+/// `rhonn corpus`'s `summary.json`.
+#[derive(Serialize, schemars::JsonSchema)]
 struct SummaryFile<'a> {
+    /// rhonn's version.
     rhonn_version: &'static str,
+    /// The seed the systems were drawn from.
     seed: u64,
+    /// How each system was judged, in words.
     protocol: &'static str,
+    /// The figures over every output.
     summary: &'a Summary,
+    /// Each system, its models and their figures per output.
     systems: &'a [Judged],
+}
+
+/// The schema of `summary.json` (`fields`).
+pub(crate) fn schema() -> serde_json::Value {
+    schemars::schema_for!(SummaryFile<'static>).to_value()
 }
 
 const PROTOCOL: &str = "each system's default rhonn fit and ARX (lags by cross-validation) trained on its training records only, run free on its test records; RMS error from the later of the two models' first predictions; ratio = rhonn / ARX per output; online_ratio = rhonn identify's default online model (trained on the same records, frozen) / ARX over the samples from the later of their first predictions";

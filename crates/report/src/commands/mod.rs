@@ -3,8 +3,8 @@
 //! warnings for stderr, the files written). The binary parses arguments and prints an
 //! `Outcome`; the Python package and tests call the same functions.
 
-mod benchmark;
-mod corpus;
+pub(crate) mod benchmark;
+pub(crate) mod corpus;
 mod fit;
 pub mod fit_args;
 mod identify;

@@ -15,7 +15,7 @@ use serde::Serialize;
 use std::time::Instant;
 
 /// One model's free run on one test set.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct TestScore {
     /// The test set's label.
     pub test: String,
@@ -28,7 +28,7 @@ pub struct TestScore {
 }
 
 /// One model of a row.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct MethodResult {
     /// `rhonn fit (default)` (`rhonn fit (--model)` with a given model), `rhonn identify
     /// (default)` or `ARX (lags by CV)`.
@@ -42,7 +42,7 @@ pub struct MethodResult {
 }
 
 /// What a benchmark gives (`summary.json` of `rhonn benchmark`, per benchmark).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct BenchmarkOutcome {
     /// Its folder's name.
     pub name: String,
@@ -77,7 +77,7 @@ pub struct BenchmarkOutcome {
 }
 
 /// A test set's protocol as scored.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct TestSet {
     /// Its label.
     pub label: String,

@@ -65,7 +65,7 @@ pub struct TestSpec {
 }
 
 /// A published free-run RMS error.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Published {
     /// Per output, in the data's units.

@@ -7,7 +7,7 @@ use rand_distr::{Distribution, StandardNormal};
 use serde::Serialize;
 
 /// The kind of an input signal.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum InputKind {
     /// A random-phase multisine over a band.

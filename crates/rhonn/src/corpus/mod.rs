@@ -227,7 +227,7 @@ fn closed_loop_records(name: &str, kinds: &[(InputKind, usize, &str)], rng: &mut
 
 /// One output of one system: both models' free-run RMS errors on the test records, and
 /// the spread of the output there (the error of predicting the test mean).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct OutputScore {
     /// The output's column.
     pub output: String,
@@ -250,7 +250,7 @@ pub struct OutputScore {
 }
 
 /// What [`judge`] found on one system.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Judged {
     /// The system's name, family, parameters and inputs.
     pub system: String,
@@ -399,7 +399,7 @@ fn online_scores(sys: &System, arx: &sysid::FittedModel) -> Result<(String, Vec<
 }
 
 /// The corpus's verdict on rhonn's default against the ARX, over every system's outputs.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Summary {
     /// System outputs scored (a failed system counts none).
     pub scored: usize,

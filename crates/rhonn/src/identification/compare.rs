@@ -10,7 +10,7 @@ use crate::sysid::FittedModel;
 use serde::Serialize;
 
 /// One validation record and output: the frozen online model's free run and the ARX's.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct RecordComparison {
     /// The validation record.
     pub record: String,
@@ -31,7 +31,7 @@ pub struct RecordComparison {
 }
 
 /// The ARX baseline of an identification (`summary.json`'s `baseline_arx`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ArxBaseline {
     /// Its lags, e.g. "na 4 nb 4 nk 1".
     pub structure: String,

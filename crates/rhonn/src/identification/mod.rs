@@ -30,7 +30,7 @@ pub struct Validation {
 }
 
 /// Figures of a validation, per output.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ValidationFigures {
     /// Output.
     pub output: String,
@@ -48,9 +48,10 @@ pub struct ValidationFigures {
 }
 
 /// `summary.json`.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct IdentifySummary {
     /// The model's settings as used.
+    #[schemars(with = "serde_json::Value")]
     pub model: OnlineSpec,
     /// Records identified on.
     pub records: Vec<String>,
@@ -110,7 +111,7 @@ pub fn validation_figures(v: &Validation, outputs: &[String]) -> Vec<ValidationF
 }
 
 /// Per output, a prediction's figures (`rhonn predict` on an online model).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct OnlinePredictionFigures {
     /// Output.
     pub output: String,

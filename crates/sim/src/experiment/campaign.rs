@@ -435,7 +435,7 @@ impl Envelope {
 }
 
 /// Distribution of one figure over the successful runs.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct FigureStats {
     /// Figure name.
     pub figure: String,

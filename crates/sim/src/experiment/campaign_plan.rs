@@ -78,7 +78,7 @@ pub struct Uncertain<'a> {
 }
 
 /// A checked distribution of one parameter (display units).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 #[serde(tag = "distribution", rename_all = "kebab-case")]
 pub enum Distribution {
     /// Uniform on `[min, max]`.
@@ -135,7 +135,7 @@ impl Distribution {
 
 /// The checked distributions of a campaign's parameters (the order of the plant's
 /// [`Uncertain`] list).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Plan {
     /// One per parameter.
     pub params: Vec<Distribution>,

@@ -22,7 +22,7 @@ pub struct PlantColumn {
 }
 
 /// Figures of one identified state (display units).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct IdentStateFigures {
     /// State.
     pub state: &'static str,
@@ -54,7 +54,7 @@ pub struct IdentStateFigures {
 }
 
 /// Figures of one controller (display units of the regulated state).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct LoopFigures {
     /// Controller.
     pub controller: &'static str,
@@ -78,7 +78,7 @@ pub struct LoopFigures {
 
 /// One state of an open-loop run (display units): where it started and ended, and its
 /// range over the samples.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct StateRange {
     /// State.
     pub state: &'static str,
@@ -95,7 +95,7 @@ pub struct StateRange {
 }
 
 /// `summary.json` of a plant scenario.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct PlantSummary {
     /// rhonn's version.
     pub rhonn_version: &'static str,

@@ -15,7 +15,7 @@ use serde::Serialize;
 pub const SETTLE_S: f64 = 1.0;
 
 /// Solver settings and counters of a run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct SolverReport {
     /// Settings.
     #[serde(flatten)]
@@ -33,7 +33,7 @@ pub struct SolverReport {
 }
 
 /// Figures of a regulated run (display units).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Regulation {
     /// max |p_line - p_ref| over the run \[MPa\].
     pub max_abs_deviation_mpa: f64,
@@ -69,7 +69,7 @@ pub struct Regulation {
 }
 
 /// The figures of a run (display units, named with their unit).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Figures {
     /// Simulated time \[s\].
     pub duration_s: f64,
@@ -95,12 +95,13 @@ pub struct Figures {
 }
 
 /// What `summary.json` holds.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Summary {
     /// rhonn's version.
     pub rhonn_version: &'static str,
-    /// The scenario as run (written in the one format, `pump_scenario::raise`).
+    /// The scenario as run, in the one scenario format.
     #[serde(serialize_with = "super::pump_scenario::serialize_raised")]
+    #[schemars(with = "serde_json::Value")]
     pub(crate) scenario: PumpSettings,
     /// Solver settings and counters.
     pub solver: SolverReport,
@@ -158,7 +159,7 @@ pub(super) fn regulation_findings(controller: &str, r: &Regulation) -> Vec<Strin
 }
 
 /// The baseline of an adaptive run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct BaselineReport {
     /// Its kind (`cascade-pi` or `pi`).
     pub controller: &'static str,
@@ -230,7 +231,7 @@ impl BaselineReport {
 }
 
 /// The adaptive controller against its baseline.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ControlReport {
     /// The adaptive controller's weights.
     pub adaptive: AdaptiveReport,
@@ -626,7 +627,7 @@ impl<'a> Accumulator<'a> {
 }
 
 /// What a run of the adaptive controller reports of its weights.
-#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+#[derive(Debug, Clone, PartialEq, Serialize, Default, schemars::JsonSchema)]
 pub struct AdaptiveReport {
     /// Largest |W| over the run (MPa/s units).
     pub w_norm_max: f64,

@@ -17,13 +17,14 @@ pub(super) const GAUSS: [(f64, f64); 3] = [
 ];
 
 /// A trained RHONN: everything needed to run it (`weights.json`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ModelFile {
     /// Identified states (neurons), SI.
     pub states: Vec<String>,
     /// External inputs, SI.
     pub inputs: Vec<String>,
     /// Sigmoid.
+    #[schemars(with = "serde_json::Value")]
     pub sigmoid: Sigmoid,
     /// State divisors before the sigmoid.
     pub state_scale: Vec<f64>,
@@ -40,7 +41,7 @@ pub struct ModelFile {
 }
 
 /// Figures of one identified state in one mode (display units: MPa, mm).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct StateFigures {
     /// State.
     pub state: &'static str,
@@ -223,7 +224,7 @@ impl IdentAcc {
 }
 
 /// Identification figures of `summary.json`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct IdentReport {
     /// Law.
     pub law: &'static str,

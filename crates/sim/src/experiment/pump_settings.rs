@@ -131,9 +131,10 @@ impl Drive {
 }
 
 /// Checked solver settings (SI).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct SolverSettings {
     /// Profile.
+    #[schemars(with = "serde_json::Value")]
     pub profile: ProfileSpec,
     /// Relative tolerance.
     pub rtol: f64,

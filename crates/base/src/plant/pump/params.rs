@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 /// Pump and line parameters in SI units. Build with [`PumpParams::default`] (the
 /// thesis's values) or from a [`PumpParamsSpec`].
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct PumpParams {
     /// Line volume at zero pressure V_l0 \[m^3\].
     pub v_l0: f64,
