@@ -50,7 +50,7 @@ fn window_residuals(
 pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()> {
     if m.inputs.len() != 2 || m.outputs.len() != 1 {
         return Err(invalid(
-            "--inputs/--outputs",
+            "inputs and outputs",
             format!("{} / {}", m.inputs.join(","), m.outputs.join(",")),
             "two inputs (the current [A], then the demand [m^3/s]) and one output (the line pressure [Pa])",
         ));

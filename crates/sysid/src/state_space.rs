@@ -157,7 +157,7 @@ fn linear_start(spec: &ModelSpec, data: &[Data], ni: usize, no: usize) -> Result
         let a = DMatrix::from_row_slice(target.len(), ncol, &rows);
         let th = least_squares(&a, &DVector::from_column_slice(&target)).ok_or_else(|| {
             invalid(
-                "--data",
+                "data",
                 "collinear columns",
                 "records whose inputs and outputs vary (a state-space model starts from an ARX)",
             )

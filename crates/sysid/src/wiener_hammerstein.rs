@@ -32,7 +32,7 @@ const RANKING_SAMPLES: usize = 20_000;
 pub(crate) fn fit(spec: &ModelSpec, records: &[Record], m: &mut Model) -> Result<()> {
     if m.inputs.len() != 1 || m.outputs.len() != 1 {
         return Err(invalid(
-            "--inputs/--outputs",
+            "inputs and outputs",
             format!("{} inputs, {} outputs", m.inputs.len(), m.outputs.len()),
             "one input and one output for a `wiener-hammerstein` model",
         ));

@@ -24,6 +24,10 @@ pub struct Door {
     pub model: &'static str,
     /// The output columns.
     pub outputs: &'static str,
+    /// The input and output columns together (`--inputs and --outputs`).
+    pub inputs_and_outputs: &'static str,
+    /// The training records.
+    pub data: &'static str,
     /// The option that resamples the data (None: the door fits the samples as given).
     pub resample: Option<&'static str>,
     /// What to do when the times are milliseconds, given the sample time in seconds.
@@ -39,6 +43,8 @@ pub const COMMAND_LINE: Door = Door {
     budget: "--budget",
     model: "--model",
     outputs: "--outputs",
+    inputs_and_outputs: "--inputs and --outputs",
+    data: "--data",
     resample: Some("--resample"),
     milliseconds: |_| "give `t` in seconds (divide it by 1,000)".to_string(),
 };
@@ -52,6 +58,8 @@ pub const PYTHON: Door = Door {
     budget: "budget",
     model: "model",
     outputs: "outputs",
+    inputs_and_outputs: "u and y",
+    data: "u and y",
     resample: None,
     milliseconds: |s| format!("pass dt={s}"),
 };
@@ -77,6 +85,8 @@ impl Door {
             .with_field_named("budget", self.budget)
             .with_field_named("select", self.select)
             .with_field_named("outputs", self.outputs)
+            .with_field_named("inputs and outputs", self.inputs_and_outputs)
+            .with_field_named("data", self.data)
     }
 }
 
@@ -276,5 +286,21 @@ mod tests {
             .to_string()
             .contains("`--select-steps-ahead` = 9"));
         assert!(PYTHON.rename(e).to_string().contains("`select_steps_ahead` = 9"));
+        // The library names its fields, never a door's flags: a block structure's columns.
+        let data = rhonn::data::Record {
+            source: "x".into(),
+            t: (0..50).map(f64::from).collect(),
+            inputs: vec![(0..50).map(|k| f64::from(k).sin()).collect(); 2],
+            outputs: vec![(0..50).map(|k| f64::from(k).cos()).collect()],
+        };
+        let spec: rhonn::sysid::ModelSpec = toml::from_str("kind = \"wiener-hammerstein\"").unwrap();
+        let e = rhonn::sysid::fit(&spec, &[data], &["u1".into(), "u2".into()], &["y".into()]).unwrap_err();
+        assert!(!e.to_string().contains("--"), "{e}");
+        let cli = COMMAND_LINE.rename(e.clone()).to_string();
+        assert!(
+            cli.contains("`--inputs and --outputs` = 2 inputs, 1 outputs"),
+            "{cli}"
+        );
+        assert!(PYTHON.rename(e).to_string().contains("`u and y` = 2 inputs"));
     }
 }
