@@ -4,7 +4,7 @@
 //! it, so it follows their serde names, renames and skips) is walked into one row per key
 //! path; `docs/reference/fields.md` is [`markdown`]'s text (the test
 //! `fields::the_reference_is_generated_from_the_fields` keeps it so and asks for a doc
-//! comment on every field), and [`describe`] gives the report's "what it is" column.
+//! comment on every field), and [`Describer`] gives the report's "what it is" column.
 //!
 //! Settings echoed back (a scenario, a model's structure, a campaign's plan) are one row
 //! each, described where they are written (`docs/reference/scenarios.md`, the fit guide).
