@@ -9,32 +9,11 @@
 use crate::util;
 
 // The same matching as the report's "what it is" column.
+use rhonn_report::fields::key_paths;
 use rhonn_report::glossary::matches;
 use std::collections::BTreeSet;
 use std::path::Path;
 use util::{rhonn, stderr};
-
-/// Every key path of a JSON tree, lists' indices as `[]` (`selection.candidates[].score`).
-fn key_paths(v: &serde_json::Value, prefix: &str, out: &mut BTreeSet<String>) {
-    use serde_json::Value;
-    match v {
-        Value::Object(map) => {
-            for (k, v) in map {
-                let p = if prefix.is_empty() {
-                    k.clone()
-                } else {
-                    format!("{prefix}.{k}")
-                };
-                out.insert(p.clone());
-                key_paths(v, &p, out);
-            }
-        }
-        Value::Array(items) => items
-            .iter()
-            .for_each(|i| key_paths(i, &format!("{prefix}[]"), out)),
-        _ => {}
-    }
-}
 
 /// Whether a row of the reference names `path` (`rhonn_report::fields::names`) or holds
 /// it: a row with no rows below it (an echoed setting, a map of settings) covers what is
@@ -89,7 +68,7 @@ fn the_glossary_names_every_figure_the_outputs_write() {
     let mut paths = BTreeSet::new();
     let mut read_summary = |dir: &Path| {
         let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-        key_paths(&serde_json::from_str(&text).unwrap(), "", &mut paths);
+        paths.extend(key_paths(&serde_json::from_str(&text).unwrap()));
     };
     let list = rhonn(d.path(), &["scenarios"]);
     let scenarios: Vec<String> = String::from_utf8_lossy(&list.stdout)
@@ -212,7 +191,7 @@ fn the_glossary_names_every_figure_the_outputs_write() {
         for f in figures {
             keys.insert(f["figure"].as_str().unwrap().to_string());
         }
-        key_paths(&summary, "", &mut paths);
+        paths.extend(key_paths(&summary));
     }
     // Every key path written is a row of the fields' reference (or lies inside a row that
     // has no rows of its own: an echoed setting, a map).

@@ -262,8 +262,7 @@ pub struct Describer {
 impl Describer {
     /// For `summary`, a `summary.json` of any command.
     pub fn for_summary(summary: &Value) -> Self {
-        let mut keys = Vec::new();
-        key_paths(summary, "", &mut keys);
+        let keys = key_paths(summary);
         let rows = outputs()
             .iter()
             .map(|o| every_row(&o.schema))
@@ -296,24 +295,26 @@ impl Describer {
     }
 }
 
-/// Every key path of a JSON tree (`a.b[].c`).
-fn key_paths(v: &Value, prefix: &str, out: &mut Vec<String>) {
-    match v {
-        Value::Object(map) => {
-            for (k, v) in map {
-                let p = if prefix.is_empty() {
-                    k.clone()
-                } else {
-                    format!("{prefix}.{k}")
-                };
-                out.push(p.clone());
-                key_paths(v, &p, out);
+/// Every key path of a JSON tree, lists' indices as `[]` (`selection.candidates[].score`).
+pub fn key_paths(v: &Value) -> std::collections::BTreeSet<String> {
+    fn walk(v: &Value, prefix: &str, out: &mut std::collections::BTreeSet<String>) {
+        match v {
+            Value::Object(map) => {
+                for (k, v) in map {
+                    let p = if prefix.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{prefix}.{k}")
+                    };
+                    out.insert(p.clone());
+                    walk(v, &p, out);
+                }
             }
+            Value::Array(items) => items.iter().for_each(|i| walk(i, &format!("{prefix}[]"), out)),
+            _ => {}
         }
-        Value::Array(items) => items
-            .iter()
-            .take(3)
-            .for_each(|i| key_paths(i, &format!("{prefix}[]"), out)),
-        _ => {}
     }
+    let mut out = std::collections::BTreeSet::new();
+    walk(v, "", &mut out);
+    out
 }

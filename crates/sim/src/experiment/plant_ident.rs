@@ -85,10 +85,10 @@ pub(super) fn run_identification<P: Plant>(
     }
     summary.identification = Some(figs);
     let inputs: Vec<&Quantity> = plant.inputs().iter().collect();
-    let trajectory = ident_columns(&spec.input, &train, &quantities, &inputs)?;
+    let trajectory = ident_columns(&spec.input, &train, (&quantities, &inputs), false)?;
     let validation = match (&validation, &spec.validation) {
-        (Some(v), Some(vs)) => Some(ident_columns(&vs.input, v, &quantities, &inputs)?),
-        (Some(v), None) => Some(same_data_columns(&spec.input, v, &quantities, &inputs)?),
+        (Some(v), Some(vs)) => Some(ident_columns(&vs.input, v, (&quantities, &inputs), false)?),
+        (Some(v), None) => Some(ident_columns(&spec.input, v, (&quantities, &inputs), true)?),
         _ => None,
     };
     Ok(PlantRunOutput {
@@ -151,25 +151,29 @@ fn finding(state: &str, training: f64, free_run: Option<f64>, series_parallel: O
     }
 }
 
-/// Columns of the frozen model run again on the training inputs: time, each input, then
-/// per identified state its values, its series-parallel and its free-run estimates (the
+/// Columns of an identification run: time, each input as the scenario gives it, each
+/// identified state and its estimate (`<state>_hat`); for the frozen model run again on the
+/// training inputs (`both`), its series-parallel and its free-run estimates instead (the
 /// names of the pump's validation.csv).
-fn same_data_columns(
+fn ident_columns(
     inputs_spec: &std::collections::BTreeMap<String, crate::signal::SignalSpec>,
     run: &IdentRun,
-    quantities: &[Quantity],
-    inputs: &[&Quantity],
+    (quantities, inputs): (&[Quantity], &[&Quantity]),
+    both: bool,
 ) -> Result<Vec<PlantColumn>> {
     let mut cols = time_and_inputs(inputs_spec, &run.t, inputs)?;
     for (k, q) in quantities.iter().enumerate() {
-        for (name, values) in [
-            (q.name.to_string(), &run.y[k]),
-            (
+        let mut named = vec![(q.name.to_string(), &run.y[k])];
+        if both {
+            named.push((
                 format!("{}_hat_series_parallel", q.name),
                 &run.y_hat_series_parallel[k],
-            ),
-            (format!("{}_hat_parallel", q.name), &run.y_hat[k]),
-        ] {
+            ));
+            named.push((format!("{}_hat_parallel", q.name), &run.y_hat[k]));
+        } else {
+            named.push((format!("{}_hat", q.name), &run.y_hat[k]));
+        }
+        for (name, values) in named {
             cols.push(PlantColumn {
                 name,
                 quantity: *q,
@@ -177,32 +181,6 @@ fn same_data_columns(
                 input: false,
             });
         }
-    }
-    Ok(cols)
-}
-
-/// Columns of an identification run: time, each input as the scenario gives it, each
-/// identified state and its estimate.
-fn ident_columns(
-    inputs_spec: &std::collections::BTreeMap<String, crate::signal::SignalSpec>,
-    run: &IdentRun,
-    quantities: &[Quantity],
-    inputs: &[&Quantity],
-) -> Result<Vec<PlantColumn>> {
-    let mut cols = time_and_inputs(inputs_spec, &run.t, inputs)?;
-    for (k, q) in quantities.iter().enumerate() {
-        cols.push(PlantColumn {
-            name: q.name.into(),
-            quantity: *q,
-            values: run.y[k].clone(),
-            input: false,
-        });
-        cols.push(PlantColumn {
-            name: format!("{}_hat", q.name),
-            quantity: *q,
-            values: run.y_hat[k].clone(),
-            input: false,
-        });
     }
     Ok(cols)
 }
