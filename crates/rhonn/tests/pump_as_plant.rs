@@ -184,6 +184,59 @@ fn thesis_ch5_through_the_generic_runner_learns_the_thesis_weights() {
     }
 }
 
+/// thesis-ch3 (the pump driven open loop by the thesis's current ramp) as a plant scenario
+/// with the thesis's `[solver]`: sampled from the dense output as the pump's runner samples
+/// it, the same states at every millisecond.
+#[test]
+fn thesis_ch3_through_the_generic_runner_is_the_pumps_own_run() {
+    let text = THESIS_CH5_AS_PLANT.replace("output_interval_s = 0.01", "output_interval_s = 0.001");
+    let text = format!(
+        "{}{}",
+        &text[..text.find("[identifier]").unwrap()],
+        &text[text.find("[solver]").unwrap()..]
+    );
+    let spec: ScenarioSpec = toml::from_str(&text).unwrap();
+    let out = run_plant_scenario(&spec, None).unwrap();
+    let col = |name: &str| {
+        out.trajectory
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap()
+            .values
+            .clone()
+    };
+    let mut trace = Trace::default();
+    let own = run(
+        &preset::load_any("thesis-ch3").unwrap().pump_run().unwrap(),
+        &mut trace,
+    )
+    .unwrap();
+    let (t, p, x) = (col("t"), col("p_line"), col("stroke"));
+    assert_eq!(t.len(), trace.len());
+    let worst = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(u, v)| (u - v).abs()).fold(0.0, f64::max);
+    let (dp, dx) = (
+        worst(&p, trace.column("p_line").unwrap()),
+        worst(&x, trace.column("stroke").unwrap()),
+    );
+    eprintln!(
+        "largest differences: {dp:.3e} Pa, {dx:.3e} m; final stroke {} mm (own {})",
+        x[x.len() - 1] * 1e3,
+        own.figures.final_stroke_mm
+    );
+    // The same steps and the same dense output, read at sample times that differ in the
+    // last bits (k * dt here, k * interval_ms / 1000 there, the decimal time), so to 1e-12
+    // of the states' ranges (25 MPa, 17 mm).
+    let dt = t
+        .iter()
+        .zip(trace.column("t").unwrap())
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    eprintln!("largest difference of the sample times: {dt:.1e} s");
+    assert!(dt < 1e-14, "{dt} s");
+    assert!(dp <= 1e-12 * 25e6 && dx <= 1e-12 * 17e-3, "{dp} Pa, {dx} m");
+    assert!((x[x.len() - 1] * 1e3 - own.figures.final_stroke_mm).abs() < 1e-12);
+}
+
 #[test]
 fn the_pumps_parameters_are_its_plant_parameters() {
     let mut spec: ScenarioSpec = toml::from_str(THESIS_CH5_AS_PLANT).unwrap();

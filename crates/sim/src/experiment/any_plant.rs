@@ -154,7 +154,8 @@ pub struct OpenRun {
 }
 
 /// Simulate `plant`, driven by its own inputs, from `x0` for `duration_s`, sampled every
-/// `sample_s` (`tol`: the solver's settings).
+/// `sample_s` (`tol`: the solver's settings; where they bound the step, the samples come
+/// from the dense output, else the run stops at each, as an identification's).
 pub fn simulate<P: Plant>(
     plant: P,
     x0: &[f64],
@@ -182,14 +183,38 @@ pub fn simulate<P: Plant>(
             Ok(())
         }
     }
+    /// Where the settings bound the step, the samples from each step's dense output (as
+    /// an identification's, `Sampler`), the end's from the last step.
+    struct Dense(DenseSampler);
+    impl<P: Plant> Hooks<Alone<P>> for Dense {
+        fn instant(&mut self, _: &mut Dopri5<Alone<P>>) -> Result<()> {
+            Ok(())
+        }
+        fn stepped(&mut self, s: &Dopri5<Alone<P>>, done: bool) -> Result<()> {
+            self.0.take(s);
+            if done {
+                self.0.out.t.push(s.t());
+                for (v, x) in self.0.out.states.iter_mut().zip(s.state()) {
+                    v.push(*x);
+                }
+            }
+            Ok(())
+        }
+    }
     let n = plant.states().len();
     let steps = sampling_steps(duration_s, sample_s)?;
     let instants = Instants::seconds(sample_s);
+    let mut s = solver(Alone(plant), x0, &[], tol)?;
+    if tol.max_step_s.is_finite() {
+        let mut rec = Dense(DenseSampler::new(sample_s, duration_s, n)?);
+        drive(&mut s, instants.at(steps), None, &mut rec)?;
+        let DenseSamples { t, states } = rec.0.out;
+        return Ok(OpenRun { t, states });
+    }
     let mut rec = Record(OpenRun {
         t: Vec::new(),
         states: vec![Vec::new(); n],
     });
-    let mut s = solver(Alone(plant), x0, &[], tol)?;
     drive(&mut s, instants.at(steps), Some(instants), &mut rec)?;
     Ok(rec.0)
 }
