@@ -28,6 +28,11 @@ def _interrupt_after(seconds):
 
 
 def _interrupted(call):
+    # Python turns SIGINT into KeyboardInterrupt only when its parent left the signal at
+    # its default; a job started in the background by a non-interactive shell (`nohup ...
+    # &`) inherits it ignored, and the call then runs to its end. Ctrl-C's own handler,
+    # set here for the call, is what a user at a terminal has.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     sent, timer = _interrupt_after(0.5)
     start = time.perf_counter()
     try:
@@ -35,6 +40,7 @@ def _interrupted(call):
             call()
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, previous)
     end = time.perf_counter()
     assert "at" in sent, "the call ended before the signal was sent"
     return end - sent["at"], end - start
