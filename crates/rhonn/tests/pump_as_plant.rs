@@ -5,6 +5,16 @@
 use rhonn::experiment::{preset, run, run_plant_scenario, ScenarioSpec, Trace};
 use rhonn::plant::PumpParams;
 
+/// Column `name` of a plant run's trajectory (SI).
+fn column(out: &rhonn::experiment::PlantRunOutput, name: &str) -> Vec<f64> {
+    out.trajectory
+        .iter()
+        .find(|c| c.name == name)
+        .unwrap_or_else(|| panic!("no column {name}"))
+        .values
+        .clone()
+}
+
 /// `regulated-pi` written as a plant scenario: the same PI (0.15 A/MPa, 0.08 s, the
 /// balance current as its offset and as the solenoid's initial current), the same demand
 /// trapezoids, 20 s.
@@ -46,14 +56,7 @@ fn a_pump_scenario_through_the_generic_runner_follows_the_pumps_own_runner() {
     let bias = p.k_a * p.q_0 / (p.k_l * p.omega * p.phi);
     let spec: ScenarioSpec = toml::from_str(&pi_scenario(bias)).unwrap();
     let out = run_plant_scenario(&spec, None).unwrap();
-    let col = |name: &str| {
-        out.trajectory
-            .iter()
-            .find(|c| c.name == name)
-            .unwrap_or_else(|| panic!("no column {name}"))
-            .values
-            .clone()
-    };
+    let col = |name: &str| column(&out, name);
     let (t, p_generic) = (col("t"), col("p_line"));
     assert_eq!(t.len(), 4000);
 
@@ -197,14 +200,7 @@ fn thesis_ch3_through_the_generic_runner_is_the_pumps_own_run() {
     );
     let spec: ScenarioSpec = toml::from_str(&text).unwrap();
     let out = run_plant_scenario(&spec, None).unwrap();
-    let col = |name: &str| {
-        out.trajectory
-            .iter()
-            .find(|c| c.name == name)
-            .unwrap()
-            .values
-            .clone()
-    };
+    let col = |name: &str| column(&out, name);
     let mut trace = Trace::default();
     let own = run(
         &preset::load_any("thesis-ch3").unwrap().pump_run().unwrap(),
@@ -292,14 +288,7 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
     let bias = p.k_a * p.q_0 / (p.k_l * p.omega * p.phi);
     let spec: ScenarioSpec = toml::from_str(&adaptive_scenario(bias)).unwrap();
     let out = run_plant_scenario(&spec, None).unwrap();
-    let col = |name: &str| {
-        out.trajectory
-            .iter()
-            .find(|c| c.name == name)
-            .unwrap()
-            .values
-            .clone()
-    };
+    let col = |name: &str| column(&out, name);
     // The pump's own runner on the same settings, without noise, at tight tolerances.
     let mut own = preset::load_any("control-adaptive").unwrap();
     own.duration_s = 20.0;
