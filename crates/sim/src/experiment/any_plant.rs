@@ -232,6 +232,18 @@ fn sampling_steps(duration_s: f64, period_s: f64) -> Result<u64> {
     Ok(steps as u64)
 }
 
+/// The state at `t` within the solver's last step into `buf`: the step's end itself, or
+/// its dense output.
+fn state_at<S: Integrated>(solver: &Dopri5<S>, t: f64, buf: &mut Vec<f64>) {
+    if t == solver.t() {
+        buf.clear();
+        buf.extend_from_slice(solver.state());
+    } else {
+        buf.resize(solver.state().len(), 0.0);
+        solver.interpolate(t, buf);
+    }
+}
+
 /// Takes an identification's samples: the identified states and model `slot`'s
 /// estimates at every output instant (the end included). Nothing discrete happens at a
 /// sample of an identification (no controller, no measurement fed back), so where the
@@ -261,13 +273,7 @@ impl Sampler {
         while self.dense && self.next < self.count && self.clock.at(self.next) <= solver.t() {
             let t = self.clock.at(self.next);
             self.next += 1;
-            if t == solver.t() {
-                self.buf.clear();
-                self.buf.extend_from_slice(solver.state());
-            } else {
-                self.buf.resize(solver.state().len(), 0.0);
-                solver.interpolate(t, &mut self.buf);
-            }
+            state_at(solver, t, &mut self.buf);
             self.record(solver.system(), t);
         }
         if done {
@@ -400,13 +406,7 @@ impl DenseSampler {
     fn take<S: Integrated>(&mut self, s: &Dopri5<S>) {
         while self.next < self.count && self.clock.at(self.next) <= s.t() {
             let t = self.clock.at(self.next);
-            if t == s.t() {
-                self.buf.clear();
-                self.buf.extend_from_slice(s.state());
-            } else {
-                self.buf.resize(s.state().len(), 0.0);
-                s.interpolate(t, &mut self.buf);
-            }
+            state_at(s, t, &mut self.buf);
             self.out.t.push(t);
             for (col, v) in self.out.states.iter_mut().zip(&self.buf) {
                 col.push(*v);
