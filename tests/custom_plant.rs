@@ -94,8 +94,8 @@ fn a_users_plant_takes_sensor_noise_a_delay_and_a_dither() {
         + "\n[control.dither]\nkind = \"prbs\"\nstart_s = 0.0\nend_s = 100.0\nbit_s = 2.0\nlow = -0.05\nhigh = 0.05\nseed = 4\n\n[measurement]\nnoise_std = { chamber = 1.0 }\nseed = 3\n";
     let noisy = figures(&text);
     assert!(noisy.trajectory.iter().any(|c| c.name == "chamber_measured"));
-    let [a0, _] = clean.summary.control.unwrap();
-    let [a1, _] = noisy.summary.control.unwrap();
+    let [a0, _]: [_; 2] = clean.summary.control.unwrap().try_into().unwrap();
+    let [a1, _]: [_; 2] = noisy.summary.control.unwrap().try_into().unwrap();
     assert!(a1.iae.is_finite() && a1.iae != a0.iae, "{} -> {}", a0.iae, a1.iae);
     assert!(a1.input_total_variation > a0.input_total_variation);
 }

@@ -48,8 +48,8 @@ fn the_tanks_run_with_sensor_noise_and_a_delay() {
     assert!(column(&noisy, "h2_measured_baseline").len() == h2.len());
     assert!(clean.trajectory.iter().all(|c| !c.name.contains("measured")));
     // Noise and delay cost IAE, for both loops; every figure stays finite.
-    let [a0, b0] = clean.summary.control.clone().unwrap();
-    let [a1, b1] = noisy.summary.control.clone().unwrap();
+    let [a0, b0]: [_; 2] = clean.summary.control.clone().unwrap().try_into().unwrap();
+    let [a1, b1]: [_; 2] = noisy.summary.control.clone().unwrap().try_into().unwrap();
     for (f0, f1) in [(&a0, &a1), (&b0, &b1)] {
         assert!(f1.iae > f0.iae, "{}: {} -> {}", f1.controller, f0.iae, f1.iae);
         assert!(f1.input_total_variation > f0.input_total_variation);

@@ -329,7 +329,7 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
         worst[0] * 1e-6,
         worst[1] * 1e-6
     );
-    let [a, b] = out.summary.control.clone().unwrap();
+    let [a, b]: [_; 2] = out.summary.control.clone().unwrap().try_into().unwrap();
     assert_eq!((a.controller, b.controller), ("rhonn-adaptive", "cascade-pi"));
     let own_iae = own_out.figures.regulation.unwrap().iae_mpa_s;
     eprintln!(
@@ -356,6 +356,101 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
     let e = run_plant_scenario(&spec, None).unwrap_err().to_string();
     assert!(
         e.contains("control.controller.state") && e.contains("stroke"),
+        "{e}"
+    );
+}
+
+/// The largest difference between a plant run's column `ours` and the pump runner's column
+/// `theirs` at the same instants (SI), both runs of the shipped scenario `name`.
+fn largest_difference(name: &str, pairs: &[(&str, &str)]) -> (rhonn::experiment::PlantRunOutput, Vec<f64>) {
+    let spec = preset::load_any(name).unwrap();
+    let out = run_plant_scenario(&spec, None).unwrap();
+    let mut trace = Trace::default();
+    run(&spec.pump_run().unwrap(), &mut trace).unwrap();
+    let t = column(&out, "t");
+    let t_own = trace.column("t").unwrap();
+    let worst = pairs
+        .iter()
+        .map(|(ours, theirs)| {
+            let (a, b) = (column(&out, ours), trace.column(theirs).unwrap());
+            t.iter()
+                .enumerate()
+                .map(|(k, tk)| {
+                    assert!(
+                        (t_own[k] - tk).abs() < 1e-12,
+                        "{name}: t {tk} against {}",
+                        t_own[k]
+                    );
+                    (a[k] - b[k]).abs()
+                })
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    (out, worst)
+}
+
+#[test]
+fn the_shipped_adaptive_scenario_runs_its_three_loops_on_the_generic_runner() {
+    // control-adaptive as shipped: the adaptive cascade, the robust cascade PI and the
+    // nominal-optimal one (`second_baseline`, a stored tuning of the baseline's kind), with
+    // the pressure sensor's noise (the same draws: the first state's stream is the seed's).
+    let (out, worst) = largest_difference(
+        "control-adaptive",
+        &[
+            ("p_line", "p_line"),
+            ("p_line_baseline", "p_line_pi"),
+            ("p_line_second_baseline", "p_line_pi2"),
+        ],
+    );
+    eprintln!("largest differences [Pa]: {worst:?}");
+    // 76, 1.2 and 7.4 Pa over 60 s of 5 to 15 MPa: the runners' solver tolerances.
+    assert!(worst.iter().all(|w| *w < 500.0), "{worst:?}");
+    let c = out.summary.control.as_ref().unwrap();
+    let names: Vec<String> = c.iter().map(|f| f.label()).collect();
+    assert_eq!(
+        names,
+        ["rhonn-adaptive", "cascade-pi", "cascade-pi-nominal-optimal"]
+    );
+    assert!(out
+        .summary
+        .findings
+        .iter()
+        .any(|f| f.contains("for the baseline cascade-pi-nominal-optimal")));
+}
+
+#[test]
+fn the_shipped_pi_scenario_runs_alone_from_the_pumps_initial_state_on_the_generic_runner() {
+    // regulated-pi as shipped: `initial = [2.0, 0.0]` (the solenoid's current starts at the
+    // PI's bias, the balance current when none is given), no baseline.
+    let (out, worst) = largest_difference("regulated-pi", &[("p_line", "p_line"), ("stroke", "stroke")]);
+    eprintln!("largest differences (Pa, m): {worst:?}");
+    // 2.5 kPa during the first second's saturated rise (the pump runner's ode45 at rtol
+    // 1e-3 there); under a micrometre of stroke.
+    assert!(worst[0] < 1e4 && worst[1] < 1e-4, "{worst:?}");
+    let c = out.summary.control.as_ref().unwrap();
+    assert_eq!(c.len(), 1);
+    assert!(!out.trajectory.iter().any(|c| c.name.ends_with("_baseline")));
+}
+
+#[test]
+fn a_second_baseline_is_a_stored_tuning_of_the_baselines_kind_and_a_pump_starts_from_two_states() {
+    let tanks = preset::load_any("tanks-control").unwrap();
+    let mut spec = tanks.clone();
+    spec.control.as_mut().unwrap().second_baseline = Some("robust".into());
+    let e = run_plant_scenario(&spec, None).unwrap_err().to_string();
+    assert!(
+        e.contains("control.second_baseline") && e.contains("has no stored tuning"),
+        "{e}"
+    );
+    let mut spec = preset::load_any("control-adaptive").unwrap();
+    spec.control.as_mut().unwrap().second_baseline = Some("fast".into());
+    let e = run_plant_scenario(&spec, None).unwrap_err().to_string();
+    assert!(e.contains("nominal-optimal, robust"), "{e}");
+    let mut spec = preset::load_any("regulated-pi").unwrap();
+    spec.plant.initial = vec![2.0];
+    let e = run_plant_scenario(&spec, None).unwrap_err().to_string();
+    assert!(
+        e.contains("plant.initial") && e.contains("or the first 2 (p_line, stroke"),
         "{e}"
     );
 }

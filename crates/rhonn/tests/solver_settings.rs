@@ -11,7 +11,7 @@ fn control(solver: &str) -> rhonn::Result<PlantRunOutput> {
 }
 
 fn iae(out: &PlantRunOutput) -> [f64; 2] {
-    let [a, b] = out.summary.control.clone().unwrap();
+    let [a, b]: [_; 2] = out.summary.control.clone().unwrap().try_into().unwrap();
     [a.iae, b.iae]
 }
 

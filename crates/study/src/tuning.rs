@@ -399,6 +399,7 @@ fn harmonics(
         period_s: k.t_control,
         setpoint0: setpoint.eval(0.0),
         x0: &x0,
+        operating_input: i_eq,
     };
     let period = 2.0 * std::f64::consts::PI / w;
     let t_on = 1.0;

@@ -125,6 +125,22 @@ pub trait Plant: System + Clone + Send + Sync {
     fn input_at(&self, t: f64, k: usize) -> f64;
     /// Hold input `k` at `value` from now on (a sampled controller's output).
     fn hold_input(&mut self, k: usize, value: f64);
+    /// Input `k` at the plant's operating point (SI; default 0): what a PI on it adds
+    /// when its settings give no bias.
+    fn operating_input(&self, _k: usize) -> f64 {
+        0.0
+    }
+    /// The first states a scenario's `[plant] initial` may give alone, at the values
+    /// they take when it gives none (SI). Default: every state, at 0.
+    fn initial_given(&self) -> Vec<f64> {
+        vec![0.0; self.states().len()]
+    }
+    /// The whole state at t = 0 from the given states (SI, as many as
+    /// [`Plant::initial_given`]) and the inputs at t = 0 (SI): a state not given (an
+    /// actuator's) starts where its input puts it. Default: the given states.
+    fn initial_state(&self, given: &[f64], _inputs0: &[f64]) -> Vec<f64> {
+        given.to_vec()
+    }
     /// The uncertain parameters with their nominal values and tolerances (default:
     /// none).
     fn parameters(&self) -> &'static [Parameter] {

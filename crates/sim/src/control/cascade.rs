@@ -142,6 +142,7 @@ impl LoopSettings for CascadeLoop {
             field: format!("{field}.outer"),
             output: qi,
             range: r,
+            operating_input: 0.0,
             ..cx.clone()
         };
         let o = self.outer.build(&outer_cx)?;

@@ -17,7 +17,7 @@
 //! stroke reference or the current is saturated and the error pushes further into
 //! saturation.
 
-use super::{Controller, LoopContext, LoopSettings};
+use super::{Controller, LoopContext, LoopSettings, LoopSpec};
 use crate::error::{invalid, Result};
 use crate::plant::{PumpParams, P_LINE, STROKE};
 use serde::{Deserialize, Serialize};
@@ -148,12 +148,75 @@ pub struct PumpCascadePiLoop {
     pub stroke_gain: f64,
 }
 
+/// The cascade PI's gains when a scenario gives none: the **robust** tuning found by
+/// `cargo run --release -p rhonn-study --example tune_cascade_pi` (the lowest nominal IAE
+/// that still regulates with doubled gains, a 5 ms solenoid lag and a one-period delay,
+/// and keeps a gain margin of 6 dB and a phase margin of 45 degrees measured on the
+/// simulated pump at every operating point: `rhonn_study::tuning`).
+pub const ROBUST: CascadePiGainsMpa = CascadePiGainsMpa {
+    kp_mm_per_mpa: 0.15,
+    ti_s: 0.07,
+    setpoint_weight: 0.8,
+    stroke_gain: 8.0,
+};
+
+/// The **nominal-optimal** tuning of the same search: the lowest IAE on the nominal
+/// plant with every set-point step's overshoot at most 10 %.
+pub const NOMINAL_OPTIMAL: CascadePiGainsMpa = CascadePiGainsMpa {
+    kp_mm_per_mpa: 0.75,
+    ti_s: 0.05,
+    setpoint_weight: 0.2,
+    stroke_gain: 4.0,
+};
+
+/// Cascade PI gains in the units a scenario file uses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CascadePiGainsMpa {
+    /// Outer proportional gain \[mm/MPa\].
+    pub kp_mm_per_mpa: f64,
+    /// Outer integral time \[s\].
+    pub ti_s: f64,
+    /// Set-point weight b, in [0, 1].
+    pub setpoint_weight: f64,
+    /// Inner stroke gain g.
+    pub stroke_gain: f64,
+}
+
+impl CascadePiGainsMpa {
+    /// The cascade PI of these gains on the pump's pressure, as a scenario names it.
+    pub fn loop_spec(self) -> LoopSpec {
+        LoopSpec::PumpCascadePi(self.on("p_line"))
+    }
+
+    /// The cascade PI of these gains on `state`.
+    fn on(self, state: &str) -> PumpCascadePiLoop {
+        PumpCascadePiLoop {
+            state: state.into(),
+            kp_mm_per_mpa: self.kp_mm_per_mpa,
+            ti_s: self.ti_s,
+            setpoint_weight: self.setpoint_weight,
+            stroke_gain: self.stroke_gain,
+        }
+    }
+}
+
 impl LoopSettings for PumpCascadePiLoop {
     fn state(&self) -> &str {
         &self.state
     }
     fn name(&self) -> &'static str {
         "cascade-pi"
+    }
+    fn tunings(&self) -> &'static [&'static str] {
+        &["nominal-optimal", "robust"]
+    }
+    fn tuning(&self, name: &str) -> Option<LoopSpec> {
+        let g = match name {
+            "nominal-optimal" => NOMINAL_OPTIMAL,
+            "robust" => ROBUST,
+            _ => return None,
+        };
+        Some(LoopSpec::PumpCascadePi(g.on(&self.state)))
     }
     fn build(&self, cx: &LoopContext) -> Result<Box<dyn Controller>> {
         super::adaptive::pump_states(cx, &self.state)?;

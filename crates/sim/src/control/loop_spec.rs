@@ -29,6 +29,10 @@ pub struct LoopContext<'a> {
     pub setpoint0: f64,
     /// The plant's initial state, SI.
     pub x0: &'a [f64],
+    /// The plant's operating input on the loop's output (SI, [`crate::plant::Plant::operating_input`];
+    /// 0 for a cascade's outer loop, whose output is a set-point): a PI's bias when its
+    /// settings give none.
+    pub operating_input: f64,
 }
 
 impl LoopContext<'_> {
@@ -57,6 +61,19 @@ pub trait LoopSettings {
     fn name(&self) -> &'static str;
     /// A cascade's inner state (None for a single loop).
     fn inner_state(&self) -> Option<&str> {
+        None
+    }
+    /// The output the loop's settings add at rest (display units of its output: a PI's
+    /// `bias`), when they give one; else the loop starts from the plant's operating input.
+    fn bias(&self) -> Option<f64> {
+        None
+    }
+    /// The names of the kind's stored tunings (a second baseline names one).
+    fn tunings(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// The same kind on the same state with the stored tuning `name`, if there is one.
+    fn tuning(&self, _name: &str) -> Option<super::LoopSpec> {
         None
     }
     /// The controller, checked against `cx` (errors name `cx.field` and the key).

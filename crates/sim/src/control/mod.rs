@@ -15,7 +15,9 @@ pub use adaptive::{
     pump_cascade, AffineNeuron, CascadeSettings, CascadeState, PumpAdaptiveLoop, RhonnCascade,
 };
 pub use cascade::{Cascade, CascadeLoop};
-pub use cascade_pi::{CascadePi, CascadePiGains, PumpCascadePiLoop};
+pub use cascade_pi::{
+    CascadePi, CascadePiGains, CascadePiGainsMpa, PumpCascadePiLoop, NOMINAL_OPTIMAL, ROBUST,
+};
 pub use loop_spec::{LoopContext, LoopSettings};
 pub use pi::{Pi, PiLoop};
 pub use rhonn_indirect::{IndirectLoop, IndirectSettings, RhonnIndirect};
@@ -70,6 +72,10 @@ impl LoopSpec {
         self.settings().name()
     }
 
+    /// The output its settings add at rest (display units; a PI's `bias`), if given.
+    pub fn bias(&self) -> Option<f64> {
+        self.settings().bias()
+    }
     /// A cascade's inner state (None for a single loop).
     pub fn inner_state(&self) -> Option<&str> {
         self.settings().inner_state()

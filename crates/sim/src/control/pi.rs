@@ -64,8 +64,9 @@ pub struct PiLoop {
     pub kp: f64,
     /// Integral time \[s\].
     pub ti_s: f64,
-    /// Output offset (display units; default 0; for the pump's pressure, the current
-    /// whose steady stroke balances the lubricating flow).
+    /// Output offset (display units; default the plant's operating input: 0 for the
+    /// tanks' voltage, for the pump's current the one whose steady stroke balances the
+    /// lubricating flow).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bias: Option<f64>,
 }
@@ -77,11 +78,18 @@ impl LoopSettings for PiLoop {
     fn name(&self) -> &'static str {
         "pi"
     }
+    fn bias(&self) -> Option<f64> {
+        self.bias
+    }
     fn build(&self, cx: &LoopContext) -> Result<Box<dyn Controller>> {
         let field = &cx.field;
         let i = cx.state_index("state", &self.state)?;
         let q = &cx.states[i];
-        let (kp, bias, out) = (self.kp, self.bias.unwrap_or(0.0), cx.output);
+        let out = cx.output;
+        let (kp, bias) = (
+            self.kp,
+            self.bias.unwrap_or(cx.operating_input * out.display_per_si),
+        );
         if !kp.is_finite() {
             return Err(invalid(format!("{field}.kp"), kp, "a finite number"));
         }

@@ -80,7 +80,7 @@ mod tests {
         );
         let spec = ScenarioSpec::from_toml(&text, "t.toml").unwrap();
         let out = run_plant_scenario(&spec, None).unwrap();
-        let [a, b] = out.summary.control.unwrap();
+        let [a, b]: [_; 2] = out.summary.control.unwrap().try_into().unwrap();
         assert_eq!((a.controller, b.controller), ("rhonn-cascade", "pi-cascade"));
         // On/off: the voltage only takes its bounds, and the level still follows.
         let u = &out

@@ -44,13 +44,15 @@ pub struct SensorNoise {
 
 impl SensorNoise {
     /// Noise of standard deviation `std` on state `state`, its stream seeded by `seed`
-    /// and the state's index (a plant scenario's `[measurement]`): a state's noise
-    /// depends on nothing else.
+    /// and the state's index (a scenario's `[measurement]`): a state's noise depends on
+    /// nothing else. The first state's stream is `seed`'s own, the others' `seed` mixed
+    /// with a multiple of a 64-bit odd constant (the pump's pressure and stroke draw what
+    /// they always drew).
     pub fn per_state(state: usize, std: f64, seed: u64) -> Self {
         SensorNoise {
             state,
             std,
-            seed: seed ^ (state as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15),
+            seed: seed ^ (state as u64).wrapping_mul(0x5851_f42d_4c95_7f2d),
         }
     }
 }

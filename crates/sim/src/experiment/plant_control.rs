@@ -6,7 +6,7 @@ use super::any_plant::{closed_loop_with, LoopRun};
 use super::plant_summary::{LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, TIME, WEIGHT_QUANTITIES};
 use super::scenario::{loop_conditions, signal, state_index, ScenarioSpec};
 use super::solver_spec::Tolerances;
-use crate::control::LoopContext;
+use crate::control::{LoopContext, LoopSpec};
 use crate::error::{invalid, Result};
 use crate::plant::{Plant, Quantity};
 
@@ -20,7 +20,7 @@ fn activity_finding(a: &LoopFigures, b: &LoopFigures, unit: &str) -> String {
         crate::metrics::sig(a.input_rms_change_per_sample, 3),
         crate::metrics::sig(b.input_total_variation, 3),
         crate::metrics::sig(b.input_rms_change_per_sample, 3),
-        b.controller,
+        b.label(),
         crate::metrics::sig(a.time_input_saturated_s, 4),
         crate::metrics::sig(b.time_input_saturated_s, 4),
         crate::metrics::sig(a.time_input_switching_s, 4),
@@ -157,6 +157,17 @@ fn control_input<P: Plant>(plant: &P, c: &super::scenario::ControlSpec) -> Resul
     Ok((k, range))
 }
 
+/// The input `k` that `c` drives, at rest (SI): what its baseline's (else its controller's)
+/// settings add at rest, or the plant's operating input. Both loops start from it, and
+/// the plant holds it while a delay line fills.
+pub(super) fn rest_input<P: Plant>(plant: &P, c: &super::scenario::ControlSpec, k: usize) -> f64 {
+    c.baseline
+        .as_ref()
+        .unwrap_or(&c.controller)
+        .bias()
+        .map_or(plant.operating_input(k), |b| b / plant.inputs()[k].display_per_si)
+}
+
 /// The `[control]` experiment: the controller and the baseline, each on an identical
 /// plant from `x0`.
 pub(super) fn run_control<P: Plant>(
@@ -184,21 +195,13 @@ pub(super) fn run_control<P: Plant>(
     check_control_periods(spec.duration_s, c.period_s)?;
     // Bounded so that the error's integrals (IAE, ISE) stay finite.
     let sp = signal(&c.setpoint, "control.setpoint", &qy, (-1e150, 1e150))?;
-    let conditions = loop_conditions(&plant, spec, c, qu, range)?;
-    let baseline = c.baseline.as_ref().ok_or_else(|| {
-        invalid(
-            "control.baseline",
-            "missing",
-            "the controller the one under test is compared with, run on an identical plant",
-        )
-    })?;
+    let mut conditions = loop_conditions(&plant, spec, c, qu, range)?;
+    conditions.held_input = Some(rest_input(&plant, c, k));
     // A trajectory finer than the control period comes from the solver's dense output.
     let output_s = (spec.output_interval_s < c.period_s).then_some(spec.output_interval_s);
+    let loops = loops_of(c)?;
     let mut runs = Vec::new();
-    for (field, l) in [
-        ("control.controller", &c.controller),
-        ("control.baseline", baseline),
-    ] {
+    for (field, l, _) in &loops {
         if l.state() != c.output {
             return Err(invalid(
                 format!("{field}.state"),
@@ -215,6 +218,7 @@ pub(super) fn run_control<P: Plant>(
             period_s: c.period_s,
             setpoint0: sp.eval(0.0),
             x0,
+            operating_input: plant.operating_input(k),
         };
         let mut ctl = l.build(&cx)?;
         runs.push(closed_loop_with(
@@ -227,38 +231,109 @@ pub(super) fn run_control<P: Plant>(
             tol,
         )?);
     }
-    let [a, b] = [0, 1].map(|k| loop_figures(&runs[k], range, c.period_s, (&qy, qu)));
+    let figures: Vec<LoopFigures> = runs
+        .iter()
+        .zip(&loops)
+        .map(|(r, (_, _, tuning))| LoopFigures {
+            tuning: *tuning,
+            ..loop_figures(r, range, c.period_s, (&qy, qu))
+        })
+        .collect();
     summary.findings.extend(conditions_finding(&plant, c, spec, qu));
-    summary.findings.push(format!(
-        "{}: IAE {:.1} {u} s against {:.1} for the baseline {} ({:+.1} %); final error {:.3} against {:.3} {u}",
-        a.controller,
-        a.iae,
-        b.iae,
-        b.controller,
-        100.0 * (a.iae / b.iae - 1.0),
-        a.final_error,
-        b.final_error,
-        u = qy.display_unit
-    ));
-    summary.findings.push(activity_finding(&a, &b, qu.display_unit));
+    summary.findings.extend(comparison_findings(&figures, &qy, qu));
     for r in &runs {
         summary
             .findings
             .extend(limit_warning(r, range, (&qy, qu), spec.duration_s));
     }
     summary.regulated = Some((qy.name, qy.display_unit));
-    summary.control = Some([a, b]);
-    let inner = [&c.controller, baseline].map(|l| {
-        let s = l.inner_state()?;
-        plant.states().iter().find(|q| q.name == s).copied()
-    });
-    let trajectory = loop_columns(&plant, &runs, &qy, qu, inner);
+    summary.control = Some(figures);
+    let inner: Vec<Option<Quantity>> = loops
+        .iter()
+        .map(|(_, l, _)| {
+            let s = l.inner_state()?;
+            plant.states().iter().find(|q| q.name == s).copied()
+        })
+        .collect();
+    let trajectory = loop_columns(&plant, &runs, &qy, qu, &inner);
     Ok(PlantRunOutput {
         summary,
         trajectory,
         validation: None,
         duration_s: spec.duration_s,
     })
+}
+
+/// The loops of `c`, each on an identical plant: the controller, its baseline if given,
+/// and a second baseline (a stored tuning of the baseline's kind), with their fields.
+fn loops_of(c: &super::scenario::ControlSpec) -> Result<Vec<(&'static str, LoopSpec, Option<&'static str>)>> {
+    let mut loops = vec![("control.controller", c.controller.clone(), None)];
+    if let Some(b) = &c.baseline {
+        loops.push(("control.baseline", b.clone(), None));
+    }
+    if let Some(name) = &c.second_baseline {
+        let Some(b) = &c.baseline else {
+            return Err(invalid(
+                "control.second_baseline",
+                format!("\"{name}\""),
+                "beside a [control.baseline] (a stored tuning of the baseline's kind)",
+            ));
+        };
+        let tunings = b.settings().tunings();
+        let Some((l, t)) = tunings
+            .iter()
+            .find(|t| **t == name.as_str())
+            .and_then(|t| Some((b.settings().tuning(t)?, *t)))
+        else {
+            return Err(invalid(
+                "control.second_baseline",
+                format!("\"{name}\""),
+                if tunings.is_empty() {
+                    format!("none: the baseline's kind `{}` has no stored tuning", b.name())
+                } else {
+                    format!(
+                        "a stored tuning of the baseline's kind `{}`: {}",
+                        b.name(),
+                        tunings.join(", ")
+                    )
+                },
+            ));
+        };
+        loops.push(("control.second_baseline", l, Some(t)));
+    }
+    Ok(loops)
+}
+
+/// The controller's figures beside each baseline's, in words.
+fn comparison_findings(f: &[LoopFigures], qy: &Quantity, qu: &Quantity) -> Vec<String> {
+    let Some((a, baselines)) = f.split_first() else {
+        return Vec::new();
+    };
+    if baselines.is_empty() {
+        return vec![format!(
+            "{}: IAE {:.1} {u} s; final error {:.3} {u}",
+            a.controller,
+            a.iae,
+            a.final_error,
+            u = qy.display_unit
+        )];
+    }
+    let mut v = Vec::new();
+    for b in baselines {
+        v.push(format!(
+            "{}: IAE {:.1} {u} s against {:.1} for the baseline {} ({:+.1} %); final error {:.3} against {:.3} {u}",
+            a.controller,
+            a.iae,
+            b.iae,
+            b.label(),
+            100.0 * (a.iae / b.iae - 1.0),
+            a.final_error,
+            b.final_error,
+            u = qy.display_unit
+        ));
+        v.push(activity_finding(a, b, qu.display_unit));
+    }
+    v
 }
 
 /// A loop's figures in display units: the regulated state's errors and the input's
@@ -272,6 +347,7 @@ fn loop_figures(
     let act = crate::activity::activity(&r.u, range, period_s);
     LoopFigures {
         controller: r.controller,
+        tuning: None,
         iae: qy.to_display(r.iae),
         ise: qy.to_display(qy.to_display(r.ise)),
         final_error: qy.to_display(r.final_error()),
@@ -282,6 +358,10 @@ fn loop_figures(
     }
 }
 
+/// The suffix of each loop's columns: the controller's, the baseline's, the second
+/// baseline's.
+const LOOP_SUFFIXES: [&str; 3] = ["", "_baseline", "_second_baseline"];
+
 /// `trajectory.csv`'s columns: at the control instants, or at the output instants of the
 /// dense output (the states there; the set-point, input, measurement, inner set-point and
 /// weights as held since the last control instant).
@@ -290,7 +370,7 @@ fn loop_columns<P: Plant>(
     runs: &[LoopRun],
     qy: &Quantity,
     qu: &Quantity,
-    inner: [Option<Quantity>; 2],
+    inner: &[Option<Quantity>],
 ) -> Vec<PlantColumn> {
     let col = |name: String, quantity: Quantity, values: Vec<f64>| PlantColumn {
         name,
@@ -312,7 +392,7 @@ fn loop_columns<P: Plant>(
         col("t".into(), TIME, t),
         col(format!("{}_ref", qy.name), *qy, at(&runs[0], &runs[0].setpoint)),
     ];
-    for ((run, suffix), inner) in runs.iter().zip(["", "_baseline"]).zip(inner) {
+    for ((run, suffix), inner) in runs.iter().zip(LOOP_SUFFIXES).zip(inner) {
         for (q, v) in plant.states().iter().zip(states(run)) {
             cols.push(col(format!("{}{suffix}", q.name), *q, v));
         }
@@ -330,7 +410,7 @@ fn loop_columns<P: Plant>(
         if let (false, Some(q)) = (run.inner_reference.is_empty(), inner) {
             cols.push(col(
                 format!("{}_ref{suffix}", q.name),
-                q,
+                *q,
                 at(run, &run.inner_reference),
             ));
         }

@@ -82,7 +82,7 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
     if spec.campaign.is_some() {
         campaign_plan_of(nominal, spec)?;
     }
-    let (mut plant, x0) = configure(nominal, &spec.plant)?;
+    let (mut plant, given) = configure(nominal, &spec.plant)?;
     if let Some(v) = parameters {
         plant = plant.with_parameters(v)?;
     }
@@ -111,6 +111,7 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
         findings: Vec::new(),
     };
     let plant = drive(plant, &spec.input, "input")?;
+    let x0 = plant.initial_state(&given, &inputs_at_start(&plant, spec));
     let out = match &spec.identifier {
         Some(ident) => {
             let tol = tolerances(&plant, spec, IDENTIFY_RTOL)?;
@@ -130,6 +131,17 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
         all_finite(v, "validation.csv")?;
     }
     Ok(out)
+}
+
+/// The plant's inputs at t = 0 (SI): the profiles', and a `[control]` loop's input at rest
+/// ([`super::plant_control::rest_input`]).
+fn inputs_at_start<P: Plant>(plant: &P, spec: &ScenarioSpec) -> Vec<f64> {
+    (0..plant.inputs().len())
+        .map(|k| match &spec.control {
+            Some(c) if c.input == plant.inputs()[k].name => super::plant_control::rest_input(plant, c, k),
+            _ => plant.input_at(0.0, k),
+        })
+        .collect()
 }
 
 /// The solver's settings of `spec` on `plant` (`[solver]`, else the runner's: `rtol`,

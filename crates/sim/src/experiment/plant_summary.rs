@@ -58,6 +58,9 @@ pub struct IdentStateFigures {
 pub struct LoopFigures {
     /// Controller.
     pub controller: &'static str,
+    /// The stored tuning it runs with (a second baseline), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tuning: Option<&'static str>,
     /// Integral of |y - r| \[unit s\].
     pub iae: f64,
     /// Integral of (y - r)^2 \[unit^2 s\].
@@ -74,6 +77,17 @@ pub struct LoopFigures {
     /// Time the input spent at a bound reached from the other bound within
     /// `activity::SWITCH_WINDOW` control periods (bang-bang) \[s\].
     pub time_input_switching_s: f64,
+}
+
+impl LoopFigures {
+    /// How findings name it: the kind, and its stored tuning if any
+    /// (`cascade-pi-nominal-optimal`).
+    pub fn label(&self) -> String {
+        match self.tuning {
+            Some(t) => format!("{}-{t}", self.controller),
+            None => self.controller.to_string(),
+        }
+    }
 }
 
 /// One state of an open-loop run (display units): where it started and ended, and its
@@ -111,9 +125,9 @@ pub struct PlantSummary {
     /// The regulated state and its unit.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub regulated: Option<(&'static str, &'static str)>,
-    /// The controller's and the baseline's figures.
+    /// The controller's figures, then its baseline's and second baseline's when run.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub control: Option<[LoopFigures; 2]>,
+    pub control: Option<Vec<LoopFigures>>,
     /// An open-loop run's states: where each started and ended, and its range.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub open_loop: Option<Vec<StateRange>>,
@@ -142,7 +156,7 @@ impl PlantSummary {
             v.push((format!("{}_min", s.state), s.min_value));
             v.push((format!("{}_max", s.state), s.max_value));
         }
-        for (role, f) in ["controller", "baseline"]
+        for (role, f) in ["controller", "baseline", "second_baseline"]
             .iter()
             .zip(self.control.iter().flatten())
         {

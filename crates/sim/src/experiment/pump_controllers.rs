@@ -5,57 +5,11 @@
 //! PI when unset), and [`PumpLoop`], a loop of the pump's runner built by the registry.
 
 use super::scenario::ControlSpec;
-use crate::control::{Controller, LoopContext, LoopSpec, PiLoop, PumpCascadePiLoop};
+pub use crate::control::{CascadePiGainsMpa, NOMINAL_OPTIMAL, ROBUST};
+use crate::control::{Controller, LoopContext, LoopSpec, PiLoop};
 use crate::error::{invalid, Result};
 use crate::plant::PumpParams;
 use crate::signal::Signal;
-
-/// The cascade PI's gains when a scenario gives none: the **robust** tuning found by
-/// `cargo run --release -p rhonn-study --example tune_cascade_pi` (the lowest nominal IAE
-/// that still regulates with doubled gains, a 5 ms solenoid lag and a one-period delay,
-/// and keeps a gain margin of 6 dB and a phase margin of 45 degrees measured on the
-/// simulated pump at every operating point: `rhonn_study::tuning`).
-pub const ROBUST: CascadePiGainsMpa = CascadePiGainsMpa {
-    kp_mm_per_mpa: 0.15,
-    ti_s: 0.07,
-    setpoint_weight: 0.8,
-    stroke_gain: 8.0,
-};
-
-/// The **nominal-optimal** tuning of the same search: the lowest IAE on the nominal
-/// plant with every set-point step's overshoot at most 10 %.
-pub const NOMINAL_OPTIMAL: CascadePiGainsMpa = CascadePiGainsMpa {
-    kp_mm_per_mpa: 0.75,
-    ti_s: 0.05,
-    setpoint_weight: 0.2,
-    stroke_gain: 4.0,
-};
-
-/// Cascade PI gains in the units a scenario file uses.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CascadePiGainsMpa {
-    /// Outer proportional gain \[mm/MPa\].
-    pub kp_mm_per_mpa: f64,
-    /// Outer integral time \[s\].
-    pub ti_s: f64,
-    /// Set-point weight b, in [0, 1].
-    pub setpoint_weight: f64,
-    /// Inner stroke gain g.
-    pub stroke_gain: f64,
-}
-
-impl CascadePiGainsMpa {
-    /// The cascade PI of these gains on the pump's pressure, as a scenario names it.
-    pub(crate) fn loop_spec(self) -> LoopSpec {
-        LoopSpec::PumpCascadePi(PumpCascadePiLoop {
-            state: "p_line".into(),
-            kp_mm_per_mpa: self.kp_mm_per_mpa,
-            ti_s: self.ti_s,
-            setpoint_weight: self.setpoint_weight,
-            stroke_gain: self.stroke_gain,
-        })
-    }
-}
 
 /// The baseline of the adaptive controller of `c`: its `[control.baseline]` (`lower`
 /// admits the cascade PI, or the PI on `p_line` without a bias), else the cascade PI's
@@ -106,7 +60,7 @@ impl PumpLoop {
         x0: &[f64],
         field: &str,
     ) -> Result<Self> {
-        let balance = params.k_a * params.q_0 / (params.k_l * params.omega * params.phi);
+        let balance = params.balance_current();
         let bias = match &mut controller {
             LoopSpec::Pi(PiLoop { bias, .. }) => *bias.get_or_insert(balance),
             _ => balance,
@@ -138,6 +92,7 @@ impl PumpLoop {
             period_s: params.t_control,
             setpoint0: self.setpoint.eval(0.0),
             x0,
+            operating_input: params.balance_current(),
         };
         self.controller.build(&cx)
     }

@@ -113,12 +113,12 @@ pub struct ControlSpec {
     pub period_s: f64,
     /// The controller under test.
     pub controller: LoopSpec,
-    /// The controller it is compared with (required but for the pump, whose controller
-    /// may run alone).
+    /// The controller it is compared with, on an identical plant (none: the controller
+    /// runs alone).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub baseline: Option<LoopSpec>,
-    /// The pump's adaptive controller only: a second cascade PI run beside it, by its
-    /// tuning's name (`nominal-optimal` or `robust`).
+    /// A second baseline on a third identical plant: a stored tuning of the baseline's
+    /// kind, by its name (the pump's cascade PI: `nominal-optimal` or `robust`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub second_baseline: Option<String>,
     /// Transport delay: the command reaches the plant this many control periods late
@@ -208,7 +208,8 @@ pub(crate) fn drive<P: Plant>(mut plant: P, inputs: &BTreeMap<String, SignalSpec
 }
 
 /// The plant of `section` from its nominal instance: parameters set (unknown names are
-/// errors listing the known), and the initial state in SI.
+/// errors listing the known), and the given initial states in SI (all of them, or the
+/// plant's [`Plant::initial_given`]; [`Plant::initial_state`] completes them).
 pub(crate) fn configure<P: Plant>(nominal: &P, section: &PlantSection) -> Result<(P, Vec<f64>)> {
     let params = nominal.parameters();
     for key in section.parameters.keys() {
@@ -231,13 +232,24 @@ pub(crate) fn configure<P: Plant>(nominal: &P, section: &PlantSection) -> Result
         .collect();
     let plant = nominal.with_parameters(&values)?;
     let states = plant.states();
-    let x0 = if section.initial.is_empty() {
-        vec![0.0; states.len()]
-    } else if section.initial.len() != states.len() {
+    let default = plant.initial_given();
+    let n = section.initial.len();
+    let x0 = if n == 0 {
+        default
+    } else if n != states.len() && n != default.len() {
+        let first = if default.len() < states.len() {
+            format!(
+                ", or the first {} ({}; the others start at the inputs)",
+                default.len(),
+                names(&states[..default.len()])
+            )
+        } else {
+            String::new()
+        };
         return Err(invalid(
             "plant.initial",
             format!("{:?}", section.initial),
-            format!("one value per state ({})", names(states)),
+            format!("one value per state ({}){first}", names(states)),
         ));
     } else {
         section
@@ -267,18 +279,9 @@ impl ScenarioSpec {
         toml::to_string(self).unwrap_or_else(|e| format!("# cannot be written as TOML: {e}"))
     }
 
-    /// The checks that need no plant: name, times, at most one experiment, no key only the
-    /// pump's own runner reads.
+    /// The checks that need no plant: name, times, at most one experiment.
     pub fn check_common(&self) -> Result<()> {
         self.check_times()?;
-        let second = self.control.as_ref().and_then(|c| c.second_baseline.as_ref());
-        if second.is_some() {
-            return Err(invalid(
-                "control.second_baseline",
-                format!("given for the {}", self.plant.kind),
-                "only for the pump ([plant] kind = \"pump\"), whose scenarios its own runner runs (`rhonn run`, `preset::load_any`)",
-            ));
-        }
         self.check_experiment()
     }
 

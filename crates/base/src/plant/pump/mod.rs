@@ -133,6 +133,26 @@ impl Plant for PumpSystem {
     fn parameters(&self) -> &'static [Parameter] {
         &PARAMETERS
     }
+    /// The balance current ([`PumpParams::balance_current`]) and no demand.
+    fn operating_input(&self, k: usize) -> f64 {
+        if k == 0 {
+            self.params.balance_current()
+        } else {
+            0.0
+        }
+    }
+    /// The line pressure and the stroke (2 MPa and 0 mm when none are given): the
+    /// solenoid's current starts at the current input.
+    fn initial_given(&self) -> Vec<f64> {
+        vec![2e6, 0.0]
+    }
+    fn initial_state(&self, given: &[f64], inputs0: &[f64]) -> Vec<f64> {
+        let mut x = given.to_vec();
+        if x.len() == 2 {
+            x.push(inputs0.first().map_or(0.0, |i| i.clamp(0.0, self.params.i_max)));
+        }
+        x
+    }
     fn set_input(&mut self, k: usize, input: Input) -> crate::Result<()> {
         let (current, demand) = match k {
             0 => (input, self.demand.clone()),

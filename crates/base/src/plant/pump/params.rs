@@ -70,6 +70,13 @@ impl Default for PumpParams {
 }
 
 impl PumpParams {
+    /// The current \[A\] whose steady stroke balances the lubricating flow `q_0` with no
+    /// demand: the pump's operating input ([`crate::plant::Plant::operating_input`], a
+    /// pressure PI's bias when none is given).
+    pub fn balance_current(&self) -> f64 {
+        self.k_a * self.q_0 / (self.k_l * self.omega * self.phi)
+    }
+
     /// The coefficients of the pump's equations (`rhonn_core::pump`).
     #[inline(always)]
     pub fn equations(&self) -> rhonn_core::pump::PumpEquations {
