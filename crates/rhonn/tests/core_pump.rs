@@ -3,7 +3,7 @@
 //! RHONN adaptive cascade regulating each, from 2 MPa to 10 MPa with a constant demand.
 
 use rhonn::control::{CascadeSettings, RhonnCascade};
-use rhonn::experiment::any_plant::closed_loop;
+use rhonn::experiment::closed_loop::closed_loop;
 use rhonn::plant::{Input, PumpParams, PumpSystem};
 use rhonn::signal::Signal;
 use rhonn_core::pump::DiscretePump;

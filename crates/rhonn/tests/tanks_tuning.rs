@@ -5,7 +5,7 @@
 //! And the lowest IAE any causal controller can reach there (a test).
 
 use rhonn::control::{Cascade, Controller, IndirectSettings, Pi, RhonnIndirect};
-use rhonn::experiment::any_plant::closed_loop;
+use rhonn::experiment::closed_loop::closed_loop;
 use rhonn::plant::{Input, Tanks, TanksParams};
 use rhonn::signal::{PiecewiseLinear, Signal};
 

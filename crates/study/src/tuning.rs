@@ -414,7 +414,7 @@ fn harmonics(
             t_on,
             computed: Vec::new(),
         };
-        let run = rhonn::experiment::any_plant::closed_loop(
+        let run = rhonn::experiment::closed_loop::closed_loop(
             plant.clone(),
             &x0,
             &mut ctl,

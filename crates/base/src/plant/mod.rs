@@ -141,6 +141,22 @@ pub trait Plant: System + Clone + Send + Sync {
     fn initial_state(&self, given: &[f64], _inputs0: &[f64]) -> Vec<f64> {
         given.to_vec()
     }
+    /// Each state's bounds (SI; default unbounded): a run's figures clamp the solver's
+    /// interpolant to them, and say whether every state stayed within.
+    fn state_bounds(&self) -> Vec<(f64, f64)> {
+        vec![(f64::NEG_INFINITY, f64::INFINITY); self.states().len()]
+    }
+    /// The plant's settling time \[s\] (default 1 s): a regulated run's deviation counts
+    /// as settled this long after each set-point change, and a step's overshoot is
+    /// measured within it.
+    fn settle_s(&self) -> f64 {
+        1.0
+    }
+    /// A state's lower working limit (its index and the limit, SI; default none): a run's
+    /// figures count the time below it (the pump's P_min on its pressure).
+    fn floor(&self) -> Option<(usize, f64)> {
+        None
+    }
     /// The uncertain parameters with their nominal values and tolerances (default:
     /// none).
     fn parameters(&self) -> &'static [Parameter] {

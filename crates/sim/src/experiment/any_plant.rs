@@ -1,24 +1,24 @@
-//! Experiments on any [`Plant`] from the library: online identification of its states,
-//! and a controller on one of its inputs tracking a set-point, sampled at the control
-//! period with zero-order hold. Both run through the one run loop ([`super::sim`]), as
-//! the pump's scenarios do (`pump_run.rs` adds sensor noise, a delay line and figures on the
-//! dense output for the pump).
+//! Experiments on any [`Plant`] from the library: online identification of its states
+//! and its run on its inputs alone (sampled at the output instants), through the one run
+//! loop ([`super::sim`]); a controller on one of its inputs is `closed_loop.rs`'s.
 
 use super::integrated::{Alone, Integrated};
 pub use super::loop_conditions::LoopConditions;
-use super::loop_conditions::{Actuator, Sensors};
-use super::sim::{describe, drive, start, Hooks, Instants};
-use super::solver_spec::{SolverDefaults, Tolerances};
-use crate::control::Controller;
-use crate::error::{Error, Result};
+use super::sim::{drive, start, Hooks, Instants};
+use super::solver_spec::Tolerances;
+use crate::error::Result;
 use crate::ident::{FrozenPair, IdentSettings, Identified};
 use crate::metrics::{fit_percent, rms_error};
 use crate::plant::Plant;
-use crate::signal::Signal;
 use rhonn_ode::{Dopri5, State};
 
 /// `system` from `x0` (the plant's states, then `rest`) in the event-locating solver.
-fn solver<S: Integrated>(system: S, x0: &[f64], rest: &[f64], tol: &Tolerances) -> Result<Dopri5<S>> {
+pub(super) fn solver<S: Integrated>(
+    system: S,
+    x0: &[f64],
+    rest: &[f64],
+    tol: &Tolerances,
+) -> Result<Dopri5<S>> {
     let mut s0 = S::State::zeros(system.dim());
     s0.as_mut_slice()[..x0.len()].copy_from_slice(x0);
     s0.as_mut_slice()[x0.len()..].copy_from_slice(rest);
@@ -220,7 +220,7 @@ pub fn simulate<P: Plant>(
 }
 
 /// The whole sampling periods in `duration_s` (rounded), at least one.
-fn sampling_steps(duration_s: f64, period_s: f64) -> Result<u64> {
+pub(super) fn sampling_steps(duration_s: f64, period_s: f64) -> Result<u64> {
     let steps = (duration_s / period_s).round();
     if !(period_s > 0.0 && steps >= 1.0 && steps.is_finite()) {
         return Err(crate::error::invalid(
@@ -317,38 +317,6 @@ impl<S: Integrated> Hooks<S> for Sampler {
     }
 }
 
-/// What one closed-loop run gives, sampled at the control instants.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LoopRun {
-    /// The controller's name.
-    pub controller: &'static str,
-    /// Control instants \[s\].
-    pub t: Vec<f64>,
-    /// The controlled state (the controller's first measurement), SI.
-    pub y: Vec<f64>,
-    /// The set-point, SI.
-    pub setpoint: Vec<f64>,
-    /// The input applied from each instant on, SI.
-    pub u: Vec<f64>,
-    /// Every plant state at each instant, SI (`states[i][k]`: state i at instant k).
-    pub states: Vec<Vec<f64>>,
-    /// A cascade's inner set-point at each instant, SI (empty for a single loop).
-    pub inner_reference: Vec<f64>,
-    /// An adaptive controller's weights at each instant (empty for others): |W|, |W_1|,
-    /// |W_1 - centre| and the radius of W_1's ball, in the neuron's (scaled) units.
-    pub weights: Vec<[f64; 4]>,
-    /// What the controller measured of the controlled state at each instant, SI (empty
-    /// when no state is measured with noise).
-    pub y_measured: Vec<f64>,
-    /// Integral of |y - r| over the run (rectangle rule at the control instants), SI s.
-    pub iae: f64,
-    /// Integral of (y - r)^2, SI^2 s.
-    pub ise: f64,
-    /// The plant's states at output instants finer than the control period, from the
-    /// solver's dense output (None: the run is sampled at its control instants).
-    pub samples: Option<DenseSamples>,
-}
-
 /// A run's states at its output instants, from the solver's dense output.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DenseSamples {
@@ -379,17 +347,17 @@ impl DenseSamples {
 }
 
 /// Takes a run's states every output interval from each step's dense output.
-struct DenseSampler {
+pub(super) struct DenseSampler {
     clock: Instants,
     next: u64,
     count: u64,
-    out: DenseSamples,
+    pub(super) out: DenseSamples,
     buf: Vec<f64>,
 }
 
 impl DenseSampler {
     /// The output instants `0, dt, ...` before `duration_s` of `n` plant states.
-    fn new(dt: f64, duration_s: f64, n: usize) -> Result<Self> {
+    pub(super) fn new(dt: f64, duration_s: f64, n: usize) -> Result<Self> {
         Ok(DenseSampler {
             clock: Instants::seconds(dt),
             next: 0,
@@ -403,7 +371,7 @@ impl DenseSampler {
     }
 
     /// The output instants up to the solver's time, from its last step.
-    fn take<S: Integrated>(&mut self, s: &Dopri5<S>) {
+    pub(super) fn take<S: Integrated>(&mut self, s: &Dopri5<S>) {
         while self.next < self.count && self.clock.at(self.next) <= s.t() {
             let t = self.clock.at(self.next);
             state_at(s, t, &mut self.buf);
@@ -416,236 +384,11 @@ impl DenseSampler {
     }
 }
 
-impl LoopRun {
-    /// `y - r` at the last control instant (NaN for an empty run), SI.
-    pub fn final_error(&self) -> f64 {
-        match (self.y.last(), self.setpoint.last()) {
-            (Some(y), Some(r)) => y - r,
-            _ => f64::NAN,
-        }
-    }
-}
-
-/// `ctl` drives input `input` of `plant` from `x0` for `duration_s`, every `period_s`,
-/// to follow `setpoint`; an error (with the time and the state) when the solver fails
-/// or the controller's output is not finite. A clean loop: exact measurements, no
-/// delay ([`closed_loop_with`] for noise, dither and delay).
-pub fn closed_loop<P: Plant>(
-    plant: P,
-    x0: &[f64],
-    ctl: &mut dyn Controller,
-    input: usize,
-    setpoint: &Signal,
-    period_s: f64,
-    duration_s: f64,
-) -> Result<LoopRun> {
-    let clean = LoopConditions::default();
-    let tol = Tolerances::of_defaults(&SolverDefaults::plant(LOOP_RTOL), plant.states().len());
-    closed_loop_with(
-        plant,
-        x0,
-        ctl,
-        input,
-        (setpoint, period_s, duration_s),
-        (&clean, None),
-        &tol,
-    )
-}
-
-/// [`closed_loop`] under `conditions`: the controller sees its states through noisy
-/// sensors, and its command, dithered, reaches the plant after the delay. `u` records
-/// what reached the plant; `y_measured` what the controller saw of the regulated state.
-/// With `output_s` (finer than the period), the states are also taken every `output_s`
-/// from the solver's dense output ([`LoopRun::samples`]). `tol`: the solver's settings
-/// (see [`LOOP_RTOL`] for the scenarios' default).
-pub fn closed_loop_with<P: Plant>(
-    mut plant: P,
-    x0: &[f64],
-    ctl: &mut dyn Controller,
-    input: usize,
-    (setpoint, period_s, duration_s): (&Signal, f64, f64),
-    (conditions, output_s): (&LoopConditions, Option<f64>),
-    tol: &Tolerances,
-) -> Result<LoopRun> {
-    let n_meas = ctl.measurements().len();
-    let y_idx = *ctl.measurements().first().ok_or_else(|| {
-        crate::error::invalid("controller.measurements", "[]", "at least the controlled state")
-    })?;
-    plant.hold_input(input, 0.0);
-    let n_states = plant.states().len();
-    let mut s = solver(Alone(plant), x0, &[], tol)?;
-    let mut hooks = Regulate {
-        run: LoopRun {
-            controller: ctl.name(),
-            t: Vec::new(),
-            y: Vec::new(),
-            setpoint: Vec::new(),
-            u: Vec::new(),
-            states: vec![Vec::new(); n_states],
-            inner_reference: Vec::new(),
-            weights: Vec::new(),
-            y_measured: Vec::new(),
-            iae: 0.0,
-            ise: 0.0,
-            samples: None,
-        },
-        dense: output_s
-            .map(|dt| DenseSampler::new(dt, duration_s, n_states))
-            .transpose()?,
-        sensors: Sensors::new(conditions),
-        actuator: Actuator::new(conditions),
-        noisy: conditions.noisy(),
-        meas: Vec::with_capacity(n_meas),
-        y_idx,
-        ctl,
-        input,
-        setpoint,
-        period_s,
-    };
-    let steps = sampling_steps(duration_s, period_s)?;
-    let instants = Instants::seconds(period_s);
-    if let Some(d) = hooks.dense.as_mut() {
-        d.take(&s);
-    }
-    drive(&mut s, instants.at(steps), Some(instants), &mut hooks)?;
-    let mut run = hooks.run;
-    run.samples = hooks.dense.map(|d| d.out);
-    Ok(run)
-}
-
-/// A controller on a plant's input at each instant, and the run's samples.
-struct Regulate<'a> {
-    run: LoopRun,
-    dense: Option<DenseSampler>,
-    meas: Vec<f64>,
-    y_idx: usize,
-    ctl: &'a mut dyn Controller,
-    input: usize,
-    setpoint: &'a Signal,
-    period_s: f64,
-    sensors: Sensors,
-    actuator: Actuator,
-    noisy: bool,
-}
-
-impl<P: Plant> Hooks<Alone<P>> for Regulate<'_> {
-    fn instant(&mut self, s: &mut Dopri5<Alone<P>>) -> Result<()> {
-        let t = s.t();
-        self.sensors.read_for(&*self.ctl, s.state(), &mut self.meas);
-        let r = self.setpoint.eval(t);
-        let ctl = &mut *self.ctl;
-        let u = ctl.control(t, &self.meas, r);
-        if !u.is_finite() {
-            return Err(Error::Controller {
-                t_s: t,
-                state: format!(
-                    "{}, {} output {u}",
-                    describe(s.system().plant(), s.state()),
-                    ctl.name()
-                ),
-            });
-        }
-        let u = self.actuator.apply(t, u);
-        s.system_mut().plant_mut().hold_input(self.input, u);
-        let (run, y) = (&mut self.run, s.state()[self.y_idx]);
-        if self.noisy {
-            run.y_measured.push(self.meas[0]);
-        }
-        let e = y - r;
-        run.iae += e.abs() * self.period_s;
-        run.ise += e * e * self.period_s;
-        run.t.push(t);
-        run.y.push(y);
-        run.setpoint.push(r);
-        run.u.push(u);
-        for (col, v) in run.states.iter_mut().zip(s.state()) {
-            col.push(*v);
-        }
-        if let Some(r1) = ctl.inner_reference() {
-            run.inner_reference.push(r1);
-        }
-        if let Some(v) = ctl.adaptive(t) {
-            run.weights
-                .push([v.w_norm, v.w1_norm, v.w1_distance, v.ball_radius]);
-        }
-        Ok(())
-    }
-    fn stepped(&mut self, s: &Dopri5<Alone<P>>, _done: bool) -> Result<()> {
-        if let Some(d) = self.dense.as_mut() {
-            d.take(s);
-        }
-        Ok(())
-    }
-}
-
 #[cfg(test)]
 mod tests {
+    use super::super::solver_spec::SolverDefaults;
     use super::*;
-    use crate::control::{IndirectSettings, Pi, RhonnIndirect};
     use crate::plant::{Input, Tanks, TanksParams};
-    use crate::signal::PiecewiseLinear;
-
-    /// The upper tank's level by the pump voltage, set-point 100 -> 200 -> 150 mm.
-    #[test]
-    fn a_pi_and_the_rhonn_indirect_controller_regulate_the_upper_tank() {
-        let sp = Signal::piecewise(
-            PiecewiseLinear::new(vec![
-                (0.0, 0.1),
-                (300.0, 0.1),
-                (305.0, 0.2),
-                (600.0, 0.2),
-                (605.0, 0.15),
-            ]),
-            f64::MIN,
-            f64::MAX,
-        );
-        let tanks = Tanks::new(TanksParams::default(), Input::Held(0.0));
-        // IMC on the level linearised at 0.15 m: gain 0.0655 m/V, time constant 67 s; 20 s.
-        let mut pi = Pi::new(67.0 / (0.0655 * 20.0), 67.0, 1.0, 0.0, 0.0, 10.0);
-        let mut adaptive = RhonnIndirect::new(
-            IndirectSettings::for_pole(0.05, 0.1),
-            0,
-            (0.0, 10.0),
-            1.0,
-            0.01,
-            0.05,
-        );
-        for ctl in [&mut pi as &mut dyn Controller, &mut adaptive] {
-            let run = closed_loop(tanks.clone(), &[0.05, 0.05], ctl, 0, &sp, 1.0, 900.0).unwrap();
-            let e = run.final_error();
-            eprintln!(
-                "{}: IAE {:.3} m s, final error {:.2} mm",
-                run.controller,
-                run.iae,
-                e * 1e3
-            );
-            assert!(e.abs() < 2e-3, "{}: {e}", run.controller);
-            assert!(run.u.iter().all(|u| (0.0..=10.0).contains(u)));
-        }
-        // A controller whose output is not finite is an error naming the time and the state.
-        struct Broken;
-        impl Controller for Broken {
-            fn name(&self) -> &'static str {
-                "broken"
-            }
-            fn measurements(&self) -> &[usize] {
-                &[0]
-            }
-            fn control(&mut self, t: f64, _m: &[f64], _r: f64) -> f64 {
-                if t < 10.0 {
-                    1.0
-                } else {
-                    f64::NAN
-                }
-            }
-        }
-        let e = closed_loop(tanks, &[0.05, 0.05], &mut Broken, 0, &sp, 1.0, 100.0).unwrap_err();
-        let e = e.to_string();
-        assert!(
-            e.contains("t = 10 s") && e.contains("h1 = ") && e.contains("broken output NaN"),
-            "{e}"
-        );
-    }
 
     #[test]
     fn identify_records_the_states_and_their_estimates() {

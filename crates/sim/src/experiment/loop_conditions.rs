@@ -2,7 +2,7 @@
 //! noise on the states it measures (one seeded stream per state, so that noise on one
 //! sensor never changes another's), an excitation (dither) added to its command, and a
 //! transport delay of whole control periods before the command reaches the plant.
-//! `any_plant::closed_loop_with` and the pump's run (`pump_loop`) apply them at each
+//! `closed_loop::closed_loop_with` and the pump's run (`pump_loop`) apply them at each
 //! control instant; a plant scenario's `[measurement]` and `[control]` sections set
 //! them, and the pump's `[measurement]`, `dither_a` and `delay_periods`.
 

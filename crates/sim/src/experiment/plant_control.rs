@@ -2,7 +2,7 @@
 //! identical plant under the same loop conditions, their figures (IAE, ISE, final error,
 //! actuator activity) and findings, and `trajectory.csv`'s columns.
 
-use super::any_plant::{closed_loop_with, LoopRun};
+use super::closed_loop::{closed_loop_with, LoopRun};
 use super::plant_summary::{LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, TIME, WEIGHT_QUANTITIES};
 use super::scenario::{loop_conditions, signal, state_index, ScenarioSpec};
 use super::solver_spec::Tolerances;
@@ -351,6 +351,12 @@ fn loop_figures(
         iae: qy.to_display(r.iae),
         ise: qy.to_display(qy.to_display(r.ise)),
         final_error: qy.to_display(r.final_error()),
+        max_abs_deviation: qy.to_display(r.tracking.max_abs_deviation),
+        max_abs_deviation_settled: qy.to_display(r.tracking.max_abs_deviation_settled),
+        time_within_1pct_s: r.tracking.time_within_1pct_s,
+        overshoot_percent: r.tracking.overshoot_percent.clone(),
+        time_below_floor_s: r.tracking.time_below_floor_s,
+        states_bounded: r.tracking.states_bounded,
         time_input_saturated_s: act.time_saturated_s,
         input_total_variation: qu.to_display(act.total_variation),
         input_rms_change_per_sample: qu.to_display(act.rms_change_per_sample),

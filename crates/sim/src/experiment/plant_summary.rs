@@ -61,12 +61,30 @@ pub struct LoopFigures {
     /// The stored tuning it runs with (a second baseline), if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tuning: Option<&'static str>,
-    /// Integral of |y - r| \[unit s\].
+    /// Integral of |y - r| \[unit s\], on the solver's dense output (3-point
+    /// Gauss-Legendre on each step).
     pub iae: f64,
-    /// Integral of (y - r)^2 \[unit^2 s\].
+    /// Integral of (y - r)^2 \[unit^2 s\], likewise.
     pub ise: f64,
     /// y - r at the end \[unit\].
     pub final_error: f64,
+    /// max |y - r| over the run \[unit\].
+    pub max_abs_deviation: f64,
+    /// max |y - r| from the plant's settling time after each set-point change on (the
+    /// pump: 1 s, the tanks: 150 s) \[unit\].
+    pub max_abs_deviation_settled: f64,
+    /// Time with |y - r| within 1 % of r \[s\].
+    pub time_within_1pct_s: f64,
+    /// Each set-point step's overshoot beyond its new value within the plant's settling
+    /// time, in % of the step (0 when the output does not pass it).
+    pub overshoot_percent: Vec<f64>,
+    /// Time the plant's floor state spent below its floor \[s\] (the pump: the pressure
+    /// below P_min); left out for a plant without one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_below_floor_s: Option<f64>,
+    /// Whether every plant state stayed within its bounds (the pump's pressure and
+    /// stroke within their limits).
+    pub states_bounded: bool,
     /// Time the input spent at a bound of its range \[s\].
     pub time_input_saturated_s: f64,
     /// Sum of the input's changes |u(k) - u(k-1)| over the control instants (the

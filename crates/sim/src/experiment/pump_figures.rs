@@ -1,18 +1,14 @@
-//! The figures of a pump run, accumulated step by step on the solver's dense output:
-//! the summary's types and the accumulator.
+//! The figures of a pump run, accumulated step by step on the solver's dense output
+//! (`regulation::Tracker`, any plant's): the summary's types.
 
-use super::integrated::Integrated;
-use super::pump_ident_figures::{IdentReport, GAUSS};
+use super::pump_ident_figures::IdentReport;
 use super::pump_settings::{PumpSettings, SolverSettings};
-use crate::plant::{PumpSystem, P_LINE, STROKE};
-use crate::signal::Signal;
+use super::regulation::Tracker;
+use crate::plant::{P_LINE, STROKE};
 use crate::units::*;
-use rhonn_ode::Dopri5;
 use serde::Serialize;
 
-/// Deviations from the set-point are judged this long after each set-point change
-/// (the start counts as one) for `max_abs_deviation_settled_mpa` \[s\].
-pub const SETTLE_S: f64 = 1.0;
+pub use super::regulation::SETTLE_S;
 
 /// Solver settings and counters of a run.
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
@@ -350,279 +346,41 @@ pub(super) fn comparison(fa: &Figures, fb: &Figures, base: &str) -> Vec<String> 
     ]
 }
 
-/// The run's figures, accumulated step by step on the solver's dense output, so that
-/// they do not depend on the output interval: time-weighted figures are integrated
-/// with 3-point Gauss-Legendre quadrature on each step (split where the set-point has a
-/// breakpoint, at 1 s, and where a settling window ends), the time below P_min from
-/// the located crossings, extremes from the step ends and the Gauss points.
-pub(super) struct Accumulator<'a> {
-    p_limit: f64,
-    pub(super) p_max: f64,
-    pub(super) x_max: f64,
-    i_max: f64,
-    setpoint: Option<&'a Signal>,
-    /// Times where an interval must be split, sorted; `cursor` is the next one.
-    splits: Vec<f64>,
-    cursor: usize,
-    /// Set-point breakpoints (sorted) for the settling windows.
-    changes: Vec<f64>,
-    p_lo: f64,
-    p_hi: f64,
-    x_hi: f64,
-    below: f64,
-    below_after_1s: f64,
-    ise: f64,
-    max_dev: f64,
-    max_dev_settled: f64,
-    saturated: f64,
-    iae: f64,
-    max_dev_0_1: f64,
-    within: f64,
-    /// Per set-point step after t = 0: (time, old value, new value, largest overshoot %).
-    steps: Vec<(f64, f64, f64, f64)>,
-}
-
-impl<'a> Accumulator<'a> {
-    pub(super) fn new(p_limit: f64, i_max: f64, setpoint: Option<&'a Signal>, t_end: f64) -> Self {
-        let mut changes = vec![0.0];
-        let mut splits = vec![1.0];
-        if let Some(sp) = setpoint {
-            let mut t = 0.0;
-            loop {
-                let b = sp.next_breakpoint(t);
-                if !(b < t_end) {
-                    break;
-                }
-                changes.push(b);
-                t = b;
-            }
-            for &c in &changes {
-                splits.push(c);
-                splits.push(c + SETTLE_S);
-            }
-        }
-        let steps = match setpoint {
-            Some(sp) => changes[1..]
-                .iter()
-                .map(|&c| (c, sp.eval(c - 1e-9), sp.eval(c + 1e-9), 0.0))
-                .collect(),
-            None => Vec::new(),
-        };
-        splits.retain(|&v| v > 0.0 && v < t_end);
-        splits.sort_by(f64::total_cmp);
-        splits.dedup();
-        Accumulator {
-            p_limit,
-            p_max: f64::INFINITY,
-            x_max: f64::INFINITY,
-            i_max,
-            setpoint,
-            splits,
-            cursor: 0,
-            changes,
-            p_lo: f64::INFINITY,
-            p_hi: f64::NEG_INFINITY,
-            x_hi: f64::NEG_INFINITY,
-            below: 0.0,
-            below_after_1s: 0.0,
-            ise: 0.0,
-            max_dev: 0.0,
-            max_dev_settled: 0.0,
-            saturated: 0.0,
-            iae: 0.0,
-            max_dev_0_1: 0.0,
-            within: 0.0,
-            steps,
-        }
-    }
-
-    /// Account for the last step `[t_prev, t]` of `solver`.
-    pub(super) fn add_step<S: Integrated<Plant = PumpSystem>>(&mut self, solver: &Dopri5<S>) {
-        let (t0, t1) = (solver.t_prev(), solver.t());
-        if !(t1 > t0) {
-            return;
-        }
-        while self.cursor < self.splits.len() && self.splits[self.cursor] <= t0 {
-            self.cursor += 1;
-        }
-        let mut a = t0;
-        let mut k = self.cursor;
-        while k < self.splits.len() && self.splits[k] < t1 {
-            self.add_interval(solver, a, self.splits[k]);
-            a = self.splits[k];
-            k += 1;
-        }
-        self.add_interval(solver, a, t1);
-    }
-
-    /// `[a, b]` lies in one step, one set-point segment and one settling window.
-    pub(super) fn add_interval<S: Integrated<Plant = PumpSystem>>(
-        &mut self,
-        solver: &Dopri5<S>,
-        a: f64,
-        b: f64,
-    ) {
-        let h = b - a;
-        if !(h > 0.0) {
-            return;
-        }
-        let prm = &solver.system().plant().params;
-        let (dp, dx) = (solver.dense_component(P_LINE), solver.dense_component(STROKE));
-        // The interpolant of a step that ends on a bound may pass it by a hair.
-        let state = |t: f64| {
-            let th = solver.theta_of(t);
-            [dp.at(th).clamp(0.0, prm.p_max), dx.at(th).clamp(0.0, prm.x_max)]
-        };
-        let mid = 0.5 * (a + b);
-        let seg = self.setpoint.map(|sp| (sp, sp.segment(mid)));
-        let settled = seg.is_some() && {
-            let last_change = self
-                .changes
-                .iter()
-                .rev()
-                .find(|&&c| c <= mid)
-                .copied()
-                .unwrap_or(0.0);
-            mid >= last_change + SETTLE_S
-        };
-        let mut pts = [(a, 0.0); 5];
-        let xa = state(a);
-        pts[0] = (a, xa[P_LINE]);
-        // Extremes in locals (the same comparisons in the same order), stored once.
-        let mut x_hi = self.x_hi;
-        for (j, (node, _)) in GAUSS.iter().enumerate() {
-            let t = a + node * h;
-            let x = state(t);
-            pts[j + 1] = (t, x[P_LINE]);
-            x_hi = x_hi.max(x[STROKE]);
-        }
-        let xb = state(b);
-        pts[4] = (b, xb[P_LINE]);
-        self.x_hi = x_hi.max(xb[STROKE]).max(xa[STROKE]);
-        let (mut p_lo, mut p_hi) = (self.p_lo, self.p_hi);
-        for &(_, p) in &pts {
-            p_lo = p_lo.min(p);
-            p_hi = p_hi.max(p);
-        }
-        (self.p_lo, self.p_hi) = (p_lo, p_hi);
-        if let Some((sp, sg)) = seg {
-            // The set-point at the five points, evaluated once.
-            let r = pts.map(|(t, _)| sp.eval_in(sg, t));
-            for (&(_, p), &rk) in pts.iter().zip(&r) {
-                let dev = mpa((p - rk).abs());
-                self.max_dev = self.max_dev.max(dev);
-                if settled {
-                    self.max_dev_settled = self.max_dev_settled.max(dev);
-                }
-            }
-            self.add_tracking(&pts, &r, mid);
-            let inner = || GAUSS.iter().zip(&pts[1..4]).zip(&r[1..4]);
-            self.iae += h * inner()
-                .map(|(((_, w), &(_, p)), &rk)| w * mpa((p - rk).abs()))
-                .sum::<f64>();
-            self.ise += h * inner()
-                .map(|(((_, w), &(_, p)), &rk)| w * mpa(p - rk).powi(2))
-                .sum::<f64>();
-            let i = solver.system().plant().current_at(mid);
-            if i <= 0.0 || i >= self.i_max {
-                self.saturated += h;
-            }
-        }
-        // Time below P_min: the sub-intervals between the five points, with the
-        // crossings located by bisection on the dense output.
-        let mut below = 0.0;
-        for w in pts.windows(2) {
-            let ((ta, pa), (tb, pb)) = (w[0], w[1]);
-            let (ba, bb) = (pa < self.p_limit, pb < self.p_limit);
-            if ba && bb {
-                below += tb - ta;
-            } else if ba != bb {
-                let (mut lo, mut hi) = (ta, tb);
-                while hi - lo > 1e-10 * (1.0 + hi.abs()) {
-                    let m = 0.5 * (lo + hi);
-                    if (state(m)[P_LINE] < self.p_limit) == ba {
-                        lo = m;
-                    } else {
-                        hi = m;
-                    }
-                }
-                let tc = 0.5 * (lo + hi);
-                below += if ba { tc - ta } else { tb - tc };
-            }
-        }
-        self.below += below;
-        if a >= 1.0 {
-            self.below_after_1s += below;
-        }
-    }
-
-    /// The tracking figures of one interval's five points (`r`: the set-point there).
-    fn add_tracking(&mut self, pts: &[(f64, f64); 5], r: &[f64; 5], mid: f64) {
-        let step = self.steps.iter().rposition(|s| s.0 <= mid);
-        let last_change = step.map_or(0.0, |k| self.steps[k].0);
-        // Signed distance outside the 1 % band (< 0 inside).
-        let out: [f64; 5] = std::array::from_fn(|k| (pts[k].1 - r[k]).abs() - 0.01 * r[k].abs());
-        for k in 0..4 {
-            let (dt, da, db) = (pts[k + 1].0 - pts[k].0, out[k], out[k + 1]);
-            self.within += match (da <= 0.0, db <= 0.0) {
-                (true, true) => dt,
-                (false, false) => 0.0,
-                // One crossing, located linearly between the points.
-                (true, false) => dt * da / (da - db),
-                (false, true) => dt * db / (db - da),
-            };
-        }
-        for (&(t, p), &rk) in pts.iter().zip(r) {
-            if t >= last_change + 0.1 {
-                self.max_dev_0_1 = self.max_dev_0_1.max(mpa((p - rk).abs()));
-            }
-            if let Some(k) = step.filter(|_| t < last_change + SETTLE_S) {
-                let (_, old, new, worst) = &mut self.steps[k];
-                let size = (*new - *old).abs();
-                if size > 0.0 {
-                    let over = (*new - *old).signum() * (p - rk) / size * 100.0;
-                    *worst = worst.max(over);
-                }
-            }
-        }
-    }
-
-    pub(super) fn figures(
-        &self,
-        duration_s: f64,
-        samples: usize,
-        last: [f64; 2],
-        regulated: bool,
-    ) -> Figures {
-        Figures {
-            duration_s,
-            samples,
-            final_p_line_mpa: mpa(last[P_LINE]),
-            final_stroke_mm: mm(last[STROKE]),
-            p_line_min_mpa: mpa(self.p_lo),
-            p_line_max_mpa: mpa(self.p_hi),
-            stroke_max_mm: mm(self.x_hi),
-            time_below_p_min_s: self.below,
-            time_below_p_min_after_1s_s: self.below_after_1s,
-            regulation: regulated.then_some(Regulation {
-                max_abs_deviation_mpa: self.max_dev,
-                max_abs_deviation_settled_mpa: self.max_dev_settled,
-                ise_mpa2_s: self.ise,
-                time_current_saturated_s: self.saturated,
-                iae_mpa_s: self.iae,
-                max_abs_deviation_after_0_1s_mpa: self.max_dev_0_1,
-                time_within_1pct_s: self.within,
-                within_1pct_percent: 100.0 * self.within / duration_s,
-                overshoot_percent: self.steps.iter().map(|s| s.3).collect(),
-                signals_bounded: self.p_lo >= 0.0
-                    && self.p_hi <= self.p_max * (1.0 + 1e-12)
-                    && self.x_hi <= self.x_max * (1.0 + 1e-12),
-                // Set from the control instants' commands by the run (pump_loop).
-                current_total_variation_a: 0.0,
-                current_rms_change_per_sample_a: 0.0,
-                time_current_switching_s: 0.0,
-            }),
-        }
+/// The pump's figures from its run's [`Tracker`] (pressure, stroke, current): the
+/// accumulator of every plant, here in MPa and mm.
+pub(super) fn figures_of(
+    acc: &Tracker,
+    duration_s: f64,
+    samples: usize,
+    last: [f64; 2],
+    regulated: bool,
+) -> Figures {
+    Figures {
+        duration_s,
+        samples,
+        final_p_line_mpa: mpa(last[P_LINE]),
+        final_stroke_mm: mm(last[STROKE]),
+        p_line_min_mpa: mpa(acc.lo[P_LINE]),
+        p_line_max_mpa: mpa(acc.hi[P_LINE]),
+        stroke_max_mm: mm(acc.hi[STROKE]),
+        time_below_p_min_s: acc.below,
+        time_below_p_min_after_1s_s: acc.below_after_1s,
+        regulation: regulated.then_some(Regulation {
+            max_abs_deviation_mpa: acc.max_dev,
+            max_abs_deviation_settled_mpa: acc.max_dev_settled,
+            ise_mpa2_s: acc.ise,
+            time_current_saturated_s: acc.saturated,
+            iae_mpa_s: acc.iae,
+            max_abs_deviation_after_0_1s_mpa: acc.max_dev_0_1,
+            time_within_1pct_s: acc.within,
+            within_1pct_percent: 100.0 * acc.within / duration_s,
+            overshoot_percent: acc.steps.iter().map(|s| s.3).collect(),
+            signals_bounded: acc.states_bounded(),
+            // Set from the control instants' commands by the run (pump_loop).
+            current_total_variation_a: 0.0,
+            current_rms_change_per_sample_a: 0.0,
+            time_current_switching_s: 0.0,
+        }),
     }
 }
 

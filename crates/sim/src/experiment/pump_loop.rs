@@ -5,15 +5,16 @@
 
 use super::integrated::Integrated;
 use super::loop_conditions::{Actuator, LoopConditions, SensorNoise, Sensors};
-use super::pump_figures::{Accumulator, AdaptiveReport, Figures};
+use super::pump_figures::{figures_of, AdaptiveReport, Figures};
 use super::pump_ident_figures::IdentAcc;
 use super::pump_settings::{Drive, Scenario, SolverSettings};
+use super::regulation::{Scale, Tracked, Tracker};
 use super::sim::{describe, drive, start, Hooks, Instants};
 use super::solver_spec::{Tolerances, DEFAULT_ATOL};
 use super::trace::{Recorder, Sample};
 use crate::control::{CascadeState, Controller};
 use crate::error::{Error, Result};
-use crate::plant::{PumpSystem, PLANT_DIM, P_LINE, STROKE};
+use crate::plant::{Plant, PumpSystem, PLANT_DIM, P_LINE, STROKE};
 use crate::signal::Signal;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
@@ -236,7 +237,7 @@ fn adaptive_state(
 struct PumpHooks<'a, R: Recorder> {
     rec: &'a mut R,
     ident_acc: &'a mut [IdentAcc],
-    acc: Accumulator<'a>,
+    acc: Tracker<'a>,
     plant_figures: bool,
     ctl: Ctl,
     /// The applied current's activity at the control instants.
@@ -346,9 +347,17 @@ pub(super) fn simulate<S: Integrated<Plant = PumpSystem>>(
     };
     let t_end = sc.spec.duration_s;
     let regulated = !matches!(ctl, Ctl::Open);
-    let mut acc = Accumulator::new(p.p_min, p.i_max, setpoint, t_end);
-    acc.p_max = p.p_max;
-    acc.x_max = p.x_max;
+    let acc = Tracker::new(
+        Tracked {
+            regulated: setpoint.map(|sp| (P_LINE, sp)),
+            display: Scale::Over(crate::units::PA_PER_MPA),
+            floor: solver.system().plant().floor(),
+            bounds: solver.system().plant().state_bounds(),
+            input: Some((0, (0.0, p.i_max))),
+            settle_s: solver.system().plant().settle_s(),
+        },
+        t_end,
+    );
     let mut hooks = PumpHooks {
         clock: OutputClock::new(sc, rec.wants_samples(), rec.stride()),
         rec,
@@ -376,9 +385,7 @@ pub(super) fn simulate<S: Integrated<Plant = PumpSystem>>(
         (regulated && setpoint.is_some()).then(|| Instants::milliseconds(sc.spec.plant.t_control_ms));
     drive(&mut solver, t_end, instants, &mut hooks)?;
     let last = [solver.state()[P_LINE], solver.state()[STROKE]];
-    let mut figures = hooks
-        .acc
-        .figures(t_end, hooks.clock.n_out as usize + 1, last, regulated);
+    let mut figures = figures_of(&hooks.acc, t_end, hooks.clock.n_out as usize + 1, last, regulated);
     if let Some(r) = figures.regulation.as_mut() {
         let a = hooks.activity.finish();
         r.current_total_variation_a = a.total_variation;

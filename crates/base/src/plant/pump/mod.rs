@@ -141,6 +141,19 @@ impl Plant for PumpSystem {
             0.0
         }
     }
+    /// The pressure within [0, P_max], the stroke within [0, x_max], the current free.
+    fn state_bounds(&self) -> Vec<(f64, f64)> {
+        let p = &self.params;
+        vec![(0.0, p.p_max), (0.0, p.x_max), (f64::NEG_INFINITY, f64::INFINITY)]
+    }
+    /// 1 s: the thesis's settling window after a set-point step.
+    fn settle_s(&self) -> f64 {
+        1.0
+    }
+    /// P_min on the pressure: below it the lubrication fails.
+    fn floor(&self) -> Option<(usize, f64)> {
+        Some((P_LINE, self.params.p_min))
+    }
     /// The line pressure and the stroke (2 MPa and 0 mm when none are given): the
     /// solenoid's current starts at the current input.
     fn initial_given(&self) -> Vec<f64> {

@@ -146,6 +146,10 @@ impl Plant for Tanks {
     fn name(&self) -> &'static str {
         "tanks"
     }
+    /// 150 s: three of a tank's time constants (about 50 s at 5 V).
+    fn settle_s(&self) -> f64 {
+        150.0
+    }
     fn states(&self) -> &'static [Quantity] {
         &STATES
     }
