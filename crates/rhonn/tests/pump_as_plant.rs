@@ -63,10 +63,8 @@ fn a_pump_scenario_through_the_generic_runner_follows_the_pumps_own_runner() {
     // The pump's own runner on the same settings.
     let mut own = preset::load_any("regulated-pi").unwrap();
     own.duration_s = 20.0;
-    // ode45's default tolerances there (rtol 1e-3); the generic runner's are 1e-7.
-    let solver = own.solver.get_or_insert_with(Default::default);
-    solver.rtol = Some(1e-8);
-    solver.atol_si.insert("p_line".into(), 1e-2);
+    // Both at the pump's solver defaults (`Plant::solver_defaults`: rtol 1e-6, 1 Pa, 1e-9 m,
+    // largest step 100 ms).
     if let Some(rhonn::signal::SignalSpec::Trapezoids { pulses, .. }) = own.input.get_mut("demand") {
         pulses.truncate(2);
     }
@@ -82,11 +80,9 @@ fn a_pump_scenario_through_the_generic_runner_follows_the_pumps_own_runner() {
         worst = worst.max((p_own[j] - pk).abs());
     }
     eprintln!("largest difference: {:.3e} MPa", worst * 1e-6);
-    // 394 Pa (4e-5 of 10 MPa), during the first second's saturated rise, where the
-    // generic runner's rtol of 1e-7 is amplified; 198 Pa with the own runner at 1e-10:
-    // the gap is the tolerances', not a difference of the loops. With ode45's default
-    // tolerances there, 2.4 kPa.
-    assert!(worst < 1e3, "{worst} Pa");
+    // 1e-4 Pa: the same loop on the same solver settings (394 Pa while this runner took
+    // rtol 1e-7 against the pump runner's 1e-8: the gap was the tolerances').
+    assert!(worst < 1.0, "{worst} Pa");
     let control = out.summary.control.as_ref().unwrap();
     // The summary holds both loops: the thesis's gain settles, a third of it lags.
     assert!(control[0].final_error.abs() < 0.1, "{:?}", control[0]);
@@ -289,15 +285,13 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
     let spec: ScenarioSpec = toml::from_str(&adaptive_scenario(bias)).unwrap();
     let out = run_plant_scenario(&spec, None).unwrap();
     let col = |name: &str| column(&out, name);
-    // The pump's own runner on the same settings, without noise, at tight tolerances.
+    // The pump's own runner on the same settings, without noise (both at the pump's solver
+    // defaults).
     let mut own = preset::load_any("control-adaptive").unwrap();
     own.duration_s = 20.0;
     if let Some(m) = own.measurement.as_mut() {
         m.noise_std.insert("p_line".into(), 0.0);
     }
-    let solver = own.solver.get_or_insert_with(Default::default);
-    solver.rtol = Some(1e-8);
-    solver.atol_si.insert("p_line".into(), 1e-2);
     if let Some(c) = own.control.as_mut() {
         c.setpoint =
             toml::from_str::<toml::Value>("s = { kind = \"steps\", initial = 10.0, steps = [[15.0, 5.0]] }")
@@ -336,11 +330,12 @@ fn the_pumps_adaptive_controller_and_cascade_pi_run_as_loop_kinds_of_the_one_for
         "adaptive IAE: {} MPa s here, {own_iae} MPa s on the pump's own runner",
         a.iae
     );
-    // 7.5 Pa and 0.07 Pa here: the same loops, to the solvers' tolerances; the IAE within
-    // 1e-7 (both integrate the error on the solver's dense output, `regulation::Tracker`;
-    // 0.7 % apart when this runner summed it at the control instants).
-    assert!(worst[0] < 100.0 && worst[1] < 100.0, "{worst:?} Pa");
-    assert!((a.iae / own_iae - 1.0).abs() < 1e-5, "{} vs {own_iae}", a.iae);
+    // 5e-7 Pa: the same loops on the same solver settings (7.5 Pa while the runners'
+    // tolerances differed); the IAE to its last digits (both integrate the error on the
+    // dense output, `regulation.rs`; 0.7 % apart when this runner summed it at the control
+    // instants).
+    assert!(worst[0] < 1e-3 && worst[1] < 1e-3, "{worst:?} Pa");
+    assert!((a.iae / own_iae - 1.0).abs() < 1e-9, "{} vs {own_iae}", a.iae);
     // The kinds refuse a plant that is not the pump, naming the field.
     let tanks = adaptive_scenario(bias)
         .replace("kind = \"pump\"\ninitial = [2.0, 0.0, {bias_a}]", "")
@@ -410,8 +405,9 @@ fn the_shipped_adaptive_scenario_runs_its_three_loops_on_the_generic_runner() {
         ],
     );
     eprintln!("largest differences [Pa]: {worst:?}");
-    // 76, 1.2 and 7.4 Pa over 60 s of 5 to 15 MPa: the runners' solver tolerances.
-    assert!(worst.iter().all(|w| *w < 500.0), "{worst:?}");
+    // 2e-5 Pa at most over 60 s of 5 to 15 MPa: the same loops on the same solver
+    // settings (the pump's `Plant::solver_defaults`; 76 Pa while the tolerances differed).
+    assert!(worst.iter().all(|w| *w < 0.01), "{worst:?}");
     let c = out.summary.control.as_ref().unwrap();
     let names: Vec<String> = c.iter().map(|f| f.label()).collect();
     assert_eq!(
@@ -459,9 +455,8 @@ fn the_shipped_pi_scenario_runs_alone_from_the_pumps_initial_state_on_the_generi
     // PI's bias, the balance current when none is given), no baseline.
     let (out, worst, _) = largest_difference("regulated-pi", &[("p_line", "p_line"), ("stroke", "stroke")]);
     eprintln!("largest differences (Pa, m): {worst:?}");
-    // 2.5 kPa during the first second's saturated rise (the pump runner's ode45 at rtol
-    // 1e-3 there); under a micrometre of stroke.
-    assert!(worst[0] < 1e4 && worst[1] < 1e-4, "{worst:?}");
+    // 1e-4 Pa and 3e-14 m: the same loop on the same solver settings.
+    assert!(worst[0] < 0.01 && worst[1] < 1e-9, "{worst:?}");
     let c = out.summary.control.as_ref().unwrap();
     assert_eq!(c.len(), 1);
     assert!(!out.trajectory.iter().any(|c| c.name.ends_with("_baseline")));

@@ -100,6 +100,28 @@ pub struct Parameter {
     pub description: &'static str,
 }
 
+/// What a runner takes when `[solver]` leaves a field unset (profile `hairer`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolverDefaults {
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance per plant state, SI (states beyond the list: 1e-9).
+    pub atol: Vec<f64>,
+    /// Largest step \[s\] (infinite: no limit).
+    pub max_step_s: f64,
+}
+
+impl SolverDefaults {
+    /// A plant's runner: `rtol`, 1e-9 on every state, no step limit.
+    pub fn plant(rtol: f64) -> Self {
+        SolverDefaults {
+            rtol,
+            atol: Vec::new(),
+            max_step_s: f64::INFINITY,
+        }
+    }
+}
+
 /// What the experiment layer needs to know about a plant beyond its equations.
 ///
 /// The first [`Plant::states`]`.len()` components of the [`System`] state are the
@@ -145,6 +167,11 @@ pub trait Plant: System + Clone + Send + Sync {
     /// interpolant to them, and say whether every state stayed within.
     fn state_bounds(&self) -> Vec<(f64, f64)> {
         vec![(f64::NEG_INFINITY, f64::INFINITY); self.states().len()]
+    }
+    /// The plant's own solver defaults, where its runs want others than the runner's
+    /// (`rtol` by experiment, 1e-9 on every state, no step limit); None: the runner's.
+    fn solver_defaults(&self) -> Option<SolverDefaults> {
+        None
     }
     /// The plant's settling time \[s\] (default 1 s): a regulated run's deviation counts
     /// as settled this long after each set-point change, and a step's overshoot is

@@ -144,10 +144,13 @@ fn inputs_at_start<P: Plant>(plant: &P, spec: &ScenarioSpec) -> Vec<f64> {
         .collect()
 }
 
-/// The solver's settings of `spec` on `plant` (`[solver]`, else the runner's: `rtol`,
-/// atol 1e-9, no step limit).
+/// The solver's settings of `spec` on `plant`: `[solver]`, over the plant's own defaults
+/// ([`Plant::solver_defaults`]: the pump's) or the runner's (`rtol`, atol 1e-9, no step
+/// limit).
 fn tolerances<P: Plant>(plant: &P, spec: &ScenarioSpec, rtol: f64) -> Result<Tolerances> {
-    let defaults = SolverDefaults::plant(rtol);
+    let defaults = plant
+        .solver_defaults()
+        .unwrap_or_else(|| SolverDefaults::plant(rtol));
     match &spec.solver {
         Some(s) => s.check(plant.name(), plant.states(), &defaults, spec.duration_s),
         None => Ok(Tolerances::of_defaults(&defaults, plant.states().len())),

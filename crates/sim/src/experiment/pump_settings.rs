@@ -5,7 +5,6 @@
 
 use super::pump_controllers::{adaptive_baseline, named_cascade_pi, PumpLoop};
 use super::scenario::{check_folder_name, ControlSpec, ProfileSpec, SolverSpec};
-use super::solver_spec::SolverDefaults;
 use crate::error::{invalid, Error, Result};
 use crate::ident::{IdentSettings, IdentifierSpec};
 use crate::plant::{PumpParams, PumpParamsSpec};
@@ -413,11 +412,7 @@ impl PumpSettings {
     /// The generic `[solver]` on the pump's pressure and stroke (the pump's defaults:
     /// rtol 1e-6, atol 1 Pa and 1e-9 m, largest step 100 ms).
     fn check_solver(&self) -> Result<SolverSettings> {
-        let defaults = SolverDefaults {
-            rtol: 1e-6,
-            atol: vec![1.0, 1e-9],
-            max_step_s: 0.1,
-        };
+        let defaults = crate::plant::pump::solver_defaults();
         let states = &crate::plant::pump::STATES[..2];
         let t = self.solver.check("pump", states, &defaults, self.duration_s)?;
         Ok(SolverSettings {

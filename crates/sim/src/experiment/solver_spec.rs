@@ -41,27 +41,7 @@ pub struct SolverSpec {
     pub max_step_ms: Option<f64>,
 }
 
-/// What a runner takes when `[solver]` leaves a field unset (profile `hairer`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct SolverDefaults {
-    /// Relative tolerance.
-    pub rtol: f64,
-    /// Absolute tolerance per plant state, SI (states beyond the list: 1e-9).
-    pub atol: Vec<f64>,
-    /// Largest step \[s\] (infinite: no limit).
-    pub max_step_s: f64,
-}
-
-impl SolverDefaults {
-    /// A plant's runner: `rtol`, 1e-9 on every state, no step limit.
-    pub fn plant(rtol: f64) -> Self {
-        SolverDefaults {
-            rtol,
-            atol: Vec::new(),
-            max_step_s: f64::INFINITY,
-        }
-    }
-}
+pub use crate::plant::SolverDefaults;
 
 /// The absolute tolerance of a state no setting names (SI), and of the states a runner
 /// adds to the plant's (an identifier's, a controller's).

@@ -102,6 +102,16 @@ pub const CAMPAIGN_PARAMETERS: [Parameter; 5] = [
     DEMAND_SLEW,
 ];
 
+/// The pump's solver defaults, the thesis's: rtol 1e-6, atol 1 Pa and 1e-9 m (the
+/// current: 1e-9 A), largest step 100 ms, for every experiment.
+pub fn solver_defaults() -> super::SolverDefaults {
+    super::SolverDefaults {
+        rtol: 1e-6,
+        atol: vec![1.0, 1e-9],
+        max_step_s: 0.1,
+    }
+}
+
 impl Plant for PumpSystem {
     fn name(&self) -> &'static str {
         "pump"
@@ -145,6 +155,10 @@ impl Plant for PumpSystem {
     fn state_bounds(&self) -> Vec<(f64, f64)> {
         let p = &self.params;
         vec![(0.0, p.p_max), (0.0, p.x_max), (f64::NEG_INFINITY, f64::INFINITY)]
+    }
+    /// [`solver_defaults`].
+    fn solver_defaults(&self) -> Option<super::SolverDefaults> {
+        Some(solver_defaults())
     }
     /// 1 s: the thesis's settling window after a set-point step.
     fn settle_s(&self) -> f64 {
