@@ -17,6 +17,17 @@ pub struct Stats {
     pub breakpoints: u64,
 }
 
+impl core::ops::AddAssign for Stats {
+    /// The counters of two runs together.
+    fn add_assign(&mut self, st: Stats) {
+        self.rhs_evaluations += st.rhs_evaluations;
+        self.accepted_steps += st.accepted_steps;
+        self.rejected_steps += st.rejected_steps;
+        self.events += st.events;
+        self.breakpoints += st.breakpoints;
+    }
+}
+
 impl fmt::Display for Stats {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(

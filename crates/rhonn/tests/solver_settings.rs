@@ -34,6 +34,20 @@ fn a_solver_section_sets_the_tanks_tolerances() {
     let atol = control("\n[solver]\nrtol = 1e-3\natol_si = { h1 = 1e-2, h2 = 1e-2 }\n").unwrap();
     assert_ne!(rtol, plain);
     assert_ne!(atol, rtol);
+    // summary.json says the settings each run took and the solver's work over both loops:
+    // the loose one fewer steps.
+    let (s, p) = (&atol.summary.solver, &plain.summary.solver);
+    assert_eq!(
+        (s.rtol, s.atol_si["h1"], p.rtol, p.atol_si["h2"]),
+        (1e-3, 1e-2, 1e-7, 1e-9)
+    );
+    assert!(
+        s.accepted_steps < p.accepted_steps && s.rhs_evaluations > 0,
+        "{s:?} against {p:?}"
+    );
+    let o = &coarse.summary.solver;
+    assert_eq!(o.max_step_s, Some(60.0), "{o:?}"); // ode45: a tenth of the 600 s run
+    assert_eq!(p.max_step_s, None);
 }
 
 #[test]

@@ -47,6 +47,8 @@ pub struct IdentRun {
     /// series-parallel estimate (its regressor on the measured states), from the same
     /// integration as its free run.
     pub y_hat_series_parallel: Vec<Vec<f64>>,
+    /// What the solver did.
+    pub stats: rhonn_ode::Stats,
     /// The final weights, one vector per neuron.
     pub weights: Vec<Vec<f64>>,
 }
@@ -114,6 +116,7 @@ pub fn identify<P: Plant>(
                 Vec::new()
             },
             weights: Vec::new(),
+            stats: rhonn_ode::Stats::default(),
         },
         idx: is.states.iter().filter_map(|s| s.state_index()).collect(),
         // The training identifier's estimates, or the frozen model's parallel copy's.
@@ -134,6 +137,7 @@ pub fn identify<P: Plant>(
         let mut s = solver(sys, x0, &init, tol)?;
         drive(&mut s, t_end, stops, &mut sampler)?;
         sampler.run.weights = w.to_vec();
+        sampler.run.stats = s.stats();
         return Ok(sampler.run);
     }
     let init = is.ident.initial_state(&is.xhat0, start);
@@ -141,6 +145,7 @@ pub fn identify<P: Plant>(
     let mut s = solver(sys, x0, &init, tol)?;
     drive(&mut s, t_end, stops, &mut sampler)?;
     sampler.run.weights = s.system().ident.weights(&s.state()[np..]);
+    sampler.run.stats = s.stats();
     Ok(sampler.run)
 }
 
@@ -151,6 +156,8 @@ pub struct OpenRun {
     pub t: Vec<f64>,
     /// Every plant state at each sample, SI (`states[i][k]`: state i at sample k).
     pub states: Vec<Vec<f64>>,
+    /// What the solver did.
+    pub stats: rhonn_ode::Stats,
 }
 
 /// Simulate `plant`, driven by its own inputs, from `x0` for `duration_s`, sampled every
@@ -209,13 +216,16 @@ pub fn simulate<P: Plant>(
         let mut rec = Dense(DenseSampler::new(sample_s, duration_s, n)?);
         drive(&mut s, instants.at(steps), None, &mut rec)?;
         let DenseSamples { t, states } = rec.0.out;
-        return Ok(OpenRun { t, states });
+        let stats = s.stats();
+        return Ok(OpenRun { t, states, stats });
     }
     let mut rec = Record(OpenRun {
         t: Vec::new(),
         states: vec![Vec::new(); n],
+        stats: rhonn_ode::Stats::default(),
     });
     drive(&mut s, instants.at(steps), Some(instants), &mut rec)?;
+    rec.0.stats = s.stats();
     Ok(rec.0)
 }
 

@@ -46,6 +46,8 @@ pub struct LoopRun {
     pub ise: f64,
     /// The other figures of the same accumulation (SI).
     pub tracking: Tracking,
+    /// What the solver did.
+    pub stats: rhonn_ode::Stats,
     /// The plant's states at output instants finer than the control period, from the
     /// solver's dense output (None: the run is sampled at its control instants).
     pub samples: Option<DenseSamples>,
@@ -143,6 +145,7 @@ pub fn closed_loop_with<P: Plant>(
             iae: 0.0,
             ise: 0.0,
             tracking: Tracking::default(),
+            stats: rhonn_ode::Stats::default(),
             samples: None,
         },
         tracker: Tracker::new(
@@ -176,6 +179,7 @@ pub fn closed_loop_with<P: Plant>(
     drive(&mut s, instants.at(steps), Some(instants), &mut hooks)?;
     let mut run = hooks.run;
     run.samples = hooks.dense.map(|d| d.out);
+    run.stats = s.stats();
     let tr = hooks.tracker;
     (run.iae, run.ise) = (tr.iae, tr.ise);
     run.tracking = Tracking {

@@ -31,7 +31,8 @@ pub use bench::{bench, bench_plant, median_run_seconds, BenchFigures};
 pub use loop_conditions::{LoopConditions, SensorNoise};
 pub use plant_run::{campaign_plan, nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on};
 pub use plant_summary::{
-    IdentStateFigures, LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, StateRange, WEIGHT_QUANTITIES,
+    IdentStateFigures, LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, SolverFigures, StateRange,
+    WEIGHT_QUANTITIES,
 };
 pub use pump_controllers::{CascadePiGainsMpa, NOMINAL_OPTIMAL, ROBUST};
 pub use pump_run::{

@@ -248,6 +248,9 @@ pub(super) fn run_control<P: Plant>(
     }
     summary.regulated = Some((qy.name, qy.display_unit));
     summary.control = Some(figures);
+    for r in &runs {
+        summary.solver.add(r.stats);
+    }
     let inner: Vec<Option<Quantity>> = loops
         .iter()
         .map(|(_, l, _)| {

@@ -30,6 +30,7 @@ pub(super) fn run_identification<P: Plant>(
     // Each epoch runs the record again, its weights starting where the last ended; the
     // figures and columns are the last epoch's.
     let mut train = identify(plant.clone(), x0, &is, sampling, Weights::Initial, tol)?;
+    summary.solver.add(train.stats);
     for _ in 1..is.epochs {
         train = identify(
             plant.clone(),
@@ -39,8 +40,12 @@ pub(super) fn run_identification<P: Plant>(
             Weights::From(&train.weights),
             tol,
         )?;
+        summary.solver.add(train.stats);
     }
     let validation = frozen_run(&plant, x0, spec, &is, &train.weights, tol)?;
+    if let Some(v) = &validation {
+        summary.solver.add(v.stats);
+    }
     // Without `[validation]`, the frozen model runs again on the training inputs.
     let same_data = spec.validation.is_none() && validation.is_some();
     let quantities: Vec<Quantity> = is.states.iter().map(|s| *s.quantity(&plant)).collect();

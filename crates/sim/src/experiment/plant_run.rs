@@ -10,7 +10,7 @@ pub(crate) use super::plant_control::check_control_periods;
 use super::plant_control::run_control;
 use super::plant_ident::run_identification;
 use super::plant_open::run_open;
-use super::plant_summary::{PlantColumn, PlantRunOutput, PlantSummary};
+use super::plant_summary::{PlantColumn, PlantRunOutput, PlantSummary, SolverFigures};
 use super::scenario::{configure, drive, ScenarioSpec};
 use super::solver_spec::{SolverDefaults, Tolerances};
 use crate::error::{Error, Result};
@@ -94,7 +94,7 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
             .map(|p| spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal))
             .collect(),
     };
-    let summary = PlantSummary {
+    let mut summary = PlantSummary {
         rhonn_version: env!("CARGO_PKG_VERSION"),
         scenario: spec.name.clone(),
         plant: plant.name(),
@@ -104,6 +104,7 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
             .map(|p| p.name.to_string())
             .zip(used)
             .collect(),
+        solver: SolverFigures::default(),
         identification: None,
         regulated: None,
         control: None,
@@ -112,19 +113,13 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
     };
     let plant = drive(plant, &spec.input, "input")?;
     let x0 = plant.initial_state(&given, &inputs_at_start(&plant, spec));
+    let closed = spec.identifier.is_none() && spec.control.is_some();
+    let tol = tolerances(&plant, spec, if closed { LOOP_RTOL } else { IDENTIFY_RTOL })?;
+    summary.solver = SolverFigures::of(&tol, plant.states());
     let out = match &spec.identifier {
-        Some(ident) => {
-            let tol = tolerances(&plant, spec, IDENTIFY_RTOL)?;
-            run_identification(plant, &x0, spec, ident, summary, &tol)?
-        }
-        None if spec.control.is_some() => {
-            let tol = tolerances(&plant, spec, LOOP_RTOL)?;
-            run_control(plant, &x0, spec, summary, &tol)?
-        }
-        None => {
-            let tol = tolerances(&plant, spec, IDENTIFY_RTOL)?;
-            run_open(plant, &x0, spec, summary, &tol)?
-        }
+        Some(ident) => run_identification(plant, &x0, spec, ident, summary, &tol)?,
+        None if closed => run_control(plant, &x0, spec, summary, &tol)?,
+        None => run_open(plant, &x0, spec, summary, &tol)?,
     };
     all_finite(&out.trajectory, "trajectory.csv")?;
     if let Some(v) = &out.validation {

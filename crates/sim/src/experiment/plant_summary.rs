@@ -126,6 +126,58 @@ pub struct StateRange {
     pub max_value: f64,
 }
 
+/// The solver's settings and what it did over every integration of the run (each loop,
+/// training and validation).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, schemars::JsonSchema)]
+pub struct SolverFigures {
+    /// Step-size control profile (`hairer`, `ode45`, `simulink-ode45`).
+    #[schemars(with = "String")]
+    pub profile: super::solver_spec::ProfileSpec,
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance per plant state, SI (as `[solver] atol_si` writes it).
+    pub atol_si: BTreeMap<String, f64>,
+    /// Largest step \[s\]; left out without a limit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_step_s: Option<f64>,
+    /// Right-hand-side evaluations (including event location).
+    pub rhs_evaluations: u64,
+    /// Accepted steps.
+    pub accepted_steps: u64,
+    /// Rejected steps.
+    pub rejected_steps: u64,
+    /// Events located (a plant's switching, bounds reached and left).
+    pub events: u64,
+    /// Steps landed on input breakpoints and sampling instants.
+    pub breakpoints: u64,
+}
+
+impl SolverFigures {
+    /// The settings `tol` on the states `states`, and no work yet.
+    pub(super) fn of(tol: &super::solver_spec::Tolerances, states: &[Quantity]) -> Self {
+        SolverFigures {
+            profile: tol.profile,
+            rtol: tol.rtol,
+            atol_si: states
+                .iter()
+                .map(|q| q.name.to_string())
+                .zip(tol.atol.iter().copied())
+                .collect(),
+            max_step_s: tol.max_step_s.is_finite().then_some(tol.max_step_s),
+            ..SolverFigures::default()
+        }
+    }
+
+    /// Count the work of one integration.
+    pub(super) fn add(&mut self, st: rhonn_ode::Stats) {
+        self.rhs_evaluations += st.rhs_evaluations;
+        self.accepted_steps += st.accepted_steps;
+        self.rejected_steps += st.rejected_steps;
+        self.events += st.events;
+        self.breakpoints += st.breakpoints;
+    }
+}
+
 /// `summary.json` of a plant scenario.
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct PlantSummary {
@@ -137,6 +189,8 @@ pub struct PlantSummary {
     pub plant: &'static str,
     /// Its parameters as run (display units, the unit in the name).
     pub parameters: Vec<(String, f64)>,
+    /// The solver's settings and work.
+    pub solver: SolverFigures,
     /// Identification figures per identified state.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub identification: Option<Vec<IdentStateFigures>>,

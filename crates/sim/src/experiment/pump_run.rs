@@ -462,11 +462,7 @@ fn ident_runs<St: State>(sc: &Scenario, is: &IdentSettings, rec: &mut impl Recor
 }
 
 fn add_stats(total: &mut Stats, st: Stats) {
-    total.rhs_evaluations += st.rhs_evaluations;
-    total.accepted_steps += st.accepted_steps;
-    total.rejected_steps += st.rejected_steps;
-    total.events += st.events;
-    total.breakpoints += st.breakpoints;
+    *total += st;
 }
 
 /// Collects `(t, state, estimate)` of the identified states.
