@@ -4,6 +4,7 @@
 //! (or from the dense output), and the figures on the dense output
 //! (`regulation.rs`).
 
+use super::adaptive_report::AdaptiveReport;
 use super::any_plant::{sampling_steps, solver, DenseSampler, DenseSamples, LOOP_RTOL};
 use super::integrated::{Alone, Integrated};
 use super::loop_conditions::{Actuator, LoopConditions, Sensors};
@@ -48,6 +49,8 @@ pub struct LoopRun {
     pub tracking: Tracking,
     /// What the solver did.
     pub stats: rhonn_ode::Stats,
+    /// An adaptive controller's weights over the run (None for others).
+    pub adaptive: Option<AdaptiveReport>,
     /// The plant's states at output instants finer than the control period, from the
     /// solver's dense output (None: the run is sampled at its control instants).
     pub samples: Option<DenseSamples>,
@@ -146,6 +149,7 @@ pub fn closed_loop_with<P: Plant>(
             ise: 0.0,
             tracking: Tracking::default(),
             stats: rhonn_ode::Stats::default(),
+            adaptive: None,
             samples: None,
         },
         tracker: Tracker::new(
@@ -244,6 +248,7 @@ impl<P: Plant> Hooks<Alone<P>> for Regulate<'_> {
         if let Some(v) = ctl.adaptive(t) {
             run.weights
                 .push([v.w_norm, v.w1_norm, v.w1_distance, v.ball_radius]);
+            run.adaptive.get_or_insert_with(AdaptiveReport::default).add(&v);
         }
         Ok(())
     }

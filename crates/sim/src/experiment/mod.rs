@@ -1,5 +1,6 @@
 //! Experiments: scenario files, running them, recording what they produce.
 
+mod adaptive_report;
 pub mod any_plant;
 mod bench;
 pub mod campaign;

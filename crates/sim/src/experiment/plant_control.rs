@@ -360,6 +360,7 @@ fn loop_figures(
         overshoot_percent: r.tracking.overshoot_percent.clone(),
         time_below_floor_s: r.tracking.time_below_floor_s,
         states_bounded: r.tracking.states_bounded,
+        adaptive: r.adaptive.clone(),
         time_input_saturated_s: act.time_saturated_s,
         input_total_variation: qu.to_display(act.total_variation),
         input_rms_change_per_sample: qu.to_display(act.rms_change_per_sample),

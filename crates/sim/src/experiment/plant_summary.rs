@@ -85,6 +85,9 @@ pub struct LoopFigures {
     /// Whether every plant state stayed within its bounds (the pump's pressure and
     /// stroke within their limits).
     pub states_bounded: bool,
+    /// An adaptive controller's weights over the run; left out for others.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub adaptive: Option<super::AdaptiveReport>,
     /// Time the input spent at a bound of its range \[s\].
     pub time_input_saturated_s: f64,
     /// Sum of the input's changes |u(k) - u(k-1)| over the control instants (the

@@ -1,6 +1,7 @@
 //! The figures of a pump run, accumulated step by step on the solver's dense output
 //! (`regulation::Tracker`, any plant's): the summary's types.
 
+pub use super::adaptive_report::AdaptiveReport;
 use super::pump_ident_figures::IdentReport;
 use super::pump_settings::{PumpSettings, SolverSettings};
 use super::regulation::Tracker;
@@ -382,30 +383,4 @@ pub(super) fn figures_of(
             time_current_switching_s: 0.0,
         }),
     }
-}
-
-/// What a run of the adaptive controller reports of its weights.
-#[derive(Debug, Clone, PartialEq, Serialize, Default, schemars::JsonSchema)]
-pub struct AdaptiveReport {
-    /// Largest |W| over the run (MPa/s units).
-    pub w_norm_max: f64,
-    /// |W| at the end.
-    pub w_norm_final: f64,
-    /// Largest |W_1 - centre| after the identification phase (MPa/(s mm) units).
-    pub w1_distance_max: f64,
-    /// Radius of W_1's ball.
-    pub w1_ball_radius: f64,
-    /// W_1 at the end.
-    pub w1_final: Vec<f64>,
-    /// Identifier substeps that ended with a projection.
-    pub projections: u64,
-    /// Radius of W's ball (around 0).
-    pub w_bound: f64,
-    /// The actuator's lag identified online, at the end \[ms\] (a one-period delay reads
-    /// as one period); absent when the controller does not identify it.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub actuator_lag_ms: Option<f64>,
-    /// The pilot valve's flow against the nominal one, identified online, at the end.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub pilot_flow_ratio: Option<f64>,
 }

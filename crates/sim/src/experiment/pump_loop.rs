@@ -218,17 +218,7 @@ fn adaptive_state(
             ),
         });
     }
-    rep.w_norm_max = rep.w_norm_max.max(st.w_norm);
-    rep.w_norm_final = st.w_norm;
-    if !v.identifying {
-        rep.w1_distance_max = rep.w1_distance_max.max(v.w1_distance);
-    }
-    rep.w1_ball_radius = v.ball_radius;
-    rep.w_bound = v.w_bound;
-    rep.w1_final = v.w1.to_vec();
-    rep.projections = v.projections;
-    rep.actuator_lag_ms = v.actuator.map(|(lag_s, _)| lag_s * 1e3);
-    rep.pilot_flow_ratio = v.actuator.map(|(_, ratio)| ratio);
+    rep.add(v);
     Ok(st)
 }
 
@@ -393,8 +383,7 @@ pub(super) fn simulate<S: Integrated<Plant = PumpSystem>>(
         r.time_current_switching_s = a.time_switching_s;
     }
     if let (Some(r), Some(a)) = (figures.regulation.as_mut(), hooks.adaptive.as_ref()) {
-        r.signals_bounded &=
-            a.w1_distance_max <= a.w1_ball_radius * (1.0 + 1e-9) && a.w_norm_max <= a.w_bound;
+        r.signals_bounded &= a.within_balls();
     }
     let mut xf = S::State::zeros(dim);
     xf.as_mut_slice().copy_from_slice(solver.state());
