@@ -445,7 +445,10 @@ fn the_shipped_adaptive_scenario_runs_its_three_loops_on_the_generic_runner() {
     // The adaptive controller's weights, read from the same views.
     let (a, oa) = (c[0].adaptive.as_ref().unwrap(), &oc.adaptive);
     assert_eq!(a.projections, oa.projections);
-    assert!((a.w_norm_max / oa.w_norm_max - 1.0).abs() < 1e-9, "{a:?} against {oa:?}");
+    assert!(
+        (a.w_norm_max / oa.w_norm_max - 1.0).abs() < 1e-9,
+        "{a:?} against {oa:?}"
+    );
     assert!(a.within_balls() && c[1].adaptive.is_none());
     assert!(out
         .summary
