@@ -44,6 +44,9 @@ impl Plant for Oven {
     fn input_at(&self, t: f64, _k: usize) -> f64 { self.0.at(t).clamp(0.0, 1.0) }
     fn hold_input(&mut self, _k: usize, v: f64) { self.0 = Input::Held(v); }
     fn set_input(&mut self, _k: usize, i: Input) -> rhonn::Result<()> { self.0 = i; Ok(()) }
+    // Optional: how long after a set-point step the chamber counts as settled (the figures'
+    // settled deviation and overshoot window): three of the 80 s closed loop's time constants.
+    fn settle_s(&self) -> f64 { 240.0 }
 }
 
 /// Online identification of the chamber from the heater, then the frozen model on heater
