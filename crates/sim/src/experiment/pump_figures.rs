@@ -9,7 +9,7 @@ use crate::plant::{P_LINE, STROKE};
 use crate::units::*;
 use serde::Serialize;
 
-pub use super::regulation::SETTLE_S;
+pub use crate::plant::pump::SETTLE_S;
 
 /// Solver settings and counters of a run.
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]

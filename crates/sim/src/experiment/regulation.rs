@@ -14,11 +14,6 @@ use crate::plant::Plant;
 use crate::signal::Signal;
 use rhonn_ode::Dopri5;
 
-/// The pump's settling time: deviations from the set-point are judged this long after
-/// each set-point change (the start counts as one) for the settled deviation, and each
-/// step's overshoot within it \[s\].
-pub const SETTLE_S: f64 = 1.0;
-
 /// How a [`Tracker`] converts the regulated state's errors at each point: SI as they are
 /// (`Times(1.0)`), or divided by the SI per display unit (the pump's `units::mpa`, whose
 /// figures were always so computed). (A value, not a closure: the conversion runs 16
