@@ -163,6 +163,13 @@ fn thesis_ch5_through_the_generic_runner_learns_the_thesis_weights() {
             );
         }
     }
+    // The time below P_min while it learns, as the pump's runner gives it.
+    let (floor, own_fig) = (out.summary.floor.as_ref().unwrap(), &own_run.summary.figures);
+    assert!(
+        (floor.time_below_s - own_fig.time_below_p_min_s).abs() < 1e-9,
+        "{floor:?}"
+    );
+    assert!((floor.time_below_after_settle_s - own_fig.time_below_p_min_after_1s_s).abs() < 1e-9);
     let figs = &out.summary.identification.as_ref().unwrap()[0];
     assert!(
         figs.series_parallel_fit_percent.is_some() && figs.validation_fit_percent.is_some(),
@@ -227,6 +234,29 @@ fn thesis_ch3_through_the_generic_runner_is_the_pumps_own_run() {
     assert!(dt < 1e-14, "{dt} s");
     assert!(dp <= 1e-12 * 25e6 && dx <= 1e-12 * 17e-3, "{dp} Pa, {dx} m");
     assert!((x[x.len() - 1] * 1e3 - own.figures.final_stroke_mm).abs() < 1e-12);
+    // The time below P_min, on the dense output as the pump's runner locates it.
+    let floor = out.summary.floor.as_ref().expect("the pump has a floor");
+    eprintln!(
+        "below P_min: {} s ({} s after 1 s) here, {} s ({} s) on the pump's runner",
+        floor.time_below_s,
+        floor.time_below_after_settle_s,
+        own.figures.time_below_p_min_s,
+        own.figures.time_below_p_min_after_1s_s
+    );
+    assert_eq!((floor.state, floor.unit), ("p_line", "MPa"));
+    assert!(own.figures.time_below_p_min_s > 1.0 && own.figures.time_below_p_min_after_1s_s > 0.1);
+    assert!((floor.time_below_s - own.figures.time_below_p_min_s).abs() < 1e-9);
+    assert!((floor.time_below_after_settle_s - own.figures.time_below_p_min_after_1s_s).abs() < 1e-9);
+    assert!(out.summary.warnings.is_empty() && own.warnings.is_empty());
+    // Started below P_min, it says so, as the pump's runner does.
+    let low = toml::from_str::<ScenarioSpec>(&text.replace("initial = [2.0,", "initial = [0.5,")).unwrap();
+    let warnings = run_plant_scenario(&low, None).unwrap().summary.warnings;
+    eprintln!("{warnings:?}");
+    assert!(
+        warnings.len() == 1
+            && warnings[0].contains("p_line starts at 0.5 MPa, below the pump's floor of 1 MPa"),
+        "{warnings:?}"
+    );
 }
 
 #[test]
@@ -441,6 +471,16 @@ fn the_shipped_adaptive_scenario_runs_its_three_loops_on_the_generic_runner() {
         );
         assert_eq!(f.overshoot_percent.len(), o.overshoot_percent.len());
         assert!(f.states_bounded && o.signals_bounded);
+    }
+    // The time below P_min from 1 s on, per loop.
+    let own_below = [
+        own.figures.time_below_p_min_after_1s_s,
+        oc.baseline.figures.time_below_p_min_after_1s_s,
+    ];
+    for (f, o) in c.iter().zip(own_below) {
+        let here = f.time_below_floor_after_settle_s.unwrap();
+        eprintln!("{}: below P_min after 1 s {here} s here, {o} s there", f.label());
+        assert!((here - o).abs() < 1e-6, "{here} vs {o}");
     }
     // The adaptive controller's weights, read from the same views.
     let (a, oa) = (c[0].adaptive.as_ref().unwrap(), &oc.adaptive);

@@ -4,6 +4,8 @@
 
 use super::integrated::{Alone, Integrated};
 pub use super::loop_conditions::LoopConditions;
+use super::plant_summary::FloorFigures;
+use super::regulation::Tracker;
 use super::sim::{drive, start, Hooks, Instants};
 use super::solver_spec::Tolerances;
 use crate::error::Result;
@@ -51,6 +53,9 @@ pub struct IdentRun {
     pub stats: rhonn_ode::Stats,
     /// The final weights, one vector per neuron.
     pub weights: Vec<Vec<f64>>,
+    /// A training run's time below the plant's floor (None for a frozen model's run, or a
+    /// plant without a floor).
+    pub floor: Option<FloorFigures>,
 }
 
 impl IdentRun {
@@ -117,6 +122,7 @@ pub fn identify<P: Plant>(
             },
             weights: Vec::new(),
             stats: rhonn_ode::Stats::default(),
+            floor: None,
         },
         idx: is.states.iter().filter_map(|s| s.state_index()).collect(),
         // The training identifier's estimates, or the frozen model's parallel copy's.
@@ -127,6 +133,7 @@ pub fn identify<P: Plant>(
         next: 0,
         count: sampling_steps(duration_s, sample_s)?,
         buf: Vec::new(),
+        floor: None,
     };
     let t_end = sampler.clock.at(sampler.count);
     let stops = (!sampler.dense).then_some(sampler.clock);
@@ -141,11 +148,14 @@ pub fn identify<P: Plant>(
         return Ok(sampler.run);
     }
     let init = is.ident.initial_state(&is.xhat0, start);
+    sampler.floor = Tracker::of_floor(&plant, t_end);
+    let states = plant.states();
     let sys = Identified::<P>::new(plant, is.ident.clone(), is.states.clone(), is.inputs.clone())?;
     let mut s = solver(sys, x0, &init, tol)?;
     drive(&mut s, t_end, stops, &mut sampler)?;
     sampler.run.weights = s.system().ident.weights(&s.state()[np..]);
     sampler.run.stats = s.stats();
+    sampler.run.floor = sampler.floor.and_then(|f| f.floor_figures(states));
     Ok(sampler.run)
 }
 
@@ -158,6 +168,8 @@ pub struct OpenRun {
     pub states: Vec<Vec<f64>>,
     /// What the solver did.
     pub stats: rhonn_ode::Stats,
+    /// The time below the plant's floor (None for a plant without one).
+    pub floor: Option<FloorFigures>,
 }
 
 /// Simulate `plant`, driven by its own inputs, from `x0` for `duration_s`, sampled every
@@ -169,64 +181,77 @@ pub fn simulate<P: Plant>(
     (duration_s, sample_s): (f64, f64),
     tol: &Tolerances,
 ) -> Result<OpenRun> {
-    struct Record(OpenRun);
+    /// The samples (at each stop, or from each step's dense output as an
+    /// identification's, `Sampler`, the end's from the last step) and the floor.
+    struct Record {
+        out: OpenRun,
+        dense: Option<DenseSampler>,
+        floor: Option<Tracker<'static>>,
+    }
     impl Record {
         fn take<P: Plant>(&mut self, s: &Dopri5<Alone<P>>) {
-            self.0.t.push(s.t());
-            for (v, x) in self.0.states.iter_mut().zip(s.state()) {
+            self.out.t.push(s.t());
+            for (v, x) in self.out.states.iter_mut().zip(s.state()) {
                 v.push(*x);
             }
         }
     }
     impl<P: Plant> Hooks<Alone<P>> for Record {
         fn instant(&mut self, s: &mut Dopri5<Alone<P>>) -> Result<()> {
-            self.take(s);
+            if self.dense.is_none() {
+                self.take(s);
+            }
             Ok(())
         }
         fn stepped(&mut self, s: &Dopri5<Alone<P>>, done: bool) -> Result<()> {
+            if let Some(f) = self.floor.as_mut() {
+                f.add_step(s);
+            }
+            if let Some(d) = self.dense.as_mut() {
+                d.take(s);
+            }
             if done {
                 self.take(s);
             }
             Ok(())
         }
     }
-    /// Where the settings bound the step, the samples from each step's dense output (as
-    /// an identification's, `Sampler`), the end's from the last step.
-    struct Dense(DenseSampler);
-    impl<P: Plant> Hooks<Alone<P>> for Dense {
-        fn instant(&mut self, _: &mut Dopri5<Alone<P>>) -> Result<()> {
-            Ok(())
-        }
-        fn stepped(&mut self, s: &Dopri5<Alone<P>>, done: bool) -> Result<()> {
-            self.0.take(s);
-            if done {
-                self.0.out.t.push(s.t());
-                for (v, x) in self.0.out.states.iter_mut().zip(s.state()) {
-                    v.push(*x);
-                }
-            }
-            Ok(())
-        }
-    }
     let n = plant.states().len();
+    let states = plant.states();
     let steps = sampling_steps(duration_s, sample_s)?;
     let instants = Instants::seconds(sample_s);
+    let t_end = instants.at(steps);
+    let dense = tol.max_step_s.is_finite();
+    let mut rec = Record {
+        out: OpenRun {
+            t: Vec::new(),
+            states: vec![Vec::new(); n],
+            stats: rhonn_ode::Stats::default(),
+            floor: None,
+        },
+        dense: dense
+            .then(|| DenseSampler::new(sample_s, duration_s, n))
+            .transpose()?,
+        floor: Tracker::of_floor(&plant, t_end),
+    };
     let mut s = solver(Alone(plant), x0, &[], tol)?;
-    if tol.max_step_s.is_finite() {
-        let mut rec = Dense(DenseSampler::new(sample_s, duration_s, n)?);
-        drive(&mut s, instants.at(steps), None, &mut rec)?;
-        let DenseSamples { t, states } = rec.0.out;
-        let stats = s.stats();
-        return Ok(OpenRun { t, states, stats });
+    drive(&mut s, t_end, (!dense).then_some(instants), &mut rec)?;
+    if let Some(d) = rec.dense.take() {
+        // The dense samples, then the end's (taken by `take` above into `out`).
+        let DenseSamples {
+            mut t,
+            states: mut xs,
+        } = d.out;
+        t.append(&mut rec.out.t);
+        for (a, b) in xs.iter_mut().zip(&mut rec.out.states) {
+            a.append(b);
+        }
+        rec.out.t = t;
+        rec.out.states = xs;
     }
-    let mut rec = Record(OpenRun {
-        t: Vec::new(),
-        states: vec![Vec::new(); n],
-        stats: rhonn_ode::Stats::default(),
-    });
-    drive(&mut s, instants.at(steps), Some(instants), &mut rec)?;
-    rec.0.stats = s.stats();
-    Ok(rec.0)
+    rec.out.stats = s.stats();
+    rec.out.floor = rec.floor.and_then(|f| f.floor_figures(states));
+    Ok(rec.out)
 }
 
 /// The whole sampling periods in `duration_s` (rounded), at least one.
@@ -274,6 +299,8 @@ struct Sampler {
     next: u64,
     count: u64,
     buf: Vec<f64>,
+    /// A training run's floor, followed on each step.
+    floor: Option<Tracker<'static>>,
 }
 
 impl Sampler {
@@ -322,6 +349,9 @@ impl<S: Integrated> Hooks<S> for Sampler {
         Ok(())
     }
     fn stepped(&mut self, solver: &Dopri5<S>, done: bool) -> Result<()> {
+        if let Some(f) = self.floor.as_mut() {
+            f.add_step(solver);
+        }
         self.take(solver, done);
         Ok(())
     }

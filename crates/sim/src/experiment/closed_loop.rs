@@ -71,6 +71,8 @@ pub struct Tracking {
     /// Time the plant's floor state spent below its floor \[s\] (None: the plant has
     /// none).
     pub time_below_floor_s: Option<f64>,
+    /// The same from the plant's settling time on \[s\].
+    pub time_below_floor_after_settle_s: Option<f64>,
     /// Whether every plant state stayed within its bounds.
     pub states_bounded: bool,
 }
@@ -192,6 +194,7 @@ pub fn closed_loop_with<P: Plant>(
         time_within_1pct_s: tr.within,
         overshoot_percent: tr.steps.iter().map(|s| s.3).collect(),
         time_below_floor_s: floor.map(|_| tr.below),
+        time_below_floor_after_settle_s: floor.map(|_| tr.below_after_settle),
         states_bounded: tr.states_bounded(),
     };
     Ok(run)

@@ -359,6 +359,7 @@ fn loop_figures(
         time_within_1pct_s: r.tracking.time_within_1pct_s,
         overshoot_percent: r.tracking.overshoot_percent.clone(),
         time_below_floor_s: r.tracking.time_below_floor_s,
+        time_below_floor_after_settle_s: r.tracking.time_below_floor_after_settle_s,
         states_bounded: r.tracking.states_bounded,
         adaptive: r.adaptive.clone(),
         time_input_saturated_s: act.time_saturated_s,

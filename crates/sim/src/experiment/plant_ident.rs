@@ -42,6 +42,7 @@ pub(super) fn run_identification<P: Plant>(
         )?;
         summary.solver.add(train.stats);
     }
+    summary.floor = train.floor.take();
     let validation = frozen_run(&plant, x0, spec, &is, &train.weights, tol)?;
     if let Some(v) = &validation {
         summary.solver.add(v.stats);

@@ -22,6 +22,7 @@ pub(super) fn run_open<P: Plant>(
     let (states, input_qs) = (plant.states().to_vec(), plant.inputs().to_vec());
     let run = simulate(plant, x0, (spec.duration_s, spec.output_interval_s), tol)?;
     summary.solver.add(run.stats);
+    summary.floor = run.floor;
     let inputs: Vec<_> = input_qs.iter().collect();
     let mut trajectory = time_and_inputs(&spec.input, &run.t, &inputs)?;
     let mut ranges = Vec::new();

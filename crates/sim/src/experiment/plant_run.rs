@@ -109,10 +109,13 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
         regulated: None,
         control: None,
         open_loop: None,
+        floor: None,
+        warnings: Vec::new(),
         findings: Vec::new(),
     };
     let plant = drive(plant, &spec.input, "input")?;
     let x0 = plant.initial_state(&given, &inputs_at_start(&plant, spec));
+    summary.warnings.extend(below_floor_at_start(&plant, &x0));
     let closed = spec.identifier.is_none() && spec.control.is_some();
     let tol = tolerances(&plant, spec, if closed { LOOP_RTOL } else { IDENTIFY_RTOL })?;
     summary.solver = SolverFigures::of(&tol, plant.states());
@@ -126,6 +129,23 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
         all_finite(v, "validation.csv")?;
     }
     Ok(out)
+}
+
+/// A warning when the run starts with the plant's floor state below its floor (the
+/// pump's pressure below P_min), where its model is not valid.
+fn below_floor_at_start<P: Plant>(plant: &P, x0: &[f64]) -> Option<String> {
+    let (i, floor) = plant.floor()?;
+    let (q, v) = (plant.states().get(i)?, *x0.get(i)?);
+    (v < floor).then(|| {
+        format!(
+            "plant.initial: {} starts at {} {u}, below the {}'s floor of {} {u}: its model is not valid there",
+            q.name,
+            crate::metrics::sig(q.to_display(v), 4),
+            plant.name(),
+            crate::metrics::sig(q.to_display(floor), 4),
+            u = q.display_unit
+        )
+    })
 }
 
 /// The plant's inputs at t = 0 (SI): the profiles', and a `[control]` loop's input at rest

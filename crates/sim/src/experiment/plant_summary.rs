@@ -82,6 +82,9 @@ pub struct LoopFigures {
     /// below P_min); left out for a plant without one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub time_below_floor_s: Option<f64>,
+    /// The same from the plant's settling time on \[s\]; left out likewise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_below_floor_after_settle_s: Option<f64>,
     /// Whether every plant state stayed within its bounds (the pump's pressure and
     /// stroke within their limits).
     pub states_bounded: bool,
@@ -206,8 +209,34 @@ pub struct PlantSummary {
     /// An open-loop run's states: where each started and ended, and its range.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub open_loop: Option<Vec<StateRange>>,
+    /// An open-loop or identification run's time below the plant's floor (the pump's
+    /// P_min); left out for a plant without one, and for a closed loop (whose `control[]`
+    /// gives it per loop).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub floor: Option<FloorFigures>,
+    /// What the settings let through but the plant's model does not cover (also printed
+    /// by the command); left out when there is none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// What the figures say, in words.
     pub findings: Vec<String>,
+}
+
+/// The time a run's floor state spent below the plant's floor (display units): where the
+/// plant's model is not valid (the pump's pressure below P_min).
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
+pub struct FloorFigures {
+    /// The state.
+    pub state: &'static str,
+    /// Unit of the floor.
+    pub unit: &'static str,
+    /// The floor.
+    pub floor: f64,
+    /// Time below it over the run \[s\], the crossings located on the solver's dense
+    /// output.
+    pub time_below_s: f64,
+    /// The same from the plant's settling time on (the start's transient excluded) \[s\].
+    pub time_below_after_settle_s: f64,
 }
 
 impl PlantSummary {

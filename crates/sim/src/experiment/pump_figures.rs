@@ -365,7 +365,7 @@ pub(super) fn figures_of(
         p_line_max_mpa: mpa(acc.hi[P_LINE]),
         stroke_max_mm: mm(acc.hi[STROKE]),
         time_below_p_min_s: acc.below,
-        time_below_p_min_after_1s_s: acc.below_after_1s,
+        time_below_p_min_after_1s_s: acc.below_after_settle,
         regulation: regulated.then_some(Regulation {
             max_abs_deviation_mpa: acc.max_dev,
             max_abs_deviation_settled_mpa: acc.max_dev_settled,

@@ -4,11 +4,11 @@
 //! bound, every plant state's range, and the time a state spent below its floor (the
 //! pump's P_min). They do not depend on the output interval or the control period:
 //! time-weighted figures are integrated with 3-point Gauss-Legendre quadrature on each
-//! step (split where the set-point has a breakpoint, at 1 s, and where a settling window
-//! ends), the time below the floor from the located crossings, extremes from the step
+//! step (split where the set-point has a breakpoint and where a settling window ends), the time below the floor from the located crossings, extremes from the step
 //! ends and the Gauss points.
 
 use super::integrated::Integrated;
+use super::plant_summary::FloorFigures;
 use super::pump_ident_figures::GAUSS;
 use crate::plant::Plant;
 use crate::signal::Signal;
@@ -66,7 +66,8 @@ pub(super) struct Tracker<'a> {
     pub(super) lo: Vec<f64>,
     pub(super) hi: Vec<f64>,
     pub(super) below: f64,
-    pub(super) below_after_1s: f64,
+    /// Of `below`, the time from the settling time on (the start's transient excluded).
+    pub(super) below_after_settle: f64,
     pub(super) ise: f64,
     pub(super) max_dev: f64,
     pub(super) max_dev_settled: f64,
@@ -84,12 +85,43 @@ pub(super) struct Tracker<'a> {
     tracks: Vec<bool>,
 }
 
+impl Tracker<'static> {
+    /// A tracker of `plant`'s floor alone over a run to `t_end` (an open loop's or an
+    /// identification's); None for a plant without a floor.
+    pub(super) fn of_floor<P: Plant>(plant: &P, t_end: f64) -> Option<Self> {
+        let floor = plant.floor()?;
+        let of = Tracked {
+            regulated: None,
+            display: Scale::Times(1.0),
+            floor: Some(floor),
+            bounds: plant.state_bounds(),
+            input: None,
+            settle_s: plant.settle_s(),
+        };
+        Some(Tracker::new(of, t_end))
+    }
+}
+
 impl<'a> Tracker<'a> {
+    /// The floor's figures (display units of `states`, the plant's), if it follows one.
+    pub(super) fn floor_figures(&self, states: &[crate::plant::Quantity]) -> Option<FloorFigures> {
+        let (i, limit) = self.of.floor?;
+        let q = states.get(i)?;
+        Some(FloorFigures {
+            state: q.name,
+            unit: q.display_unit,
+            floor: q.to_display(limit),
+            time_below_s: self.below,
+            time_below_after_settle_s: self.below_after_settle,
+        })
+    }
+
     /// The tracker of `of` over a run to `t_end`.
     pub(super) fn new(of: Tracked<'a>, t_end: f64) -> Self {
         let setpoint = of.regulated.map(|(_, sp)| sp);
         let mut changes = vec![0.0];
-        let mut splits = vec![1.0];
+        // The floor's figure after the settling time needs an interval edge there.
+        let mut splits: Vec<f64> = of.floor.map(|_| of.settle_s).into_iter().collect();
         if let Some(sp) = setpoint {
             let mut t = 0.0;
             loop {
@@ -133,7 +165,7 @@ impl<'a> Tracker<'a> {
             lo: vec![f64::INFINITY; n],
             hi: vec![f64::NEG_INFINITY; n],
             below: 0.0,
-            below_after_1s: 0.0,
+            below_after_settle: 0.0,
             ise: 0.0,
             max_dev: 0.0,
             max_dev_settled: 0.0,
@@ -250,8 +282,8 @@ impl<'a> Tracker<'a> {
         if let Some((i, limit)) = self.of.floor {
             let below = self.time_below(solver, i, limit, &ts, self.xs[i]);
             self.below += below;
-            if a >= 1.0 {
-                self.below_after_1s += below;
+            if a >= self.of.settle_s {
+                self.below_after_settle += below;
             }
         }
     }

@@ -90,7 +90,7 @@ impl ScenarioRun {
     pub fn warnings(&self) -> &[String] {
         match self {
             ScenarioRun::Pump { warnings, .. } => warnings,
-            ScenarioRun::Plant(_) => &[],
+            ScenarioRun::Plant(o) => &o.summary.warnings,
         }
     }
 
