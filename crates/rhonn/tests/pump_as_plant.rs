@@ -170,6 +170,30 @@ fn thesis_ch5_through_the_generic_runner_learns_the_thesis_weights() {
         "{floor:?}"
     );
     assert!((floor.time_below_after_settle_s - own_fig.time_below_p_min_after_1s_s).abs() < 1e-9);
+    // The thesis's whole-run figures, on the dense output as the pump's runner gives them.
+    for (k, f) in out.summary.identification.as_ref().unwrap().iter().enumerate() {
+        let w = &f.whole_run;
+        for (mode, here, own) in [
+            ("training", Some(&w.training), &id.training[k]),
+            (
+                "series-parallel",
+                w.series_parallel.as_ref(),
+                &id.series_parallel[k],
+            ),
+            ("parallel", w.free_run.as_ref(), &id.parallel[k]),
+        ] {
+            let here = here.unwrap_or_else(|| panic!("{mode}"));
+            eprintln!("{} {mode}: {here:?} here, {own:?} there", f.state);
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-12);
+            assert!(close(here.rms_error, own.rms_error) && close(here.fit_percent, own.fit_percent));
+            assert!(close(here.nrmse, own.nrmse) && close(here.convergence_band, own.convergence_band));
+            assert_eq!(
+                here.convergence_time_s, own.convergence_time_s,
+                "{} {mode}",
+                f.state
+            );
+        }
+    }
     let figs = &out.summary.identification.as_ref().unwrap()[0];
     assert!(
         figs.series_parallel_fit_percent.is_some() && figs.validation_fit_percent.is_some(),

@@ -2,17 +2,18 @@
 //! and its run on its inputs alone (sampled at the output instants), through the one run
 //! loop ([`super::sim`]); a controller on one of its inputs is `closed_loop.rs`'s.
 
+use super::ident_figures::{IdentAcc, RunFigures};
 use super::integrated::{Alone, Integrated};
 pub use super::loop_conditions::LoopConditions;
 use super::plant_summary::FloorFigures;
-use super::regulation::Tracker;
+use super::regulation::{Scale, Tracker};
 use super::sim::{drive, start, Hooks, Instants};
 use super::solver_spec::Tolerances;
 use crate::error::Result;
 use crate::ident::{FrozenPair, IdentSettings, Identified};
 use crate::metrics::{fit_percent, rms_error};
 use crate::plant::Plant;
-use rhonn_ode::{Dopri5, State};
+use rhonn_ode::{Dopri5, State, System};
 
 /// `system` from `x0` (the plant's states, then `rest`) in the event-locating solver.
 pub(super) fn solver<S: Integrated>(
@@ -56,6 +57,10 @@ pub struct IdentRun {
     /// A training run's time below the plant's floor (None for a frozen model's run, or a
     /// plant without a floor).
     pub floor: Option<FloorFigures>,
+    /// The whole run's figures on the dense output, per identified state (display units):
+    /// a training run's online estimates, or a frozen model's series-parallel estimate
+    /// then its free run.
+    pub whole_run: Vec<Vec<RunFigures>>,
 }
 
 impl IdentRun {
@@ -123,6 +128,7 @@ pub fn identify<P: Plant>(
             weights: Vec::new(),
             stats: rhonn_ode::Stats::default(),
             floor: None,
+            whole_run: Vec::new(),
         },
         idx: is.states.iter().filter_map(|s| s.state_index()).collect(),
         // The training identifier's estimates, or the frozen model's parallel copy's.
@@ -134,29 +140,56 @@ pub fn identify<P: Plant>(
         count: sampling_steps(duration_s, sample_s)?,
         buf: Vec::new(),
         floor: None,
+        accs: Vec::new(),
     };
     let t_end = sampler.clock.at(sampler.count);
     let stops = (!sampler.dense).then_some(sampler.clock);
     let np = plant.dim();
+    let scales: Vec<Scale> = is
+        .states
+        .iter()
+        .map(|s| Scale::Times(s.quantity(&plant).display_per_si))
+        .collect();
     if let Some(w) = frozen {
         let init = FrozenPair::<P>::initial_state(&is.ident, &is.xhat0);
         let sys = FrozenPair::<P>::new(plant, &is.ident, w, is.states.clone(), is.inputs.clone())?;
+        let dim = sys.dim();
+        // Slot 0: the series-parallel copy; slot 1: the free run.
+        sampler.accs = (0..2)
+            .map(|slot| IdentAcc::new(sampler.idx.clone(), dim, slot))
+            .collect();
         let mut s = solver(sys, x0, &init, tol)?;
         drive(&mut s, t_end, stops, &mut sampler)?;
         sampler.run.weights = w.to_vec();
         sampler.run.stats = s.stats();
+        sampler.run.whole_run = whole_run(&sampler.accs, &scales);
         return Ok(sampler.run);
     }
     let init = is.ident.initial_state(&is.xhat0, start);
     sampler.floor = Tracker::of_floor(&plant, t_end);
     let states = plant.states();
     let sys = Identified::<P>::new(plant, is.ident.clone(), is.states.clone(), is.inputs.clone())?;
+    sampler.accs = vec![IdentAcc::new(sampler.idx.clone(), sys.dim(), 0)];
     let mut s = solver(sys, x0, &init, tol)?;
     drive(&mut s, t_end, stops, &mut sampler)?;
     sampler.run.weights = s.system().ident.weights(&s.state()[np..]);
     sampler.run.stats = s.stats();
     sampler.run.floor = sampler.floor.and_then(|f| f.floor_figures(states));
+    sampler.run.whole_run = whole_run(&sampler.accs, &scales);
     Ok(sampler.run)
+}
+
+/// Each followed slot's figures, per state in display units.
+fn whole_run(accs: &[IdentAcc], scales: &[Scale]) -> Vec<Vec<RunFigures>> {
+    accs.iter()
+        .map(|a| {
+            scales
+                .iter()
+                .enumerate()
+                .map(|(k, &sc)| a.figures(k, sc))
+                .collect()
+        })
+        .collect()
 }
 
 /// What a plant driven by its own inputs does (open loop): every state at every sample.
@@ -301,6 +334,8 @@ struct Sampler {
     buf: Vec<f64>,
     /// A training run's floor, followed on each step.
     floor: Option<Tracker<'static>>,
+    /// The whole run's figures of each model slot it follows.
+    accs: Vec<IdentAcc>,
 }
 
 impl Sampler {
@@ -351,6 +386,9 @@ impl<S: Integrated> Hooks<S> for Sampler {
     fn stepped(&mut self, solver: &Dopri5<S>, done: bool) -> Result<()> {
         if let Some(f) = self.floor.as_mut() {
             f.add_step(solver);
+        }
+        for a in &mut self.accs {
+            a.add_step(solver);
         }
         self.take(solver, done);
         Ok(())

@@ -6,6 +6,7 @@ mod bench;
 pub mod campaign;
 mod campaign_plan;
 pub mod closed_loop;
+mod ident_figures;
 mod integrated;
 mod loop_conditions;
 mod plant_control;
@@ -29,11 +30,12 @@ mod solver_spec;
 mod trace;
 
 pub use bench::{bench, bench_plant, median_run_seconds, BenchFigures};
+pub use ident_figures::RunFigures;
 pub use loop_conditions::{LoopConditions, SensorNoise};
 pub use plant_run::{campaign_plan, nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on};
 pub use plant_summary::{
-    IdentStateFigures, LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, SolverFigures, StateRange,
-    WEIGHT_QUANTITIES,
+    FloorFigures, IdentStateFigures, LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, SolverFigures,
+    StateRange, WholeRunFigures, WEIGHT_QUANTITIES,
 };
 pub use pump_controllers::{CascadePiGainsMpa, NOMINAL_OPTIMAL, ROBUST};
 pub use pump_run::{

@@ -4,7 +4,9 @@
 //! their figures per state and the columns of `trajectory.csv` and `validation.csv`.
 
 use super::any_plant::{identify, IdentRun, Weights};
-use super::plant_summary::{time_and_inputs, IdentStateFigures, PlantColumn, PlantRunOutput, PlantSummary};
+use super::plant_summary::{
+    time_and_inputs, IdentStateFigures, PlantColumn, PlantRunOutput, PlantSummary, WholeRunFigures,
+};
 use super::scenario::{drive, ScenarioSpec};
 use super::solver_spec::Tolerances;
 use crate::error::{invalid, Result};
@@ -86,6 +88,14 @@ pub(super) fn run_identification<P: Plant>(
             series_parallel_rms_error: sp_rms,
             series_parallel_fit_percent: sp_fit,
             final_weight_norm: train.weights[k].iter().map(|w| w * w).sum::<f64>().sqrt(),
+            whole_run: WholeRunFigures {
+                training: train.whole_run[0][k].clone(),
+                series_parallel: validation
+                    .as_ref()
+                    .filter(|_| same_data)
+                    .map(|v| v.whole_run[0][k].clone()),
+                free_run: validation.as_ref().map(|v| v.whole_run[1][k].clone()),
+            },
         });
         summary.findings.push(finding(q.name, tr_fit[k], v_fit, sp_fit));
     }

@@ -1,6 +1,7 @@
 //! What a plant scenario's run produces: `summary.json` ([`PlantSummary`], display units)
 //! and the columns of `trajectory.csv` and `validation.csv` ([`PlantColumn`], SI).
 
+use super::ident_figures::RunFigures;
 use super::scenario::signal;
 use crate::error::Result;
 use crate::plant::Quantity;
@@ -51,6 +52,25 @@ pub struct IdentStateFigures {
     pub series_parallel_fit_percent: Option<f64>,
     /// |w| of the neuron at the end of training.
     pub final_weight_norm: f64,
+    /// The thesis's figures over each whole run, on the solver's dense output.
+    pub whole_run: WholeRunFigures,
+}
+
+/// One identified state's figures over the whole of each run (display units), integrated
+/// on the solver's dense output: RMS error, fit, NRMSE, and the time after which the error
+/// stays within 1 % of the state's range (the thesis's figures of the pump).
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
+pub struct WholeRunFigures {
+    /// The training run's online (series-parallel) estimate, its last epoch.
+    pub training: RunFigures,
+    /// The frozen model's series-parallel estimate on the training inputs again (with
+    /// `validate = true` and no `[validation]`); left out otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub series_parallel: Option<RunFigures>,
+    /// The frozen model's free run (on the validation inputs, or on the training inputs
+    /// again); left out without a validation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub free_run: Option<RunFigures>,
 }
 
 /// Figures of one controller (display units of the regulated state).
@@ -349,6 +369,17 @@ mod tests {
             series_parallel_rms_error: None,
             series_parallel_fit_percent: None,
             final_weight_norm: 0.5,
+            whole_run: WholeRunFigures {
+                training: RunFigures {
+                    rms_error: 1.0,
+                    fit_percent: 90.0,
+                    nrmse: 0.01,
+                    convergence_band: 0.1,
+                    convergence_time_s: Some(10.0),
+                },
+                series_parallel: None,
+                free_run: None,
+            },
         };
         let json = serde_json::to_string(&f).unwrap();
         assert!(

@@ -1,20 +1,9 @@
 //! Identification figures of a pump run: per identified state and mode, accumulated on
 //! the dense output, and the model file.
 
-use super::integrated::Integrated;
-use crate::ident::IdentSettings;
+pub use super::ident_figures::RunFigures;
 use crate::net::Sigmoid;
-use crate::plant::P_LINE;
-use crate::units::*;
-use rhonn_ode::Dopri5;
 use serde::Serialize;
-
-/// Gauss-Legendre nodes on \[0, 1\] and weights (summing to 1).
-pub(super) const GAUSS: [(f64, f64); 3] = [
-    (0.112_701_665_379_258_31, 5.0 / 18.0),
-    (0.5, 8.0 / 18.0),
-    (0.887_298_334_620_741_7, 5.0 / 18.0),
-];
 
 /// A trained RHONN: everything needed to run it (`weights.json`).
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
@@ -64,160 +53,17 @@ pub struct StateFigures {
     pub final_weight_norm: f64,
 }
 
-/// Identification figures accumulated step by step on the dense output (3-point
-/// Gauss-Legendre per step, like [`Figures`]): the continuous-time forms of the sample
-/// formulas (RMS error sqrt(int e^2 / T), fit 100 (1 - sqrt(int e^2) / sqrt(int (y -
-/// mean y)^2)), convergence as the last time |e| exceeds the band, seen at the step
-/// ends and Gauss points), so that a summary-only run needs no sampling.
-pub(super) struct IdentAcc {
-    /// Which model's estimates (see [`Integrated::hats`]).
-    slot: usize,
-    states: Vec<usize>,
-    full: Vec<f64>,
-    /// The estimates by plant state at one point (scratch).
-    hats: Vec<Option<f64>>,
-    per: Vec<StateAcc>,
-}
-
-#[derive(Default)]
-struct StateAcc {
-    time: f64,
-    e2: f64,
-    y0: Option<f64>,
-    dy: f64,
-    dy2: f64,
-    lo: f64,
-    hi: f64,
-    t_end: f64,
-    /// (t, |e|) with |e| strictly decreasing: the suffix maxima of the error.
-    stair: Vec<(f64, f64)>,
-}
-
-impl IdentAcc {
-    pub(super) fn new(is: &IdentSettings, dim: usize, slot: usize) -> Self {
-        let states: Vec<usize> = is
-            .states
-            .iter()
-            .map(|s| s.state_index().unwrap_or(P_LINE))
-            .collect();
-        let per = states
-            .iter()
-            .map(|_| StateAcc {
-                lo: f64::INFINITY,
-                hi: f64::NEG_INFINITY,
-                ..Default::default()
-            })
-            .collect();
-        IdentAcc {
-            slot,
-            states,
-            full: vec![0.0; dim],
-            hats: vec![None; dim],
-            per,
-        }
-    }
-
-    pub(super) fn add_step<S: Integrated>(&mut self, solver: &Dopri5<S>) {
-        let (t0, t1) = (solver.t_prev(), solver.t());
-        if !(t1 > t0) {
-            return;
-        }
-        let h = t1 - t0;
-        let pts = [
-            t0,
-            t0 + GAUSS[0].0 * h,
-            t0 + GAUSS[1].0 * h,
-            t0 + GAUSS[2].0 * h,
-            t1,
-        ];
-        let mut vals = [[(0.0, 0.0); 5]; 2];
-        let sys = solver.system();
-        if self.states.iter().all(|&i| sys.hat_index(self.slot, i).is_some()) {
-            // Only the identified states and their estimates.
-            // A step cut at an event ends before its dense output's end.
-            let r = solver.step_fraction();
-            let thetas = [0.0, GAUSS[0].0 * r, GAUSS[1].0 * r, GAUSS[2].0 * r, r];
-            for (k, &i) in self.states.iter().enumerate() {
-                let j = sys.hat_index(self.slot, i).unwrap_or(i); // Some: checked above
-                let (y, yh) = (solver.dense_component(i), solver.dense_component(j));
-                for (p, &th) in thetas.iter().enumerate() {
-                    vals[k][p] = (y.at(th), yh.at(th));
-                }
-            }
-        } else {
-            for (p, &t) in pts.iter().enumerate() {
-                solver.interpolate(t, &mut self.full);
-                sys.hats(&self.full, self.slot, &mut self.hats);
-                for (k, &i) in self.states.iter().enumerate() {
-                    vals[k][p] = (self.full[i], self.hats[i].unwrap_or(f64::NAN));
-                }
-            }
-        }
-        for (k, a) in self.per.iter_mut().enumerate() {
-            let y0 = *a.y0.get_or_insert(vals[k][0].0);
-            for q in 0..3 {
-                let (y, yh) = vals[k][q + 1];
-                let w = GAUSS[q].1 * h;
-                a.e2 += w * (yh - y) * (yh - y);
-                a.dy += w * (y - y0);
-                a.dy2 += w * (y - y0) * (y - y0);
-            }
-            a.time += h;
-            a.t_end = t1;
-            let (mut lo, mut hi) = (a.lo, a.hi);
-            let mut v = [0.0; 5];
-            for (p, &(y, yh)) in vals[k].iter().enumerate() {
-                lo = lo.min(y);
-                hi = hi.max(y);
-                v[p] = (yh - y).abs();
-            }
-            (a.lo, a.hi) = (lo, hi);
-            // The stair after this step: the earlier entries above the step's largest
-            // error, then the step's own suffix maxima (what pushing the five points one
-            // by one, popping the entries they reach, leaves; in one pass).
-            let mut keep = [false; 5];
-            let mut top = f64::NEG_INFINITY;
-            for p in (0..5).rev() {
-                if v[p] > top {
-                    keep[p] = true;
-                    top = v[p];
-                }
-            }
-            while a.stair.last().is_some_and(|&(_, last)| last <= top) {
-                a.stair.pop();
-            }
-            for p in 0..5 {
-                if keep[p] {
-                    a.stair.push((pts[p], v[p]));
-                }
-            }
-        }
-    }
-
-    pub(super) fn figures(&self, k: usize, name: &str, w: &[f64]) -> StateFigures {
-        let (state, unit, scale) = if name == "p_line" {
-            ("p_line", "MPa", PA_PER_MPA)
-        } else {
-            ("stroke", "mm", M_PER_MM)
-        };
-        let a = &self.per[k];
-        let rms = (a.e2 / a.time).sqrt();
-        let var_int = (a.dy2 - a.dy * a.dy / a.time).max(0.0);
-        let range = a.hi - a.lo;
-        let band = 0.01 * range;
-        let conv = match a.stair.iter().rposition(|&(_, v)| v > band) {
-            None => Some(0.0),
-            Some(j) if a.stair[j].0 >= a.t_end => None,
-            Some(j) => Some(a.stair[j].0),
-        };
+impl StateFigures {
+    /// A state's whole-run figures `r` and its neuron's weights `w`.
+    pub(super) fn of(state: &'static str, unit: &'static str, r: RunFigures, w: &[f64]) -> Self {
         StateFigures {
             state,
             unit,
-            rms_error: rms / scale,
-            fit_percent: 100.0 * (1.0 - a.e2.sqrt() / var_int.sqrt()),
-            nrmse: rms / range,
-            convergence_band: band / scale,
-            convergence_time_s: conv,
+            rms_error: r.rms_error,
+            fit_percent: r.fit_percent,
+            nrmse: r.nrmse,
+            convergence_band: r.convergence_band,
+            convergence_time_s: r.convergence_time_s,
             final_weight_norm: w.iter().map(|v| v * v).sum::<f64>().sqrt(),
         }
     }

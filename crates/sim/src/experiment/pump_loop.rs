@@ -3,10 +3,10 @@
 //! instants and after its steps ([`PumpHooks`]), driven by the one run loop
 //! ([`super::sim::drive`]).
 
+use super::ident_figures::IdentAcc;
 use super::integrated::Integrated;
 use super::loop_conditions::{Actuator, LoopConditions, SensorNoise, Sensors};
 use super::pump_figures::{figures_of, AdaptiveReport, Figures};
-use super::pump_ident_figures::IdentAcc;
 use super::pump_settings::{Drive, Scenario, SolverSettings};
 use super::regulation::{Scale, Tracked, Tracker};
 use super::sim::{describe, drive, start, Hooks, Instants};

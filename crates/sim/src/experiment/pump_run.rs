@@ -1,14 +1,15 @@
 //! Running a scenario: the plant in the event-locating solver, the sampled controller,
 //! the measurement, the output samples taken from the dense output, and the figures.
 
+use super::ident_figures::IdentAcc;
 pub use super::integrated::{Alone, Integrated};
 use super::pump_controllers::PumpLoop;
 pub use super::pump_figures::*;
-use super::pump_ident_figures::IdentAcc;
 pub use super::pump_ident_figures::*;
 pub use super::pump_loop::solver_options;
 use super::pump_loop::{simulate, Ctl};
 use super::pump_settings::{AdaptiveSettings, Drive, Scenario};
+use super::regulation::Scale;
 use super::trace::{Column, NoRecorder, Recorder, Sample, Trace};
 use crate::control::LoopSpec;
 use crate::error::Result;
@@ -275,7 +276,14 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
     let names: Vec<&str> = is.states.iter().map(pump_name).collect();
     let figures_of = |a: &IdentAcc| -> Vec<StateFigures> {
         (0..names.len())
-            .map(|k| a.figures(k, names[k], &weights[k]))
+            .map(|k| {
+                let (state, unit, scale) = if names[k] == "p_line" {
+                    ("p_line", "MPa", Scale::Over(crate::units::PA_PER_MPA))
+                } else {
+                    ("stroke", "mm", Scale::Over(crate::units::M_PER_MM))
+                };
+                StateFigures::of(state, unit, a.figures(k, scale), &weights[k])
+            })
             .collect()
     };
     let training = figures_of(&train_acc);
@@ -383,7 +391,10 @@ fn validate<St: State>(
     let mut x0 = St::zeros(PLANT_DIM + s0.len());
     x0.as_mut_slice()[..PLANT_DIM].copy_from_slice(&plant_initial(sc));
     x0.as_mut_slice()[PLANT_DIM..].copy_from_slice(&s0);
-    let mut acc = [IdentAcc::new(is, sys.dim(), 0), IdentAcc::new(is, sys.dim(), 1)];
+    let mut acc = [
+        IdentAcc::new(idx(is), sys.dim(), 0),
+        IdentAcc::new(idx(is), sys.dim(), 1),
+    ];
     let mut coll = Collector::new(is, wants);
     let (st, _, _, _, _) = simulate(
         sc,
@@ -415,7 +426,7 @@ fn ident_runs<St: State>(sc: &Scenario, is: &IdentSettings, rec: &mut impl Recor
     for epoch in 1..=is.epochs {
         let (sys, x0) = make(Mode::Train, weights.as_deref())?;
         let last = epoch == is.epochs;
-        let mut ia = [IdentAcc::new(is, sys.dim(), 0)];
+        let mut ia = [IdentAcc::new(idx(is), sys.dim(), 0)];
         let (st, fig, xf, sys, _) = if last {
             simulate(sc, sys, x0, rec, &mut ia, Ctl::of(sc, &plant_initial(sc))?, true)?
         } else {
@@ -511,3 +522,11 @@ impl Recorder for Collector {
 #[cfg(test)]
 #[path = "pump_run_tests.rs"]
 mod tests;
+
+/// The pump states `is` identifies (indices; a state it cannot name reads the pressure).
+fn idx(is: &IdentSettings) -> Vec<usize> {
+    is.states
+        .iter()
+        .map(|s| s.state_index().unwrap_or(P_LINE))
+        .collect()
+}

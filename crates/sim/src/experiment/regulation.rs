@@ -7,9 +7,9 @@
 //! step (split where the set-point has a breakpoint and where a settling window ends), the time below the floor from the located crossings, extremes from the step
 //! ends and the Gauss points.
 
+use super::ident_figures::GAUSS;
 use super::integrated::Integrated;
 use super::plant_summary::FloorFigures;
-use super::pump_ident_figures::GAUSS;
 use crate::plant::Plant;
 use crate::signal::Signal;
 use rhonn_ode::Dopri5;
@@ -28,7 +28,7 @@ pub(super) enum Scale {
 
 impl Scale {
     #[inline(always)]
-    fn apply(self, v: f64) -> f64 {
+    pub(super) fn apply(self, v: f64) -> f64 {
         match self {
             Scale::Times(f) => v * f,
             Scale::Over(d) => v / d,
