@@ -31,7 +31,8 @@ fn tanks_scenarios_are_listed_and_run_like_the_pumps() {
             "summary.json",
             "trajectory.csv",
             "validation.csv",
-            "validation.svg"
+            "validation.svg",
+            "weights.json"
         ]
     );
     let traj = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();

@@ -81,6 +81,9 @@ pub fn write_plant_run(dir: &Path, output: &PlantRunOutput) -> Result<Vec<PathBu
     let mut set = OutputSet::new(dir)?;
     set.write("trajectory.csv", |w| write_columns(w, &output.trajectory))?;
     set.write("summary.json", |w| write_json(w, &output.summary))?;
+    if let Some(model) = &output.model {
+        set.write("weights.json", |w| write_json(w, model))?;
+    }
     let is_in = |c: &PlantColumn| c.input;
     let is_weight = |c: &PlantColumn| {
         rhonn::experiment::WEIGHT_QUANTITIES

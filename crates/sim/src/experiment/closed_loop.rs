@@ -8,7 +8,8 @@ use super::adaptive_report::AdaptiveReport;
 use super::any_plant::{sampling_steps, solver, DenseSampler, DenseSamples, LOOP_RTOL};
 use super::integrated::{Alone, Integrated};
 use super::loop_conditions::{Actuator, LoopConditions, Sensors};
-use super::regulation::{Scale, Tracked, Tracker};
+use super::quadrature::Scale;
+use super::regulation::{Tracked, Tracker};
 use super::sim::{describe, drive, Hooks, Instants};
 use super::solver_spec::{SolverDefaults, Tolerances};
 use crate::control::Controller;
@@ -63,6 +64,11 @@ pub struct Tracking {
     pub max_abs_deviation: f64,
     /// max |y - r| from the plant's settling time after each set-point change on.
     pub max_abs_deviation_settled: f64,
+    /// The plant's settling time \[s\].
+    pub settle_s: f64,
+    /// max |y - r| from a tenth of the plant's settling time after each set-point change
+    /// on.
+    pub max_abs_deviation_early: f64,
     /// Time with |y - r| within 1 % of r \[s\].
     pub time_within_1pct_s: f64,
     /// Each set-point step's overshoot beyond its new value within the plant's settling
@@ -191,6 +197,8 @@ pub fn closed_loop_with<P: Plant>(
     run.tracking = Tracking {
         max_abs_deviation: tr.max_dev,
         max_abs_deviation_settled: tr.max_dev_settled,
+        settle_s,
+        max_abs_deviation_early: tr.max_dev_0_1,
         time_within_1pct_s: tr.within,
         overshoot_percent: tr.steps.iter().map(|s| s.3).collect(),
         time_below_floor_s: floor.map(|_| tr.below),

@@ -3,16 +3,34 @@
 //! error stays within 1 % of the state's range, accumulated step by step.
 
 use super::integrated::Integrated;
-use super::regulation::Scale;
+use super::quadrature::{Scale, GAUSS};
+use crate::net::Sigmoid;
 use rhonn_ode::Dopri5;
 use serde::Serialize;
 
-/// Gauss-Legendre nodes on \[0, 1\] and weights (summing to 1).
-pub(super) const GAUSS: [(f64, f64); 3] = [
-    (0.112_701_665_379_258_31, 5.0 / 18.0),
-    (0.5, 8.0 / 18.0),
-    (0.887_298_334_620_741_7, 5.0 / 18.0),
-];
+/// A trained RHONN: everything needed to run it (`weights.json`).
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
+pub struct ModelFile {
+    /// Identified states (neurons), SI.
+    pub states: Vec<String>,
+    /// External inputs, SI.
+    pub inputs: Vec<String>,
+    /// Sigmoid.
+    #[schemars(with = "serde_json::Value")]
+    pub sigmoid: Sigmoid,
+    /// State divisors before the sigmoid.
+    pub state_scale: Vec<f64>,
+    /// Input divisors.
+    pub input_scale: Vec<f64>,
+    /// Terms: `[y index, exponent]` factors each.
+    pub terms: Vec<Vec<[usize; 2]>>,
+    /// Poles a_i.
+    pub a: Vec<f64>,
+    /// The law that trained it.
+    pub law: &'static str,
+    /// Weights, one vector per neuron.
+    pub weights: Vec<Vec<f64>>,
+}
 
 /// One identified state's figures over a whole run in one mode (training, a frozen model's
 /// series-parallel estimate or its free run), on the dense output (display units).
@@ -178,6 +196,29 @@ impl IdentAcc {
             nrmse: rms / range,
             convergence_band: scale.apply(band),
             convergence_time_s: conv,
+        }
+    }
+}
+
+impl ModelFile {
+    /// The model `is` trained, with its final `weights`, its states and inputs named by
+    /// `name`.
+    pub(super) fn of(
+        is: &crate::ident::IdentSettings,
+        name: impl Fn(&crate::plant::SignalRef) -> &'static str,
+        weights: Vec<Vec<f64>>,
+    ) -> Self {
+        let net = &is.ident.net;
+        ModelFile {
+            states: is.states.iter().map(|s| name(s).to_string()).collect(),
+            inputs: is.inputs.iter().map(|s| name(s).to_string()).collect(),
+            sigmoid: net.sigmoid,
+            state_scale: net.state_scale.clone(),
+            input_scale: net.input_scale.clone(),
+            terms: (0..net.n_terms()).map(|k| net.terms.factors(k)).collect(),
+            a: net.a.clone(),
+            law: is.ident.law.name,
+            weights,
         }
     }
 }

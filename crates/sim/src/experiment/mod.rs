@@ -22,6 +22,7 @@ mod pump_loop;
 mod pump_run;
 mod pump_scenario;
 mod pump_settings;
+mod quadrature;
 mod regulation;
 mod scenario;
 mod scenario_run;

@@ -236,7 +236,7 @@ pub(super) fn run_control<P: Plant>(
         .zip(&loops)
         .map(|(r, (_, _, tuning))| LoopFigures {
             tuning: *tuning,
-            ..loop_figures(r, range, c.period_s, (&qy, qu))
+            ..loop_figures(r, range, (c.period_s, spec.duration_s), (&qy, qu))
         })
         .collect();
     summary.findings.extend(conditions_finding(&plant, c, spec, qu));
@@ -263,6 +263,7 @@ pub(super) fn run_control<P: Plant>(
         summary,
         trajectory,
         validation: None,
+        model: None,
         duration_s: spec.duration_s,
     })
 }
@@ -309,42 +310,131 @@ fn loops_of(c: &super::scenario::ControlSpec) -> Result<Vec<(&'static str, LoopS
 
 /// The controller's figures beside each baseline's, in words.
 fn comparison_findings(f: &[LoopFigures], qy: &Quantity, qu: &Quantity) -> Vec<String> {
+    let sig = crate::metrics::sig;
     let Some((a, baselines)) = f.split_first() else {
         return Vec::new();
     };
+    let u = qy.display_unit;
     if baselines.is_empty() {
-        return vec![format!(
-            "{}: IAE {:.1} {u} s; final error {:.3} {u}",
-            a.controller,
-            a.iae,
-            a.final_error,
-            u = qy.display_unit
-        )];
+        let iu = shown_unit(qu.display_unit);
+        return vec![
+            format!(
+                "{}: IAE {} {u} s; final error {} {u}; within 1 % of the set-point {} % of the run; largest deviation from {} s after each set-point change {} {u}",
+                a.label(),
+                sig(a.iae, 4),
+                sig(a.final_error, 3),
+                sig(a.within_1pct_percent, 3),
+                sig(a.settle_s, 3),
+                sig(a.max_abs_deviation_settled, 3)
+            ),
+            format!(
+                "{}: the input moved {}{iu} in all (total variation; RMS change per control period {}{iu}), at a bound {} s, switching between the bounds {} s",
+                a.label(),
+                sig(a.input_total_variation, 4),
+                sig(a.input_rms_change_per_sample, 3),
+                sig(a.time_input_saturated_s, 3),
+                sig(a.time_input_switching_s, 3)
+            ),
+        ];
     }
     let mut v = Vec::new();
     for b in baselines {
         v.push(format!(
-            "{}: IAE {:.1} {u} s against {:.1} for the baseline {} ({:+.1} %); final error {:.3} against {:.3} {u}",
-            a.controller,
-            a.iae,
-            b.iae,
+            "{}: IAE {} {u} s against {} for the baseline {} ({:+.1} %); final error {} against {} {u}",
+            a.label(),
+            sig(a.iae, 4),
+            sig(b.iae, 4),
             b.label(),
             100.0 * (a.iae / b.iae - 1.0),
-            a.final_error,
-            b.final_error,
-            u = qy.display_unit
+            sig(a.final_error, 3),
+            sig(b.final_error, 3),
         ));
+        v.extend(figure_lines(a, b, u));
         v.push(activity_finding(a, b, qu.display_unit));
     }
     v
 }
 
+/// One line per tracking figure of the controller `a` against the baseline `b`: both
+/// numbers and which is better.
+fn figure_lines(a: &LoopFigures, b: &LoopFigures, u: &str) -> Vec<String> {
+    let sig = crate::metrics::sig;
+    let line = |what: String, va: f64, vb: f64, unit: &str, lower_better: bool| {
+        // Equal as printed is equal (to 4 significant digits).
+        let verdict = if sig(va, 4) == sig(vb, 4) {
+            "equal".to_string()
+        } else if (va < vb) == lower_better {
+            format!("{} better", a.label())
+        } else {
+            format!("{} better", b.label())
+        };
+        format!(
+            "{what}: {} {} {unit}, {} {} {unit} ({verdict})",
+            a.label(),
+            sig(va, 4),
+            b.label(),
+            sig(vb, 4)
+        )
+    };
+    let over = |f: &LoopFigures| f.overshoot_percent.iter().fold(0.0f64, |m, &o| m.max(o));
+    let mut v = vec![
+        line("ISE".into(), a.ise, b.ise, &format!("{u}^2 s"), true),
+        line(
+            format!(
+                "largest deviation from {} s after each set-point change",
+                sig(a.settle_s / 10.0, 3)
+            ),
+            a.max_abs_deviation_early,
+            b.max_abs_deviation_early,
+            u,
+            true,
+        ),
+        line(
+            format!(
+                "largest deviation from {} s after each set-point change",
+                sig(a.settle_s, 3)
+            ),
+            a.max_abs_deviation_settled,
+            b.max_abs_deviation_settled,
+            u,
+            true,
+        ),
+        line(
+            "largest overshoot of a set-point step".into(),
+            over(a),
+            over(b),
+            "%",
+            true,
+        ),
+        line(
+            "share of the run within 1 % of the set-point".into(),
+            a.within_1pct_percent,
+            b.within_1pct_percent,
+            "%",
+            false,
+        ),
+    ];
+    if let (Some(fa), Some(fb)) = (
+        a.time_below_floor_after_settle_s,
+        b.time_below_floor_after_settle_s,
+    ) {
+        v.push(line(
+            format!("time below the plant's floor from {} s on", sig(a.settle_s, 3)),
+            fa,
+            fb,
+            "s",
+            true,
+        ));
+    }
+    v
+}
+
 /// A loop's figures in display units: the regulated state's errors and the input's
-/// activity over `range` at the control period `period_s`.
+/// activity over `range` at the control period `period_s`, over a run of `duration_s`.
 fn loop_figures(
     r: &LoopRun,
     range: (f64, f64),
-    period_s: f64,
+    (period_s, duration_s): (f64, f64),
     (qy, qu): (&Quantity, &Quantity),
 ) -> LoopFigures {
     let act = crate::activity::activity(&r.u, range, period_s);
@@ -356,7 +446,10 @@ fn loop_figures(
         final_error: qy.to_display(r.final_error()),
         max_abs_deviation: qy.to_display(r.tracking.max_abs_deviation),
         max_abs_deviation_settled: qy.to_display(r.tracking.max_abs_deviation_settled),
+        settle_s: r.tracking.settle_s,
+        max_abs_deviation_early: qy.to_display(r.tracking.max_abs_deviation_early),
         time_within_1pct_s: r.tracking.time_within_1pct_s,
+        within_1pct_percent: 100.0 * r.tracking.time_within_1pct_s / duration_s,
         overshoot_percent: r.tracking.overshoot_percent.clone(),
         time_below_floor_s: r.tracking.time_below_floor_s,
         time_below_floor_after_settle_s: r.tracking.time_below_floor_after_settle_s,

@@ -4,6 +4,7 @@
 //! their figures per state and the columns of `trajectory.csv` and `validation.csv`.
 
 use super::any_plant::{identify, IdentRun, Weights};
+use super::ident_figures::ModelFile;
 use super::plant_summary::{
     time_and_inputs, IdentStateFigures, PlantColumn, PlantRunOutput, PlantSummary, WholeRunFigures,
 };
@@ -107,10 +108,12 @@ pub(super) fn run_identification<P: Plant>(
         (Some(v), None) => Some(ident_columns(&spec.input, v, (&quantities, &inputs), true)?),
         _ => None,
     };
+    let name = |s: &crate::plant::SignalRef| s.name_in(plant.states(), plant.inputs());
     Ok(PlantRunOutput {
         summary,
         trajectory,
         validation,
+        model: Some(ModelFile::of(&is, name, train.weights)),
         duration_s: spec.duration_s,
     })
 }
@@ -154,14 +157,26 @@ fn frozen_run<P: Plant>(
 }
 
 /// A state's finding: its fit while learning, and the frozen model's (free run on the
-/// validation inputs, or series-parallel and free run on the training inputs again).
+/// validation inputs, or series-parallel and free run on the training inputs again), with
+/// what the free run says of the model.
 fn finding(state: &str, training: f64, free_run: Option<f64>, series_parallel: Option<f64>) -> String {
+    let verdict = |f: f64| {
+        if f >= 80.0 {
+            "the frozen model runs on its own"
+        } else if f >= 0.0 {
+            "the frozen model runs on its own only roughly"
+        } else {
+            "the model tracks while it adapts but does not run on its own: its frozen weights describe little more than the last operating point"
+        }
+    };
     match (free_run, series_parallel) {
         (Some(f), Some(sp)) => format!(
-            "{state}: fit {training:.1} % while learning online (second half); with frozen weights on the same inputs {sp:.1} % series-parallel, {f:.1} % running free"
+            "{state}: fit {training:.1} % while learning online (second half); with frozen weights on the same inputs {sp:.1} % series-parallel, {f:.1} % running free: {}",
+            verdict(f)
         ),
         (Some(f), None) => format!(
-            "{state}: fit {training:.1} % while learning online (second half), {f:.1} % running free with frozen weights on the validation inputs"
+            "{state}: fit {training:.1} % while learning online (second half), {f:.1} % running free with frozen weights on the validation inputs: {}",
+            verdict(f)
         ),
         _ => format!("{state}: fit {training:.1} % while learning online (second half)"),
     }

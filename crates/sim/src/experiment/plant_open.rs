@@ -63,6 +63,7 @@ pub(super) fn run_open<P: Plant>(
         summary,
         trajectory,
         validation: None,
+        model: None,
         duration_s: spec.duration_s,
     })
 }

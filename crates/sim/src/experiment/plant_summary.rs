@@ -93,8 +93,16 @@ pub struct LoopFigures {
     /// max |y - r| from the plant's settling time after each set-point change on (the
     /// pump: 1 s, the tanks: 150 s) \[unit\].
     pub max_abs_deviation_settled: f64,
+    /// The plant's settling time, the window of the settled figures \[s\] (the pump: 1 s,
+    /// the tanks: 150 s).
+    pub settle_s: f64,
+    /// max |y - r| from a tenth of the plant's settling time after each set-point change
+    /// on (the pump: 0.1 s) \[unit\].
+    pub max_abs_deviation_early: f64,
     /// Time with |y - r| within 1 % of r \[s\].
     pub time_within_1pct_s: f64,
+    /// The same in % of the run.
+    pub within_1pct_percent: f64,
     /// Each set-point step's overshoot beyond its new value within the plant's settling
     /// time, in % of the step (0 when the output does not pass it).
     pub overshoot_percent: Vec<f64>,
@@ -303,6 +311,8 @@ pub struct PlantRunOutput {
     pub trajectory: Vec<PlantColumn>,
     /// validation.csv's columns, when there is a validation.
     pub validation: Option<Vec<PlantColumn>>,
+    /// An identification's trained model (weights.json).
+    pub model: Option<super::ModelFile>,
     /// Simulated time \[s\] (the scenario's `duration_s`).
     pub duration_s: f64,
 }

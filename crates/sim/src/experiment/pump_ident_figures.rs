@@ -1,33 +1,8 @@
 //! Identification figures of a pump run: per identified state and mode, accumulated on
 //! the dense output, and the model file.
 
-pub use super::ident_figures::RunFigures;
-use crate::net::Sigmoid;
+pub use super::ident_figures::{ModelFile, RunFigures};
 use serde::Serialize;
-
-/// A trained RHONN: everything needed to run it (`weights.json`).
-#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
-pub struct ModelFile {
-    /// Identified states (neurons), SI.
-    pub states: Vec<String>,
-    /// External inputs, SI.
-    pub inputs: Vec<String>,
-    /// Sigmoid.
-    #[schemars(with = "serde_json::Value")]
-    pub sigmoid: Sigmoid,
-    /// State divisors before the sigmoid.
-    pub state_scale: Vec<f64>,
-    /// Input divisors.
-    pub input_scale: Vec<f64>,
-    /// Terms: `[y index, exponent]` factors each.
-    pub terms: Vec<Vec<[usize; 2]>>,
-    /// Poles a_i.
-    pub a: Vec<f64>,
-    /// The law that trained it.
-    pub law: &'static str,
-    /// Weights, one vector per neuron.
-    pub weights: Vec<Vec<f64>>,
-}
 
 /// Figures of one identified state in one mode (display units: MPa, mm).
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]

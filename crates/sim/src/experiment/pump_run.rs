@@ -9,7 +9,7 @@ pub use super::pump_ident_figures::*;
 pub use super::pump_loop::solver_options;
 use super::pump_loop::{simulate, Ctl};
 use super::pump_settings::{AdaptiveSettings, Drive, Scenario};
-use super::regulation::Scale;
+use super::quadrature::Scale;
 use super::trace::{Column, NoRecorder, Recorder, Sample, Trace};
 use crate::control::LoopSpec;
 use crate::error::Result;
@@ -340,19 +340,7 @@ pub fn run_full(sc: &Scenario, rec: &mut impl Recorder) -> Result<RunOutput> {
         }
         vt
     });
-    let model = ModelFile {
-        states: names.iter().map(|s| s.to_string()).collect(),
-        inputs: is.inputs.iter().map(|s| pump_name(s).to_string()).collect(),
-        sigmoid: is.ident.net.sigmoid,
-        state_scale: is.ident.net.state_scale.clone(),
-        input_scale: is.ident.net.input_scale.clone(),
-        terms: (0..is.ident.net.n_terms())
-            .map(|k| is.ident.net.terms.factors(k))
-            .collect(),
-        a: is.ident.net.a.clone(),
-        law: is.ident.law.name,
-        weights,
-    };
+    let model = ModelFile::of(is, pump_name, weights);
     Ok(RunOutput {
         summary: report(sc, total, fig, Some(report_id)),
         validation,

@@ -7,34 +7,12 @@
 //! step (split where the set-point has a breakpoint and where a settling window ends), the time below the floor from the located crossings, extremes from the step
 //! ends and the Gauss points.
 
-use super::ident_figures::GAUSS;
 use super::integrated::Integrated;
 use super::plant_summary::FloorFigures;
+use super::quadrature::{Scale, GAUSS};
 use crate::plant::Plant;
 use crate::signal::Signal;
 use rhonn_ode::Dopri5;
-
-/// How a [`Tracker`] converts the regulated state's errors at each point: SI as they are
-/// (`Times(1.0)`), or divided by the SI per display unit (the pump's `units::mpa`, whose
-/// figures were always so computed). (A value, not a closure: the conversion runs 16
-/// times per interval and inlines.)
-#[derive(Debug, Clone, Copy)]
-pub(super) enum Scale {
-    /// `v * factor`.
-    Times(f64),
-    /// `v / divisor`.
-    Over(f64),
-}
-
-impl Scale {
-    #[inline(always)]
-    pub(super) fn apply(self, v: f64) -> f64 {
-        match self {
-            Scale::Times(f) => v * f,
-            Scale::Over(d) => v / d,
-        }
-    }
-}
 
 /// What a [`Tracker`] follows on a plant.
 pub(super) struct Tracked<'a> {
@@ -73,6 +51,7 @@ pub(super) struct Tracker<'a> {
     pub(super) max_dev_settled: f64,
     pub(super) saturated: f64,
     pub(super) iae: f64,
+    /// max |y - r| from a tenth of the settling time after each set-point change on.
     pub(super) max_dev_0_1: f64,
     pub(super) within: f64,
     /// Per set-point step after t = 0: (time, old value, new value, largest overshoot %).
@@ -340,7 +319,8 @@ impl<'a> Tracker<'a> {
         }
         let display = self.of.display;
         for (&(t, p), &rk) in pts.iter().zip(r) {
-            if t >= last_change + 0.1 {
+            // A tenth of the settling time (the pump's 0.1 s: 1.0 / 10.0 is 0.1 exactly).
+            if t >= last_change + self.of.settle_s / 10.0 {
                 self.max_dev_0_1 = self.max_dev_0_1.max(display.apply((p - rk).abs()));
             }
             if let Some(k) = step.filter(|_| t < last_change + self.of.settle_s) {
