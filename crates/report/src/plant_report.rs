@@ -90,8 +90,9 @@ pub fn write_plant_run(dir: &Path, output: &PlantRunOutput) -> Result<Vec<PathBu
             .iter()
             .any(|q| q.name == c.quantity.name)
     };
-    // What a noisy sensor measured is in trajectory.csv; the plot shows the true states.
-    let is_measured = |c: &PlantColumn| c.name.contains("_measured");
+    // What a noisy sensor measured, and an adaptive controller's model of the regulated
+    // state, are in trajectory.csv; the plot shows the true states.
+    let is_measured = |c: &PlantColumn| c.name.contains("_measured") || c.name.contains("_model");
     let mut plots = vec![
         (
             "states.svg",

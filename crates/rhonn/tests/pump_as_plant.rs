@@ -290,8 +290,23 @@ fn the_pumps_parameters_are_its_plant_parameters() {
     spec.plant.parameters.insert("beta_mpa".into(), 1000.0);
     let out = run_plant_scenario(&spec, None).unwrap();
     assert!(out.summary.parameters.contains(&("beta_mpa".to_string(), 1000.0)));
-    // A parameter the pump does not have, and the demand slew (the pump scenarios'), are errors.
-    for (key, value) in [("qdot_max_dm3_s2", 2.0), ("alpha", 1.0)] {
+    // Every key of the pump's `[plant]` table is a parameter (22, the thesis's table 3.3):
+    // P_min moves the floor the figures use.
+    let names: Vec<&str> = rhonn::plant::pump::PARAMETERS.iter().map(|p| p.name).collect();
+    assert_eq!(out.summary.parameters.len(), 22);
+    assert!(names.contains(&"qdot_max_dm3_s2") && names.contains(&"solenoid_lag_ms"));
+    let mut high = spec.clone();
+    high.plant.parameters.insert("p_min_mpa".into(), 3.0);
+    let floor = run_plant_scenario(&high, None).unwrap().summary.floor.unwrap();
+    assert_eq!(floor.floor, 3.0);
+    assert!(floor.time_below_s > out.summary.floor.as_ref().unwrap().time_below_s);
+    // A parameter the pump does not have, and the two `[control]` gives, are errors that
+    // list the pump's.
+    for (key, value) in [
+        ("alpha", 1.0),
+        ("t_control_ms", 5.0),
+        ("transport_delay_periods", 1.0),
+    ] {
         let mut bad = spec.clone();
         bad.plant.parameters.insert(key.into(), value);
         let e = run_plant_scenario(&bad, None).unwrap_err().to_string();
@@ -300,6 +315,11 @@ fn the_pumps_parameters_are_its_plant_parameters() {
             "{e}"
         );
     }
+    // The table's own rules: P_min below P_max.
+    let mut bad = spec.clone();
+    bad.plant.parameters.insert("p_min_mpa".into(), 30.0);
+    let e = run_plant_scenario(&bad, None).unwrap_err().to_string();
+    assert!(e.contains("plant.p_min_mpa") && e.contains("p_max_mpa"), "{e}");
     let mut bad = spec.clone();
     bad.plant.parameters.insert("mu_1".into(), -1.0);
     let e = run_plant_scenario(&bad, None).unwrap_err().to_string();
@@ -555,4 +575,66 @@ fn a_second_baseline_is_a_stored_tuning_of_the_baselines_kind_and_a_pump_starts_
         e.contains("plant.initial") && e.contains("or the first 2 (p_line, stroke"),
         "{e}"
     );
+}
+
+/// A pump loop on the generic runner shows what the pump's runner showed: the demand, the
+/// cascades' stroke reference and the adaptive controller's pressure model, not the
+/// solenoid's internal current; without `[control.baseline]` the adaptive controller is
+/// compared with its default, the robust cascade PI, as the pump's format has always done.
+#[test]
+fn a_pump_loop_shows_its_demand_references_and_model_and_has_a_default_baseline() {
+    let mut spec = preset::load_any("control-adaptive").unwrap();
+    spec.duration_s = 3.0;
+    let written = run_plant_scenario(&spec, None).unwrap();
+    spec.control.as_mut().unwrap().baseline = None;
+    let out = run_plant_scenario(&spec, None).unwrap();
+    let names: Vec<&str> = out.trajectory.iter().map(|c| c.name.as_str()).collect();
+    for n in [
+        "demand",
+        "stroke_ref",
+        "p_line_model",
+        "stroke_ref_baseline",
+        "p_line_measured",
+    ] {
+        assert!(names.contains(&n), "{n} not in {names:?}");
+    }
+    assert!(!names.iter().any(|n| n.starts_with("current_eff")), "{names:?}");
+    let demand = column(&out, "demand");
+    assert!(demand.iter().all(|d| *d == 0.0) && names.iter().filter(|n| **n == "demand").count() == 1);
+    let labels: Vec<String> = out
+        .summary
+        .control
+        .as_ref()
+        .unwrap()
+        .iter()
+        .map(|f| f.label())
+        .collect();
+    assert_eq!(
+        labels,
+        ["rhonn-adaptive", "cascade-pi", "cascade-pi-nominal-optimal"]
+    );
+    let (a, b) = (
+        written.summary.control.as_ref().unwrap(),
+        out.summary.control.as_ref().unwrap(),
+    );
+    assert_eq!(a[1].iae, b[1].iae, "the default baseline is the shipped one");
+}
+
+/// An input profile beyond the range the plant clips it to is said, once.
+#[test]
+fn a_current_beyond_the_pumps_range_is_warned_of() {
+    let text = r#"
+name = "over"
+duration_s = 1.0
+output_interval_s = 0.01
+[plant]
+kind = "pump"
+[input]
+current = { kind = "constant", value = 1.0 }
+"#;
+    let spec: ScenarioSpec = toml::from_str(text).unwrap();
+    let w = run_plant_scenario(&spec, None).unwrap().summary.warnings;
+    assert_eq!(w, ["input.current leaves [0, 0.8] A and is clipped"]);
+    let ok: ScenarioSpec = toml::from_str(&text.replace("1.0 }", "0.5 }")).unwrap();
+    assert!(run_plant_scenario(&ok, None).unwrap().summary.warnings.is_empty());
 }

@@ -147,6 +147,17 @@ pub trait Plant: System + Clone + Send + Sync {
     fn input_at(&self, t: f64, k: usize) -> f64;
     /// Hold input `k` at `value` from now on (a sampled controller's output).
     fn hold_input(&mut self, k: usize, value: f64);
+    /// Indices of the states the model carries that no instrument shows (the pump's
+    /// lagged solenoid current): left out of a run's columns and state figures. Default:
+    /// none.
+    fn internal_states(&self) -> &'static [usize] {
+        &[]
+    }
+    /// The range the plant clips input `k` to (SI; default: none): a profile leaving it
+    /// is warned of.
+    fn input_range(&self, _k: usize) -> (f64, f64) {
+        (f64::NEG_INFINITY, f64::INFINITY)
+    }
     /// Input `k` at the plant's operating point (SI; default 0): what a PI on it adds
     /// when its settings give no bias.
     fn operating_input(&self, _k: usize) -> f64 {

@@ -46,6 +46,9 @@ impl Controller for RhonnCascade {
     fn control(&mut self, t: f64, measured: &[f64], setpoint: f64) -> f64 {
         self.update(t, measured[0], measured[1], setpoint)
     }
+    fn inner_reference(&self) -> Option<f64> {
+        Some(self.state().stroke_ref)
+    }
     fn adaptive(&self, t: f64) -> Option<AdaptiveView> {
         let identifying = t < self.settings.identification_s;
         let mut view = AdaptiveView::of(
@@ -201,6 +204,22 @@ impl LoopSettings for PumpAdaptiveLoop {
     }
     fn name(&self) -> &'static str {
         "rhonn-adaptive"
+    }
+    /// The stroke: its outer loop sets the stroke's reference.
+    fn inner_state(&self) -> Option<&str> {
+        Some("stroke")
+    }
+    /// The cascade PI in its robust tuning, with the same sensors (on this state).
+    fn default_baseline(&self) -> Option<super::LoopSpec> {
+        match super::ROBUST.loop_spec() {
+            super::LoopSpec::PumpCascadePi(l) => {
+                Some(super::LoopSpec::PumpCascadePi(super::PumpCascadePiLoop {
+                    state: self.state.clone(),
+                    ..l
+                }))
+            }
+            other => Some(other),
+        }
     }
     fn build(&self, cx: &LoopContext) -> Result<Box<dyn Controller>> {
         pump_states(cx, &self.state)?;

@@ -207,6 +207,10 @@ impl LoopSettings for PumpCascadePiLoop {
     fn name(&self) -> &'static str {
         "cascade-pi"
     }
+    /// The stroke: its outer PI sets the stroke's reference.
+    fn inner_state(&self) -> Option<&str> {
+        Some("stroke")
+    }
     fn tunings(&self) -> &'static [&'static str] {
         &["nominal-optimal", "robust"]
     }

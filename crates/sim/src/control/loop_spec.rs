@@ -68,6 +68,11 @@ pub trait LoopSettings {
     fn bias(&self) -> Option<f64> {
         None
     }
+    /// The baseline it is compared with when `[control]` names none (default: none, the
+    /// controller runs alone).
+    fn default_baseline(&self) -> Option<super::LoopSpec> {
+        None
+    }
     /// The names of the kind's stored tunings (a second baseline names one).
     fn tunings(&self) -> &'static [&'static str] {
         &[]

@@ -38,6 +38,9 @@ pub struct LoopRun {
     /// An adaptive controller's weights at each instant (empty for others): |W|, |W_1|,
     /// |W_1 - centre| and the radius of W_1's ball, in the neuron's (scaled) units.
     pub weights: Vec<[f64; 4]>,
+    /// An adaptive controller's model estimate of the regulated state at each control
+    /// instant (SI; empty for other controllers).
+    pub model_output: Vec<f64>,
     /// What the controller measured of the controlled state at each instant, SI (empty
     /// when no state is measured with noise).
     pub y_measured: Vec<f64>,
@@ -152,6 +155,7 @@ pub fn closed_loop_with<P: Plant>(
             states: vec![Vec::new(); n_states],
             inner_reference: Vec::new(),
             weights: Vec::new(),
+            model_output: Vec::new(),
             y_measured: Vec::new(),
             iae: 0.0,
             ise: 0.0,
@@ -259,6 +263,7 @@ impl<P: Plant> Hooks<Alone<P>> for Regulate<'_> {
         if let Some(v) = ctl.adaptive(t) {
             run.weights
                 .push([v.w_norm, v.w1_norm, v.w1_distance, v.ball_radius]);
+            run.model_output.push(v.model_output);
             run.adaptive.get_or_insert_with(AdaptiveReport::default).add(&v);
         }
         Ok(())

@@ -272,11 +272,16 @@ pub(super) fn run_control<P: Plant>(
 /// and a second baseline (a stored tuning of the baseline's kind), with their fields.
 fn loops_of(c: &super::scenario::ControlSpec) -> Result<Vec<(&'static str, LoopSpec, Option<&'static str>)>> {
     let mut loops = vec![("control.controller", c.controller.clone(), None)];
-    if let Some(b) = &c.baseline {
+    // A controller's own default comparison when `[control]` names no baseline.
+    let baseline = c
+        .baseline
+        .clone()
+        .or_else(|| c.controller.settings().default_baseline());
+    if let Some(b) = &baseline {
         loops.push(("control.baseline", b.clone(), None));
     }
     if let Some(name) = &c.second_baseline {
-        let Some(b) = &c.baseline else {
+        let Some(b) = &baseline else {
             return Err(invalid(
                 "control.second_baseline",
                 format!("\"{name}\""),
@@ -492,13 +497,31 @@ fn loop_columns<P: Plant>(
         None => run.states.clone(),
     };
     let t = runs[0].samples.as_ref().map_or(&runs[0].t, |d| &d.t).clone();
-    let mut cols = vec![
-        col("t".into(), TIME, t),
-        col(format!("{}_ref", qy.name), *qy, at(&runs[0], &runs[0].setpoint)),
-    ];
+    let mut cols = vec![col(
+        format!("{}_ref", qy.name),
+        *qy,
+        at(&runs[0], &runs[0].setpoint),
+    )];
+    // The inputs the loops do not drive (the same profiles on every plant).
+    for (k, q) in plant
+        .inputs()
+        .iter()
+        .enumerate()
+        .filter(|(_, q)| q.name != qu.name)
+    {
+        let v = t.iter().map(|&tk| plant.input_at(tk, k)).collect();
+        cols.push(PlantColumn {
+            input: true,
+            ..col(q.name.to_string(), *q, v)
+        });
+    }
+    cols.insert(0, col("t".into(), TIME, t));
+    let shown = |i: &usize| !plant.internal_states().contains(i);
     for ((run, suffix), inner) in runs.iter().zip(LOOP_SUFFIXES).zip(inner) {
-        for (q, v) in plant.states().iter().zip(states(run)) {
-            cols.push(col(format!("{}{suffix}", q.name), *q, v));
+        for (i, (q, v)) in plant.states().iter().zip(states(run)).enumerate() {
+            if shown(&i) {
+                cols.push(col(format!("{}{suffix}", q.name), *q, v));
+            }
         }
         cols.push(PlantColumn {
             input: true,
@@ -516,6 +539,13 @@ fn loop_columns<P: Plant>(
                 format!("{}_ref{suffix}", q.name),
                 *q,
                 at(run, &run.inner_reference),
+            ));
+        }
+        if !run.model_output.is_empty() {
+            cols.push(col(
+                format!("{}_model{suffix}", qy.name),
+                *qy,
+                at(run, &run.model_output),
             ));
         }
         if !run.weights.is_empty() {

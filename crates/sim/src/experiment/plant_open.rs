@@ -20,13 +20,21 @@ pub(super) fn run_open<P: Plant>(
     tol: &Tolerances,
 ) -> Result<PlantRunOutput> {
     let (states, input_qs) = (plant.states().to_vec(), plant.inputs().to_vec());
+    let plant_internal = plant.internal_states();
     let run = simulate(plant, x0, (spec.duration_s, spec.output_interval_s), tol)?;
     summary.solver.add(run.stats);
     summary.floor = run.floor;
     let inputs: Vec<_> = input_qs.iter().collect();
     let mut trajectory = time_and_inputs(&spec.input, &run.t, &inputs)?;
     let mut ranges = Vec::new();
-    for (q, v) in states.iter().zip(&run.states) {
+    let internal = plant_internal;
+    for (q, v) in states
+        .iter()
+        .zip(&run.states)
+        .enumerate()
+        .filter(|(i, _)| !internal.contains(i))
+        .map(|(_, qv)| qv)
+    {
         let shown: Vec<f64> = v.iter().map(|x| q.to_display(*x)).collect();
         let (min, max) = shown
             .iter()

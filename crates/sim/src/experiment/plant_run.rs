@@ -11,7 +11,7 @@ use super::plant_control::run_control;
 use super::plant_ident::run_identification;
 use super::plant_open::run_open;
 use super::plant_summary::{PlantColumn, PlantRunOutput, PlantSummary, SolverFigures};
-use super::scenario::{configure, drive, ScenarioSpec};
+use super::scenario::{clipped_inputs, configure, drive, ScenarioSpec};
 use super::solver_spec::{SolverDefaults, Tolerances};
 use crate::error::{Error, Result};
 use crate::plant::{with_kind, Plant, WithPlant};
@@ -113,6 +113,15 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
         warnings: Vec::new(),
         findings: Vec::new(),
     };
+    summary.warnings = clipped_inputs(&plant, &spec.input, "input", spec.duration_s)?;
+    if let Some(v) = &spec.validation {
+        let d = v.duration_s;
+        if d.is_finite() && d > 0.0 {
+            summary
+                .warnings
+                .extend(clipped_inputs(&plant, &v.input, "validation.input", d)?);
+        }
+    }
     let plant = drive(plant, &spec.input, "input")?;
     let x0 = plant.initial_state(&given, &inputs_at_start(&plant, spec));
     summary.warnings.extend(below_floor_at_start(&plant, &x0));

@@ -263,6 +263,8 @@ pub struct FloorFigures {
     /// Time below it over the run \[s\], the crossings located on the solver's dense
     /// output.
     pub time_below_s: f64,
+    /// The plant's settling time \[s\] (the pump: 1 s).
+    pub settle_s: f64,
     /// The same from the plant's settling time on (the start's transient excluded) \[s\].
     pub time_below_after_settle_s: f64,
 }

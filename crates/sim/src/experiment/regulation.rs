@@ -91,6 +91,7 @@ impl<'a> Tracker<'a> {
             unit: q.display_unit,
             floor: q.to_display(limit),
             time_below_s: self.below,
+            settle_s: self.of.settle_s,
             time_below_after_settle_s: self.below_after_settle,
         })
     }

@@ -207,6 +207,36 @@ pub(crate) fn drive<P: Plant>(mut plant: P, inputs: &BTreeMap<String, SignalSpec
     Ok(plant)
 }
 
+/// A warning per input of `inputs` whose profile leaves the range the plant clips it to
+/// ([`Plant::input_range`]) within `duration_s` (`field` names the section).
+pub(crate) fn clipped_inputs<P: Plant>(
+    plant: &P,
+    inputs: &BTreeMap<String, SignalSpec>,
+    field: &str,
+    duration_s: f64,
+) -> Result<Vec<String>> {
+    let mut warnings = Vec::new();
+    for (name, spec) in inputs {
+        let Some(k) = plant.inputs().iter().position(|q| q.name == name.as_str()) else {
+            continue;
+        };
+        let (lo, hi) = plant.input_range(k);
+        if lo.is_finite() || hi.is_finite() {
+            let q = &plant.inputs()[k];
+            let s = signal(spec, &format!("{field}.{name}"), q, (lo, hi))?;
+            if s.clips_on(duration_s) {
+                warnings.push(format!(
+                    "{field}.{name} leaves [{}, {}] {} and is clipped",
+                    crate::metrics::sig(q.to_display(lo), 4),
+                    crate::metrics::sig(q.to_display(hi), 4),
+                    q.display_unit
+                ));
+            }
+        }
+    }
+    Ok(warnings)
+}
+
 /// The plant of `section` from its nominal instance: parameters set (unknown names are
 /// errors listing the known), and the given initial states in SI (all of them, or the
 /// plant's [`Plant::initial_given`]; [`Plant::initial_state`] completes them).

@@ -2,6 +2,7 @@
 //! (`docs/pump-model.md` section 1): states `[P_l, x, i]`, inputs
 //! `[current, demand]`.
 
+mod parameters;
 mod params;
 mod system;
 
@@ -54,46 +55,14 @@ pub const INPUTS: [Quantity; 2] = [
     },
 ];
 
-/// The pump's uncertain parameters with the thesis's stated tolerances (pump-model.md
-/// table): beta +-20 %, mu_1 and mu_2 +-20 %, Q_0 +-10 %; nominal values of table 3.3.
-pub const PARAMETERS: [Parameter; 4] = [
-    Parameter {
-        name: "beta_mpa",
-        nominal: 1200.0,
-        tolerance: 0.2,
-        description: "bulk modulus of the oil [MPa]",
-    },
-    Parameter {
-        name: "mu_1",
-        nominal: 78e-6,
-        tolerance: 0.2,
-        description: "pilot valve flow coefficient mu_1",
-    },
-    Parameter {
-        name: "mu_2",
-        nominal: 78e-6,
-        tolerance: 0.2,
-        description: "pilot valve flow coefficient mu_2",
-    },
-    Parameter {
-        name: "q_0_dm3_s",
-        nominal: 0.13,
-        tolerance: 0.1,
-        description: "leakage flow Q_0 [dm^3/s]",
-    },
-];
+pub use parameters::PARAMETERS;
 
-/// The largest slew rate of the demanded flow, +-10 % in the thesis's table: a property of
-/// the pump scenarios' demand trapezoids (their campaigns draw it after [`PARAMETERS`]),
-/// not of the pump, whose demand is an input.
-pub const DEMAND_SLEW: Parameter = Parameter {
-    name: "qdot_max_dm3_s2",
-    nominal: 2.0,
-    tolerance: 0.1,
-    description: "largest slew rate of the demanded flow [dm^3/s^2]",
-};
+/// The largest slew rate of the demanded flow, +-10 % in the thesis's table: it bounds
+/// the pump scenarios' demand profiles (their campaigns draw it after the four uncertain
+/// parameters of the model).
+pub const DEMAND_SLEW: Parameter = PARAMETERS[4];
 
-/// What a pump campaign draws: [`PARAMETERS`], then [`DEMAND_SLEW`].
+/// What a pump campaign draws: the uncertain ones of [`PARAMETERS`] (the first five).
 pub const CAMPAIGN_PARAMETERS: [Parameter; 5] = [
     PARAMETERS[0],
     PARAMETERS[1],
@@ -148,6 +117,18 @@ impl Plant for PumpSystem {
     fn parameters(&self) -> &'static [Parameter] {
         &PARAMETERS
     }
+    /// The solenoid's effective current: the model's, not a measurement.
+    fn internal_states(&self) -> &'static [usize] {
+        &[CURRENT_EFF]
+    }
+    /// The current within [0, i_max] (the solenoid's driver clips it); the demand free.
+    fn input_range(&self, k: usize) -> (f64, f64) {
+        if k == 0 {
+            (0.0, self.params.i_max)
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        }
+    }
     /// The balance current ([`PumpParams::balance_current`]) and no demand.
     fn operating_input(&self, k: usize) -> f64 {
         if k == 0 {
@@ -194,29 +175,9 @@ impl Plant for PumpSystem {
         *self = PumpSystem::new(self.params.clone(), current, demand);
         Ok(())
     }
-    /// `[beta_mpa, mu_1, mu_2, q_0_dm3_s]` ([`PARAMETERS`]' units), each finite and > 0.
+    /// [`PARAMETERS`]' values (display units), checked as a scenario's `[plant]` is.
     fn with_parameters(&self, values: &[f64]) -> crate::Result<Self> {
-        let [beta_mpa, mu_1, mu_2, q_0_dm3_s] = <[f64; 4]>::try_from(values).map_err(|_| {
-            crate::error::invalid(
-                "plant",
-                format!("{} values", values.len()),
-                "the 4 parameters of the pump (beta_mpa, mu_1, mu_2, q_0_dm3_s)",
-            )
-        })?;
-        for (p, v) in PARAMETERS.iter().zip(values) {
-            if !(v.is_finite() && *v > 0.0) {
-                return Err(crate::error::invalid(
-                    format!("plant.{}", p.name),
-                    v,
-                    "finite and > 0",
-                ));
-            }
-        }
-        let mut params = self.params.clone();
-        params.beta = beta_mpa * 1e6;
-        params.mu_1 = mu_1;
-        params.mu_2 = mu_2;
-        params.q_0 = q_0_dm3_s * 1e-3;
+        let params = PumpParamsSpec::from_values(values)?.check()?;
         Ok(PumpSystem::new(params, self.current.clone(), self.demand.clone()))
     }
 }
