@@ -638,3 +638,32 @@ current = { kind = "constant", value = 1.0 }
     let ok: ScenarioSpec = toml::from_str(&text.replace("1.0 }", "0.5 }")).unwrap();
     assert!(run_plant_scenario(&ok, None).unwrap().summary.warnings.is_empty());
 }
+
+/// The pump's campaign runs (each draw of its five uncertain parameters, the demand's slew
+/// scaled with Qdot_max) through the generic runner with the same draws: the adaptive
+/// controller's and its baseline's IAE as the pump campaign records them, run by run.
+#[test]
+fn the_pumps_campaign_draws_run_alike_on_the_generic_runner() {
+    use rhonn::experiment::campaign::{PumpCampaign, Sampling};
+    let mut spec = preset::load_any("control-adaptive").unwrap();
+    spec.duration_s = 20.0;
+    let pc = PumpCampaign::of(&spec).unwrap().unwrap();
+    let names = pc.figure_names();
+    let iae = names.iter().position(|n| n == "iae_mpa_s").unwrap();
+    let iae_pi = names.iter().position(|n| n == "baseline_iae_mpa_s").unwrap();
+    let nominal: Vec<f64> = rhonn::plant::pump::PARAMETERS.iter().map(|p| p.nominal).collect();
+    for index in 0..3 {
+        let (row, _) = pc.run_one(7, index, Sampling::Random, false);
+        let own = row.outcome.unwrap();
+        let mut values = nominal.clone();
+        values[..5].copy_from_slice(&row.values);
+        let out = run_plant_scenario(&spec, Some(&values)).unwrap();
+        let c = out.summary.control.unwrap();
+        eprintln!(
+            "run {index}: {:?}: IAE {} / {} here, {} / {} in the pump's campaign",
+            row.values, c[0].iae, c[1].iae, own[iae], own[iae_pi]
+        );
+        assert!((c[0].iae / own[iae] - 1.0).abs() < 1e-6, "run {index}");
+        assert!((c[1].iae / own[iae_pi] - 1.0).abs() < 1e-6, "run {index}");
+    }
+}

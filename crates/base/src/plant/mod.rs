@@ -153,6 +153,13 @@ pub trait Plant: System + Clone + Send + Sync {
     fn internal_states(&self) -> &'static [usize] {
         &[]
     }
+    /// A parameter that is the largest slew rate of one of the plant's input profiles, as
+    /// `(parameter index, input index)` (the pump's Qdot_max and its demand): a campaign's
+    /// draw of it scales that input's trapezoids' slew by its ratio to the scenario's
+    /// value. Default: none.
+    fn slew_parameter(&self) -> Option<(usize, usize)> {
+        None
+    }
     /// The range the plant clips input `k` to (SI; default: none): a profile leaving it
     /// is warned of.
     fn input_range(&self, _k: usize) -> (f64, f64) {

@@ -122,7 +122,8 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
                 .extend(clipped_inputs(&plant, &v.input, "validation.input", d)?);
         }
     }
-    let plant = drive(plant, &spec.input, "input")?;
+    let input = slew_scaled(&plant, spec, parameters);
+    let plant = drive(plant, &input, "input")?;
     let x0 = plant.initial_state(&given, &inputs_at_start(&plant, spec));
     summary.warnings.extend(below_floor_at_start(&plant, &x0));
     let closed = spec.identifier.is_none() && spec.control.is_some();
@@ -138,6 +139,33 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
         all_finite(v, "validation.csv")?;
     }
     Ok(out)
+}
+
+/// `spec`'s inputs, with a campaign's draw of the plant's slew parameter
+/// ([`Plant::slew_parameter`]) applied: that input's trapezoids' slew scaled by the drawn
+/// value's ratio to the scenario's (as the pump's campaigns have drawn the demand's slew).
+fn slew_scaled<'a, P: Plant>(
+    plant: &P,
+    spec: &'a ScenarioSpec,
+    parameters: Option<&[f64]>,
+) -> std::borrow::Cow<'a, std::collections::BTreeMap<String, crate::signal::SignalSpec>> {
+    use crate::signal::SignalSpec;
+    let scaled = (|| {
+        let (i, k) = plant.slew_parameter()?;
+        let p = plant.parameters().get(i)?;
+        let drawn = *parameters?.get(i)?;
+        let given = spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal);
+        let name = plant.inputs().get(k)?.name;
+        let mut input = spec.input.clone();
+        if let Some(SignalSpec::Trapezoids { slew_per_s, .. }) = input.get_mut(name) {
+            *slew_per_s *= drawn / given;
+        }
+        Some(input)
+    })();
+    match scaled {
+        Some(input) => std::borrow::Cow::Owned(input),
+        None => std::borrow::Cow::Borrowed(&spec.input),
+    }
 }
 
 /// A warning when the run starts with the plant's floor state below its floor (the

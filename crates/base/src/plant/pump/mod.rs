@@ -117,6 +117,10 @@ impl Plant for PumpSystem {
     fn parameters(&self) -> &'static [Parameter] {
         &PARAMETERS
     }
+    /// Qdot_max ([`DEMAND_SLEW`], the fifth parameter) bounds the demand's slew.
+    fn slew_parameter(&self) -> Option<(usize, usize)> {
+        Some((4, 1))
+    }
     /// The solenoid's effective current: the model's, not a measurement.
     fn internal_states(&self) -> &'static [usize] {
         &[CURRENT_EFF]
