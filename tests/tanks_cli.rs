@@ -24,6 +24,7 @@ fn tanks_scenarios_are_listed_and_run_like_the_pumps() {
     assert_eq!(
         files_in(&dir),
         [
+            "errors.svg",
             "inputs.svg",
             "report.html",
             "rhonn-manifest.json",

@@ -2,8 +2,9 @@
 //! `trajectory.csv` (SI, one column per state, input, estimate or reference),
 //! `validation.csv` (a frozen model's free run), `summary.json`, and plots in display
 //! units: `states.svg` (each state; measured and estimated, or both controllers with the
-//! set-point), `inputs.svg`, `validation.svg`, and for an adaptive controller `weights.svg`
-//! (its weights against the ball's radius).
+//! set-point), `inputs.svg`, `errors.svg` (an identification's estimation errors),
+//! `validation.svg`, and for an adaptive controller `weights.svg` (its weights against the
+//! ball's radius).
 
 use crate::atomic::OutputSet;
 use crate::plot::{Series, TimePlot};
@@ -49,6 +50,26 @@ fn panels(title: &str, cols: &[PlantColumn], keep: impl Fn(&PlantColumn) -> bool
         }
     }
     out.into_iter().map(|(_, p)| p).collect()
+}
+
+/// Time and each identified state's online estimation error, `<state>_hat - <state>` (the
+/// thesis's error figures: how fast the identifier converges); only time without estimates.
+fn estimation_errors(cols: &[PlantColumn]) -> Vec<PlantColumn> {
+    let mut out = vec![cols[0].clone()];
+    for c in cols {
+        let Some(base) = c.name.strip_suffix("_hat") else {
+            continue;
+        };
+        if let Some(y) = cols.iter().find(|d| d.name == base) {
+            out.push(PlantColumn {
+                name: format!("{base}_hat - {base}"),
+                quantity: c.quantity,
+                values: c.values.iter().zip(&y.values).map(|(h, v)| h - v).collect(),
+                input: false,
+            });
+        }
+    }
+    out
 }
 
 /// Legend labels that say the role (and so get the role's colour).
@@ -109,6 +130,14 @@ pub fn write_plant_run(dir: &Path, output: &PlantRunOutput) -> Result<Vec<PathBu
             TimePlot::render(&panels(name, &output.trajectory, is_in), 900, 380),
         ),
     ];
+    let errors = estimation_errors(&output.trajectory);
+    if errors.len() > 1 {
+        let title = format!("{name}: the online estimate's error");
+        plots.push((
+            "errors.svg",
+            TimePlot::render(&panels(&title, &errors, |_| true), 900, 380),
+        ));
+    }
     if output.trajectory.iter().any(is_weight) {
         plots.push((
             "weights.svg",
