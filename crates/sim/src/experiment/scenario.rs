@@ -207,8 +207,14 @@ pub(crate) fn drive<P: Plant>(mut plant: P, inputs: &BTreeMap<String, SignalSpec
     Ok(plant)
 }
 
+/// The longest run whose input profiles are checked for clipping \[s\] (a million
+/// milliseconds).
+pub(crate) const CLIP_CHECK_S: f64 = 1e6;
+
 /// A warning per input of `inputs` whose profile leaves the range the plant clips it to
-/// ([`Plant::input_range`]) within `duration_s` (`field` names the section).
+/// ([`Plant::input_range`]) within `duration_s` (`field` names the section). The profile
+/// is read every millisecond, so runs longer than [`CLIP_CHECK_S`] are not read (the pump's
+/// own format refuses them).
 pub(crate) fn clipped_inputs<P: Plant>(
     plant: &P,
     inputs: &BTreeMap<String, SignalSpec>,
@@ -221,7 +227,7 @@ pub(crate) fn clipped_inputs<P: Plant>(
             continue;
         };
         let (lo, hi) = plant.input_range(k);
-        if lo.is_finite() || hi.is_finite() {
+        if (lo.is_finite() || hi.is_finite()) && duration_s <= CLIP_CHECK_S {
             let q = &plant.inputs()[k];
             let s = signal(spec, &format!("{field}.{name}"), q, (lo, hi))?;
             if s.clips_on(duration_s) {
