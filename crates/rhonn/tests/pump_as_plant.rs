@@ -584,7 +584,7 @@ fn a_second_baseline_is_a_stored_tuning_of_the_baselines_kind_and_a_pump_starts_
 #[test]
 fn a_pump_loop_shows_its_demand_references_and_model_and_has_a_default_baseline() {
     let mut spec = preset::load_any("control-adaptive").unwrap();
-    spec.duration_s = 3.0;
+    spec.duration_s = 10.0;
     let written = run_plant_scenario(&spec, None).unwrap();
     spec.control.as_mut().unwrap().baseline = None;
     let out = run_plant_scenario(&spec, None).unwrap();
@@ -599,8 +599,21 @@ fn a_pump_loop_shows_its_demand_references_and_model_and_has_a_default_baseline(
         assert!(names.contains(&n), "{n} not in {names:?}");
     }
     assert!(!names.iter().any(|n| n.starts_with("current_eff")), "{names:?}");
-    let demand = column(&out, "demand");
-    assert!(demand.iter().all(|d| *d == 0.0) && names.iter().filter(|n| **n == "demand").count() == 1);
+    // The demand as its profile gives it (trapezoids from 3 s on), at every sample.
+    let lim = rhonn::signal::spec_limits(0.0, f64::INFINITY, None, None);
+    let profile = spec.input["demand"].build("demand", 1e-3, lim).unwrap();
+    let (t, demand) = (column(&out, "t"), column(&out, "demand"));
+    assert_eq!(names.iter().filter(|n| **n == "demand").count(), 1);
+    assert!(
+        demand.iter().any(|d| *d > 1e-4),
+        "the trapezoids are in the column"
+    );
+    let worst = t
+        .iter()
+        .zip(&demand)
+        .map(|(tk, d)| (profile.eval(*tk) - d).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-15, "{worst} m^3/s");
     let labels: Vec<String> = out
         .summary
         .control

@@ -502,14 +502,23 @@ fn loop_columns<P: Plant>(
         *qy,
         at(&runs[0], &runs[0].setpoint),
     )];
-    // The inputs the loops do not drive (the same profiles on every plant).
+    // The inputs the loops do not drive (the same profiles on every plant), as the plant
+    // reads them: `input_at` holds within the modes `update_modes` sets at each time.
+    let mut reader = plant.clone();
+    let rest = vec![0.0; reader.dim()];
     for (k, q) in plant
         .inputs()
         .iter()
         .enumerate()
         .filter(|(_, q)| q.name != qu.name)
     {
-        let v = t.iter().map(|&tk| plant.input_at(tk, k)).collect();
+        let v = t
+            .iter()
+            .map(|&tk| {
+                reader.update_modes(tk, &rest);
+                reader.input_at(tk, k)
+            })
+            .collect();
         cols.push(PlantColumn {
             input: true,
             ..col(q.name.to_string(), *q, v)
