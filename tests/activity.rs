@@ -54,19 +54,17 @@ fn the_pumps_adaptive_run_reports_the_currents_activity_for_both_controllers() {
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(
-        out.contains("actuator activity: total variation of the applied current: adaptive"),
+        out.contains("rhonn-adaptive: the input moved") && out.contains("for the baseline cascade-pi"),
         "{out}"
     );
     let s = summary(&d.path().join("c"));
-    let r = &s["figures"]["regulation"];
-    let tv = r["current_total_variation_a"].as_f64().unwrap();
-    let b = s["control"]["baseline"]["figures"]["regulation"]["current_total_variation_a"]
-        .as_f64()
-        .unwrap();
-    assert!(tv > 0.0 && b > 0.0, "{r}");
+    let (r, b) = (&s["control"][0], &s["control"][1]);
+    let tv = r["input_total_variation"].as_f64().unwrap();
     assert!(
-        r["time_current_switching_s"].as_f64().unwrap() <= r["time_current_saturated_s"].as_f64().unwrap()
+        tv > 0.0 && b["input_total_variation"].as_f64().unwrap() > 0.0,
+        "{r}"
     );
+    assert!(r["time_input_switching_s"].as_f64().unwrap() <= r["time_input_saturated_s"].as_f64().unwrap());
 }
 
 /// A PI-regulated pump run (no comparison) says in words how it tracked and how much its
@@ -79,13 +77,13 @@ fn a_regulated_run_has_findings_in_its_summary_and_report() {
     let s = summary(&d.path().join("r"));
     let f = s["findings"].to_string();
     assert!(
-        f.contains("the PI: the line pressure stays within 1 % of the set-point"),
+        f.contains("pi: IAE") && f.contains("within 1 % of the set-point"),
         "{f}"
     );
-    assert!(f.contains("the PI: the current moved"), "{f}");
+    assert!(f.contains("pi: the input moved"), "{f}");
     let html = std::fs::read_to_string(d.path().join("r/report.html")).unwrap();
     assert!(
-        html.contains("<li>the PI: the current moved"),
+        html.contains("<li>pi: the input moved"),
         "no findings in the report"
     );
 }

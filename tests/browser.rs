@@ -246,7 +246,7 @@ fn every_kind_of_report_renders_in_a_real_browser() {
                 "scipy solve_ivp(RK45)",
                 "runs per second",
             ],
-            "campaign" => &["worst runs by iae_mpa_s", "worst-run-"],
+            "campaign" => &["worst runs by controller_iae_mpa_s", "worst-run-"],
             "control" => &["ball radius (bound)", "Lyapunov function"],
             "identify" => &["autocorrelation of the residuals", "99 % band of white noise"],
             _ => &[],

@@ -16,29 +16,33 @@ fn run_thesis_ch3_writes_csv_summary_and_plots() {
         files_in(&out),
         [
             "inputs.svg",
-            "pressure.svg",
             "report.html",
             "rhonn-manifest.json",
-            "stroke.svg",
+            "states.svg",
             "summary.json",
             "trajectory.csv"
         ]
     );
     let csv = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
-    assert_eq!(lines[0], "t,p_line,stroke,current,demand");
-    assert!(lines[1].starts_with("0,2000000,0,0,0"), "{}", lines[1]);
+    assert_eq!(lines[0], "t,current,demand,p_line,stroke");
+    assert!(lines[1].starts_with("0,0,0,2000000,0"), "{}", lines[1]);
     assert!(lines.last().unwrap().starts_with("40,"));
     assert_eq!(lines.len(), 40_002);
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
-    assert_eq!(summary["scenario"]["name"], "thesis-ch3");
+    assert_eq!(summary["scenario"], "thesis-ch3");
     assert!(summary["solver"]["rhs_evaluations"].as_u64().unwrap() > 100);
-    assert_eq!(summary["figures"]["p_line_max_mpa"], 25.0);
-    let svg = std::fs::read_to_string(out.join("pressure.svg")).unwrap();
-    assert!(svg.contains("line pressure [MPa]") && svg.contains("time [s]"));
-    let svg = std::fs::read_to_string(out.join("stroke.svg")).unwrap();
-    assert!(svg.contains("stroke [mm]"));
+    let p = summary["open_loop"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["state"] == "p_line")
+        .unwrap();
+    assert_eq!(p["max_value"], 25.0);
+    assert!(summary["floor"]["time_below_s"].as_f64().unwrap() > 1.0);
+    let svg = std::fs::read_to_string(out.join("states.svg")).unwrap();
+    assert!(svg.contains("p_line [MPa]") && svg.contains("stroke [mm]") && svg.contains("time [s]"));
 }
 
 #[test]
@@ -47,14 +51,18 @@ fn regulated_run_has_set_point_and_regulation_figures() {
     let o = rhonn(d.path(), &["run", "regulated-pi", "--out", "reg"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let csv = std::fs::read_to_string(d.path().join("reg/trajectory.csv")).unwrap();
-    assert!(csv.starts_with("t,p_line,stroke,current,demand,p_ref,p_meas\n"));
+    assert!(
+        csv.starts_with("t,p_line_ref,demand,p_line,stroke,current,p_line_measured\n"),
+        "{}",
+        csv.lines().next().unwrap()
+    );
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(d.path().join("reg/summary.json")).unwrap()).unwrap();
-    let r = &s["figures"]["regulation"];
-    assert!(r["ise_mpa2_s"].as_f64().unwrap() > 0.0);
-    assert!(r["max_abs_deviation_mpa"].as_f64().unwrap() > 0.0);
+    let r = &s["control"][0];
+    assert!(r["ise"].as_f64().unwrap() > 0.0);
+    assert!(r["max_abs_deviation"].as_f64().unwrap() > 0.0);
     // After the start-up the pressure stays in the model's valid range.
-    assert_eq!(s["figures"]["time_below_p_min_after_1s_s"], 0.0);
+    assert_eq!(r["time_below_floor_after_settle_s"], 0.0);
 }
 
 #[test]
@@ -166,39 +174,32 @@ fn thesis_ch5_writes_estimates_weights_validation_and_identification_plots() {
     for f in [
         "weights.json",
         "validation.csv",
-        "ident_errors.svg",
-        "ident_states.svg",
-        "ident_zoom.svg",
+        "states.svg",
+        "errors.svg",
         "validation.svg",
     ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
     let csv = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
-    assert!(csv.starts_with("t,p_line,stroke,current,demand,p_line_hat,stroke_hat\n"));
+    assert!(csv.starts_with("t,current,demand,p_line,p_line_hat,stroke,stroke_hat\n"));
     let val = std::fs::read_to_string(out.join("validation.csv")).unwrap();
     assert!(val.starts_with(
-        "t,p_line,p_line_hat_series_parallel,p_line_hat_parallel,stroke,stroke_hat_series_parallel,stroke_hat_parallel\n"
-    ));
+        "t,current,demand,p_line,p_line_hat_series_parallel,p_line_hat_parallel,stroke,stroke_hat_series_parallel,stroke_hat_parallel\n"
+    ), "{}", val.lines().next().unwrap());
     let w: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("weights.json")).unwrap()).unwrap();
     assert_eq!(w["states"], serde_json::json!(["p_line", "stroke"]));
     assert_eq!(w["weights"].as_array().unwrap().len(), 2);
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
-    for mode in ["training", "series_parallel", "parallel"] {
-        let figs = s["identification"][mode].as_array().unwrap();
-        assert_eq!(figs.len(), 2, "{mode}");
-        for key in [
-            "rms_error",
-            "fit_percent",
-            "convergence_time_s",
-            "final_weight_norm",
-        ] {
-            assert!(figs[0].get(key).is_some(), "{mode}.{key}");
+    let figs = s["identification"].as_array().unwrap();
+    assert_eq!(figs.len(), 2);
+    assert!(figs[0].get("final_weight_norm").is_some());
+    for mode in ["training", "series_parallel", "free_run"] {
+        for key in ["rms_error", "fit_percent", "convergence_time_s"] {
+            assert!(figs[0]["whole_run"][mode].get(key).is_some(), "{mode}.{key}");
         }
     }
-    let zoom = std::fs::read_to_string(out.join("ident_zoom.svg")).unwrap();
-    assert!(zoom.contains("first 0.12 s") && zoom.contains("first 1.2 s"));
 }
 
 #[test]
@@ -242,17 +243,19 @@ fn reproduce_runs_every_thesis_scenario() {
             "{name}"
         );
     }
-    // The adaptive run holds both controllers: CSV columns, summary figures, plots.
+    // The adaptive run holds every controller: CSV columns, summary figures, plots.
     let dir = d.path().join("r").join("control-adaptive");
     let csv = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
     let header = csv.lines().next().unwrap();
     for col in [
         "p_line",
-        "p_line_pi",
+        "p_line_baseline",
+        "p_line_second_baseline",
         "current",
-        "current_pi",
-        "p_ref",
+        "current_baseline",
+        "p_line_ref",
         "stroke_ref",
+        "p_line_model",
         "w_norm",
         "w1_norm",
     ] {
@@ -260,16 +263,18 @@ fn reproduce_runs_every_thesis_scenario() {
     }
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    for who in [&s["figures"], &s["control"]["baseline"]["figures"]] {
-        let r = &who["regulation"];
+    let loops = s["control"].as_array().unwrap();
+    assert_eq!(loops.len(), 3);
+    for r in loops {
         for key in [
-            "ise_mpa2_s",
-            "iae_mpa_s",
-            "max_abs_deviation_settled_mpa",
-            "max_abs_deviation_after_0_1s_mpa",
-            "time_current_saturated_s",
+            "ise",
+            "iae",
+            "max_abs_deviation_settled",
+            "max_abs_deviation_early",
+            "time_input_saturated_s",
             "time_within_1pct_s",
             "within_1pct_percent",
+            "time_below_floor_after_settle_s",
         ] {
             assert!(r[key].as_f64().is_some(), "{key}");
         }
@@ -278,18 +283,13 @@ fn reproduce_runs_every_thesis_scenario() {
             Some(4),
             "one per set-point step"
         );
-        assert_eq!(r["signals_bounded"], serde_json::Value::Bool(true));
-        assert!(who["time_below_p_min_after_1s_s"].as_f64().is_some());
+        assert_eq!(r["states_bounded"], serde_json::Value::Bool(true));
     }
-    let b = &s["control"]["baseline"];
-    assert_eq!(b["controller"], "cascade-pi");
-    assert_eq!(b["kp_mm_per_mpa"].as_f64(), Some(0.15));
+    assert_eq!(loops[1]["controller"], "cascade-pi");
+    assert_eq!(loops[2]["tuning"], "nominal-optimal");
     let weights = std::fs::read_to_string(dir.join("weights.svg")).unwrap();
-    assert!(weights.contains("MPa/(s mm)"));
-    // The weights against their bounds and the identifier's error energy are drawn, and
-    // the projection holds: |W_1 - centre| never leaves the ball (trajectory.csv).
-    assert!(weights.contains("gain weights against their ball") && weights.contains("ball radius (bound)"));
-    assert!(weights.contains("Lyapunov function, measurable part"));
+    assert!(weights.contains("ball radius (bound)"));
+    // The projection holds: |W_1 - centre| never leaves the ball (trajectory.csv).
     let traj = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
     let head: Vec<&str> = traj.lines().next().unwrap().split(',').collect();
     let (d, r) = (
@@ -303,8 +303,8 @@ fn reproduce_runs_every_thesis_scenario() {
         closest = closest.min(f[r] - f[d]);
     }
     assert!(closest.is_finite());
-    let pressure = std::fs::read_to_string(dir.join("pressure.svg")).unwrap();
-    assert!(pressure.contains("cascade PI baseline") && pressure.contains("RHONN adaptive"));
+    let states = std::fs::read_to_string(dir.join("states.svg")).unwrap();
+    assert!(states.contains("p_line (cascade-pi baseline)") && states.contains("p_line set-point"));
 }
 
 #[test]
@@ -448,7 +448,7 @@ fn a_campaign_is_the_same_on_one_thread_sharded_and_merged() {
         .lines()
         .next()
         .unwrap()
-        .starts_with("run,beta_mpa,mu_1,mu_2,q_0_dm3_s,qdot_max_dm3_s2,status"));
+        .starts_with("run,status,beta_mpa,mu_1,mu_2,q_0_dm3_s,qdot_max_dm3_s2,"));
     assert_eq!(
         all,
         read(d.path().join("one/runs.csv")),
@@ -471,6 +471,12 @@ fn a_campaign_is_the_same_on_one_thread_sharded_and_merged() {
     }
     assert_eq!(read(d.path().join("all/traces.csv")).lines().count(), 41);
     let env = read(d.path().join("all/envelope.csv"));
+    let kept = |dir: &str| {
+        let v: serde_json::Value =
+            serde_json::from_str(&read(d.path().join(dir).join("summary.json"))).unwrap();
+        v["envelope_runs"][0][1].as_u64().unwrap()
+    };
+    assert_eq!(kept("all"), 40);
     assert!(
         env.starts_with("t,p_line_min_mpa,p_line_q05_mpa,p_line_median_mpa,p_line_q95_mpa,p_line_max_mpa\n")
     );
@@ -494,6 +500,7 @@ fn a_campaign_is_the_same_on_one_thread_sharded_and_merged() {
     );
     assert!(read(d.path().join("all/envelope.svg")).contains("<svg"));
     ok(&[&base[..], &["--envelope-runs", "7", "--out", "seven"]].concat());
+    assert_eq!(kept("seven"), 7);
     assert_eq!(read(d.path().join("seven/traces.csv")).lines().count(), 8);
     assert_eq!(read(d.path().join("seven/runs.csv")), all);
     ok(&[&base[..], &["--envelope-runs", "0", "--out", "none"]].concat());
@@ -502,7 +509,7 @@ fn a_campaign_is_the_same_on_one_thread_sharded_and_merged() {
     let betas: Vec<f64> = all
         .lines()
         .skip(1)
-        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .map(|l| l.split(',').nth(2).unwrap().parse().unwrap())
         .collect();
     assert!(betas.iter().all(|b| (960.0..=1440.0).contains(b)));
     assert!(betas.windows(2).any(|w| w[0] != w[1]));
@@ -609,6 +616,8 @@ qdot_max_dm3_s2 = { distribution = "fixed" }
     let o = rhonn(d.path(), &["campaign", "c.toml", "--corners", "--out", "corners"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let runs = read(d.path().join("corners/runs.csv"));
+    let header: Vec<&str> = runs.lines().next().unwrap().split(',').collect();
+    let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
     let rows: Vec<Vec<String>> = runs
         .lines()
         .skip(1)
@@ -616,21 +625,21 @@ qdot_max_dm3_s2 = { distribution = "fixed" }
         .collect();
     // Three parameters vary: 2^3 corners; the fixed ones keep the scenario's values.
     assert_eq!(rows.len(), 8);
-    let col = |j: usize| {
+    let col = |name: &str| {
         rows.iter()
-            .map(|r| r[j].parse::<f64>().unwrap())
+            .map(|r| r[at(name)].parse::<f64>().unwrap())
             .collect::<Vec<_>>()
     };
-    assert!(col(1).iter().all(|b| *b == 1000.0 || *b == 1100.0));
+    assert!(col("beta_mpa").iter().all(|b| *b == 1000.0 || *b == 1100.0));
     assert!(
-        col(2)
+        col("mu_1")
             .iter()
             .all(|m| ((m / 78e-6 - 1.0).abs() - 0.1).abs() < 1e-9),
         "{:?}",
-        col(2)
+        col("mu_1")
     );
     assert!(
-        col(4).iter().all(|q| *q == 0.13) && col(5).iter().all(|q| *q == 2.0),
+        col("q_0_dm3_s").iter().all(|q| *q == 0.13) && col("qdot_max_dm3_s2").iter().all(|q| *q == 2.0),
         "{runs}"
     );
     let summary = read(d.path().join("corners/summary.json"));
@@ -642,9 +651,10 @@ qdot_max_dm3_s2 = { distribution = "fixed" }
     assert!(o.status.success(), "{}", stderr(&o));
     let runs = read(d.path().join("random/runs.csv"));
     for l in runs.lines().skip(1) {
-        let v: Vec<f64> = l.split(',').take(6).map(|x| x.parse().unwrap()).collect();
+        let v: Vec<&str> = l.split(',').collect();
+        let (beta, mu_1): (f64, f64) = (v[at("beta_mpa")].parse().unwrap(), v[at("mu_1")].parse().unwrap());
         assert!(
-            (1000.0..=1100.0).contains(&v[1]) && (v[2] / 78e-6 - 1.0).abs() <= 0.1 + 1e-12,
+            (1000.0..=1100.0).contains(&beta) && (mu_1 / 78e-6 - 1.0).abs() <= 0.1 + 1e-12,
             "{l}"
         );
     }

@@ -460,7 +460,7 @@ fn pump_model_predicts_the_validation_record_10_steps_ahead() {
             "--inputs",
             "current,demand",
             "--outputs",
-            "p_meas",
+            "p_line_measured",
             "--model",
             spec.to_str().unwrap(),
             "--out",
@@ -486,7 +486,7 @@ fn pump_model_predicts_the_validation_record_10_steps_ahead() {
     assert!(fit > arx + 10.0, "grey box fit {fit} %, ARX {arx} %");
     // rhonn's own SI columns are plotted in display units.
     let svg = std::fs::read_to_string(d.path().join("p/prediction.svg")).unwrap();
-    assert!(svg.contains("p_meas [MPa]"), "no MPa axis");
+    assert!(svg.contains("p_line_measured [MPa]"), "no MPa axis");
     // The same record written every 1 ms is put on the model's 5 ms grid, with a note:
     // the same prediction.
     let o = ok(&["show", "pump-validate"]);
@@ -555,7 +555,7 @@ fn pump_grey_box_recovers_perturbed_parameters() {
         "--inputs",
         "current,demand",
         "--outputs",
-        "p_meas",
+        "p_line_measured",
         "--model",
         spec.to_str().unwrap(),
         "--out",
@@ -806,7 +806,7 @@ fn pump_filter_estimates_follow_the_true_state() {
     assert!(o.status.success(), "{}", stderr(&o));
     let path = d.path().join("v/trajectory.csv");
     let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-    let (u, y) = (names(&["current", "demand"]), names(&["p_meas"]));
+    let (u, y) = (names(&["current", "demand"]), names(&["p_line_measured"]));
     let r = rhonn_report::read_record(&path, &u, &y, 100).unwrap();
     let truth = rhonn_report::read_record(&path, &u, &names(&["p_line", "stroke"]), 100).unwrap();
     let mut spec =

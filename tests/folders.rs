@@ -199,19 +199,19 @@ fn a_command_s_own_input_in_its_folder_is_never_removed() {
     assert_eq!(util::files_in(&d.path().join("u")), ["trajectory.csv"]);
     // A file the user edited after the run wrote it is theirs now: kept.
     ok(&rhonn(d.path(), &["run", "thesis-ch3", "--out", "q"]));
-    std::fs::write(d.path().join("q/pressure.svg"), "<svg>mine</svg>").unwrap();
+    std::fs::write(d.path().join("q/states.svg"), "<svg>mine</svg>").unwrap();
     std::fs::write(d.path().join("q/notes.txt"), "mine").unwrap();
     let e = ok(&rhonn(
         d.path(),
         &fit_args(data("estimation.csv").to_str().unwrap(), "q"),
     ));
-    assert!(e.contains("kept q/pressure.svg"), "{e}");
+    assert!(e.contains("kept q/states.svg"), "{e}");
     assert!(
         e.contains("removed q/trajectory.csv"),
         "an unchanged file of the earlier run goes: {e}"
     );
     let q = snapshot(&d.path().join("q"));
-    assert_eq!(q["pressure.svg"], b"<svg>mine</svg>");
+    assert_eq!(q["states.svg"], b"<svg>mine</svg>");
     assert_eq!(q["notes.txt"], b"mine");
 }
 

@@ -343,7 +343,8 @@ fn the_adaptive_controller_needs_only_its_set_point() {
 }
 
 /// "Plots: the PI and RHONN colours swap between `pressure.svg` and `inputs.svg` of the
-/// same run." Each controller has one colour in every plot of a run.
+/// same run." Each controller has one colour in every plot of a run (`states.svg`'s
+/// panels and `inputs.svg`).
 #[test]
 fn each_controller_keeps_its_colour_across_the_plots_of_a_run() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -410,19 +411,19 @@ fn each_controller_keeps_its_colour_across_the_plots_of_a_run() {
     };
     let color_of = |file: &str, label: &str| mark_of(file, label)[0].0.clone();
     // Legend marks are drawn as their series: solid lines touch, dashes leave a gap.
-    let solid = mark_of("pressure.svg", "p_line (cascade PI baseline)");
+    let solid = mark_of("states.svg", "p_line (cascade-pi baseline)");
     assert_eq!(solid[0].2, solid[1].1, "{solid:?}");
-    let dashed = mark_of("pressure.svg", "set-point");
+    let dashed = mark_of("states.svg", "p_line set-point");
     assert!(dashed[1].1 > dashed[0].2, "{dashed:?}");
     let pi = [
-        color_of("pressure.svg", "p_line (cascade PI baseline)"),
-        color_of("inputs.svg", "current (cascade PI baseline)"),
-        color_of("stroke.svg", "stroke (cascade PI baseline)"),
+        color_of("states.svg", "p_line (cascade-pi baseline)"),
+        color_of("inputs.svg", "current (cascade-pi baseline)"),
+        color_of("states.svg", "stroke (cascade-pi baseline)"),
     ];
     let adaptive = [
-        color_of("pressure.svg", "p_line (RHONN adaptive)"),
-        color_of("inputs.svg", "current (RHONN adaptive)"),
-        color_of("stroke.svg", "stroke (RHONN adaptive)"),
+        color_of("states.svg", "p_line (rhonn-adaptive)"),
+        color_of("inputs.svg", "current (rhonn-adaptive)"),
+        color_of("states.svg", "stroke (rhonn-adaptive)"),
     ];
     assert!(pi.iter().all(|c| *c == pi[0]), "{pi:?}");
     assert!(adaptive.iter().all(|c| *c == adaptive[0]), "{adaptive:?}");

@@ -124,7 +124,7 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
     let dir = d.path().join("c");
     let files = files_in(&dir);
     assert_eq!(
-        files[..7],
+        files[..8],
         [
             "campaign.json",
             "envelope.csv",
@@ -132,12 +132,13 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
             "histograms.svg",
             "report.html",
             "runs.csv",
-            "summary.json"
+            "summary.json",
+            "traces.csv"
         ]
     );
     // The five worst runs' scenarios.
-    assert_eq!(files.len(), 12, "{files:?}");
-    assert!(files[7..]
+    assert_eq!(files.len(), 13, "{files:?}");
+    assert!(files[8..]
         .iter()
         .all(|f| f.starts_with("worst-run-") && f.ends_with(".toml")));
     // The envelope of both controllers' lower level over the 200 runs, with the set-point;
@@ -163,12 +164,21 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
     // Interrupted after `kept` runs, the next row cut to `cut` of its bytes: the same
     // command resumes, runs the others (and the cut one), and writes the same bytes.
     let lines: Vec<&str> = full.lines().collect();
+    let traces = std::fs::read_to_string(dir.join("traces.csv")).unwrap();
     let resume = |kept: usize, cut: usize| {
         let mut partial = lines[..kept + 1].join("\n");
         partial.push('\n');
         partial.push_str(&lines[kept + 1][..cut]);
         std::fs::write(dir.join("runs.partial.csv"), partial).unwrap();
         std::fs::remove_file(dir.join("runs.csv")).unwrap();
+        // The kept runs' traces, as the killed campaign had flushed them.
+        let done: String = traces
+            .lines()
+            .enumerate()
+            .filter(|(k, l)| *k == 0 || l.split(',').next().unwrap().parse::<usize>().unwrap() < kept)
+            .map(|(_, l)| format!("{l}\n"))
+            .collect();
+        std::fs::write(dir.join("traces.partial.csv"), done).unwrap();
         let args = [
             "campaign",
             "tanks-control",
@@ -182,7 +192,8 @@ fn a_tanks_campaign_of_200_runs_finishes_and_resumes_to_the_same_bytes() {
         let o = rhonn(d.path(), &args);
         assert!(o.status.success(), "{}", stderr(&o));
         assert_eq!(std::fs::read_to_string(dir.join("runs.csv")).unwrap(), full);
-        assert!(!dir.join("runs.partial.csv").exists());
+        assert!(!dir.join("runs.partial.csv").exists() && !dir.join("traces.partial.csv").exists());
+        assert_eq!(std::fs::read_to_string(dir.join("traces.csv")).unwrap(), traces);
         stderr(&o)
     };
     let e = resume(70, 20);

@@ -32,7 +32,7 @@ fn the_worst_runs_rerun_with_the_figures_of_the_campaign() {
     // Ranked by the adaptive controller's IAE, largest first, and each is the runs.csv row's.
     let runs = std::fs::read_to_string(d.path().join("c/runs.csv")).unwrap();
     let header: Vec<&str> = runs.lines().next().unwrap().split(',').collect();
-    let col = header.iter().position(|h| *h == "iae_mpa_s").unwrap();
+    let col = header.iter().position(|h| *h == "controller_iae_mpa_s").unwrap();
     let mut iae: Vec<(u64, f64)> = runs
         .lines()
         .skip(1)
@@ -61,7 +61,7 @@ fn the_worst_runs_rerun_with_the_figures_of_the_campaign() {
     let rerun: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(d.path().join("rerun/summary.json")).unwrap()).unwrap();
     assert_eq!(
-        rerun["figures"]["regulation"]["iae_mpa_s"].as_f64().unwrap(),
+        rerun["control"][0]["iae"].as_f64().unwrap(),
         first["value"].as_f64().unwrap()
     );
 }

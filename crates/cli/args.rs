@@ -16,27 +16,27 @@ pub struct Cli {
 pub enum Command {
     /// Run a scenario and write its trajectory, summary and plots.
     ///
-    /// Writes into DIR (default out/<scenario name>):
-    ///   trajectory.csv  header, then one row per output sample (default every 1 ms):
-    ///                   t [s], p_line [Pa], stroke [m], current [A], demand [m^3/s],
-    ///                   and for regulated runs p_ref [Pa] and p_meas [Pa] (the
-    ///                   measurement the controller last saw); SI units throughout
-    ///   summary.json    the scenario as run, solver settings and counters, and the
-    ///                   figures in display units (MPa, mm, s): final values, pressure
-    ///                   extremes, time below P_min, and for regulated runs the largest
-    ///                   deviation from the set-point and the ISE
-    ///   pressure.svg    line pressure [MPa] against time (thesis figure 3.7)
-    ///   stroke.svg      pump stroke [mm] against time (thesis figure 3.6)
-    ///   inputs.svg      solenoid current [A] and demanded flow [dm^3/s]
+    /// Writes into DIR (default out/<scenario name>), whatever the plant:
+    ///   trajectory.csv  header, then one row per output sample, SI units: t [s], the
+    ///                   inputs, each state (the pump: p_line [Pa], stroke [m]); a loop
+    ///                   adds <output>_ref, <output>_measured (what the controller saw),
+    ///                   a cascade's inner set-point and each baseline's columns
+    ///                   (_baseline, _second_baseline)
+    ///   summary.json    the solver's settings and work, and the figures in display
+    ///                   units (the pump: p_line [MPa], stroke [mm]): ranges and the time
+    ///                   below the plant's floor (the pump's P_min), each loop's IAE, ISE,
+    ///                   deviations, share within 1 % and the input's activity, findings
+    ///   states.svg      each state against time (the set-point, each controller, the
+    ///                   plant's floor)
+    ///   inputs.svg      the inputs against time
     /// With an [identifier] (e.g. thesis-ch5) also:
-    ///   trajectory.csv  + p_line_hat [Pa], stroke_hat [m] (last training epoch)
+    ///   trajectory.csv  + <state>_hat (last training epoch)
     ///   weights.json    the trained model: states, inputs, sigmoid, scales, terms,
     ///                   poles, law, weights (SI)
-    ///   validation.csv  frozen weights on the same data: t [s], <state>,
-    ///                   <state>_hat_series_parallel, <state>_hat_parallel (SI)
-    ///   summary.json    + per state and mode: RMS error and convergence band [MPa or
-    ///                   mm], fit [%], NRMSE, convergence time [s], final |w|
-    ///   ident_errors.svg, ident_states.svg, ident_zoom.svg, validation.svg
+    ///   validation.csv  the frozen model: t [s], <state>, and its estimates (SI)
+    ///   summary.json    + per state: RMS error and fit, and over each whole run RMS
+    ///                   error, fit, NRMSE, convergence band and time
+    ///   errors.svg, validation.svg
     /// Files appear only when all of them are complete. Exit code 2 on any error.
     #[command(verbatim_doc_comment)]
     Run {

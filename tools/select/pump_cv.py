@@ -50,7 +50,7 @@ def main():
                 args = ["fit"]
                 for t in train:
                     args += ["--data", t]
-                run(*args, "--inputs", "current,demand", "--outputs", "p_meas", "--model", spec,
+                run(*args, "--inputs", "current,demand", "--outputs", "p_line_measured", "--model", spec,
                     "--out", m)
                 run("predict", "--model", os.path.join(m, "model.json"), "--data", thirds[f],
                     "--out", p, "--steps-ahead", str(K))

@@ -46,7 +46,7 @@ def score(c, thirds, d):
         out = os.path.join(d, "o")
         subprocess.run(["rm", "-rf", out])
         args = [exe, "identify"] + sum([["--data", t] for t in train], []) + [
-            "--inputs", "current,demand", "--outputs", "p_meas", "--model", spec,
+            "--inputs", "current,demand", "--outputs", "p_line_measured", "--model", spec,
             "--validate", thirds[f], "--steps-ahead", str(K), "--out", out]
         if subprocess.run(args, capture_output=True, text=True).returncode != 0:
             return None

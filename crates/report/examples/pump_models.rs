@@ -38,7 +38,10 @@ const RECORDS: [&str; 4] = [
 ];
 
 fn names() -> (Vec<String>, Vec<String>) {
-    (vec!["current".into(), "demand".into()], vec!["p_meas".into()])
+    (
+        vec!["current".into(), "demand".into()],
+        vec!["p_line_measured".into()],
+    )
 }
 
 fn record(name: &str) -> Result<Record, Error> {

@@ -21,7 +21,7 @@ pub fn write_trace_csv(w: &mut dyn Write, trace: &Trace) -> std::io::Result<()> 
 }
 
 /// Formatting of floats without a per-value allocation.
-mod ryu_like {
+pub(crate) mod ryu_like {
     use std::fmt::Write;
 
     #[derive(Default)]

@@ -27,23 +27,18 @@ fn schema_of<T: schemars::JsonSchema>() -> Value {
 
 /// Every output with fields, in the order of the reference.
 pub fn outputs() -> Vec<Output> {
-    use rhonn::experiment::{BenchFigures, ModelFile, PlantSummary, Summary};
+    use rhonn::experiment::{BenchFigures, ModelFile, PlantSummary};
     let out = |command, file, schema| Output {
         command,
         file,
         schema,
     };
     vec![
-        out("rhonn run", "summary.json (the pump)", schema_of::<Summary>()),
+        out("rhonn run", "summary.json", schema_of::<PlantSummary>()),
         out(
             "rhonn run",
-            "weights.json (the pump, with an identifier)",
+            "weights.json (with an identifier)",
             schema_of::<ModelFile>(),
-        ),
-        out(
-            "rhonn run",
-            "summary.json (any other plant)",
-            schema_of::<PlantSummary>(),
         ),
         out(
             "rhonn fit",
@@ -82,16 +77,7 @@ pub fn outputs() -> Vec<Output> {
             "(one scenario's figures)",
             schema_of::<BenchFigures>(),
         ),
-        out(
-            "rhonn campaign",
-            "summary.json (the pump)",
-            crate::campaign::schema(),
-        ),
-        out(
-            "rhonn campaign",
-            "summary.json (any other plant)",
-            crate::plant_campaign::schema(),
-        ),
+        out("rhonn campaign", "summary.json", crate::plant_campaign::schema()),
     ]
 }
 

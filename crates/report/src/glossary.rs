@@ -65,11 +65,11 @@ mod tests {
 
     #[test]
     fn keys_are_described_by_their_last_name() {
-        let d = describe("figures.regulation.iae_mpa_s").unwrap();
-        assert!(d.starts_with("IAE of a pump run"), "{d}");
+        let d = describe("control[].iae").unwrap();
+        assert!(d.starts_with("IAE: the integral"), "{d}");
         assert!(describe("identification.parallel[1].convergence_time_s").is_some());
         assert!(describe("no_such_key_anywhere").is_none());
-        let activity = describe("figures.regulation.current_rms_change_per_sample_a").unwrap();
+        let activity = describe("control[].input_rms_change_per_sample").unwrap();
         assert!(activity.contains("actuator activity"), "{activity}");
         assert!(describe("training_rms_error")
             .unwrap()

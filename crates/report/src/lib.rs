@@ -21,7 +21,6 @@ pub mod bench_report;
 mod benchmark_data;
 pub mod campaign;
 mod campaign_options;
-mod campaign_plots;
 mod campaign_rows;
 mod campaign_runner;
 pub mod commands;

@@ -6,8 +6,8 @@
 //! The files and their rules are those of the pump's campaigns: `campaign.json` first,
 //! each finished run appended and flushed to `runs.partial.csv` (rerunning the same
 //! command resumes), then `runs.csv` sorted by run index and `summary.json`, all or
-//! nothing, with `histograms.svg` (one histogram per figure). No envelope plot yet: that
-//! one is the pump's pressure.
+//! nothing, with `histograms.svg` (one histogram per figure) and the envelope of the
+//! runs below `--envelope-runs` (`envelope.csv`, `envelope.svg`: see `plant_envelope`).
 
 use crate::atomic::OutputSet;
 use crate::campaign_options::{CampaignOptions, CampaignOutcome, Progress};
@@ -91,6 +91,7 @@ pub fn run_plant_campaign(
         envelope_runs: o.envelope_runs,
     };
     let c = PlantCampaign {
+        envelope: crate::plant_envelope::EnvelopeSeries::of(spec, &nominal)?,
         spec: spec.clone(),
         n_params: plan.params.len(),
         plan,
@@ -107,6 +108,7 @@ struct PlantCampaign {
     n_params: usize,
     plan: Plan,
     fig_names: Vec<String>,
+    envelope: Option<crate::plant_envelope::EnvelopeSeries>,
 }
 
 impl CampaignKind for PlantCampaign {
@@ -132,6 +134,7 @@ impl CampaignKind for PlantCampaign {
         let nominal = run_plant_scenario(&spec, None)?;
         Ok(PlantCampaign {
             fig_names: nominal.summary.figures().into_iter().map(|(n, _)| n).collect(),
+            envelope: crate::plant_envelope::EnvelopeSeries::of(&spec, &nominal)?,
             n_params: plan.params.len(),
             spec,
             file: f.clone(),
@@ -150,7 +153,10 @@ impl CampaignKind for PlantCampaign {
         header
     }
     fn traces_header(&self) -> Option<Vec<String>> {
-        None
+        self.envelope.as_ref().map(|e| e.header())
+    }
+    fn wants_traces(&self, index: u64, failed: bool) -> bool {
+        self.envelope.is_some() && index < self.file.envelope_runs && !failed
     }
     fn parse(&self, _index: u64, fields: &[String]) -> std::result::Result<((), bool), String> {
         match fields.get(1) {
@@ -165,7 +171,12 @@ impl CampaignKind for PlantCampaign {
             Sampling::Random
         };
         let values = draw(&self.plan, self.file.seed, i, sampling);
-        let outcome = run_plant_scenario(&self.spec, Some(&values))
+        let run = run_plant_scenario(&self.spec, Some(&values));
+        let traces = match (&run, &self.envelope) {
+            (Ok(out), Some(e)) if i < self.file.envelope_runs => e.rows(i, out),
+            _ => Vec::new(),
+        };
+        let outcome = run
             .map(|out| {
                 out.summary
                     .figures()
@@ -176,7 +187,7 @@ impl CampaignKind for PlantCampaign {
             .map_err(|e| e.to_string());
         Done {
             fields: row(i, &values, &outcome, self.fig_names.len()),
-            traces: Vec::new(),
+            traces,
             failed: outcome.is_err(),
         }
     }
@@ -185,27 +196,18 @@ impl CampaignKind for PlantCampaign {
     }
 }
 
-/// One pass over the runs: the worst runs (see `worst_runs::describe_plant`) and the
-/// drawn values of the finished runs kept for the envelope, in index order.
-#[allow(clippy::type_complexity)]
-fn worst_and_kept(
-    job: &PlantCampaign,
-    runs: &Runs,
-) -> Result<(Vec<(crate::worst_runs::WorstRun, String)>, Vec<Vec<f64>>)> {
+/// One pass over the runs: the worst runs (see `worst_runs::describe_plant`).
+fn worst(job: &PlantCampaign, runs: &Runs) -> Result<Vec<(crate::worst_runs::WorstRun, String)>> {
     let (spec, n_params, fig_names) = (&job.spec, job.n_params, &job.fig_names);
     let params = nominal_plant_parameters(&spec.plant.kind)?;
     let names: Vec<&str> = params.iter().map(|p| p.name).collect();
     let key = crate::worst_runs::plant_key_figure(fig_names);
     let mut ranker = Ranker::new(key.map(|(_, larger)| larger));
-    let mut kept: Vec<(u64, Vec<f64>)> = Vec::new();
     runs.for_each(|index, r, failed| {
         let values: Vec<f64> = r[2..2 + n_params]
             .iter()
             .map(|v| v.parse().unwrap_or(f64::NAN))
             .collect();
-        if index < job.file.envelope_runs && !failed {
-            kept.push((index, values.clone()));
-        }
         ranker.add(crate::worst_runs::Candidate {
             index,
             values,
@@ -214,10 +216,8 @@ fn worst_and_kept(
         });
         Ok(())
     })?;
-    kept.sort_by_key(|(i, _)| *i);
-    let worst = crate::worst_runs::describe_plant(spec, &names, &ranker.ranked())
-        .map_err(|e| err(format!("cannot write a worst run's scenario: {e}")))?;
-    Ok((worst, kept.into_iter().map(|(_, v)| v).collect()))
+    crate::worst_runs::describe_plant(spec, &names, &ranker.ranked())
+        .map_err(|e| err(format!("cannot write a worst run's scenario: {e}")))
 }
 
 /// A plant campaign's `summary.json`.
@@ -239,7 +239,7 @@ struct Summary<'a> {
     worst_runs: Vec<crate::worst_runs::WorstRun>,
     /// The worst runs in words.
     findings: Vec<String>,
-    /// Runs whose traces make the envelope, per series (as the pump's campaigns).
+    /// Runs whose traces make the envelope, per series (`envelope.csv`'s series).
     envelope_runs: Vec<(String, usize)>,
 }
 
@@ -255,15 +255,15 @@ fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> R
     let first = 2 + job.n_params;
     let (stats, panels) =
         crate::campaign_rows::figure_statistics(runs, (&job.fig_names, first), &spec.name, |_| true)?;
-    let (worst, kept) = worst_and_kept(job, runs)?;
-    let envelope = crate::plant_envelope::plant_envelope(spec, &kept)?;
-    let envelope_counts: Vec<(String, usize)> = match (&envelope, &spec.control) {
-        (Some(e), Some(c)) => vec![
-            (c.output.clone(), e.runs),
-            (format!("{}_baseline", c.output), e.runs),
-        ],
-        _ => Vec::new(),
+    let worst = worst(job, runs)?;
+    let envelope = match &job.envelope {
+        Some(e) => e.envelope(runs.traces())?,
+        None => None,
     };
+    let envelope_counts: Vec<(String, usize)> = envelope
+        .iter()
+        .flat_map(|e| e.series.iter().map(|n| (n.clone(), e.runs)))
+        .collect();
     let worst_list: Vec<_> = worst.iter().map(|(w, _)| w.clone()).collect();
     let worst_files: Vec<String> = worst.iter().map(|(w, _)| w.file.clone()).collect();
     let fig_names = &job.fig_names;
@@ -288,21 +288,31 @@ fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> R
     // One histogram per figure over the runs that finished.
     let svg = crate::Histogram::render(&panels, 3);
     set.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
-    if let Some(env) = &envelope {
+    if let (Some(env), Some(series)) = (&envelope, &job.envelope) {
+        set.write("traces.csv", |w| {
+            let mut wt = csv::Writer::from_writer(w);
+            wt.write_record(series.header())?;
+            for t in runs.traces() {
+                wt.write_record(t)?;
+            }
+            wt.flush()
+        })?;
         set.write("envelope.csv", |w| w.write_all(&env.csv))?;
         set.write("envelope.svg", |w| w.write_all(env.svg.as_bytes()))?;
     }
     set.commit()?;
     crate::worst_runs::remove_stale(dir, &worst_files)?;
-    let partial = dir.join("runs.partial.csv");
-    if partial.exists() {
-        std::fs::remove_file(&partial).map_err(|e| {
-            err(format!(
-                "cannot remove {}: {}",
-                partial.display(),
-                rhonn::error::path_problem(&partial, &e)
-            ))
-        })?;
+    for name in ["runs.partial.csv", "traces.partial.csv"] {
+        let partial = dir.join(name);
+        if partial.exists() {
+            std::fs::remove_file(&partial).map_err(|e| {
+                err(format!(
+                    "cannot remove {}: {}",
+                    partial.display(),
+                    rhonn::error::path_problem(&partial, &e)
+                ))
+            })?;
+        }
     }
     Ok(CampaignOutcome {
         scenario: spec.name.clone(),

@@ -1,14 +1,15 @@
-//! The envelope of a plant control campaign: the regulated output of the controller under
-//! test and of the baseline over the kept runs (index below `--envelope-runs`), min to
-//! max, 5-95 % and the median per instant, with the set-point: `envelope.csv` and
-//! `envelope.svg`. The kept runs are simulated again when the campaign finishes (each
-//! run is deterministic in its drawn parameters), so resumed and sharded campaigns give
-//! the same envelope without storing traces.
+//! The envelope of a plant campaign: over the kept runs (index below `--envelope-runs`),
+//! min to max, 5-95 % and the median per instant of the regulated output of the
+//! controller under test and of its baseline, with the set-point (a control scenario), or
+//! of the plant's first measured state (others: the pump's pressure): `envelope.csv` and
+//! `envelope.svg`. Each kept run's series, on a grid of at most 600 of its output samples
+//! in display units to 4 decimals, are rows of `traces.csv` (appended to
+//! `traces.partial.csv` as the run finishes): the envelope is computed from those strings,
+//! so a fresh, a resumed and a merged campaign give the same bytes.
 
 use crate::{Band, EnvelopePlot, Result, Series};
-use rayon::prelude::*;
 use rhonn::experiment::campaign::Envelope;
-use rhonn::experiment::{run_plant_scenario, PlantColumn, PlantRunOutput, ScenarioSpec};
+use rhonn::experiment::{PlantColumn, PlantRunOutput, ScenarioSpec};
 
 /// At most this many instants on the envelope's grid.
 const POINTS: usize = 600;
@@ -21,92 +22,159 @@ pub struct PlantEnvelope {
     pub svg: String,
     /// Runs per band.
     pub runs: usize,
+    /// The series, as `envelope.csv` names them.
+    pub series: Vec<String>,
 }
 
-/// The envelope of the kept runs (each finished run's drawn values, in index order) of a
-/// control scenario; None for other scenarios or when no kept run finished.
-pub fn plant_envelope(spec: &ScenarioSpec, kept: &[Vec<f64>]) -> Result<Option<PlantEnvelope>> {
-    let Some(control) = &spec.control else {
-        return Ok(None);
-    };
-    let out = control.output.as_str();
-    let (base, reference) = (format!("{out}_baseline"), format!("{out}_ref"));
-    // The kept runs again, on every core (in index order: the same bytes whatever the
-    // threads).
-    let runs: Vec<PlantRunOutput> = kept
-        .par_iter()
-        .map(|values| run_plant_scenario(spec, Some(values)))
-        .collect::<rhonn::Result<_>>()?;
-    let mut traces: [Vec<Vec<f64>>; 2] = [Vec::new(), Vec::new()];
-    let (mut t, mut setpoint, mut unit) = (Vec::new(), Vec::new(), String::new());
-    for run in &runs {
-        let find = |name: &str| run.trajectory.iter().find(|c| c.name == name);
-        let shown = |c: &PlantColumn| {
-            c.values
-                .iter()
-                .map(|v| c.quantity.to_display(*v))
-                .collect::<Vec<f64>>()
-        };
-        if let (Some(y), Some(yb)) = (find(out), find(&base)) {
-            if t.is_empty() {
-                t = find("t").map(|c| c.values.clone()).unwrap_or_default();
-                setpoint = find(&reference).map(shown).unwrap_or_default();
-                unit = y.quantity.display_unit.to_string();
+/// What a campaign's envelope draws, read from its nominal run: the series (the columns of
+/// `trajectory.csv`), the grid, the set-point and the unit.
+pub struct EnvelopeSeries {
+    scenario: String,
+    out: String,
+    names: Vec<String>,
+    reference: Option<String>,
+    stride: usize,
+    grid: Vec<f64>,
+    setpoint: Vec<f64>,
+    unit: String,
+}
+
+/// A column's values in display units.
+fn shown(c: &PlantColumn) -> Vec<f64> {
+    c.values.iter().map(|v| c.quantity.to_display(*v)).collect()
+}
+
+impl EnvelopeSeries {
+    /// The series of `spec`'s envelope, as its `nominal` run wrote them (a series the run
+    /// did not write, such as a loop's missing baseline, is left out); None when it wrote
+    /// none.
+    pub fn of(spec: &ScenarioSpec, nominal: &PlantRunOutput) -> Result<Option<Self>> {
+        let (out, names, reference) = match &spec.control {
+            Some(control) => {
+                let out = control.output.clone();
+                let names = vec![out.clone(), format!("{out}_baseline")];
+                (out.clone(), names, Some(format!("{out}_ref")))
             }
-            traces[0].push(shown(y));
-            traces[1].push(shown(yb));
+            None => {
+                let first = rhonn::experiment::plant_measured_names(&spec.plant.kind)?[0].to_string();
+                (first.clone(), vec![first], None)
+            }
+        };
+        let find = |name: &str| nominal.trajectory.iter().find(|c| c.name == name);
+        let (Some(t), Some(y)) = (find("t"), find(&out)) else {
+            return Ok(None);
+        };
+        let stride = t.values.len().div_ceil(POINTS).max(1);
+        let pick = |v: &[f64]| v.iter().step_by(stride).copied().collect::<Vec<f64>>();
+        Ok(Some(EnvelopeSeries {
+            scenario: spec.name.clone(),
+            names: names.into_iter().filter(|n| find(n).is_some()).collect(),
+            setpoint: reference
+                .as_deref()
+                .and_then(find)
+                .map_or(Vec::new(), |c| pick(&shown(c))),
+            reference,
+            stride,
+            grid: pick(&t.values),
+            unit: y.quantity.display_unit.to_string(),
+            out,
+        }))
+    }
+
+    /// `traces.csv`'s header: the run, the series, then the grid's times \[s\].
+    pub fn header(&self) -> Vec<String> {
+        let mut h = vec!["run".to_string(), "series".to_string()];
+        h.extend(self.grid.iter().map(|t| t.to_string()));
+        h
+    }
+
+    /// Run `index`'s rows of `traces.csv`: each series on the grid, display units to 4
+    /// decimals.
+    pub fn rows(&self, index: u64, run: &PlantRunOutput) -> Vec<Vec<String>> {
+        let mut out = Vec::new();
+        for name in &self.names {
+            if let Some(c) = run.trajectory.iter().find(|c| &c.name == name) {
+                let mut r = vec![index.to_string(), name.clone()];
+                r.extend(shown(c).iter().step_by(self.stride).map(|x| format!("{x:.4}")));
+                out.push(r);
+            }
         }
+        out
     }
-    if traces[0].is_empty() {
-        return Ok(None);
-    }
-    let stride = t.len().div_ceil(POINTS).max(1);
-    let pick = |v: &[f64]| v.iter().step_by(stride).copied().collect::<Vec<f64>>();
-    let grid = pick(&t);
-    let envelopes: Vec<Envelope> = traces
-        .iter()
-        .map(|ts| {
-            let picked: Vec<Vec<f64>> = ts.iter().map(|v| pick(v)).collect();
-            let refs: Vec<&[f64]> = picked.iter().map(Vec::as_slice).collect();
-            Envelope::of(&refs, grid.len())
-        })
-        .collect();
-    let sp = pick(&setpoint);
-    let names = [out.to_string(), base.clone()];
-    let csv = envelope_csv(&names, &reference, &unit, &grid, &envelopes, &sp)?;
-    // The baseline first, so that the controller under test lies on top.
-    let plot = EnvelopePlot {
-        title: format!(
-            "{}: {out} over {} runs, min-max and 5-95 %, median",
-            spec.name,
-            traces[0].len()
-        ),
-        y_label: format!("{out} [{unit}]"),
-        t: grid,
-        bands: vec![
-            Band {
-                label: format!("{out} (baseline)"),
-                envelope: envelopes[1].clone(),
-            },
-            Band {
-                label: format!("{out} (controller under test)"),
+
+    /// The envelope of the `traces` rows (in run order); None without any.
+    pub fn envelope<'a>(
+        &self,
+        traces: impl Iterator<Item = &'a Vec<String>>,
+    ) -> Result<Option<PlantEnvelope>> {
+        let mut per: Vec<Vec<Vec<f64>>> = vec![Vec::new(); self.names.len()];
+        for row in traces {
+            if let Some(k) = self.names.iter().position(|n| Some(n) == row.get(1)) {
+                per[k].push(row[2..].iter().map(|x| x.parse().unwrap_or(f64::NAN)).collect());
+            }
+        }
+        if per.iter().all(Vec::is_empty) {
+            return Ok(None);
+        }
+        let n = self.grid.len();
+        let envelopes: Vec<Envelope> = per
+            .iter()
+            .map(|ts| Envelope::of(&ts.iter().map(Vec::as_slice).collect::<Vec<_>>(), n))
+            .collect();
+        let (out, unit, sp) = (&self.out, &self.unit, &self.setpoint);
+        let csv = envelope_csv(
+            &self.names,
+            self.reference.as_deref(),
+            unit,
+            &self.grid,
+            &envelopes,
+            sp,
+        )?;
+        // The baseline first, so that the controller under test lies on top.
+        let bands = match self.reference {
+            Some(_) => envelopes
+                .iter()
+                .zip(["controller under test", "baseline"])
+                .rev()
+                .map(|(e, role)| Band {
+                    label: format!("{out} ({role})"),
+                    envelope: e.clone(),
+                })
+                .collect(),
+            None => vec![Band {
+                label: out.clone(),
                 envelope: envelopes[0].clone(),
+            }],
+        };
+        let runs = per[0].len();
+        let plot = EnvelopePlot {
+            title: format!(
+                "{}: {out} over {runs} runs, min-max and 5-95 %, median",
+                self.scenario
+            ),
+            y_label: format!("{out} [{unit}]"),
+            t: self.grid.clone(),
+            bands,
+            lines: if sp.is_empty() {
+                Vec::new()
+            } else {
+                vec![Series::dashed("set-point", sp.clone())]
             },
-        ],
-        lines: vec![Series::dashed("set-point", sp)],
-    };
-    Ok(Some(PlantEnvelope {
-        csv,
-        svg: plot.render(900, 450),
-        runs: traces[0].len(),
-    }))
+        };
+        Ok(Some(PlantEnvelope {
+            csv,
+            svg: plot.render(900, 450),
+            runs,
+            series: self.names.clone(),
+        }))
+    }
 }
 
 /// `envelope.csv`: time, then per series its min, 5 %, median, 95 % and max, then the
-/// set-point (display units).
+/// set-point when there is one (display units).
 fn envelope_csv(
-    names: &[String; 2],
-    reference: &str,
+    names: &[String],
+    reference: Option<&str>,
     unit: &str,
     grid: &[f64],
     envelopes: &[Envelope],
@@ -118,10 +186,12 @@ fn envelope_csv(
         let mut h = vec!["t".to_string()];
         for n in names {
             for q in ["min", "q05", "median", "q95", "max"] {
-                h.push(format!("{n}_{q}_{unit}"));
+                h.push(format!("{n}_{q}_{}", unit.to_lowercase()));
             }
         }
-        h.push(format!("{reference}_{unit}"));
+        if let Some(reference) = reference {
+            h.push(format!("{reference}_{}", unit.to_lowercase()));
+        }
         w.write_record(&h)?;
         for (k, tk) in grid.iter().enumerate() {
             let mut r = vec![tk.to_string()];
@@ -130,7 +200,9 @@ fn envelope_csv(
                     r.push(format!("{:.4}", v[k]));
                 }
             }
-            r.push(sp.get(k).map_or(String::new(), |v| v.to_string()));
+            if reference.is_some() {
+                r.push(sp.get(k).map_or(String::new(), |v| v.to_string()));
+            }
             w.write_record(&r)?;
         }
         w.flush().map_err(csv::Error::from)?;

@@ -14,9 +14,14 @@ type ToDisplay = fn(f64) -> f64;
 /// column (measured data keeps its own units).
 fn display_unit(column: &str) -> Option<(ToDisplay, &'static str)> {
     use rhonn::units::{dm3_s, mm, mpa};
-    let base = column.strip_suffix("_pi").unwrap_or(column);
+    // A baseline's column as its controller's, a measured one as the state.
+    let base = ["_pi", "_second_baseline", "_baseline"]
+        .iter()
+        .find_map(|s| column.strip_suffix(s))
+        .unwrap_or(column);
+    let base = base.strip_suffix("_measured").unwrap_or(base);
     match base {
-        "p_line" | "p_meas" | "p_ref" | "p_line_model" => Some((mpa, "MPa")),
+        "p_line" | "p_meas" | "p_ref" | "p_line_ref" | "p_line_model" => Some((mpa, "MPa")),
         "stroke" | "stroke_ref" => Some((mm, "mm")),
         "demand" => Some((dm3_s, "dm^3/s")),
         _ => None,

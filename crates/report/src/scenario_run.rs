@@ -1,153 +1,143 @@
-//! A scenario's run on either runner (`rhonn::experiment::ScenarioRun`) written, printed
-//! and given to Python the same way: the one place of this crate that tells the pump's
-//! runner from the generic one.
+//! A scenario's run (`rhonn::experiment::PlantRunOutput`, whatever the plant) written,
+//! printed and given to Python the same way.
 
 use crate::Result;
-use rhonn::experiment::{PlantRunOutput, RunOutput, ScenarioRun};
+use rhonn::experiment::{IdentStateFigures, LoopFigures, PlantRunOutput, PlantSummary};
+use rhonn::metrics::sig;
 use std::path::{Path, PathBuf};
 
 /// Write the run's folder (trajectory.csv, summary.json, plots; all or nothing); returns
 /// the files.
-pub fn write_scenario_run(dir: &Path, run: &ScenarioRun) -> Result<Vec<PathBuf>> {
-    match run {
-        ScenarioRun::Pump { trace, output, .. } => crate::write_run(dir, trace, output),
-        ScenarioRun::Plant(o) => crate::write_plant_run(dir, o),
-    }
+pub fn write_scenario_run(dir: &Path, run: &PlantRunOutput) -> Result<Vec<PathBuf>> {
+    crate::write_plant_run(dir, run)
 }
 
 /// summary.json's content as compact JSON text.
-pub fn summary_json(run: &ScenarioRun) -> Result<String> {
-    match run {
-        ScenarioRun::Pump { output, .. } => serde_json::to_string(&output.summary),
-        ScenarioRun::Plant(o) => serde_json::to_string(&o.summary),
-    }
-    .map_err(|e| crate::Error::Input(format!("cannot write the summary as JSON: {e}")))
+pub fn summary_json(run: &PlantRunOutput) -> Result<String> {
+    serde_json::to_string(&run.summary)
+        .map_err(|e| crate::Error::Input(format!("cannot write the summary as JSON: {e}")))
 }
 
 /// The figures `rhonn run` prints.
-pub fn run_lines(run: &ScenarioRun) -> Vec<String> {
-    match run {
-        ScenarioRun::Pump { output, .. } => pump_lines(output),
-        ScenarioRun::Plant(o) => plant_lines(o),
-    }
-}
-
-fn pump_lines(output: &RunOutput) -> Vec<String> {
-    let summary = &output.summary;
-    let f = &summary.figures;
-    let mut lines = Vec::new();
-    let l = &mut lines;
-    l.push(format!(
-        "{}: {} s simulated, {} samples",
-        summary.scenario_name(),
-        f.duration_s,
-        f.samples
-    ));
-    l.push(format!(
-        "  line pressure: final {:.3} MPa, min {:.3} MPa, max {:.3} MPa; below P_min for {:.3} s ({:.3} s after the first second)",
-        f.final_p_line_mpa, f.p_line_min_mpa, f.p_line_max_mpa, f.time_below_p_min_s, f.time_below_p_min_after_1s_s
-    ));
-    l.push(format!(
-        "  stroke: final {:.4} mm, max {:.4} mm",
-        f.final_stroke_mm, f.stroke_max_mm
-    ));
-    if let Some(r) = &f.regulation {
-        l.push(format!(
-            "  regulation: max |p - p_ref| {:.3} MPa ({:.3} MPa from 1 s after each set-point change), ISE {:.3} MPa^2 s, current saturated {:.3} s",
-            r.max_abs_deviation_mpa, r.max_abs_deviation_settled_mpa, r.ise_mpa2_s, r.time_current_saturated_s
-        ));
-        l.push(format!(
-            "  actuator activity: the current moved {} A in all (total variation; RMS change per control period {} A), switching between 0 and its maximum {} s",
-            rhonn::metrics::sig(r.current_total_variation_a, 4),
-            rhonn::metrics::sig(r.current_rms_change_per_sample_a, 3),
-            rhonn::metrics::sig(r.time_current_switching_s, 3)
-        ));
-    }
-    if let Some(id) = &summary.identification {
-        l.extend(id.to_string().lines().map(|line| format!("  {line}")));
-    }
-    if let Some(c) = &summary.control {
-        l.push(format!(
-            "  RHONN adaptive vs the baseline {}{} on an identical plant:",
-            c.baseline.describe(),
-            c.second_baseline.as_ref().map_or(String::new(), |b| format!(
-                " and the second baseline {}, its {} tuning",
-                b.describe(),
-                b.tuning.unwrap_or("second")
-            ))
-        ));
-        l.extend(c.findings.iter().map(|line| format!("    {line}")));
-        l.push(format!(
-            "    weights: |W| max {:.1}, |W_1 - centre| max {:.2} within the ball's radius {:.2}, {} projections",
-            c.adaptive.w_norm_max, c.adaptive.w1_distance_max, c.adaptive.w1_ball_radius, c.adaptive.projections
-        ));
-        if let (Some(lag_ms), Some(ratio)) = (c.adaptive.actuator_lag_ms, c.adaptive.pilot_flow_ratio) {
-            l.push(format!(
-                "    actuator identified online: lag {} ms, pilot valve flow {} x the nominal valve's",
-                rhonn::metrics::sig(lag_ms, 3),
-                rhonn::metrics::sig(ratio, 3)
-            ));
-        }
-    }
-    let s = &summary.solver;
-    l.push(format!(
-        "  solver: {} rhs evaluations, {} accepted and {} rejected steps, {} events",
-        s.rhs_evaluations, s.accepted_steps, s.rejected_steps, s.events
-    ));
-    lines
-}
-
-fn plant_lines(output: &PlantRunOutput) -> Vec<String> {
+pub fn run_lines(output: &PlantRunOutput) -> Vec<String> {
     let mut lines = Vec::new();
     let s = &output.summary;
     lines.push(format!(
         "{}: {} s simulated, plant {}",
-        s.scenario, output.duration_s, s.plant
+        s.scenario,
+        sig(output.duration_s, 6),
+        s.plant
     ));
-    for f in s.identification.iter().flatten() {
-        let mut line = format!(
-            "  {}: online (second half) rms error {:.3} {}, fit {:.1} %",
-            f.state, f.training_rms_error, f.unit, f.training_fit_percent
-        );
-        match (f.validation_rms_error, f.validation_fit_percent, f.series_parallel_fit_percent) {
-            (Some(r), Some(p), Some(sp)) => {
-                line += &format!(
-                    "; frozen on the training inputs: series-parallel fit {sp:.1} %, free run rms error {r:.3} {}, fit {p:.1} %",
-                    f.unit
-                )
-            }
-            (Some(r), Some(p), None) => {
-                line += &format!(
-                    "; frozen, free run on the validation inputs: rms error {r:.3} {}, fit {p:.1} %",
-                    f.unit
-                )
-            }
-            _ => {}
-        }
-        lines.push(line);
+    if let Some(f) = &s.floor {
+        lines.push(format!(
+            "  {}: below the plant's floor ({} {u}) for {} s ({} s after the first {} s)",
+            f.state,
+            sig(f.floor, 4),
+            sig(f.time_below_s, 4),
+            sig(f.time_below_after_settle_s, 4),
+            sig(f.settle_s, 3),
+            u = f.unit
+        ));
     }
+    lines.extend(s.identification.iter().flatten().map(ident_line));
     if let (Some(c), Some((state, unit))) = (&s.control, s.regulated) {
-        for f in c {
-            lines.push(format!(
-                "  {:<14} {state}: IAE {:.1} {unit} s, ISE {:.0} {unit}^2 s, final error {:.3} {unit}, input saturated {:.0} s",
-                f.controller, f.iae, f.ise, f.final_error, f.time_input_saturated_s
-            ));
-        }
+        lines.extend(c.iter().flat_map(|f| loop_lines(f, state, unit)));
     }
     lines.extend(s.findings.iter().map(|f| format!("  finding: {f}")));
+    lines.push(solver_line(s));
     lines
 }
 
-/// `rhonn campaign` on a scenario into `dir` (resumes a folder left by
-/// an interrupted one): the pump's campaign (its tolerances, envelopes) or a plant's.
+/// One identified state's figures: while learning and frozen, and its convergence.
+fn ident_line(f: &IdentStateFigures) -> String {
+    let mut line = format!(
+        "  {}: online (second half) rms error {} {u}, fit {:.1} %",
+        f.state,
+        sig(f.training_rms_error, 4),
+        f.training_fit_percent,
+        u = f.unit
+    );
+    match (f.validation_rms_error, f.validation_fit_percent, f.series_parallel_fit_percent) {
+        (Some(r), Some(p), Some(sp)) => {
+            line += &format!(
+                "; frozen on the training inputs: series-parallel fit {sp:.1} %, free run rms error {} {}, fit {p:.1} %",
+                sig(r, 4),
+                f.unit
+            )
+        }
+        (Some(r), Some(p), None) => {
+            line += &format!(
+                "; frozen, free run on the validation inputs: rms error {} {}, fit {p:.1} %",
+                sig(r, 4),
+                f.unit
+            )
+        }
+        _ => {}
+    }
+    let t = &f.whole_run.training;
+    line += &match t.convergence_time_s {
+        Some(c) => format!(
+            "; its error within +-{} {} (1 % of the range) from {} s on",
+            sig(t.convergence_band, 3),
+            f.unit,
+            sig(c, 3)
+        ),
+        None => format!(
+            "; its error leaves +-{} {} (1 % of the range) until the end",
+            sig(t.convergence_band, 3),
+            f.unit
+        ),
+    };
+    line
+}
+
+/// One loop's tracking and activity, and an adaptive controller's weights.
+fn loop_lines(f: &LoopFigures, state: &str, unit: &str) -> Vec<String> {
+    let mut v = vec![format!(
+        "  {:<14} {state}: IAE {} {unit} s, ISE {} {unit}^2 s, within 1 % {} % of the run, final error {} {unit}, input saturated {} s",
+        f.label(),
+        sig(f.iae, 4),
+        sig(f.ise, 4),
+        sig(f.within_1pct_percent, 3),
+        sig(f.final_error, 3),
+        sig(f.time_input_saturated_s, 3)
+    )];
+    if let Some(a) = &f.adaptive {
+        v.push(format!(
+            "  {:<14} weights: |W| max {}, |W_1 - centre| max {} within the ball's radius {}, {} projections",
+            "",
+            sig(a.w_norm_max, 3),
+            sig(a.w1_distance_max, 3),
+            sig(a.w1_ball_radius, 3),
+            a.projections
+        ));
+        if let (Some(lag_ms), Some(ratio)) = (a.actuator_lag_ms, a.pilot_flow_ratio) {
+            v.push(format!(
+                "  {:<14} actuator identified online: lag {} ms, pilot valve flow {} x the nominal valve's",
+                "",
+                sig(lag_ms, 3),
+                sig(ratio, 3)
+            ));
+        }
+    }
+    v
+}
+
+fn solver_line(s: &PlantSummary) -> String {
+    let v = &s.solver;
+    format!(
+        "  solver: {} rhs evaluations, {} accepted and {} rejected steps, {} events",
+        v.rhs_evaluations, v.accepted_steps, v.rejected_steps, v.events
+    )
+}
+
+/// `rhonn campaign` on a scenario into `dir` (resumes a folder left by an interrupted
+/// one), whatever its plant.
 pub fn run_scenario_campaign(
     sc: &rhonn::experiment::ScenarioSpec,
     o: &crate::campaign::CampaignOptions,
     dir: &Path,
     progress: &(dyn Fn(crate::campaign::Progress) + Sync),
 ) -> Result<crate::campaign::CampaignOutcome> {
-    match rhonn::experiment::campaign::PumpCampaign::of(sc)? {
-        Some(spec) => crate::campaign::run_campaign(&spec, o, dir, progress),
-        None => crate::plant_campaign::run_plant_campaign(sc, o, dir, progress),
-    }
+    crate::plant_campaign::run_plant_campaign(sc, o, dir, progress)
 }

@@ -32,7 +32,11 @@ fn role_color(label: &str) -> Option<RGBColor> {
         Some(BASELINE)
     } else if label.contains("set-point") || label.contains("reference") {
         Some(REFERENCE)
-    } else if label == "P_min" || label.contains("limit") || label.contains("bound") {
+    } else if label == "P_min"
+        || label.contains("limit")
+        || label.contains("bound")
+        || label.ends_with(" floor")
+    {
         Some(LIMIT)
     } else {
         None

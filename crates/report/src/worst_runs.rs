@@ -1,9 +1,8 @@
-//! A pump campaign's worst runs: the runs that failed and those with the largest value of
+//! A campaign's worst runs: the runs that failed and those with the largest value of
 //! the campaign's key figure, each with its drawn parameters, written as a scenario file
 //! (`worst-run-<index>.toml`: the campaign's scenario with the run's parameters) that
 //! `rhonn run` reruns with every plot.
 
-use rhonn::experiment::campaign::{PumpCampaign, RunRow, TOLERANCES};
 use serde::Serialize;
 
 /// How many runs are listed.
@@ -25,14 +24,6 @@ pub struct WorstRun {
     /// The command that reruns it, from the campaign's folder (summary.json names no
     /// folder, so that sharded, merged and resumed campaigns write the same file).
     pub rerun: String,
-}
-
-/// The figure a campaign's runs are ranked by: the controller's IAE, else its ISE, else
-/// the time below P_min after the first second (larger is worse for each).
-pub fn key_figure(names: &[String]) -> Option<(usize, &'static str)> {
-    ["iae_mpa_s", "ise_mpa2_s", "time_below_p_min_after_1s_s"]
-        .into_iter()
-        .find_map(|k| names.iter().position(|n| n == k).map(|i| (i, k)))
 }
 
 /// One run as the ranking sees it: index, drawn parameter values, its key figure (None:
@@ -146,38 +137,12 @@ fn list(
     Ok(out)
 }
 
-/// A pump campaign's run as the ranking by the key figure `key` ([`key_figure`]) sees it.
-pub fn pump_candidate(r: &RunRow, key: Option<(usize, &str)>) -> Candidate {
-    Candidate {
-        index: r.index,
-        values: r.values.to_vec(),
-        value: match (&r.outcome, key) {
-            (Ok(v), Some((i, _))) => Some(v[i]),
-            _ => None,
-        },
-        error: r.outcome.as_ref().err().cloned(),
-    }
-}
-
-/// The worst runs of a pump campaign (`ranked` by [`Ranker`] with larger worse), with
-/// their scenario files' text.
-pub fn describe(
-    spec: &PumpCampaign,
-    ranked: &[Candidate],
-) -> Result<Vec<(WorstRun, String)>, toml::ser::Error> {
-    let param_names: Vec<&str> = TOLERANCES.iter().map(|p| p.name).collect();
-    list(spec.name(), &param_names, ranked, |c, description| {
-        let name = format!("{}-run-{}", spec.name(), c.index);
-        toml::to_string(&spec.run_scenario(&c.values, name, description))
-    })
-}
-
 /// The figure a plant campaign's runs are ranked by, and whether larger is worse: the
 /// controller's IAE (larger is worse), else the first validation fit (smaller is worse).
 pub fn plant_key_figure(names: &[String]) -> Option<(usize, bool)> {
     names
         .iter()
-        .position(|n| n == "controller_iae")
+        .position(|n| n.starts_with("controller_iae_"))
         .map(|k| (k, true))
         .or_else(|| {
             names
@@ -187,20 +152,25 @@ pub fn plant_key_figure(names: &[String]) -> Option<(usize, bool)> {
         })
 }
 
-/// [`describe`] for a plant campaign (`ranked` by [`Ranker`]): the scenario with the
-/// plant's parameters set to the run's.
+/// The worst runs of a campaign (`ranked` by [`Ranker`]), with their scenario files' text:
+/// the campaign's scenario with the plant's parameters set to the run's draw.
 pub fn describe_plant(
     spec: &rhonn::experiment::ScenarioSpec,
     param_names: &[&str],
     ranked: &[Candidate],
 ) -> Result<Vec<(WorstRun, String)>, toml::ser::Error> {
     list(&spec.name, param_names, ranked, |c, description| {
-        let mut run_spec = spec.clone();
+        // The draw as it ran (a slew parameter's input scaled); a plant kind the
+        // campaign ran with is known, so the fallback is the parameters alone.
+        let mut run_spec = rhonn::experiment::drawn_scenario(spec, &c.values).unwrap_or_else(|_| {
+            let mut s = spec.clone();
+            for (n, v) in param_names.iter().zip(&c.values) {
+                s.plant.parameters.insert((*n).to_string(), *v);
+            }
+            s
+        });
         run_spec.name = format!("{}-run-{}", spec.name, c.index);
         run_spec.description = description;
-        for (n, v) in param_names.iter().zip(&c.values) {
-            run_spec.plant.parameters.insert((*n).to_string(), *v);
-        }
         toml::to_string(&run_spec)
     })
 }
@@ -280,28 +250,33 @@ mod tests {
             .collect();
         left.sort();
         assert_eq!(left, ["other.toml", "worst-run-2.toml"]);
-        let names: Vec<String> = ["ise_mpa2_s", "iae_mpa_s"].map(String::from).to_vec();
-        let row = |index, outcome| RunRow {
-            index,
-            values: [0.0; 5],
-            outcome,
-        };
-        let rows = [
-            row(0, Ok(vec![1.0, 3.0])),
-            row(1, Err("diverged".to_string())),
-            row(2, Ok(vec![9.0, 5.0])),
-            row(3, Ok(vec![0.5, f64::NAN])),
-        ];
+        let names: Vec<String> = ["controller_ise_mpa2_s", "controller_iae_mpa_s"]
+            .map(String::from)
+            .to_vec();
         let sc = rhonn::experiment::preset::load_any("control-adaptive").unwrap();
-        let spec = PumpCampaign::of(&sc).unwrap().unwrap();
-        let key = key_figure(&names);
-        assert_eq!(key.map(|(_, k)| k), Some("iae_mpa_s"));
+        let params = rhonn::experiment::nominal_plant_parameters("pump").unwrap();
+        let param_names: Vec<&str> = params.iter().map(|p| p.name).collect();
+        let nominal: Vec<f64> = params.iter().map(|p| p.nominal).collect();
+        let key = plant_key_figure(&names);
+        assert_eq!(key, Some((1, true)));
+        let run = |index, value: Option<f64>, error: Option<&str>| Candidate {
+            index,
+            values: nominal.clone(),
+            value,
+            error: error.map(String::from),
+        };
+        let runs = [
+            run(0, Some(3.0), None),
+            run(1, None, Some("diverged")),
+            run(2, Some(5.0), None),
+            run(3, Some(f64::NAN), None),
+        ];
         let mut ranker = Ranker::new(Some(true));
         // In any order: the same ranking.
-        for r in rows.iter().rev() {
-            ranker.add(pump_candidate(r, key));
+        for r in runs.iter().rev() {
+            ranker.add(r.clone());
         }
-        let w = describe(&spec, &ranker.ranked()).unwrap();
+        let w = describe_plant(&sc, &param_names, &ranker.ranked()).unwrap();
         assert_eq!(w.iter().map(|(r, _)| r.run).collect::<Vec<_>>(), [1, 2, 0]);
         assert_eq!(significant(0.0), "0");
         assert_eq!(significant(1439.5071749), "1439.51");

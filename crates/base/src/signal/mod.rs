@@ -265,9 +265,21 @@ impl Signal {
         b
     }
 
-    /// Whether the unclipped signal leaves `[lo, hi]` somewhere on `[0, t_end]`
-    /// (checked on a 1 ms grid), for a warning.
+    /// Whether the unclipped signal leaves `[lo, hi]` somewhere on `[0, t_end]`, for a
+    /// warning: exactly for a piecewise-linear profile, on a 1 ms grid with sines.
     pub fn clips_on(&self, t_end: f64) -> bool {
+        let outside = |v: f64| v < self.lo - 1e-12 || v > self.hi + 1e-12;
+        if self.sines.is_empty() {
+            // Piecewise linear: its extremes on [0, t_end] are at the ends of its
+            // segments (each segment's formula at both ends, cut at t_end) or at 0.
+            let p = &self.pwl;
+            let at = |seg: usize, t: f64| outside(p.eval_in(seg, t));
+            return at(p.segment(0.0), 0.0)
+                || at(p.segment(t_end), t_end)
+                || (1..p.t.len())
+                    .filter(|&j| p.t[j - 1] <= t_end)
+                    .any(|j| at(j, p.t[j - 1]) || at(j, p.t[j].min(t_end)));
+        }
         let n = (t_end / 1e-3).ceil() as usize;
         (0..=n).any(|k| {
             let t = (k as f64 * 1e-3).min(t_end);
@@ -280,7 +292,7 @@ impl Signal {
                     .map(|s| s.amplitude * (2.0 * PI * s.freq_hz * t + s.phase).sin())
                     .sum::<f64>();
             }
-            v < self.lo - 1e-12 || v > self.hi + 1e-12
+            outside(v)
         })
     }
 }

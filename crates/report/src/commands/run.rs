@@ -24,7 +24,7 @@ pub fn run(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
 pub(super) fn run_scenario_into_dir(
     name: &str,
     dir: &Path,
-) -> Result<(rhonn::experiment::ScenarioRun, Outcome)> {
+) -> Result<(rhonn::experiment::PlantRunOutput, Outcome)> {
     let sc = preset::load_any(name)?;
     let (run, o) = run_scenario_from(&sc, Some(dir), &[])?;
     Ok((run, o.unwrap_or_default()))
@@ -44,7 +44,7 @@ fn run_named(scenario: &str, out: Option<PathBuf>) -> Result<Outcome> {
 pub fn run_scenario(
     sc: &rhonn::experiment::ScenarioSpec,
     out: Option<&Path>,
-) -> Result<(rhonn::experiment::ScenarioRun, Option<Outcome>)> {
+) -> Result<(rhonn::experiment::PlantRunOutput, Option<Outcome>)> {
     run_scenario_from(sc, out, &[])
 }
 
@@ -52,7 +52,7 @@ fn run_scenario_from(
     sc: &rhonn::experiment::ScenarioSpec,
     out: Option<&Path>,
     inputs: &[PathBuf],
-) -> Result<(rhonn::experiment::ScenarioRun, Option<Outcome>)> {
+) -> Result<(rhonn::experiment::PlantRunOutput, Option<Outcome>)> {
     let writing = out
         .map(|dir| crate::folder::Writing::begin(dir, inputs, crate::folder::writes::RUN, false))
         .transpose()?;
@@ -70,16 +70,16 @@ fn run_scenario_from(
 /// Write a scenario run's folder as `rhonn run` does ([`run_scenario`]): its files and
 /// `report.html` as a whole (`crate::folder`); the scenario's warnings and the figures
 /// `rhonn run` prints.
-pub fn save_scenario_run(dir: &Path, name: &str, run: &rhonn::experiment::ScenarioRun) -> Result<Outcome> {
+pub fn save_scenario_run(dir: &Path, name: &str, run: &rhonn::experiment::PlantRunOutput) -> Result<Outcome> {
     super::in_folder(dir, (&[], crate::folder::writes::RUN), false, |stage| {
         scenario_run_into(stage, name, run)
     })
 }
 
-fn scenario_run_into(stage: &Path, name: &str, run: &rhonn::experiment::ScenarioRun) -> Result<Outcome> {
+fn scenario_run_into(stage: &Path, name: &str, run: &rhonn::experiment::PlantRunOutput) -> Result<Outcome> {
     let mut o = Outcome::default();
     o.notes
-        .extend(run.warnings().iter().map(|w| format!("warning: {w}")));
+        .extend(run.summary.warnings.iter().map(|w| format!("warning: {w}")));
     o.files = crate::write_scenario_run(stage, run).map_err(written(name))?;
     o.lines = crate::scenario_run::run_lines(run);
     Ok(o)

@@ -91,8 +91,10 @@ where
 /// A figure's name with the unit its suffix names, for an axis: `iae_mpa_s` reads
 /// `iae_mpa_s [MPa s]`; a name without a known suffix stays as it is.
 pub(crate) fn axis_with_unit(name: &str) -> String {
-    const UNITS: [(&str, &str); 9] = [
+    const UNITS: [(&str, &str); 11] = [
         ("_mpa2_s", "MPa^2 s"),
+        ("_mm2_s", "mm^2 s"),
+        ("_mm_s", "mm s"),
         ("_mpa_s", "MPa s"),
         ("_mpa", "MPa"),
         ("_mm", "mm"),

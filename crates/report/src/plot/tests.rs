@@ -31,7 +31,18 @@ fn dashed_set_points_are_drawn_over_solid_traces() {
 fn histogram_axes_have_units_few_ticks_and_whole_counts() {
     assert_eq!(axis_with_unit("iae_mpa_s"), "iae_mpa_s [MPa s]");
     assert_eq!(axis_with_unit("ise_mpa2_s"), "ise_mpa2_s [MPa^2 s]");
-    assert_eq!(axis_with_unit("controller_iae"), "controller_iae");
+    assert_eq!(
+        axis_with_unit("controller_iae_mm_s"),
+        "controller_iae_mm_s [mm s]"
+    );
+    assert_eq!(
+        axis_with_unit("baseline_ise_mm2_s"),
+        "baseline_ise_mm2_s [mm^2 s]"
+    );
+    assert_eq!(
+        axis_with_unit("controller_input_total_variation"),
+        "controller_input_total_variation"
+    );
     let values: Vec<f64> = (0..200).map(|k| 550_000.0 + 500.0 * f64::from(k)).collect();
     let svg = Histogram::render(&[Histogram::new("x", "max_abs_deviation_mpa", &values, 20)], 1);
     assert!(svg.contains("max_abs_deviation_mpa [MPa]") && svg.contains("number of runs"));

@@ -437,13 +437,17 @@ pub(super) struct DenseSampler {
 impl DenseSampler {
     /// The output instants `0, dt, ...` before `duration_s` of `n` plant states.
     pub(super) fn new(dt: f64, duration_s: f64, n: usize) -> Result<Self> {
+        let count = sampling_steps(duration_s, dt)?;
+        // Every instant's room at once (a run's samples are known before it starts), up
+        // to 4 Mi samples: a longer run grows as it goes rather than asking for it all.
+        let room = usize::try_from(count).unwrap_or(0).saturating_add(1).min(1 << 22);
         Ok(DenseSampler {
             clock: Instants::seconds(dt),
             next: 0,
-            count: sampling_steps(duration_s, dt)?,
+            count,
             out: DenseSamples {
-                t: Vec::new(),
-                states: vec![Vec::new(); n],
+                t: Vec::with_capacity(room),
+                states: (0..n).map(|_| Vec::with_capacity(room)).collect(),
             },
             buf: Vec::new(),
         })

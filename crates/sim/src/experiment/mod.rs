@@ -33,7 +33,10 @@ mod trace;
 pub use bench::{bench, bench_plant, median_run_seconds, BenchFigures};
 pub use ident_figures::RunFigures;
 pub use loop_conditions::{LoopConditions, SensorNoise};
-pub use plant_run::{campaign_plan, nominal_plant_parameters, run_plant_scenario, run_plant_scenario_on};
+pub use plant_run::{
+    campaign_plan, drawn_scenario, nominal_plant_parameters, plant_measured_names, run_plant_scenario,
+    run_plant_scenario_on,
+};
 pub use plant_summary::{
     FloorFigures, IdentStateFigures, LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, SolverFigures,
     StateRange, WholeRunFigures, WEIGHT_QUANTITIES,
@@ -48,6 +51,6 @@ pub use scenario::{
     is_plant_scenario, ControlSpec, LoopSpec, PlantSection, ProfileSpec, ScenarioSpec, SensorNoiseSpec,
     SolverSpec, ValidationSpec, MAX_DELAY_PERIODS,
 };
-pub use scenario_run::{NamedColumns, ScenarioRun};
+pub use scenario_run::NamedColumns;
 pub use solver_spec::{SolverDefaults, Tolerances, DEFAULT_ATOL};
 pub use trace::{BaselineSample, Column, NoRecorder, Recorder, Sample, Trace};

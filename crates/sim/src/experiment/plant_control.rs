@@ -265,6 +265,7 @@ pub(super) fn run_control<P: Plant>(
         validation: None,
         model: None,
         duration_s: spec.duration_s,
+        floor: None,
     })
 }
 

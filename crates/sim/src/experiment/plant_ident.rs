@@ -115,6 +115,7 @@ pub(super) fn run_identification<P: Plant>(
         validation,
         model: Some(ModelFile::of(&is, name, train.weights)),
         duration_s: spec.duration_s,
+        floor: None,
     })
 }
 

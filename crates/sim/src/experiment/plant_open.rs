@@ -73,5 +73,6 @@ pub(super) fn run_open<P: Plant>(
         validation: None,
         model: None,
         duration_s: spec.duration_s,
+        floor: None,
     })
 }

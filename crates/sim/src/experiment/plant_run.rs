@@ -77,6 +77,22 @@ pub fn nominal_plant_parameters(kind: &str) -> Result<&'static [crate::plant::Pa
     with_kind(kind, Parameters)
 }
 
+/// The names of the states a sensor measures on the plant `kind`, in its order.
+pub fn plant_measured_names(kind: &str) -> Result<Vec<&'static str>> {
+    struct Measured;
+    impl WithPlant for Measured {
+        type Output = Vec<&'static str>;
+        fn with<P: Plant>(self, nominal: P) -> Result<Self::Output> {
+            Ok(nominal
+                .measured()
+                .iter()
+                .map(|&i| nominal.states()[i].name)
+                .collect())
+        }
+    }
+    with_kind(kind, Measured)
+}
+
 fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>) -> Result<PlantRunOutput> {
     // `[campaign]` is `rhonn campaign`'s, checked by every run (as the pump's).
     if spec.campaign.is_some() {
@@ -97,6 +113,7 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
     let mut summary = PlantSummary {
         rhonn_version: env!("CARGO_PKG_VERSION"),
         scenario: spec.name.clone(),
+        settings: spec.clone(),
         plant: plant.name(),
         parameters: plant
             .parameters()
@@ -129,16 +146,40 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
     let closed = spec.identifier.is_none() && spec.control.is_some();
     let tol = tolerances(&plant, spec, if closed { LOOP_RTOL } else { IDENTIFY_RTOL })?;
     summary.solver = SolverFigures::of(&tol, plant.states());
-    let out = match &spec.identifier {
+    let floor = plant
+        .floor()
+        .map(|(i, v)| (plant.states()[i].name, plant.states()[i], v));
+    let mut out = match &spec.identifier {
         Some(ident) => run_identification(plant, &x0, spec, ident, summary, &tol)?,
         None if closed => run_control(plant, &x0, spec, summary, &tol)?,
         None => run_open(plant, &x0, spec, summary, &tol)?,
     };
+    out.floor = floor;
     all_finite(&out.trajectory, "trajectory.csv")?;
     if let Some(v) = &out.validation {
         all_finite(v, "validation.csv")?;
     }
     Ok(out)
+}
+
+/// The scenario of a campaign's draw `values` (display units, the plant's parameter
+/// order) as it runs: each value written into `[plant]`, and a slew parameter's input
+/// scaled ([`Plant::slew_parameter`]), so that the file reruns to the draw's figures.
+pub fn drawn_scenario(spec: &ScenarioSpec, values: &[f64]) -> Result<ScenarioSpec> {
+    struct Drawn<'a>(&'a ScenarioSpec, &'a [f64]);
+    impl WithPlant for Drawn<'_> {
+        type Output = ScenarioSpec;
+        fn with<P: Plant>(self, nominal: P) -> Result<ScenarioSpec> {
+            let (spec, values) = (self.0, self.1);
+            let mut run = spec.clone();
+            run.input = slew_scaled(&nominal, spec, Some(values)).into_owned();
+            for (p, v) in nominal.parameters().iter().zip(values) {
+                run.plant.parameters.insert(p.name.to_string(), *v);
+            }
+            Ok(run)
+        }
+    }
+    with_kind(&spec.plant.kind, Drawn(spec, values))
 }
 
 /// `spec`'s inputs, with a campaign's draw of the plant's slew parameter

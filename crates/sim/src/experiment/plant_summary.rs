@@ -219,6 +219,11 @@ pub struct PlantSummary {
     pub rhonn_version: &'static str,
     /// Scenario name.
     pub scenario: String,
+    /// The scenario as run, in the one scenario format (`rhonn run` of this, saved as
+    /// TOML, runs it again).
+    #[schemars(with = "serde_json::Value")]
+    #[serde(serialize_with = "settings_as_given")]
+    pub settings: super::ScenarioSpec,
     /// The plant.
     pub plant: &'static str,
     /// Its parameters as run (display units, the unit in the name).
@@ -248,6 +253,28 @@ pub struct PlantSummary {
     pub warnings: Vec<String>,
     /// What the figures say, in words.
     pub findings: Vec<String>,
+}
+
+/// The scenario as JSON without the settings left to their defaults: a key whose value is
+/// absent or not a number (a controller's gain computed at run time) is left out, so
+/// summary.json holds no null.
+fn settings_as_given<S: serde::Serializer>(
+    spec: &super::ScenarioSpec,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    fn strip(v: &mut serde_json::Value) {
+        match v {
+            serde_json::Value::Object(m) => {
+                m.retain(|_, x| !x.is_null());
+                m.values_mut().for_each(strip);
+            }
+            serde_json::Value::Array(a) => a.iter_mut().for_each(strip),
+            _ => {}
+        }
+    }
+    let mut v = serde_json::to_value(spec).map_err(serde::ser::Error::custom)?;
+    strip(&mut v);
+    v.serialize(s)
 }
 
 /// The time a run's floor state spent below the plant's floor (display units): where the
@@ -290,13 +317,23 @@ impl PlantSummary {
             v.push((format!("{}_min", s.state), s.min_value));
             v.push((format!("{}_max", s.state), s.max_value));
         }
+        // Names carry the regulated state's display unit (`controller_iae_mpa_s`).
+        let u = self.regulated.map_or(String::new(), |(_, u)| u.to_lowercase());
         for (role, f) in ["controller", "baseline", "second_baseline"]
             .iter()
             .zip(self.control.iter().flatten())
         {
-            v.push((format!("{role}_iae"), f.iae));
-            v.push((format!("{role}_ise"), f.ise));
-            v.push((format!("{role}_final_error"), f.final_error));
+            v.push((format!("{role}_iae_{u}_s"), f.iae));
+            v.push((format!("{role}_ise_{u}2_s"), f.ise));
+            v.push((format!("{role}_final_error_{u}"), f.final_error));
+            v.push((
+                format!("{role}_max_abs_deviation_settled_{u}"),
+                f.max_abs_deviation_settled,
+            ));
+            v.push((format!("{role}_within_1pct_percent"), f.within_1pct_percent));
+            if let Some(t) = f.time_below_floor_after_settle_s {
+                v.push((format!("{role}_time_below_floor_after_settle_s"), t));
+            }
             v.push((format!("{role}_input_total_variation"), f.input_total_variation));
             v.push((format!("{role}_time_input_switching_s"), f.time_input_switching_s));
         }
@@ -317,6 +354,9 @@ pub struct PlantRunOutput {
     pub model: Option<super::ModelFile>,
     /// Simulated time \[s\] (the scenario's `duration_s`).
     pub duration_s: f64,
+    /// The plant's floor, for plots: the state, its quantity and the floor (SI); None
+    /// for a plant without one ([`crate::plant::Plant::floor`]).
+    pub floor: Option<(&'static str, Quantity, f64)>,
 }
 
 pub(super) const TIME: Quantity = Quantity::si("t", "s", "time");
