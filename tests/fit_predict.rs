@@ -482,7 +482,7 @@ fn pump_model_predicts_the_validation_record_10_steps_ahead() {
     assert!(!e.contains("reaches the bound"), "{e}");
     let (fit, arx, _) = predict("pump-validate/trajectory.csv", "p");
     eprintln!("pump, 10 steps ahead on pump-validate: grey box fit {fit:.2} %, ARX {arx:.2} %");
-    assert!((fit - 97.7).abs() < 0.5, "grey box fit {fit} %");
+    assert!((fit - 98.0).abs() < 0.5, "grey box fit {fit} %");
     assert!(fit > arx + 10.0, "grey box fit {fit} %, ARX {arx} %");
     // rhonn's own SI columns are plotted in display units.
     let svg = std::fs::read_to_string(d.path().join("p/prediction.svg")).unwrap();

@@ -5,11 +5,9 @@ temporary name in the output folder and renamed only when all of them are comple
 ([`OutputSet`]), so a failed run leaves no half-written file.
 
 ```no_run
-use rhonn::experiment::{preset, Trace};
-let scenario = preset::load_any("thesis-ch3")?.pump_run()?;
-let mut trace = Trace::default();
-let output = rhonn::experiment::run_full(&scenario, &mut trace)?;
-rhonn_report::write_run(std::path::Path::new("out/thesis-ch3"), &trace, &output)?;
+use rhonn::experiment::preset;
+let run = preset::load_any("thesis-ch3")?.run()?;
+rhonn_report::write_scenario_run(std::path::Path::new("out/thesis-ch3"), &run)?;
 # Ok::<(), Box<dyn std::error::Error>>(())
 ```
 */
@@ -46,11 +44,10 @@ pub use csv_out::write_trace_csv;
 pub use data_in::{read_record, read_record_timed, DataError};
 pub use html::{write_report, write_report_as};
 pub use plant_report::write_plant_run;
-pub use plot::{bin_counts, plot_identification, plot_run, Band, EnvelopePlot, Histogram, Series, TimePlot};
+pub use plot::{bin_counts, Band, EnvelopePlot, Histogram, Series, TimePlot};
 pub use prediction::{plot_prediction, prediction_trace, write_prediction};
 pub use scenario_run::write_scenario_run;
 
-use rhonn::experiment::{RunOutput, Trace};
 use std::path::{Path, PathBuf};
 
 /// Errors while writing outputs.
@@ -122,28 +119,6 @@ impl Error {
 
 /// Result alias.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
-
-/// Write everything `rhonn run` writes into `dir`: `trajectory.csv`, `summary.json`,
-/// `pressure.svg`, `stroke.svg`, `inputs.svg`, and for identified runs `weights.json`,
-/// `validation.csv` and the identification plots. Returns the files written.
-pub fn write_run(dir: &Path, trace: &Trace, output: &RunOutput) -> Result<Vec<PathBuf>> {
-    let summary = &output.summary;
-    let mut out = OutputSet::new(dir)?;
-    out.write("trajectory.csv", |w| write_trace_csv(w, trace))?;
-    out.write("summary.json", |w| write_json(w, summary))?;
-    if let Some(model) = &output.model {
-        out.write("weights.json", |w| write_json(w, model))?;
-    }
-    if let Some(v) = &output.validation {
-        out.write("validation.csv", |w| write_trace_csv(w, v))?;
-    }
-    let mut plots = plot_run(trace, summary);
-    plots.extend(plot_identification(trace, output.validation.as_ref(), summary));
-    for (name, svg) in plots {
-        out.write(&name, |w| w.write_all(svg.as_bytes()))?;
-    }
-    out.commit()
-}
 
 pub(crate) fn write_json(w: &mut dyn std::io::Write, v: &impl serde::Serialize) -> std::io::Result<()> {
     serde_json::to_writer_pretty(&mut *w, v).map_err(std::io::Error::other)?;

@@ -2,7 +2,7 @@
 //! with every law.
 
 use rhonn::data::Record;
-use rhonn::experiment::{preset, run_full, Trace};
+use rhonn::experiment::preset;
 use rhonn::ident::{identify_records, OnlineIdentifier, OnlineSpec, Scaling};
 use rhonn::law::{GainSpec, LawSpec};
 
@@ -87,14 +87,13 @@ fn a_users_loop_learns_a_nonlinear_plant_sample_by_sample_and_errors_are_clear()
 /// The pump-identify record (PI with dither, demand trapezoids, 0.05 MPa noise), 60 s.
 fn pump_record() -> Record {
     let spec = preset::load_any("pump-identify").unwrap();
-    let mut tr = Trace::default();
-    run_full(&spec.pump_run().unwrap(), &mut tr).unwrap();
+    let tr = spec.run().unwrap();
     let col = |n: &str| tr.column(n).unwrap().to_vec();
     Record {
         source: "pump-identify".into(),
         t: col("t"),
         inputs: vec![col("current"), col("demand")],
-        outputs: vec![col("p_meas")],
+        outputs: vec![col("p_line_measured")],
     }
 }
 
@@ -136,7 +135,7 @@ fn weights_stay_bounded_over_ten_passes_of_noisy_pump_data_with_every_law() {
             dead_zone: if bounded { 0.0 } else { 0.15e6 },
             ..OnlineSpec::default()
         };
-        let run = identify_records(&spec, &rec, &["p_meas".into()]).unwrap();
+        let run = identify_records(&spec, &rec, &["p_line_measured".into()]).unwrap();
         let norms: Vec<f64> = run.max_norm_per_pass.iter().map(|p| p[0]).collect();
         assert!(norms.iter().all(|n| n.is_finite()), "{law:?}: {norms:?}");
         // No growth epoch over epoch: the last five passes' peaks within 2 % of the

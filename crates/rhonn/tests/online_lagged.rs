@@ -3,7 +3,7 @@
 //! time; a user's loop; its figures on the pump records beside the ARX with the same lags.
 
 use rhonn::data::Record;
-use rhonn::experiment::{preset, run_full, Trace};
+use rhonn::experiment::preset;
 use rhonn::ident::{
     identify_records, predict_records, LagSpec, OnlineIdentifier, OnlineSpec, OnlineStructure, Scaling,
 };
@@ -197,20 +197,20 @@ fn lagged_settings_are_checked() {
 /// or pump-validate.
 fn pump(name: &str) -> Record {
     let spec = preset::load_any(name).unwrap();
-    let mut tr = Trace::default();
-    run_full(&spec.pump_run().unwrap(), &mut tr).unwrap();
+    let tr = spec.run().unwrap();
     let col = |n: &str| tr.column(n).unwrap().to_vec();
     Record {
         source: name.into(),
         t: col("t"),
         inputs: vec![col("current"), col("demand")],
-        outputs: vec![col("p_meas")],
+        outputs: vec![col("p_line_measured")],
     }
 }
 
 /// The README's pump figure: `models/pump-online-lagged.toml` identified online on
-/// pump-identify, frozen, predicts pump-validate 10 samples (50 ms) ahead at 84.7 %
-/// fit, at least the ARX with the same lags fitted on the same record (84.0 %).
+/// pump-identify, frozen, predicts pump-validate 10 samples (50 ms) ahead at 85.2 %
+/// fit, at least the ARX with the same lags fitted on the same record (84.3 %; 84.7 % and
+/// 84.0 % on the records the pump's own runner wrote).
 #[test]
 fn the_pump_lagged_model_predicts_10_samples_ahead_at_least_as_its_arx() {
     let text = std::fs::read_to_string(concat!(
@@ -220,7 +220,7 @@ fn the_pump_lagged_model_predicts_10_samples_ahead_at_least_as_its_arx() {
     .unwrap();
     let spec: OnlineSpec = toml::from_str(&text).unwrap();
     let (id_rec, val) = (pump("pump-identify"), pump("pump-validate"));
-    let outputs = ["p_meas".to_string()];
+    let outputs = ["p_line_measured".to_string()];
     let run = identify_records(&spec, std::slice::from_ref(&id_rec), &outputs).unwrap();
     let mut id = run.identifier.clone();
     let pred = predict_records(&mut id, std::slice::from_ref(&val), Some(10)).unwrap();
@@ -244,7 +244,7 @@ fn the_pump_lagged_model_predicts_10_samples_ahead_at_least_as_its_arx() {
     let online = rhonn::metrics::fit_percent(&val.outputs[0][fa..], &p[fa..]);
     eprintln!("online lagged {online:.2} %, ARX same lags {arx_fit:.2} %");
     assert!(online >= arx_fit, "online {online} % < ARX {arx_fit} %");
-    assert!((online - 84.7).abs() < 0.5, "{online}");
+    assert!((online - 85.2).abs() < 0.5, "{online}");
 }
 
 /// Ten passes over the noisy pump-identify record with the lagged structure's laws. Least
@@ -268,7 +268,7 @@ fn lagged_weights_stay_bounded_over_ten_passes_of_noisy_pump_data() {
                 nonlinear_lags: Some(1),
             })
         };
-        let run = identify_records(&spec, &rec, &["p_meas".into()]).unwrap();
+        let run = identify_records(&spec, &rec, &["p_line_measured".into()]).unwrap();
         let w = run.identifier.weights();
         let final_norm = w[0].iter().map(|v| v * v).sum::<f64>().sqrt();
         let norms: Vec<f64> = run.max_norm_per_pass.iter().map(|p| p[0]).collect();

@@ -1,10 +1,10 @@
 //! Unmodeled dynamics (pump-model.md section 3): a first-order lag on the solenoid current.
 
-use rhonn::experiment::{preset, run_full, Trace};
+use rhonn::experiment::{preset, PlantRunOutput};
 use rhonn::signal::SignalSpec;
 
 /// A current step from 0.2 A to 0.6 A at t = 0.5 s, with a solenoid lag of `lag_ms`.
-fn step_response(lag_ms: f64) -> Trace {
+fn step_response(lag_ms: f64) -> PlantRunOutput {
     let mut spec = preset::load_any("thesis-ch3").unwrap();
     spec.duration_s = 1.0;
     spec.plant.initial = vec![25.0, 4.3];
@@ -16,14 +16,12 @@ fn step_response(lag_ms: f64) -> Trace {
         },
     );
     spec.plant.parameters.insert("solenoid_lag_ms".into(), lag_ms);
-    let mut tr = Trace::default();
-    run_full(&spec.pump_run().unwrap(), &mut tr).unwrap();
-    tr
+    spec.run().unwrap()
 }
 
 #[test]
 fn a_solenoid_lag_delays_the_stroke_by_about_its_time_constant() {
-    let stroke_at = |tr: &Trace, t: f64| {
+    let stroke_at = |tr: &PlantRunOutput, t: f64| {
         let k = tr.column("t").unwrap().iter().position(|&v| v >= t).unwrap();
         tr.column("stroke").unwrap()[k]
     };
@@ -62,12 +60,11 @@ fn the_thesis_identifier_stays_bounded_under_solenoid_lags() {
             },
         );
         spec.identifier.as_mut().unwrap().validate = false;
-        let mut tr = Trace::default();
-        let out = run_full(&spec.pump_run().unwrap(), &mut tr).unwrap();
-        let id = out.summary.identification.unwrap();
-        for (k, f) in id.training.iter().enumerate() {
+        let tr = spec.run().unwrap();
+        let id = tr.summary.identification.clone().unwrap();
+        for (k, f) in id.iter().enumerate() {
             assert!(
-                f.rms_error.is_finite() && f.final_weight_norm.is_finite(),
+                f.whole_run.training.rms_error.is_finite() && f.final_weight_norm.is_finite(),
                 "lag {lag} ms"
             );
             assert!(

@@ -2,7 +2,7 @@
 //! rtol 1e-12 with its own event handling, written from pump-model.md alone
 //! (`tools/reference/pump_reference.py`, output committed in `tests/data`).
 
-use rhonn::experiment::{preset, run, Trace};
+use rhonn::experiment::{preset, PlantRunOutput};
 
 fn reference() -> Vec<[f64; 3]> {
     let text = include_str!("data/thesis_ch3_reference.csv");
@@ -15,21 +15,18 @@ fn reference() -> Vec<[f64; 3]> {
         .collect()
 }
 
-fn simulate() -> (Trace, rhonn::experiment::Summary) {
-    let sc = preset::load_any("thesis-ch3").unwrap().pump_run().unwrap();
-    let mut trace = Trace::default();
-    let summary = run(&sc, &mut trace).unwrap();
-    (trace, summary)
+fn simulate() -> PlantRunOutput {
+    preset::load_any("thesis-ch3").unwrap().run().unwrap()
 }
 
 #[test]
 fn agrees_with_the_independent_reference_at_every_millisecond() {
-    let (trace, _) = simulate();
+    let trace = simulate();
     let r = reference();
-    assert_eq!(trace.len(), r.len());
     let t = trace.column("t").unwrap();
     let p = trace.column("p_line").unwrap();
     let x = trace.column("stroke").unwrap();
+    assert_eq!(t.len(), r.len());
     let mut worst_x: f64 = 0.0;
     let mut p_off = 0;
     let mut worst_p: f64 = 0.0;
@@ -61,7 +58,8 @@ fn agrees_with_the_independent_reference_at_every_millisecond() {
 
 #[test]
 fn tells_the_story_of_the_thesis() {
-    let (trace, s) = simulate();
+    let trace = simulate();
+    let s = &trace.summary;
     let t = trace.column("t").unwrap();
     let p = trace.column("p_line").unwrap();
     let x = trace.column("stroke").unwrap();
@@ -84,12 +82,10 @@ fn tells_the_story_of_the_thesis() {
     // Time below P_min agrees with the reference's samples (1 ms resolution).
     let r = reference();
     let below_ref = r.windows(2).filter(|w| w[0][1] < 1e6).count() as f64 * 1e-3;
-    assert!(
-        (s.figures.time_below_p_min_s - below_ref).abs() < 0.01,
-        "{} vs {below_ref}",
-        s.figures.time_below_p_min_s
-    );
-    assert_eq!(s.figures.p_line_max_mpa, 25.0);
+    let below = s.floor.as_ref().unwrap().time_below_s;
+    assert!((below - below_ref).abs() < 0.01, "{below} vs {below_ref}");
+    let p_line = &s.open_loop.as_ref().unwrap()[0];
+    assert_eq!((p_line.state, p_line.max_value), ("p_line", 25.0));
     assert!(s.solver.events >= 4);
 }
 
@@ -100,12 +96,11 @@ fn ode45_compatible_profile_is_coarser_and_cheaper_but_close() {
         profile: rhonn::experiment::ProfileSpec::Ode45,
         ..Default::default()
     });
-    let sc = spec.pump_run().unwrap();
-    assert_eq!(sc.solver.rtol, 1e-3);
-    assert_eq!(sc.solver.max_step_s, 4.0);
-    let mut trace = Trace::default();
-    let s = run(&sc, &mut trace).unwrap();
-    let (_, fine) = simulate();
+    let trace = spec.run().unwrap();
+    let s = &trace.summary;
+    assert_eq!(s.solver.rtol, 1e-3);
+    assert_eq!(s.solver.max_step_s, Some(4.0));
+    let fine = simulate().summary;
     assert!(s.solver.rhs_evaluations < fine.solver.rhs_evaluations);
     let r = reference();
     let x = trace.column("stroke").unwrap();

@@ -2,7 +2,7 @@
 //! implementation of the same equations (`tools/reference/pump_reference.py --ch5`:
 //! scipy DOP853 at rtol 1e-12, output committed in `tests/data`).
 
-use rhonn::experiment::{preset, run_full, RunOutput, Trace};
+use rhonn::experiment::{preset, PlantRunOutput, RunFigures};
 
 fn reference() -> Vec<Vec<f64>> {
     include_str!("data/thesis_ch5_reference.csv")
@@ -12,16 +12,19 @@ fn reference() -> Vec<Vec<f64>> {
         .collect()
 }
 
-fn identify() -> (Trace, RunOutput) {
-    let sc = preset::load_any("thesis-ch5").unwrap().pump_run().unwrap();
-    let mut trace = Trace::default();
-    let out = run_full(&sc, &mut trace).unwrap();
-    (trace, out)
+fn identify() -> PlantRunOutput {
+    preset::load_any("thesis-ch5").unwrap().run().unwrap()
+}
+
+/// The frozen-weight run's column `name`.
+fn validation<'a>(out: &'a PlantRunOutput, name: &str) -> Option<&'a [f64]> {
+    let v = out.validation.as_ref()?;
+    v.iter().find(|c| c.name == name).map(|c| c.values.as_slice())
 }
 
 #[test]
 fn pressure_error_is_under_one_percent_of_2_mpa_within_80_ms() {
-    let (tr, _) = identify();
+    let tr = identify();
     let t = tr.column("t").unwrap();
     let p = tr.column("p_line").unwrap();
     let ph = tr.column("p_line_hat").unwrap();
@@ -37,9 +40,9 @@ fn pressure_error_is_under_one_percent_of_2_mpa_within_80_ms() {
 
 #[test]
 fn identified_trajectories_agree_with_the_reference() {
-    let (tr, _) = identify();
+    let tr = identify();
     let r = reference();
-    assert_eq!(tr.len(), r.len());
+    assert_eq!(tr.column("t").unwrap().len(), r.len());
     let ph = tr.column("p_line_hat").unwrap();
     let xh = tr.column("stroke_hat").unwrap();
     let mut p_off = 0;
@@ -67,49 +70,54 @@ fn identified_trajectories_agree_with_the_reference() {
 
 #[test]
 fn summary_reports_every_mode_and_the_preset_does_not_generalise() {
-    let (_, out) = identify();
+    let out = identify();
     let id = out.summary.identification.as_ref().unwrap();
-    assert_eq!(id.law, "sigma-switching");
-    assert_eq!(id.n_terms, 2);
-    for figs in [&id.training, &id.series_parallel, &id.parallel] {
-        assert_eq!(figs.len(), 2);
-        assert_eq!(figs[0].state, "p_line");
-        assert_eq!(figs[0].unit, "MPa");
-        assert!(figs[0].rms_error.is_finite());
-    }
-    // Training tracks (fit well above 90 % for the pressure) ...
-    assert!(
-        id.training[0].fit_percent > 90.0,
-        "{}",
-        id.training[0].fit_percent
+    let model = out.model.as_ref().unwrap();
+    assert_eq!(model.law, "sigma-switching");
+    assert_eq!(model.terms[0].len() + model.terms[1].len(), 2);
+    assert_eq!(id.len(), 2);
+    assert_eq!(
+        (id[0].state, id[0].unit, id[1].state),
+        ("p_line", "MPa", "stroke")
     );
+    let runs = |f: &rhonn::experiment::WholeRunFigures| -> [RunFigures; 3] {
+        [
+            f.training.clone(),
+            f.series_parallel.clone().unwrap(),
+            f.free_run.clone().unwrap(),
+        ]
+    };
+    for s in id {
+        assert!(runs(&s.whole_run).iter().all(|f| f.rms_error.is_finite()));
+    }
+    let [training, series_parallel, free_run] = runs(&id[0].whole_run);
+    // Training tracks (fit well above 90 % for the pressure) ...
+    assert!(training.fit_percent > 90.0, "{}", training.fit_percent);
     // ... but with z nearly constant (s(P_l) = 1 for raw SI pressures) the frozen
     // weights describe only the last operating point: validation is poor.
-    assert!(
-        id.parallel[0].fit_percent < 50.0,
-        "{}",
-        id.parallel[0].fit_percent
-    );
-    assert!(id.series_parallel[0].fit_percent < 50.0);
+    assert!(free_run.fit_percent < 50.0, "{}", free_run.fit_percent);
+    assert!(series_parallel.fit_percent < 50.0);
     // Weights stay below M = (1e10, 10): the leakage never acts.
-    assert!(id.final_weights[0].iter().map(|w| w * w).sum::<f64>().sqrt() < 1e10);
-    assert!(id.training[1].final_weight_norm < 10.0);
-    let model = out.model.as_ref().unwrap();
-    assert_eq!(model.weights, id.final_weights);
-    let v = out.validation.as_ref().unwrap();
-    assert!(v.column("p_line_hat_parallel").is_some() && v.column("stroke_hat_series_parallel").is_some());
+    let norm = |w: &[f64]| w.iter().map(|w| w * w).sum::<f64>().sqrt();
+    assert!(norm(&model.weights[0]) < 1e10);
+    assert!(id[1].final_weight_norm < 10.0);
+    assert_eq!(id[0].final_weight_norm, norm(&model.weights[0]));
+    assert!(
+        validation(&out, "p_line_hat_parallel").is_some()
+            && validation(&out, "stroke_hat_series_parallel").is_some()
+    );
 }
 
 #[test]
 fn figures_integrated_on_the_dense_output_agree_with_the_sample_formulas() {
-    let (tr, out) = identify();
-    let id = out.summary.identification.as_ref().unwrap();
+    let tr = identify();
+    let id = tr.summary.identification.as_ref().unwrap();
     for (k, (col, scale)) in [("p_line", 1e6), ("stroke", 1e-3)].into_iter().enumerate() {
         let y = tr.column(col).unwrap();
         let yh = tr.column(&format!("{col}_hat")).unwrap();
         let rms = rhonn::metrics::rms_error(y, yh) / scale;
         let fit = rhonn::metrics::fit_percent(y, yh);
-        let f = &id.training[k];
+        let f = &id[k].whole_run.training;
         assert!(
             (f.rms_error - rms).abs() < 0.02 * rms,
             "{col}: {} vs {rms}",
@@ -141,18 +149,14 @@ fn each_epoch_starts_from_the_final_weights_of_the_previous_one() {
         let id = spec.identifier.as_mut().unwrap();
         id.epochs = epochs;
         id.validate = false;
-        let mut tr = Trace::default();
-        let out = run_full(&spec.pump_run().unwrap(), &mut tr).unwrap();
-        (tr, out)
+        spec.run().unwrap()
     };
-    let (t1, o1) = run_epochs(1);
-    let (t2, o2) = run_epochs(2);
-    assert_eq!(o2.summary.identification.as_ref().unwrap().epochs, 2);
-    assert!(o2.validation.is_none());
+    let (t1, t2) = (run_epochs(1), run_epochs(2));
+    assert!(t2.validation.is_none());
     // Epoch 2 starts from W1 (|w_1| ~ 1.7e8), not from 0: after 1 ms the pressure
     // estimate is far ahead of epoch 1's, which started from zero weights.
     let h1 = t1.column("p_line_hat").unwrap()[1];
     let h2 = t2.column("p_line_hat").unwrap()[1];
     assert!(h2 > 10.0 * h1, "epoch 1: {h1}, epoch 2: {h2}");
-    assert_ne!(o1.model.unwrap().weights, o2.model.unwrap().weights);
+    assert_ne!(t1.model.unwrap().weights, t2.model.unwrap().weights);
 }

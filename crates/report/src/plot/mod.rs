@@ -1,14 +1,12 @@
 //! SVG plots in display units, one file per kind: against time (here: `Series`,
-//! `TimePlot`), `histogram.rs`, `envelope.rs` (a campaign's spread), and the pump's run and
-//! identification figures (`pump.rs`).
+//! `TimePlot`; what a run draws is `plant_report.rs`'s), `histogram.rs`, `envelope.rs` (a
+//! campaign's spread).
 
 mod envelope;
 mod histogram;
-mod pump;
 
 pub use envelope::{Band, EnvelopePlot};
 pub use histogram::{bin_counts, Histogram};
-pub use pump::{plot_identification, plot_run};
 
 use plotters::prelude::*;
 

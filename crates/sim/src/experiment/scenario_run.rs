@@ -58,6 +58,14 @@ impl ScenarioSpec {
 }
 
 impl PlantRunOutput {
+    /// The trajectory's column `name` (SI), if it has one.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.trajectory
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| c.values.as_slice())
+    }
+
     /// The trajectory's columns, and the validation's when there is one (SI).
     pub fn into_columns(self) -> (NamedColumns, Option<NamedColumns>) {
         let cols = |c: Vec<super::PlantColumn>| c.into_iter().map(|c| (c.name, c.values)).collect();
