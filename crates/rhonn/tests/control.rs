@@ -4,8 +4,8 @@
 //! the thesis's uncertainty box.
 
 use rhonn::control::AffineNeuron;
-use rhonn::experiment::campaign::{draw, PumpCampaign, Sampling};
-use rhonn::experiment::{preset, run_full, NoRecorder, RunOutput, ScenarioSpec, Trace};
+use rhonn::experiment::campaign::{draw, Sampling};
+use rhonn::experiment::{campaign_plan, drawn_scenario, preset, PlantRunOutput, ScenarioSpec};
 use rhonn::net::Sigmoid;
 
 fn features(x: f64) -> ([f64; 2], [f64; 2]) {
@@ -170,47 +170,38 @@ fn lag(s: &mut ScenarioSpec, ms: f64) {
     s.plant.parameters.insert("solenoid_lag_ms".into(), ms);
 }
 
-fn run_case(f: impl Fn(&mut ScenarioSpec)) -> RunOutput {
+fn run_case(f: impl Fn(&mut ScenarioSpec)) -> PlantRunOutput {
     let mut spec = preset::load_any("control-adaptive").unwrap();
     f(&mut spec);
-    run_full(&spec.pump_run().unwrap(), &mut NoRecorder).unwrap()
+    spec.run().unwrap()
 }
 
 /// (ISE, settled max deviation, time below P_min after 1 s, bounded) of both controllers.
-fn figures(out: &RunOutput) -> ([f64; 3], [f64; 3], bool, bool) {
-    let fa = &out.summary.figures;
-    let c = out.summary.control.as_ref().expect("an adaptive run");
-    let fb = &c.baseline.figures;
-    let (ra, rb) = (fa.regulation.as_ref().unwrap(), fb.regulation.as_ref().unwrap());
-    (
+fn figures(out: &PlantRunOutput) -> ([f64; 3], [f64; 3], bool, bool) {
+    let c = out.summary.control.as_ref().expect("a loop");
+    let (ra, rb) = (&c[0], &c[1]);
+    let f = |r: &rhonn::experiment::LoopFigures| {
         [
-            ra.ise_mpa2_s,
-            ra.max_abs_deviation_settled_mpa,
-            fa.time_below_p_min_after_1s_s,
-        ],
-        [
-            rb.ise_mpa2_s,
-            rb.max_abs_deviation_settled_mpa,
-            fb.time_below_p_min_after_1s_s,
-        ],
-        ra.signals_bounded,
-        rb.signals_bounded,
-    )
+            r.ise,
+            r.max_abs_deviation_settled,
+            r.time_below_floor_after_settle_s.expect("the pump's floor"),
+        ]
+    };
+    (f(ra), f(rb), ra.states_bounded, rb.states_bounded)
 }
 
 #[test]
 fn nominal_plant_adaptive_beats_the_cascade_pi_in_the_same_run() {
     let mut spec = preset::load_any("control-adaptive").unwrap();
     spec.duration_s = 60.0;
-    let sc = spec.pump_run().unwrap();
-    let mut trace = Trace::default();
-    let out = run_full(&sc, &mut trace).unwrap();
+    let out = spec.run().unwrap();
+    let trace = &out;
     for col in [
         "p_line",
-        "p_line_pi",
+        "p_line_baseline",
         "current",
-        "current_pi",
-        "p_ref",
+        "current_baseline",
+        "p_line_ref",
         "stroke_ref",
         "w_norm",
         "w1_norm",
@@ -222,13 +213,17 @@ fn nominal_plant_adaptive_beats_the_cascade_pi_in_the_same_run() {
     assert!(a[0] < b[0], "ISE adaptive {} vs PI {}", a[0], b[0]);
     assert!(a[1] < b[1], "max dev adaptive {} vs PI {}", a[1], b[1]);
     assert_eq!(a[2], 0.0, "adaptive below P_min after the start");
-    let c = out.summary.control.as_ref().unwrap();
-    assert!(c.adaptive.w1_distance_max <= c.adaptive.w1_ball_radius);
-    assert!(c.adaptive_better(&out.summary.figures));
+    let adaptive = out.summary.control.as_ref().unwrap()[0].adaptive.clone().unwrap();
+    assert!(adaptive.w1_distance_max <= adaptive.w1_ball_radius);
+    // Better on every figure: ISE, settled deviation, time below P_min.
+    assert!(
+        a[0] < b[0] && a[1] < b[1] && a[2] <= b[2],
+        "adaptive {a:?} PI {b:?}"
+    );
     // The two plants saw the same demand and set-point, and differ only by controller.
     let (p, p_pi) = (
         trace.column("p_line").unwrap(),
-        trace.column("p_line_pi").unwrap(),
+        trace.column("p_line_baseline").unwrap(),
     );
     assert_eq!(p.len(), p_pi.len());
     assert!(p.iter().zip(p_pi).any(|(a, b)| (a - b).abs() > 1e5));
@@ -274,12 +269,8 @@ fn every_corner_of_the_uncertainty_box_bounded_and_lower_ise_than_the_cascade_pi
     for k in 0..32u64 {
         // Bit j of k picks the sign of tolerance j (beta, mu_1, mu_2, Q_0, slew).
         let out = run_case(|s| {
-            let c = PumpCampaign::of(s).unwrap().expect("a pump scenario");
-            *s = c.run_scenario(
-                &draw(&c.plan(), 0, k, Sampling::Corners),
-                s.name.clone(),
-                s.description.clone(),
-            );
+            let plan = campaign_plan(s).unwrap();
+            *s = drawn_scenario(s, &draw(&plan, 0, k, Sampling::Corners)).unwrap();
         });
         let (a, b, ba, _) = figures(&out);
         assert!(ba, "corner {k}: adaptive unbounded");
@@ -319,8 +310,7 @@ fn integral_action_removes_the_steady_offset() {
         {
             knobs.integral_per_s2 = Some(ki);
         }
-        let out = run_full(&spec.pump_run().unwrap(), &mut NoRecorder).unwrap();
-        out.summary.figures.regulation.unwrap().within_1pct_percent
+        spec.run().unwrap().summary.control.unwrap()[0].within_1pct_percent
     };
     let (without, with) = (share(0.0), share(1000.0));
     assert!(
@@ -336,25 +326,23 @@ fn integral_action_removes_the_steady_offset() {
 #[test]
 fn monte_carlo_the_adaptive_wins_on_iae_and_activity_in_95_percent_of_runs() {
     use rayon::prelude::*;
-    let spec = PumpCampaign::of(&preset::load_any("control-adaptive").unwrap())
-        .unwrap()
-        .unwrap();
-    let names = spec.figure_names();
-    let at = |n: &str| {
-        names
-            .iter()
-            .position(|x| x == n)
-            .unwrap_or_else(|| panic!("no {n}"))
-    };
-    let (iae, tv) = (at("iae_mpa_s"), at("current_total_variation_a"));
-    let (iae2, tv2) = (
-        at("second_baseline_iae_mpa_s"),
-        at("second_baseline_current_total_variation_a"),
-    );
-    let rows: Vec<Vec<f64>> = (0..300u64)
+    let spec = preset::load_any("control-adaptive").unwrap();
+    let plan = campaign_plan(&spec).unwrap();
+    // (IAE, input total variation) of the adaptive controller and of the second baseline.
+    let rows: Vec<[f64; 4]> = (0..300u64)
         .into_par_iter()
-        .map(|k| spec.run_one(1, k, Sampling::Random, false).0.outcome.unwrap())
+        .map(|k| {
+            let run = drawn_scenario(&spec, &draw(&plan, 1, k, Sampling::Random)).unwrap();
+            let c = run.run().unwrap().summary.control.unwrap();
+            [
+                c[0].iae,
+                c[0].input_total_variation,
+                c[2].iae,
+                c[2].input_total_variation,
+            ]
+        })
         .collect();
+    let (iae, tv, iae2, tv2) = (0, 1, 2, 3);
     let wins = rows
         .iter()
         .filter(|v| v[iae] < v[iae2] && v[tv] <= v[tv2])

@@ -5,10 +5,10 @@
 //! 1, 5 and 20 ms, a one-period delay, the 32 tolerance corners); every controller tuned
 //! once, on the nominal plant. `cargo run --release -p rhonn-study --example control_robustness`
 
-use rhonn::experiment::{preset, run_full, NoRecorder, Regulation, NOMINAL_OPTIMAL};
+use rhonn::experiment::{preset, LoopFigures, NOMINAL_OPTIMAL};
 use rhonn_study::tuning::{robustness_cases, with_cascade_pi};
 
-fn overshoot(r: &Regulation) -> f64 {
+fn overshoot(r: &LoopFigures) -> f64 {
     r.overshoot_percent.iter().fold(0.0f64, |a, &b| a.max(b))
 }
 
@@ -17,30 +17,31 @@ fn main() -> Result<(), rhonn::Error> {
     println!("|---|---|---|---|---|---|---|");
     let (mut beats_opt, mut beats_robust, mut n) = (0, 0, 0);
     for (name, spec) in robustness_cases(&preset::load_any("control-adaptive")?)? {
-        let out = run_full(&spec.pump_run()?, &mut NoRecorder)?;
-        let fa = &out.summary.figures;
-        let c = out.summary.control.as_ref().expect("an adaptive run");
-        let fr = &c.baseline.figures;
-        let opt = with_cascade_pi(&spec, NOMINAL_OPTIMAL).pump_run()?;
-        let fo = run_full(&opt, &mut NoRecorder)?.summary.figures;
-        let [ra, ro, rr] = [fa, &fo, fr].map(|f| f.regulation.clone().expect("a regulated run"));
-        beats_opt += (ra.iae_mpa_s < ro.iae_mpa_s) as usize;
-        beats_robust += (ra.iae_mpa_s < rr.iae_mpa_s) as usize;
+        let c = spec.run_summary()?.control.expect("a loop");
+        let (ra, rr) = (&c[0], &c[1]);
+        let opt = with_cascade_pi(&spec, NOMINAL_OPTIMAL)
+            .run_summary()?
+            .control
+            .expect("a loop");
+        let ro = &opt[0];
+        beats_opt += (ra.iae < ro.iae) as usize;
+        beats_robust += (ra.iae < rr.iae) as usize;
         n += 1;
+        let below = |r: &LoopFigures| r.time_below_floor_after_settle_s.unwrap_or(f64::NAN);
         println!(
             "| {name} | {:.1} | {:.1} | {:.1} | {:.0} / {:.0} / {:.0} % | {:.0} / {:.0} / {:.0} % | {:.2} / {:.2} / {:.2} s |",
-            ra.iae_mpa_s,
-            ro.iae_mpa_s,
-            rr.iae_mpa_s,
+            ra.iae,
+            ro.iae,
+            rr.iae,
             ra.within_1pct_percent,
             ro.within_1pct_percent,
             rr.within_1pct_percent,
-            overshoot(&ra),
-            overshoot(&ro),
-            overshoot(&rr),
-            fa.time_below_p_min_after_1s_s,
-            fo.time_below_p_min_after_1s_s,
-            fr.time_below_p_min_after_1s_s,
+            overshoot(ra),
+            overshoot(ro),
+            overshoot(rr),
+            below(ra),
+            below(ro),
+            below(rr),
         );
     }
     println!();

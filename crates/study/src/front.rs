@@ -7,7 +7,7 @@
 use crate::tuning::{grid, with_cascade_pi};
 use rayon::prelude::*;
 use rhonn::control::LoopSpec;
-use rhonn::experiment::{run_full, CascadePiGainsMpa, NoRecorder, ScenarioSpec, NOMINAL_OPTIMAL};
+use rhonn::experiment::{CascadePiGainsMpa, ScenarioSpec, NOMINAL_OPTIMAL};
 
 /// One setting's run.
 #[derive(Debug, Clone, PartialEq)]
@@ -32,15 +32,15 @@ fn point(controller: &'static str, setting: String, spec: &ScenarioSpec) -> Fron
         c.second_baseline = None;
     }
     let r = spec
-        .pump_run()
-        .and_then(|sc| run_full(&sc, &mut NoRecorder))
+        .run_summary()
         .ok()
-        .and_then(|out| out.summary.figures.regulation);
+        .and_then(|s| s.control)
+        .and_then(|c| c.into_iter().next());
     FrontPoint {
         controller,
         setting,
-        iae_mpa_s: r.as_ref().map_or(f64::INFINITY, |r| r.iae_mpa_s),
-        current_total_variation_a: r.as_ref().map_or(f64::INFINITY, |r| r.current_total_variation_a),
+        iae_mpa_s: r.as_ref().map_or(f64::INFINITY, |r| r.iae),
+        current_total_variation_a: r.as_ref().map_or(f64::INFINITY, |r| r.input_total_variation),
         within_1pct_percent: r.as_ref().map_or(0.0, |r| r.within_1pct_percent),
     }
 }

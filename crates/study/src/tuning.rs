@@ -21,8 +21,10 @@
 use rayon::prelude::*;
 use rhonn::control::{Controller, LoopContext, LoopSpec, PumpCascadePiLoop};
 use rhonn::error::invalid;
-use rhonn::experiment::campaign::{draw, PumpCampaign, Sampling};
-use rhonn::experiment::{run_full, CascadePiGainsMpa, NoRecorder, ScenarioSpec};
+use rhonn::experiment::campaign::{draw, Sampling};
+use rhonn::experiment::{
+    campaign_plan, drawn_scenario, nominal_plant_parameters, CascadePiGainsMpa, ScenarioSpec,
+};
 use rhonn::Result;
 
 /// One run's figures.
@@ -184,13 +186,13 @@ fn with_delay(spec: &ScenarioSpec, periods: u32) -> ScenarioSpec {
 
 fn simulate(spec: &ScenarioSpec) -> TuningRun {
     let figures = spec
-        .pump_run()
-        .and_then(|sc| run_full(&sc, &mut NoRecorder))
+        .run_summary()
         .ok()
-        .and_then(|out| out.summary.figures.regulation);
+        .and_then(|s| s.control)
+        .and_then(|c| c.into_iter().next());
     match figures {
         Some(r) => TuningRun {
-            iae_mpa_s: r.iae_mpa_s,
+            iae_mpa_s: r.iae,
             overshoot_percent: r.overshoot_percent.iter().fold(0.0f64, |a, &b| a.max(b)),
             within_1pct_percent: r.within_1pct_percent,
         },
@@ -288,21 +290,26 @@ pub fn search(
 /// solenoid lags of 1, 5 and 20 ms, a one-period transport delay, and the 32 corners of
 /// the thesis's uncertainty box.
 pub fn robustness_cases(spec: &ScenarioSpec) -> Result<Vec<(String, ScenarioSpec)>> {
-    let Some(campaign) = PumpCampaign::of(spec)? else {
+    if spec.plant.kind != "pump" {
         return Err(invalid(
             "plant.kind",
             format!("{:?}", spec.plant.kind),
             "\"pump\" (the robustness study varies the pump's parameters)",
         ));
-    };
-    let base = campaign.base_values();
+    }
+    let plan = campaign_plan(spec)?;
+    // The scenario's values of the plant's parameters (its `[plant]` keys, else nominal).
+    let base: Vec<f64> = nominal_plant_parameters("pump")?
+        .iter()
+        .map(|p| spec.plant.parameters.get(p.name).copied().unwrap_or(p.nominal))
+        .collect();
     let mut v = vec![("nominal".to_string(), spec.clone())];
     for lag in [1.0, 5.0, 20.0] {
         v.push((format!("solenoid lag {lag} ms"), with_solenoid_lag(spec, lag)));
     }
     v.push(("transport delay 1 period".into(), with_delay(spec, 1)));
     for k in 0..32u64 {
-        let f = draw(&campaign.plan(), 0, k, Sampling::Corners);
+        let f = draw(&plan, 0, k, Sampling::Corners);
         let pct = |j: usize| 100.0 * (f[j] / base[j] - 1.0);
         v.push((
             format!(
@@ -313,7 +320,7 @@ pub fn robustness_cases(spec: &ScenarioSpec) -> Result<Vec<(String, ScenarioSpec
                 pct(3),
                 pct(4)
             ),
-            campaign.run_scenario(&f, spec.name.clone(), spec.description.clone()),
+            drawn_scenario(spec, &f)?,
         ));
     }
     Ok(v)

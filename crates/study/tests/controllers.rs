@@ -3,7 +3,7 @@
 //! adaptive cascade beats both tunings where the goals say and beats the cascade PI's front
 //! of IAE against actuator activity, and `control-adaptive` compares all three in one run.
 
-use rhonn::experiment::{preset, run_full, NoRecorder};
+use rhonn::experiment::preset;
 
 /// Issue "fair classical baseline": the search of `tune_cascade_pi`, rerun on a
 /// neighbourhood of both shipped tunings (with gain sets that fail each criterion, among
@@ -61,39 +61,24 @@ fn adaptive_has_lower_iae_than_both_cascade_pi_tunings_where_the_goals_say() {
     assert_eq!(cases.len(), 37);
     let mut corners_won = 0;
     for (name, spec) in &cases {
-        let out = run_full(&spec.pump_run().unwrap(), &mut NoRecorder).unwrap();
-        let ra = out.summary.figures.regulation.clone().unwrap();
-        let c = out.summary.control.as_ref().unwrap();
-        assert_eq!(c.baseline.controller, "cascade-pi");
-        let robust = c.baseline.figures.regulation.clone().unwrap();
+        let c = spec.run_summary().unwrap().control.unwrap();
+        let ra = c[0].clone();
+        assert_eq!(c[1].controller, "cascade-pi");
+        let robust = c[1].clone();
         // The second baseline of the same run: the nominal-optimal tuning.
-        let second = c
-            .second_baseline
-            .as_ref()
-            .expect("the shipped scenario's second baseline");
-        assert_eq!(second.tuning, Some("nominal-optimal"));
-        let opt = second.figures.regulation.clone().unwrap();
+        let opt = c.get(2).cloned().expect("the shipped scenario's second baseline");
+        assert_eq!(opt.tuning, Some("nominal-optimal"));
         if name == "nominal" {
-            assert!(
-                ra.iae_mpa_s < opt.iae_mpa_s,
-                "nominal: {} vs {}",
-                ra.iae_mpa_s,
-                opt.iae_mpa_s
-            );
+            assert!(ra.iae < opt.iae, "nominal: {} vs {}", ra.iae, opt.iae);
             assert!(
                 ra.within_1pct_percent >= 60.0,
                 "within 1 %: {}",
                 ra.within_1pct_percent
             );
         } else if name.starts_with("solenoid") || name.starts_with("transport") {
-            assert!(
-                ra.iae_mpa_s < robust.iae_mpa_s,
-                "{name}: {} vs {}",
-                ra.iae_mpa_s,
-                robust.iae_mpa_s
-            );
+            assert!(ra.iae < robust.iae, "{name}: {} vs {}", ra.iae, robust.iae);
         } else {
-            corners_won += (ra.iae_mpa_s < opt.iae_mpa_s) as usize;
+            corners_won += (ra.iae < opt.iae) as usize;
         }
     }
     // The quieter default (a quarter of the earlier one's valve activity) gives up a few
@@ -206,49 +191,45 @@ fn every_shipped_adaptive_setting_beats_the_cascade_front() {
 /// pressure and current; the findings compare the adaptive controller with each.
 #[test]
 fn control_adaptive_compares_with_both_cascade_tunings_in_one_run() {
-    use rhonn::experiment::{Trace, NOMINAL_OPTIMAL};
+    use rhonn::experiment::NOMINAL_OPTIMAL;
     use rhonn_study::tuning::with_cascade_pi;
     let spec = preset::load_any("control-adaptive").unwrap();
-    let mut trace = Trace::default();
-    let out = run_full(&spec.pump_run().unwrap(), &mut trace).unwrap();
-    let c = out.summary.control.as_ref().unwrap();
-    let second = c.second_baseline.as_ref().unwrap();
+    let trace = spec.run().unwrap();
+    let c = trace.summary.control.as_ref().unwrap();
+    let r2 = &c[2];
     assert_eq!(
-        (second.controller, second.tuning),
+        (r2.controller, r2.tuning),
         ("cascade-pi", Some("nominal-optimal"))
     );
-    let alone = run_full(
-        &with_cascade_pi(&spec, NOMINAL_OPTIMAL).pump_run().unwrap(),
-        &mut NoRecorder,
-    )
-    .unwrap();
-    let (r2, ra) = (
-        second.figures.regulation.clone().unwrap(),
-        alone.summary.figures.regulation.unwrap(),
-    );
+    let alone = with_cascade_pi(&spec, NOMINAL_OPTIMAL)
+        .run_summary()
+        .unwrap()
+        .control
+        .unwrap();
+    let ra = &alone[0];
     assert_eq!(
-        (r2.iae_mpa_s, r2.current_total_variation_a),
-        (ra.iae_mpa_s, ra.current_total_variation_a)
+        (r2.iae, r2.input_total_variation),
+        (ra.iae, ra.input_total_variation)
     );
     for col in [
         "p_line",
-        "p_line_pi",
-        "p_line_pi2",
+        "p_line_baseline",
+        "p_line_second_baseline",
         "current",
-        "current_pi",
-        "current_pi2",
+        "current_baseline",
+        "current_second_baseline",
     ] {
         let v = trace.column(col).unwrap_or_else(|| panic!("no column {col}"));
         assert_eq!(v.len(), trace.column("t").unwrap().len());
     }
-    let adaptive = out.summary.figures.regulation.as_ref().unwrap();
-    let robust = c.baseline.figures.regulation.as_ref().unwrap();
+    let (adaptive, robust) = (&c[0], &c[1]);
     // Nominal plant: the adaptive's IAE is below both tunings', at less current activity
     // than the nominal-optimal one's.
-    assert!(adaptive.iae_mpa_s < r2.iae_mpa_s && adaptive.iae_mpa_s < robust.iae_mpa_s);
-    assert!(adaptive.current_total_variation_a < r2.current_total_variation_a);
-    assert!(c
+    assert!(adaptive.iae < r2.iae && adaptive.iae < robust.iae);
+    assert!(adaptive.input_total_variation < r2.input_total_variation);
+    assert!(trace
+        .summary
         .findings
         .iter()
-        .any(|f| f.starts_with("IAE") && f.contains("cascade-pi-nominal-optimal")));
+        .any(|f| f.contains("IAE") && f.contains("cascade-pi-nominal-optimal")));
 }

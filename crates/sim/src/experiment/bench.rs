@@ -2,7 +2,6 @@
 //! throughput of runs on every core (rayon). Used by `rhonn bench`; the criterion
 //! benches in `benches/` are the finer instrument.
 
-use super::plant_run::run_plant_scenario;
 use super::pump_run::run;
 use super::pump_settings::Scenario;
 use super::scenario::ScenarioSpec;
@@ -37,17 +36,11 @@ pub fn bench(sc: &Scenario, budget: Duration) -> Result<BenchFigures> {
     })
 }
 
-/// [`bench()`] for a scenario of any plant: a run without recording its samples (its
-/// output interval set to the run's length; the same integration, the figures on the
-/// solver's dense output), as [`bench()`] runs the pump's runner without a recorder.
+/// [`bench()`] for a scenario of any plant: [`ScenarioSpec::run_summary`], a run without
+/// recording its samples, as [`bench()`] runs the pump's runner without a recorder.
 pub fn bench_plant(spec: &ScenarioSpec, budget: Duration) -> Result<BenchFigures> {
-    let mut quiet = spec.clone();
-    quiet.output_interval_s = spec.duration_s;
-    let first = run_plant_scenario(&quiet, None)?;
-    let rhs = Some(first.summary.solver.rhs_evaluations);
-    timed(&spec.name, rhs, budget, || {
-        run_plant_scenario(&quiet, None).map(|_| ())
-    })
+    let rhs = Some(spec.run_summary()?.solver.rhs_evaluations);
+    timed(&spec.name, rhs, budget, || spec.run_summary().map(|_| ()))
 }
 
 fn timed(

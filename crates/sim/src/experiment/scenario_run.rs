@@ -48,6 +48,23 @@ impl ScenarioSpec {
         run_plant_scenario(self, None)
     }
 
+    /// The run's summary without recording its samples (its output interval set to the
+    /// run's length; `settings` still says the scenario as given): a loop's figures are
+    /// [`ScenarioSpec::run`]'s to the bit, as they are integrated on the solver's dense
+    /// output, at a fraction of the cost. What `rhonn bench` times and the tuning studies
+    /// run by the thousand. (An open loop's state ranges are read at the samples: here,
+    /// at the start and the end only.)
+    pub fn run_summary(&self) -> Result<super::PlantSummary> {
+        if let Some(spec) = self.pump_settings()? {
+            spec.check()?;
+        }
+        let mut quiet = self.clone();
+        quiet.output_interval_s = self.duration_s;
+        let mut summary = run_plant_scenario(&quiet, None)?.summary;
+        summary.settings = self.clone();
+        Ok(summary)
+    }
+
     /// Time its runs for about `budget` (`rhonn bench`).
     pub fn bench(&self, budget: Duration) -> Result<BenchFigures> {
         if let Some(spec) = self.pump_settings()? {
