@@ -95,7 +95,13 @@ impl EnvelopeSeries {
         for name in &self.names {
             if let Some(c) = run.trajectory.iter().find(|c| &c.name == name) {
                 let mut r = vec![index.to_string(), name.clone()];
-                r.extend(shown(c).iter().step_by(self.stride).map(|x| format!("{x:.4}")));
+                let q = &c.quantity;
+                r.extend(
+                    c.values
+                        .iter()
+                        .step_by(self.stride)
+                        .map(|v| format!("{:.4}", q.to_display(*v))),
+                );
                 out.push(r);
             }
         }

@@ -2,6 +2,7 @@
 //! throughput of runs on every core (rayon). Used by `rhonn bench`; the criterion
 //! benches in `benches/` are the finer instrument.
 
+use super::plant_run::run_plant_scenario;
 use super::pump_run::run;
 use super::pump_settings::Scenario;
 use super::scenario::ScenarioSpec;
@@ -36,11 +37,16 @@ pub fn bench(sc: &Scenario, budget: Duration) -> Result<BenchFigures> {
     })
 }
 
-/// [`bench()`] for a scenario of any plant: [`ScenarioSpec::run_summary`], a run without
-/// recording its samples, as [`bench()`] runs the pump's runner without a recorder.
+/// [`bench()`] for a scenario of any plant: the run of [`ScenarioSpec::run_summary`],
+/// without recording its samples, as [`bench()`] runs the pump's runner without a recorder.
 pub fn bench_plant(spec: &ScenarioSpec, budget: Duration) -> Result<BenchFigures> {
-    let rhs = Some(spec.run_summary()?.solver.rhs_evaluations);
-    timed(&spec.name, rhs, budget, || spec.run_summary().map(|_| ()))
+    // The scenario is checked once, before the timing (`ScenarioSpec::bench`), and its
+    // copy without samples made once: what is timed is the run alone.
+    let quiet = spec.without_samples();
+    let rhs = Some(run_plant_scenario(&quiet, None)?.summary.solver.rhs_evaluations);
+    timed(&spec.name, rhs, budget, || {
+        run_plant_scenario(&quiet, None).map(|_| ())
+    })
 }
 
 fn timed(

@@ -39,12 +39,27 @@ impl ScenarioSpec {
         }
     }
 
-    /// Run it on the generic runner (the pump's fields checked by its own rules first:
-    /// the ranges its thesis validated).
-    pub fn run(&self) -> Result<PlantRunOutput> {
+    /// A pump scenario's fields checked by the pump's own rules (the ranges its thesis
+    /// validated); nothing for another plant.
+    fn check_pump(&self) -> Result<()> {
         if let Some(spec) = self.pump_settings()? {
             spec.check()?;
         }
+        Ok(())
+    }
+
+    /// The scenario with its output interval set to its length: a run that records no
+    /// sample but its start and end ([`ScenarioSpec::run_summary`]).
+    pub(super) fn without_samples(&self) -> ScenarioSpec {
+        let mut quiet = self.clone();
+        quiet.output_interval_s = self.duration_s;
+        quiet
+    }
+
+    /// Run it on the generic runner (the pump's fields checked by its own rules first:
+    /// the ranges its thesis validated).
+    pub fn run(&self) -> Result<PlantRunOutput> {
+        self.check_pump()?;
         run_plant_scenario(self, None)
     }
 
@@ -55,21 +70,15 @@ impl ScenarioSpec {
     /// run by the thousand. (An open loop's state ranges are read at the samples: here,
     /// at the start and the end only.)
     pub fn run_summary(&self) -> Result<super::PlantSummary> {
-        if let Some(spec) = self.pump_settings()? {
-            spec.check()?;
-        }
-        let mut quiet = self.clone();
-        quiet.output_interval_s = self.duration_s;
-        let mut summary = run_plant_scenario(&quiet, None)?.summary;
+        self.check_pump()?;
+        let mut summary = run_plant_scenario(&self.without_samples(), None)?.summary;
         summary.settings = self.clone();
         Ok(summary)
     }
 
     /// Time its runs for about `budget` (`rhonn bench`).
     pub fn bench(&self, budget: Duration) -> Result<BenchFigures> {
-        if let Some(spec) = self.pump_settings()? {
-            spec.check()?;
-        }
+        self.check_pump()?;
         bench_plant(self, budget)
     }
 }
