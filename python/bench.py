@@ -5,8 +5,8 @@ repeats made in the same process).
     python python/bench.py            # after `pip install ./python`, from the repository root
 
 Prints a table: OnlineIdentifier.update called from Python against the same updates
-made from Rust; rhonn.run("thesis-ch5") against the same run made from Rust (run_full
-into a Trace); and the command `rhonn run thesis-ch5` (which also writes its files).
+made from Rust; rhonn.run("thesis-ch5") against the same run made from Rust
+(ScenarioSpec::run); and the command `rhonn run thesis-ch5` (which also writes its files).
 """
 
 import json
@@ -80,7 +80,7 @@ def main():
     cmd = command_seconds()
     print(f"{'median of repeats':<44} {'Python':>12} {'Rust':>12} {'overhead':>12}")
     print(f"{'OnlineIdentifier.update [us/call]':<44} {py_u * 1e6:>12.3f} {rust_u * 1e6:>12.3f} {(py_u - rust_u) * 1e6:>9.3f} us")
-    print(f"{'rhonn.run thesis-ch5 [ms] (Rust: run_full)':<44} {py_run * 1e3:>12.3f} {rust_run * 1e3:>12.3f} {100 * (py_run / rust_run - 1):>10.1f} %")
+    print(f"{'rhonn.run thesis-ch5 [ms] (Rust: ScenarioSpec::run)':<44} {py_run * 1e3:>12.3f} {rust_run * 1e3:>12.3f} {100 * (py_run / rust_run - 1):>10.1f} %")
     print(f"{'the command `rhonn run thesis-ch5` [ms]':<44} {'':>12} {cmd * 1e3:>12.3f}   (process start, CSV, SVG)")
     return 0
 

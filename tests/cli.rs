@@ -97,7 +97,7 @@ fn bad_scenario_files_name_the_field_value_and_range() {
         ),
         (
             text.replace("initial = [2.0, 0.0]", "initial = [30.0, 0.0]"),
-            "`plant.initial[0] (p_line, MPa)` = 30 is not allowed: a pressure in [0, 25] MPa",
+            "`plant.initial[0] (p_line, MPa)` = 30 is not allowed: a value in [0, 25] MPa (line pressure P_l",
         ),
         (
             text.replace("[25.0, 0.8]", "[5.0, 0.8]"),
@@ -349,8 +349,8 @@ fn bad_adaptive_controller_settings_are_clear_errors() {
             "`control.controller.lag_scale_s` = inf is not allowed: a finite number >= 0",
         ),
         (
-            shipped.replace("period_s = 0.005", "period_s = 0.005\ndelay_periods = 5000"),
-            "`control.delay_periods` = 5000 is not allowed: an integer in [0, 1000]",
+            shipped.replace("period_s = 0.005", "period_s = 0.005\ndelay_periods = 200000"),
+            "`control.delay_periods` = 200000 is not allowed: a whole number of control periods from 0 to 100000",
         ),
     ];
     for (k, (text, expected)) in cases.iter().enumerate() {

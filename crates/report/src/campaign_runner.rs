@@ -4,7 +4,7 @@
 //! `runs.partial.csv` (its traces first to `traces.partial.csv`) and flushed, so that an
 //! interrupted campaign resumes where it stopped; and `rhonn merge`'s reading of finished
 //! shards. What a run is, what its row holds and how the folder is finished is the
-//! [`CampaignKind`]'s: `campaign.rs` (the pump's runner) and `plant_campaign.rs`.
+//! [`CampaignKind`]'s (`plant_campaign.rs`).
 
 use crate::campaign_options::{CampaignOutcome, Progress};
 use crate::campaign_rows::RowFormat;

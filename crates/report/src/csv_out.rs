@@ -47,27 +47,25 @@ pub(crate) mod ryu_like {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rhonn::experiment::{Recorder, Sample};
+    use rhonn::experiment::Column;
 
     #[test]
     fn header_and_rows() {
-        let mut t = Trace::default();
-        for k in 0..3 {
-            t.record(&Sample {
-                t: k as f64 * 1e-3,
-                p_line: 2e6,
-                stroke: 1.5e-3,
-                current: 0.25,
-                demand: 0.0,
-                p_ref: None,
-                p_meas: None,
-                hat: [None, None],
-                hat_parallel: [None, None],
-                control: None,
-                baseline: None,
-                second_baseline: None,
-            });
-        }
+        let col = |name: &str, unit, v: f64| Column {
+            name: name.into(),
+            unit,
+            values: vec![v; 3],
+        };
+        let mut t = Trace {
+            columns: vec![
+                col("t", "s", 0.0),
+                col("p_line", "Pa", 2e6),
+                col("stroke", "m", 1.5e-3),
+                col("current", "A", 0.25),
+                col("demand", "m^3/s", 0.0),
+            ],
+        };
+        t.columns[0].values = (0..3).map(|k| k as f64 * 1e-3).collect();
         let mut out = Vec::new();
         write_trace_csv(&mut out, &t).unwrap();
         let s = String::from_utf8(out).unwrap();

@@ -3,7 +3,7 @@
 //! beside the time in the README.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use rhonn::experiment::{preset, run, NoRecorder, Trace};
+use rhonn::experiment::preset;
 use rhonn::ident::{DiscreteIdentifier, Identifier, Mode};
 use rhonn::law::{GainSpec, LawSpec};
 use rhonn::net::{Network, Sigmoid, Terms};
@@ -11,39 +11,34 @@ use std::hint::black_box;
 
 fn bench_runs(c: &mut Criterion) {
     for name in ["thesis-ch3", "regulated-pi"] {
-        let sc = preset::load_any(name).unwrap().pump_run().unwrap();
-        let s = run(&sc, &mut NoRecorder).unwrap();
+        let spec = preset::load_any(name).unwrap();
+        let s = spec.run_summary().unwrap();
         eprintln!(
             "{name}: {} rhs evaluations, {} accepted / {} rejected steps, {} events",
             s.solver.rhs_evaluations, s.solver.accepted_steps, s.solver.rejected_steps, s.solver.events
         );
         c.bench_function(&format!("{name} (summary only)"), |b| {
-            b.iter(|| run(black_box(&sc), &mut NoRecorder).unwrap())
+            b.iter(|| black_box(&spec).run_summary().unwrap())
         });
-        c.bench_function(&format!("{name} (trace at 1 ms)"), |b| {
-            b.iter(|| {
-                let mut t = Trace::default();
-                run(black_box(&sc), &mut t).unwrap();
-                t
-            })
+        c.bench_function(&format!("{name} (trajectory at its output interval)"), |b| {
+            b.iter(|| black_box(&spec).run().unwrap())
         });
     }
     // thesis-ch5: the training run (plant + identifier, 40 s), then the whole job with
     // the two frozen-weight validation runs.
-    let mut spec = preset::load_any("thesis-ch5").unwrap();
-    spec.identifier.as_mut().unwrap().validate = false;
-    let train = spec.pump_run().unwrap();
-    let full = preset::load_any("thesis-ch5").unwrap().pump_run().unwrap();
-    for (label, sc) in [
+    let mut train = preset::load_any("thesis-ch5").unwrap();
+    train.identifier.as_mut().unwrap().validate = false;
+    let full = preset::load_any("thesis-ch5").unwrap();
+    for (label, spec) in [
         ("thesis-ch5 training", &train),
         ("thesis-ch5 training + 2 validations", &full),
     ] {
-        let s = run(sc, &mut NoRecorder).unwrap();
+        let s = spec.run_summary().unwrap();
         eprintln!(
             "{label}: {} rhs evaluations, {} events",
             s.solver.rhs_evaluations, s.solver.events
         );
-        c.bench_function(label, |b| b.iter(|| run(black_box(sc), &mut NoRecorder).unwrap()));
+        c.bench_function(label, |b| b.iter(|| black_box(spec).run_summary().unwrap()));
     }
 }
 
@@ -220,14 +215,14 @@ fn bench_control(c: &mut Criterion) {
             })
         },
     );
-    let sc = preset::load_any("control-adaptive").unwrap().pump_run().unwrap();
-    let s = run(&sc, &mut NoRecorder).unwrap();
+    let spec = preset::load_any("control-adaptive").unwrap();
+    let s = spec.run_summary().unwrap();
     eprintln!(
-        "control-adaptive: {} rhs evaluations (both plants)",
+        "control-adaptive: {} rhs evaluations (its three plants)",
         s.solver.rhs_evaluations
     );
-    c.bench_function("control-adaptive (adaptive + PI plants, summary only)", |b| {
-        b.iter(|| run(black_box(&sc), &mut NoRecorder).unwrap())
+    c.bench_function("control-adaptive (its three loops' plants, summary only)", |b| {
+        b.iter(|| black_box(&spec).run_summary().unwrap())
     });
 }
 
@@ -415,18 +410,13 @@ fn bench_online_bank(c: &mut Criterion) {
 
 /// The pump-identify record (current and demand in, measured pressure out), simulated.
 fn pump_identify_record() -> rhonn::data::Record {
-    let mut tr = Trace::default();
-    rhonn::experiment::run_full(
-        &preset::load_any("pump-identify").unwrap().pump_run().unwrap(),
-        &mut tr,
-    )
-    .unwrap();
-    let col = |n: &str| tr.column(n).unwrap().to_vec();
+    let out = preset::load_any("pump-identify").unwrap().run().unwrap();
+    let col = |n: &str| out.column(n).unwrap().to_vec();
     rhonn::data::Record {
         source: "pump-identify".into(),
         t: col("t"),
         inputs: vec![col("current"), col("demand")],
-        outputs: vec![col("p_meas")],
+        outputs: vec![col("p_line_measured")],
     }
 }
 

@@ -12,22 +12,23 @@ their own, each re-exported here under its module's name:
   model beside the offline ARX), [`benchmark`], [`corpus`] and [`any_model`].
 
 # Simulate
-A scenario (a TOML file, or one of the shipped ones in [`experiment::preset`]) is checked
-once into an [`experiment::Scenario`] and run by [`experiment::run`], which integrates the
-[`plant::PumpSystem`] with the event-locating Dormand-Prince solver of `rhonn-ode`
-(valve switching and the limited integrators of line pressure and stroke are located,
-not stepped across), drives it with an open-loop current or the sampled
-[`control::Pi`] regulator, and hands every output sample to a
-[`experiment::Recorder`]. The returned [`experiment::Summary`] holds the solver's counters
-and the run's figures.
+A scenario (a TOML file in the one format every plant shares, or one of the shipped ones
+in [`experiment::preset`]) is an [`experiment::ScenarioSpec`]; [`experiment::ScenarioSpec::run`]
+runs it on the generic runner, whatever its plant (the pump, the cascaded tanks, or a
+user's own [`plant::Plant`] through [`experiment::run_plant_scenario_on`]): the plant is
+integrated with the event-locating Dormand-Prince solver of `rhonn-ode` (the pump's valve
+switching and the limited integrators of its line pressure and stroke are located, not
+stepped across), driven by its input profiles, an online identifier or a sampled
+controller from [`control`]. The returned [`experiment::PlantRunOutput`] holds the
+trajectory's columns (SI) and the summary (`summary.json`, display units).
 
 ```
-use rhonn::experiment::{preset, run, Trace};
-let scenario = preset::load_any("thesis-ch3")?.pump_run()?;
-let mut trace = Trace::default();
-let summary = run(&scenario, &mut trace)?;
+use rhonn::experiment::preset;
+let out = preset::load_any("thesis-ch3")?.run()?;
 // The stroke follows phi I / K_a and holds 17.23 mm at 0.8 A.
-assert!((summary.figures.stroke_max_mm - 17.23).abs() < 0.01);
+let ranges = out.summary.open_loop.as_ref().unwrap();
+let stroke = ranges.iter().find(|r| r.state == "stroke").unwrap();
+assert!((stroke.max_value - 17.23).abs() < 0.01);
 # Ok::<(), rhonn::Error>(())
 ```
 

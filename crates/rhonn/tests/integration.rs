@@ -13,7 +13,7 @@ mod online_bank;
 mod online_cascade;
 mod online_lagged;
 mod open_loop;
-mod pump_as_plant;
+mod pump_plant;
 mod regulated;
 mod robustness;
 mod solver_settings;

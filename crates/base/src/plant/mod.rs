@@ -122,6 +122,9 @@ impl SolverDefaults {
     }
 }
 
+/// A profile's largest slew rate and peak, each with what it is ([`Plant::input_profile_limits`]).
+pub type ProfileLimits = (Option<(f64, &'static str)>, Option<(f64, &'static str)>);
+
 /// What the experiment layer needs to know about a plant beyond its equations.
 ///
 /// The first [`Plant::states`]`.len()` components of the [`System`] state are the
@@ -164,6 +167,13 @@ pub trait Plant: System + Clone + Send + Sync {
     /// is warned of.
     fn input_range(&self, _k: usize) -> (f64, f64) {
         (f64::NEG_INFINITY, f64::INFINITY)
+    }
+    /// The largest slew rate and the peak a pulse profile of input `k` may have, in the
+    /// input's display units per second and display units, each with what it is (the
+    /// pump's demand: Qdot_max and the largest pump flow Q_l,max): a profile beyond them is
+    /// an error. Default: none.
+    fn input_profile_limits(&self, _k: usize) -> ProfileLimits {
+        (None, None)
     }
     /// Input `k` at the plant's operating point (SI; default 0): what a PI on it adds
     /// when its settings give no bias.

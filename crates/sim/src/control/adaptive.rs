@@ -129,7 +129,7 @@ pub struct PumpAdaptiveLoop {
 
 impl PumpAdaptiveLoop {
     /// The checked settings, each unset one from [`CascadeSettings::default`]; errors name
-    /// `<prefix>.<key>`. (The pump's own runner checks a lowered scenario's here too.)
+    /// `<prefix>.<key>`.
     pub fn check(&self, prefix: &str) -> Result<CascadeSettings> {
         let d = CascadeSettings::default();
         let pos = |name: &str, v: Option<f64>, default: f64| -> Result<f64> {
@@ -193,6 +193,13 @@ pub(crate) fn pump_states(cx: &LoopContext, state: &str) -> Result<()> {
             format!("{}.state", cx.field),
             format!("\"{state}\""),
             "\"p_line\" of the pump (`[plant] kind = \"pump\"`): the pump's controllers measure its pressure and stroke",
+        ));
+    }
+    if cx.output.name != "current" {
+        return Err(invalid(
+            "control.input",
+            format!("\"{}\"", cx.output.name),
+            "\"current\" (the pump's controllers drive the solenoid)",
         ));
     }
     Ok(())

@@ -149,7 +149,7 @@ pub fn identify<P: Plant>(
     let scales: Vec<Scale> = is
         .states
         .iter()
-        .map(|s| Scale::Times(s.quantity(&plant).display_per_si))
+        .map(|s| Scale(s.quantity(&plant).display_per_si))
         .collect();
     if let Some(w) = frozen {
         let init = FrozenPair::<P>::initial_state(&is.ident, &is.xhat0);

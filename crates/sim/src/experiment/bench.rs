@@ -3,10 +3,7 @@
 //! benches in `benches/` are the finer instrument.
 
 use super::plant_run::run_plant_scenario;
-use super::pump_run::run;
-use super::pump_settings::Scenario;
 use super::scenario::ScenarioSpec;
-use super::trace::NoRecorder;
 use crate::error::Result;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -29,16 +26,8 @@ pub struct BenchFigures {
     pub samples: usize,
 }
 
-/// Time `sc` for about `budget` on one core, then as long on every core.
-pub fn bench(sc: &Scenario, budget: Duration) -> Result<BenchFigures> {
-    let first = run(sc, &mut NoRecorder)?;
-    timed(&sc.spec.name, Some(first.solver.rhs_evaluations), budget, || {
-        run(sc, &mut NoRecorder).map(|_| ())
-    })
-}
-
-/// [`bench()`] for a scenario of any plant: the run of [`ScenarioSpec::run_summary`],
-/// without recording its samples, as [`bench()`] runs the pump's runner without a recorder.
+/// Time a scenario's run for about `budget` on one core, then as long on every core: the
+/// run of [`ScenarioSpec::run_summary`], without recording its samples.
 pub fn bench_plant(spec: &ScenarioSpec, budget: Duration) -> Result<BenchFigures> {
     // The scenario is checked once, before the timing (`ScenarioSpec::bench`), and its
     // copy without samples made once: what is timed is the run alone.

@@ -1,19 +1,33 @@
 use super::*;
+use crate::experiment::{campaign_plan, nominal_plant_parameters, preset, ScenarioSpec};
 
-fn spec() -> PumpSettings {
-    crate::experiment::preset::load_pump("thesis-ch3")
+fn spec() -> ScenarioSpec {
+    preset::load_any("thesis-ch3").unwrap()
+}
+
+/// The indices (in the pump's parameter table) of the parameters a pump campaign draws,
+/// in [`TOLERANCES`] order, and their nominal values.
+fn drawn() -> (Vec<usize>, Vec<f64>) {
+    let table = nominal_plant_parameters("pump").unwrap();
+    TOLERANCES
+        .iter()
+        .map(|t| {
+            let i = table.iter().position(|p| p.name == t.name).unwrap();
+            (i, table[i].nominal)
+        })
+        .unzip()
 }
 
 #[test]
 fn a_draw_depends_only_on_seed_and_index_and_stays_in_the_box() {
-    let s = spec();
-    let plan = Plan::of(&s).unwrap();
-    let base = base_values(&s);
+    let plan = campaign_plan(&spec()).unwrap();
+    let (at, base) = drawn();
+    assert_eq!(plan.varying(), at);
     for i in 0..200 {
         let a = draw(&plan, 7, i, Sampling::Random);
         assert_eq!(a, draw(&plan, 7, i, Sampling::Random));
-        for ((v, b), t) in a.iter().zip(base).zip(&TOLERANCES) {
-            assert!((v / b - 1.0).abs() <= t.tolerance + 1e-12, "{v} {b}");
+        for ((&j, b), t) in at.iter().zip(&base).zip(&TOLERANCES) {
+            assert!((a[j] / b - 1.0).abs() <= t.tolerance + 1e-12, "{} {b}", a[j]);
         }
     }
     assert_ne!(
@@ -26,8 +40,8 @@ fn a_draw_depends_only_on_seed_and_index_and_stays_in_the_box() {
     );
     let c = draw(&plan, 0, 0b10110, Sampling::Corners);
     let f = [0.8, 1.2, 1.2, 0.9, 1.1];
-    for j in 0..5 {
-        assert!((c[j] / base[j] - f[j]).abs() < 1e-12);
+    for (k, &j) in at.iter().enumerate() {
+        assert!((c[j] / base[k] - f[k]).abs() < 1e-12);
     }
     assert_eq!(plan.corner_runs(), 32);
 }
@@ -35,7 +49,7 @@ fn a_draw_depends_only_on_seed_and_index_and_stays_in_the_box() {
 #[test]
 fn overrides_change_one_parameter_and_leave_the_others_draws() {
     let mut s = spec();
-    let plan0 = Plan::of(&s).unwrap();
+    let plan0 = campaign_plan(&s).unwrap();
     s.campaign = Some(
         toml::from_str(
             r#"
@@ -46,32 +60,32 @@ fn overrides_change_one_parameter_and_leave_the_others_draws() {
         )
         .unwrap(),
     );
-    let plan = Plan::of(&s).unwrap();
+    let plan = campaign_plan(&s).unwrap();
     assert_eq!(plan.corner_runs(), 16);
-    let base = base_values(&s);
+    let (at, base) = drawn();
     let mut mu = Vec::new();
     for i in 0..2000 {
         let a = draw(&plan, 3, i, Sampling::Random);
         let a0 = draw(&plan0, 3, i, Sampling::Random);
-        assert!((1000.0..=1100.0).contains(&a[0]));
-        assert!((a[1] / base[1] - 1.0).abs() <= 0.2 + 1e-12);
-        assert_eq!(a[3], base[3]);
+        assert!((1000.0..=1100.0).contains(&a[at[0]]));
+        assert!((a[at[1]] / base[1] - 1.0).abs() <= 0.2 + 1e-12);
+        assert_eq!(a[at[3]], base[3]);
         // Untouched parameters draw exactly as without the overrides.
-        assert_eq!((a[2], a[4]), (a0[2], a0[4]));
-        mu.push(a[1] / base[1] - 1.0);
+        assert_eq!((a[at[2]], a[at[4]]), (a0[at[2]], a0[at[4]]));
+        mu.push(a[at[1]] / base[1] - 1.0);
     }
     let m = mu.iter().sum::<f64>() / mu.len() as f64;
     let sd = (mu.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / mu.len() as f64).sqrt();
     assert!(m.abs() < 0.005 && (sd - 0.05).abs() < 0.004, "mean {m}, std {sd}");
     // Corners: the fixed parameter stays, the others take both ends.
     let c = draw(&plan, 0, 0b1111, Sampling::Corners);
-    assert_eq!((c[0], c[3]), (1100.0, base[3]));
+    assert_eq!((c[at[0]], c[at[3]]), (1100.0, base[3]));
     let c = draw(&plan, 0, 0, Sampling::Corners);
-    assert_eq!(c[0], 1000.0);
+    assert_eq!(c[at[0]], 1000.0);
 }
 
 #[test]
-fn bad_overrides_name_the_field() {
+fn bad_overrides_name_the_field_and_a_run_checks_them() {
     let cases = [
         ("beta_mpa = { relative = 1.5 }", "campaign.beta_mpa.relative"),
         ("mu_1 = { min = 1e-5 }", "campaign.mu_1.max"),
@@ -96,13 +110,16 @@ fn bad_overrides_name_the_field() {
     for (text, field) in cases {
         let mut s = spec();
         s.campaign = Some(toml::from_str(text).unwrap());
-        let e = s.check().unwrap_err().to_string();
+        let e = campaign_plan(&s).unwrap_err().to_string();
+        assert!(e.contains(field), "{text}: {e}");
+        // A run checks its `[campaign]` too (before anything runs).
+        let e = s.run_summary().unwrap_err().to_string();
         assert!(e.contains(field), "{text}: {e}");
     }
-    // A key that is no drawn parameter names the pump's.
+    // A key that is no parameter names the pump's.
     let mut s = spec();
     s.campaign = Some(toml::from_str("beta = { relative = 0.1 }").unwrap());
-    let e = s.check().unwrap_err().to_string();
+    let e = campaign_plan(&s).unwrap_err().to_string();
     assert!(
         e.contains("campaign.beta") && e.contains("beta_mpa, mu_1, mu_2, q_0_dm3_s, qdot_max_dm3_s2"),
         "{e}"
@@ -120,31 +137,13 @@ fn envelope_quantiles_per_point() {
         (vec![0.0, 10.0], vec![1.0, 20.0], vec![2.0, 30.0])
     );
     assert!((e.q05[1] - 11.0).abs() < 1e-12 && (e.q95[0] - 1.9).abs() < 1e-12);
-    let (stride, t) = envelope_grid(&spec());
-    assert!(t.len() <= ENVELOPE_POINTS && t.len() > ENVELOPE_POINTS / 2);
-    assert_eq!(
-        (t[0], t[1]),
-        (0.0, stride as f64 * spec().output_interval_ms / 1000.0)
-    );
 }
 
 #[test]
 fn quantiles_as_numpy() {
-    let names = vec!["x".to_string()];
-    let rows: Vec<RunRow> = (0..5)
-        .map(|k| RunRow {
-            index: k,
-            values: [1.0; 5],
-            outcome: Ok(vec![k as f64]),
-        })
-        .chain(std::iter::once(RunRow {
-            index: 9,
-            values: [1.0; 5],
-            outcome: Err("failed".into()),
-        }))
-        .collect();
-    let s = &statistics(&names, &rows)[0];
-    // numpy.quantile([0, 1, 2, 3, 4], [0.05, 0.5, 0.95]) = [0.2, 2.0, 3.8]
+    // numpy.quantile([0, 1, 2, 3, 4], [0.05, 0.5, 0.95]) = [0.2, 2.0, 3.8]; the
+    // non-finite values (a failed run's) are left out.
+    let s = figure_stats("x", vec![3.0, f64::NAN, 0.0, 4.0, 1.0, 2.0, f64::INFINITY]);
     assert!((s.q05 - 0.2).abs() < 1e-12 && s.median == 2.0 && (s.q95 - 3.8).abs() < 1e-12);
     assert_eq!((s.min, s.max, s.mean), (0.0, 4.0, 2.0));
 }

@@ -167,7 +167,7 @@ pub fn closed_loop_with<P: Plant>(
         tracker: Tracker::new(
             Tracked {
                 regulated: Some((y_idx, setpoint)),
-                display: Scale::Times(1.0),
+                display: Scale(1.0),
                 floor,
                 bounds,
                 input: Some((input, conditions.input_range)),

@@ -2,9 +2,8 @@
 //! noise on the states it measures (one seeded stream per state, so that noise on one
 //! sensor never changes another's), an excitation (dither) added to its command, and a
 //! transport delay of whole control periods before the command reaches the plant.
-//! `closed_loop::closed_loop_with` and the pump's run (`pump_loop`) apply them at each
-//! control instant; a plant scenario's `[measurement]` and `[control]` sections set
-//! them, and the pump's `[measurement]`, `dither_a` and `delay_periods`.
+//! `closed_loop::closed_loop_with` applies them at each control instant; a scenario's
+//! `[measurement]` and `[control]` sections set them.
 
 use crate::control::Controller;
 use crate::signal::Signal;

@@ -154,7 +154,68 @@ fn control_input<P: Plant>(plant: &P, c: &super::scenario::ControlSpec) -> Resul
             "[min, max] with min < max",
         ));
     }
+    let (lo, hi) = plant.input_range(k);
+    // A relative slack of 1e-12: the range given in display units, read back in SI.
+    let slack = |v: f64| 1e-12 * v.abs();
+    if range.0 < lo - slack(lo) || range.1 > hi + slack(hi) {
+        let show = |v: f64| crate::metrics::sig(qu.to_display(v), 4);
+        return Err(invalid(
+            "control.input_range",
+            format!("{:?}", c.input_range),
+            format!(
+                "within [{}, {}] {}: the range the {} takes its {} in",
+                show(lo),
+                show(hi),
+                qu.display_unit,
+                plant.name(),
+                qu.name
+            ),
+        ));
+    }
     Ok((k, range))
+}
+
+/// The set-point of `c` (on state `y`) within the state's working range at all times:
+/// its bounds ([`Plant::state_bounds`]), from its floor up where it has one
+/// ([`Plant::floor`]; the pump's pressure in [P_min, P_max]).
+fn setpoint_within<P: Plant>(
+    plant: &P,
+    y: usize,
+    c: &super::scenario::ControlSpec,
+    duration_s: f64,
+) -> Result<()> {
+    let (mut lo, hi) = plant.state_bounds()[y];
+    if let Some((i, floor)) = plant.floor() {
+        if i == y {
+            lo = lo.max(floor);
+        }
+    }
+    if !(lo.is_finite() || hi.is_finite()) {
+        return Ok(());
+    }
+    let q = &plant.states()[y];
+    let bounded = signal(
+        &c.setpoint,
+        "control.setpoint",
+        q,
+        (q.to_display(lo), q.to_display(hi)),
+    )?;
+    if bounded.clips_on(duration_s) {
+        let show = |v: f64| crate::metrics::sig(q.to_display(v), 4);
+        return Err(invalid(
+            "control.setpoint",
+            "a set-point",
+            format!(
+                "within [{}, {}] {} at all times (the {}'s working range of {})",
+                show(lo),
+                show(hi),
+                q.display_unit,
+                plant.name(),
+                q.name
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The input `k` that `c` drives, at rest (SI): what its baseline's (else its controller's)
@@ -166,6 +227,36 @@ pub(super) fn rest_input<P: Plant>(plant: &P, c: &super::scenario::ControlSpec, 
         .unwrap_or(&c.controller)
         .bias()
         .map_or(plant.operating_input(k), |b| b / plant.inputs()[k].display_per_si)
+}
+
+/// The loop's period, its set-point (on state `y`) within the state's working range, and
+/// no `[input]` profile for the input it drives.
+fn check_loop<P: Plant>(
+    plant: &P,
+    spec: &ScenarioSpec,
+    c: &super::scenario::ControlSpec,
+    y: usize,
+) -> Result<()> {
+    if !(c.period_s.is_finite() && c.period_s > 0.0 && c.period_s <= spec.duration_s) {
+        return Err(invalid(
+            "control.period_s",
+            c.period_s,
+            "finite, > 0 and at most duration_s",
+        ));
+    }
+    check_control_periods(spec.duration_s, c.period_s)?;
+    setpoint_within(plant, y, c, spec.duration_s)?;
+    if spec.input.contains_key(&c.input) {
+        return Err(invalid(
+            format!("input.{}", c.input),
+            "a profile",
+            format!(
+                "none with a [control] section (its controller drives the {})",
+                c.input
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The `[control]` experiment: the controller and the baseline, each on an identical
@@ -185,14 +276,7 @@ pub(super) fn run_control<P: Plant>(
     let qu = &plant.inputs()[k];
     let y = state_index(&plant, "control.output", &c.output)?;
     let qy = plant.states()[y];
-    if !(c.period_s.is_finite() && c.period_s > 0.0 && c.period_s <= spec.duration_s) {
-        return Err(invalid(
-            "control.period_s",
-            c.period_s,
-            "finite, > 0 and at most duration_s",
-        ));
-    }
-    check_control_periods(spec.duration_s, c.period_s)?;
+    check_loop(&plant, spec, c, y)?;
     // Bounded so that the error's integrals (IAE, ISE) stay finite.
     let sp = signal(&c.setpoint, "control.setpoint", &qy, (-1e150, 1e150))?;
     let mut conditions = loop_conditions(&plant, spec, c, qu, range)?;

@@ -152,7 +152,7 @@ fn frozen_run<P: Plant>(
             "finite, > 0 and at most 10,000,000 output intervals (output_interval_s)",
         ));
     }
-    let p = drive(plant.clone(), &v.input, "validation.input")?;
+    let p = drive(plant.clone(), &v.input, "validation.input", v.duration_s)?;
     let sampling = (v.duration_s, spec.output_interval_s);
     identify(p, x0, is, sampling, Weights::Frozen(weights), tol).map(Some)
 }

@@ -6,7 +6,6 @@
 
 use super::any_plant::{IDENTIFY_RTOL, LOOP_RTOL};
 use super::campaign_plan::{Plan, Uncertain};
-pub(crate) use super::plant_control::check_control_periods;
 use super::plant_control::run_control;
 use super::plant_ident::run_identification;
 use super::plant_open::run_open;
@@ -140,7 +139,7 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
         }
     }
     let input = slew_scaled(&plant, spec, parameters);
-    let plant = drive(plant, &input, "input")?;
+    let plant = drive(plant, &input, "input", spec.duration_s)?;
     let x0 = plant.initial_state(&given, &inputs_at_start(&plant, spec));
     summary.warnings.extend(below_floor_at_start(&plant, &x0));
     let closed = spec.identifier.is_none() && spec.control.is_some();

@@ -54,9 +54,8 @@ pub const SHIPPED: &[(&str, &str)] = &[
 ];
 
 /// A scenario from its TOML text in the one format (`source` names it in errors): the
-/// one scenario type of every plant. A pump scenario (`[plant] kind = "pump"`) is also
-/// lowered to its runner's settings here, so that every error of the file is given now,
-/// before anything runs.
+/// one scenario type of every plant. The checks that need no plant run here; the
+/// plant's own at the run (before anything is written).
 pub fn parse(text: &str, source: &str) -> Result<ScenarioSpec> {
     let former = former_pump_keys(text);
     if !former.is_empty() {
@@ -66,7 +65,7 @@ pub fn parse(text: &str, source: &str) -> Result<ScenarioSpec> {
         });
     }
     let spec = ScenarioSpec::from_toml(text, source)?;
-    spec.pump_settings()?;
+    spec.check_common()?;
     Ok(spec)
 }
 
@@ -146,15 +145,6 @@ pub fn load_or_parse(name_or_path: &str, text: Option<&str>) -> Result<ScenarioS
     }
 }
 
-/// A shipped pump scenario as its runner's settings (the crate's own tests).
-#[cfg(test)]
-pub(crate) fn load_pump(name: &str) -> super::pump_settings::PumpSettings {
-    load_any(name)
-        .and_then(|s| s.pump_settings())
-        .expect("a shipped scenario")
-        .expect("a pump scenario")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -165,13 +155,8 @@ mod tests {
             let spec = load_any(name).unwrap();
             assert_eq!(spec.name, *name);
             assert!(!spec.description.is_empty());
-            match spec.pump_settings().unwrap() {
-                Some(pump) => {
-                    assert_eq!(pump.name, *name);
-                    pump.check().unwrap();
-                }
-                None => spec.check_common().unwrap(),
-            }
+            spec.check_common().unwrap();
+            spec.run_summary().unwrap();
         }
     }
 

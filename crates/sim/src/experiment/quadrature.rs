@@ -9,24 +9,15 @@ pub(super) const GAUSS: [(f64, f64); 3] = [
     (0.887_298_334_620_741_7, 5.0 / 18.0),
 ];
 
-/// How a figure on the dense output converts a state's errors at each point: SI as they are
-/// (`Times(1.0)`), or divided by the SI per display unit (the pump's `units::mpa`, whose
-/// figures were always so computed). (A value, not a closure: the conversion runs 16
-/// times per interval and inlines.)
+/// How a figure on the dense output converts a state's errors at each point: times the
+/// display units per SI unit (`Scale(1.0)`: SI as they are). (A value, not a closure: the
+/// conversion runs 16 times per interval and inlines.)
 #[derive(Debug, Clone, Copy)]
-pub(super) enum Scale {
-    /// `v * factor`.
-    Times(f64),
-    /// `v / divisor`.
-    Over(f64),
-}
+pub(super) struct Scale(pub(super) f64);
 
 impl Scale {
     #[inline(always)]
     pub(super) fn apply(self, v: f64) -> f64 {
-        match self {
-            Scale::Times(f) => v * f,
-            Scale::Over(d) => v / d,
-        }
+        v * self.0
     }
 }

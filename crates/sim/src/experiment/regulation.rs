@@ -71,7 +71,7 @@ impl Tracker<'static> {
         let floor = plant.floor()?;
         let of = Tracked {
             regulated: None,
-            display: Scale::Times(1.0),
+            display: Scale(1.0),
             floor: Some(floor),
             bounds: plant.state_bounds(),
             input: None,

@@ -170,7 +170,7 @@ fn names(qs: &[Quantity]) -> String {
     qs.iter().map(|q| q.name).collect::<Vec<_>>().join(", ")
 }
 
-/// Build `spec` (display units of `q`) as an SI signal clipped to `[lo, hi]` (SI).
+/// Build `spec` (display units of `q`) as an SI signal clipped to `[lo, hi]` (display units of `q`).
 pub(crate) fn signal(spec: &SignalSpec, field: &str, q: &Quantity, (lo, hi): (f64, f64)) -> Result<Signal> {
     let lim = Limits {
         lo,
@@ -181,8 +181,16 @@ pub(crate) fn signal(spec: &SignalSpec, field: &str, q: &Quantity, (lo, hi): (f6
     spec.build(field, 1.0 / q.display_per_si, lim)
 }
 
-/// `plant` with each input driven as `inputs` says (names checked), the others held at 0.
-pub(crate) fn drive<P: Plant>(mut plant: P, inputs: &BTreeMap<String, SignalSpec>, field: &str) -> Result<P> {
+/// `plant` with each input driven as `inputs` says over `duration_s` (names checked), the
+/// others held at 0. A profile that leaves the range the plant takes the input in
+/// ([`Plant::input_range`]) is clipped to it (and warned of: [`clipped_inputs`]); one
+/// within it runs as written, its rounding at a ramp's end (1e-19 below 0) not clamped.
+pub(crate) fn drive<P: Plant>(
+    mut plant: P,
+    inputs: &BTreeMap<String, SignalSpec>,
+    field: &str,
+    duration_s: f64,
+) -> Result<P> {
     for (name, spec) in inputs {
         let k = plant
             .inputs()
@@ -196,12 +204,27 @@ pub(crate) fn drive<P: Plant>(mut plant: P, inputs: &BTreeMap<String, SignalSpec
                 )
             })?;
         let q = &plant.inputs()[k];
-        let s = signal(
-            spec,
-            &format!("{field}.{name}"),
-            q,
-            (f64::NEG_INFINITY, f64::INFINITY),
-        )?;
+        let (max_slew, max_peak) = plant.input_profile_limits(k);
+        let lim = Limits {
+            lo: f64::NEG_INFINITY,
+            hi: f64::INFINITY,
+            max_slew,
+            max_peak,
+        };
+        let f = format!("{field}.{name}");
+        let mut s = spec.build(&f, 1.0 / q.display_per_si, lim)?;
+        let (lo, hi) = plant.input_range(k);
+        if (lo.is_finite() || hi.is_finite()) && duration_s <= CLIP_CHECK_S {
+            let clipped = Limits {
+                lo: q.to_display(lo),
+                hi: q.to_display(hi),
+                ..lim
+            };
+            let within = spec.build(&f, 1.0 / q.display_per_si, clipped)?;
+            if within.clips_on(duration_s) {
+                s = within;
+            }
+        }
         plant.set_input(k, Input::Signal(s))?;
     }
     Ok(plant)
@@ -229,7 +252,12 @@ pub(crate) fn clipped_inputs<P: Plant>(
         let (lo, hi) = plant.input_range(k);
         if (lo.is_finite() || hi.is_finite()) && duration_s <= CLIP_CHECK_S {
             let q = &plant.inputs()[k];
-            let s = signal(spec, &format!("{field}.{name}"), q, (lo, hi))?;
+            let s = signal(
+                spec,
+                &format!("{field}.{name}"),
+                q,
+                (q.to_display(lo), q.to_display(hi)),
+            )?;
             if s.clips_on(duration_s) {
                 warnings.push(format!(
                     "{field}.{name} leaves [{}, {}] {} and is clipped",
@@ -298,7 +326,36 @@ pub(crate) fn configure<P: Plant>(nominal: &P, section: &PlantSection) -> Result
     if let Some(v) = x0.iter().find(|v| !v.is_finite()) {
         return Err(invalid("plant.initial", v, "finite values"));
     }
+    within_bounds(&plant, &x0)?;
     Ok((plant, x0))
+}
+
+/// Each given initial state within the plant's bounds ([`Plant::state_bounds`]; the
+/// pump's pressure in [0, P_max], its stroke in [0, x_max]): an error naming
+/// `plant.initial[i]`, in display units.
+fn within_bounds<P: Plant>(plant: &P, x0: &[f64]) -> Result<()> {
+    for (i, ((v, (lo, hi)), q)) in x0
+        .iter()
+        .zip(plant.state_bounds())
+        .zip(plant.states())
+        .enumerate()
+    {
+        if !(lo..=hi).contains(v) {
+            let show = |v: f64| crate::metrics::sig(q.to_display(v), 4);
+            return Err(invalid(
+                format!("plant.initial[{i}] ({}, {})", q.name, q.display_unit),
+                show(*v),
+                format!(
+                    "a value in [{}, {}] {} ({})",
+                    show(lo),
+                    show(hi),
+                    q.display_unit,
+                    q.description
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 impl ScenarioSpec {

@@ -6,7 +6,6 @@
 use super::bench::{bench_plant, BenchFigures};
 use super::plant_run::run_plant_scenario;
 use super::plant_summary::PlantRunOutput;
-use super::pump_settings::{PumpSettings, Scenario};
 use super::scenario::ScenarioSpec;
 use crate::error::Result;
 use std::time::Duration;
@@ -15,39 +14,6 @@ use std::time::Duration;
 pub type NamedColumns = Vec<(String, Vec<f64>)>;
 
 impl ScenarioSpec {
-    /// The pump runner's settings of a pump scenario (`[plant] kind = "pump"`), checked;
-    /// `None` for any other plant, whose scenario runs as written.
-    pub(crate) fn pump_settings(&self) -> Result<Option<PumpSettings>> {
-        if self.plant.kind == "pump" {
-            super::pump_scenario::lower_checked(self).map(Some)
-        } else {
-            Ok(None)
-        }
-    }
-
-    /// A pump scenario checked into the run the pump's own runner takes
-    /// ([`super::run_full`]: the thesis's tests and benches compare with it); an error
-    /// naming `plant.kind` for any other plant.
-    pub fn pump_run(&self) -> Result<Scenario> {
-        match self.pump_settings()? {
-            Some(spec) => spec.check(),
-            None => Err(crate::error::invalid(
-                "plant.kind",
-                format!("{:?}", self.plant.kind),
-                "\"pump\" (other plants run with `run` or `run_plant_scenario`)",
-            )),
-        }
-    }
-
-    /// A pump scenario's fields checked by the pump's own rules (the ranges its thesis
-    /// validated); nothing for another plant.
-    fn check_pump(&self) -> Result<()> {
-        if let Some(spec) = self.pump_settings()? {
-            spec.check()?;
-        }
-        Ok(())
-    }
-
     /// The scenario with its output interval set to its length: a run that records no
     /// sample but its start and end ([`ScenarioSpec::run_summary`]).
     pub(super) fn without_samples(&self) -> ScenarioSpec {
@@ -56,10 +22,8 @@ impl ScenarioSpec {
         quiet
     }
 
-    /// Run it on the generic runner (the pump's fields checked by its own rules first:
-    /// the ranges its thesis validated).
+    /// Run it on the generic runner.
     pub fn run(&self) -> Result<PlantRunOutput> {
-        self.check_pump()?;
         run_plant_scenario(self, None)
     }
 
@@ -70,7 +34,6 @@ impl ScenarioSpec {
     /// run by the thousand. (An open loop's state ranges are read at the samples: here,
     /// at the start and the end only.)
     pub fn run_summary(&self) -> Result<super::PlantSummary> {
-        self.check_pump()?;
         let mut summary = run_plant_scenario(&self.without_samples(), None)?.summary;
         summary.settings = self.clone();
         Ok(summary)
@@ -78,7 +41,6 @@ impl ScenarioSpec {
 
     /// Time its runs for about `budget` (`rhonn bench`).
     pub fn bench(&self, budget: Duration) -> Result<BenchFigures> {
-        self.check_pump()?;
         bench_plant(self, budget)
     }
 }

@@ -1,8 +1,8 @@
 //! The one run loop, for any plant: the system (a plant alone, or with an identifier
 //! along) in the event-locating solver, stopped at the sampling instants, where a hook
 //! acts (a controller measures and sets the held input, or a sample is taken); after
-//! every step a hook reads the step's dense output (figures, output samples). The
-//! pump's scenarios (`pump_run.rs`) and every other plant's (`any_plant.rs`) run through it.
+//! every step a hook reads the step's dense output (figures, output samples). Every
+//! plant's scenarios run through it (`any_plant.rs`, `closed_loop.rs`).
 
 use super::integrated::Integrated;
 use crate::error::{Error, Result};

@@ -11,6 +11,11 @@ pub use params::{PumpParams, PumpParamsSpec};
 pub use system::{Pilot, PumpSystem, CURRENT_EFF, PLANT_DIM, PUMP_EVENTS, P_LINE, STROKE};
 
 use super::{Parameter, Plant, Quantity};
+use crate::units::M3_PER_DM3;
+
+/// The largest steady pump flow of the thesis, Q_l,max = 2.1 dm^3/s (its eq. (1)):
+/// demanded-flow peaks must stay below it.
+pub const Q_L_MAX_DM3_S: f64 = 2.1;
 
 /// The pump's states, in state order.
 pub const STATES: [Quantity; PLANT_DIM] = [
@@ -125,12 +130,28 @@ impl Plant for PumpSystem {
     fn internal_states(&self) -> &'static [usize] {
         &[CURRENT_EFF]
     }
-    /// The current within [0, i_max] (the solenoid's driver clips it); the demand free.
+    /// The current within [0, i_max] (the solenoid's driver clips it); the demand a flow
+    /// out of the line, >= 0 (a profile below is clipped there by the runner).
     fn input_range(&self, k: usize) -> (f64, f64) {
         if k == 0 {
             (0.0, self.params.i_max)
         } else {
-            (f64::NEG_INFINITY, f64::INFINITY)
+            (0.0, f64::INFINITY)
+        }
+    }
+    /// The demand's pulses: their slew at most Qdot_max, their peaks below the largest
+    /// steady pump flow Q_l,max ([`Q_L_MAX_DM3_S`]; the thesis's eq. (1)).
+    fn input_profile_limits(&self, k: usize) -> super::ProfileLimits {
+        if k == 1 {
+            (
+                Some((
+                    self.params.qdot_max / M3_PER_DM3,
+                    "Qdot_max of the plant, dm^3/s^2",
+                )),
+                Some((Q_L_MAX_DM3_S, "the max pump flow Q_l,max, dm^3/s")),
+            )
+        } else {
+            (None, None)
         }
     }
     /// The balance current ([`PumpParams::balance_current`]) and no demand.
