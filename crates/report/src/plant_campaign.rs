@@ -15,7 +15,9 @@ use crate::campaign_runner::{self, CampaignKind, Done, Runs};
 use crate::worst_runs::Ranker;
 use crate::{write_json, Error};
 use rhonn::experiment::campaign::{draw, FigureStats, Plan, Sampling};
-use rhonn::experiment::{campaign_plan, nominal_plant_parameters, run_plant_scenario, ScenarioSpec};
+use rhonn::experiment::{
+    campaign_plan, nominal_plant_parameters, run_plant_scenario, run_plant_summary, ScenarioSpec,
+};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::Path;
@@ -171,14 +173,24 @@ impl CampaignKind for PlantCampaign {
             Sampling::Random
         };
         let values = draw(&self.plan, self.file.seed, i, sampling);
-        let run = run_plant_scenario(&self.spec, Some(&values));
-        let traces = match (&run, &self.envelope) {
-            (Ok(out), Some(e)) if i < self.file.envelope_runs => e.rows(i, out),
-            _ => Vec::new(),
+        // A loop's figures are on the solver's dense output: a run outside the envelope
+        // needs no samples (`run_plant_summary`, the same figures to the bit). An open
+        // loop's or an identification's are read at the samples.
+        let traced = i < self.file.envelope_runs && self.envelope.is_some();
+        let is_loop = self.spec.control.is_some() && self.spec.identifier.is_none();
+        let (summary, traces) = if traced || !is_loop {
+            let run = run_plant_scenario(&self.spec, Some(&values));
+            let traces = match (&run, &self.envelope) {
+                (Ok(out), Some(e)) if traced => e.rows(i, out),
+                _ => Vec::new(),
+            };
+            (run.map(|out| out.summary), traces)
+        } else {
+            (run_plant_summary(&self.spec, Some(&values)), Vec::new())
         };
-        let outcome = run
-            .map(|out| {
-                out.summary
+        let outcome = summary
+            .map(|summary| {
+                summary
                     .figures()
                     .into_iter()
                     .map(|(_, v)| v)

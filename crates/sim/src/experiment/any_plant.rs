@@ -106,6 +106,32 @@ pub fn identify<P: Plant>(
     plant: P,
     x0: &[f64],
     is: &IdentSettings,
+    times: (f64, f64),
+    weights: Weights<'_>,
+    tol: &Tolerances,
+) -> Result<IdentRun> {
+    // The thesis's identifiers make systems of 5 to 11 states: those run on fixed-size
+    // states (the solver's vector operations unrolled: a vector cost thesis-ch5 a tenth
+    // of its time), any other on a vector. The same arithmetic either way, to the bit.
+    let (states, inputs) = (is.states.clone(), is.inputs.clone());
+    let dim = match weights {
+        Weights::Frozen(w) => FrozenPair::<P>::new(plant.clone(), &is.ident, w, states, inputs)?.dim(),
+        _ => Identified::<P>::new(plant.clone(), is.ident.clone(), states, inputs)?.dim(),
+    };
+    match dim {
+        5 => identify_as::<P, [f64; 5]>(plant, x0, is, times, weights, tol),
+        7 => identify_as::<P, [f64; 7]>(plant, x0, is, times, weights, tol),
+        9 => identify_as::<P, [f64; 9]>(plant, x0, is, times, weights, tol),
+        11 => identify_as::<P, [f64; 11]>(plant, x0, is, times, weights, tol),
+        _ => identify_as::<P, Vec<f64>>(plant, x0, is, times, weights, tol),
+    }
+}
+
+/// [`identify`] on states of type `St`.
+fn identify_as<P: Plant, St: State>(
+    plant: P,
+    x0: &[f64],
+    is: &IdentSettings,
     (duration_s, sample_s): (f64, f64),
     weights: Weights<'_>,
     tol: &Tolerances,
@@ -152,8 +178,8 @@ pub fn identify<P: Plant>(
         .map(|s| Scale(s.quantity(&plant).display_per_si))
         .collect();
     if let Some(w) = frozen {
-        let init = FrozenPair::<P>::initial_state(&is.ident, &is.xhat0);
-        let sys = FrozenPair::<P>::new(plant, &is.ident, w, is.states.clone(), is.inputs.clone())?;
+        let init = FrozenPair::<P, St>::initial_state(&is.ident, &is.xhat0);
+        let sys = FrozenPair::<P, St>::new(plant, &is.ident, w, is.states.clone(), is.inputs.clone())?;
         let dim = sys.dim();
         // Slot 0: the series-parallel copy; slot 1: the free run.
         sampler.accs = (0..2)
@@ -169,7 +195,7 @@ pub fn identify<P: Plant>(
     let init = is.ident.initial_state(&is.xhat0, start);
     sampler.floor = Tracker::of_floor(&plant, t_end);
     let states = plant.states();
-    let sys = Identified::<P>::new(plant, is.ident.clone(), is.states.clone(), is.inputs.clone())?;
+    let sys = Identified::<P, St>::new(plant, is.ident.clone(), is.states.clone(), is.inputs.clone())?;
     sampler.accs = vec![IdentAcc::new(sampler.idx.clone(), sys.dim(), 0)];
     let mut s = solver(sys, x0, &init, tol)?;
     drive(&mut s, t_end, stops, &mut sampler)?;

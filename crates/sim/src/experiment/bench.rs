@@ -2,7 +2,7 @@
 //! throughput of runs on every core (rayon). Used by `rhonn bench`; the criterion
 //! benches in `benches/` are the finer instrument.
 
-use super::plant_run::run_plant_scenario;
+use super::plant_run::run_plant_summary;
 use super::scenario::ScenarioSpec;
 use crate::error::Result;
 use rayon::prelude::*;
@@ -29,12 +29,9 @@ pub struct BenchFigures {
 /// Time a scenario's run for about `budget` on one core, then as long on every core: the
 /// run of [`ScenarioSpec::run_summary`], without recording its samples.
 pub fn bench_plant(spec: &ScenarioSpec, budget: Duration) -> Result<BenchFigures> {
-    // The scenario is checked once, before the timing (`ScenarioSpec::bench`), and its
-    // copy without samples made once: what is timed is the run alone.
-    let quiet = spec.without_samples();
-    let rhs = Some(run_plant_scenario(&quiet, None)?.summary.solver.rhs_evaluations);
+    let rhs = Some(run_plant_summary(spec, None)?.solver.rhs_evaluations);
     timed(&spec.name, rhs, budget, || {
-        run_plant_scenario(&quiet, None).map(|_| ())
+        run_plant_summary(spec, None).map(|_| ())
     })
 }
 

@@ -18,6 +18,20 @@ use crate::plant::Plant;
 use crate::signal::Signal;
 use rhonn_ode::Dopri5;
 
+/// What a closed-loop run keeps besides its figures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LoopSamples {
+    /// Every state, the measurements and a controller's inner set-point and weights at
+    /// each control instant.
+    AtInstants,
+    /// As `AtInstants`, and the states every so many seconds (finer than the period)
+    /// from the solver's dense output ([`LoopRun::samples`]).
+    Every(f64),
+    /// The figures, and what they are read from: the instants, the regulated state, the
+    /// set-point and the input (a summary's run: no states, measurements or weights).
+    FiguresOnly,
+}
+
 /// What one closed-loop run gives, sampled at the control instants.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoopRun {
@@ -117,7 +131,7 @@ pub fn closed_loop<P: Plant>(
         ctl,
         input,
         (setpoint, period_s, duration_s),
-        (&clean, None),
+        (&clean, LoopSamples::AtInstants),
         &tol,
     )
 }
@@ -125,8 +139,7 @@ pub fn closed_loop<P: Plant>(
 /// [`closed_loop`] under `conditions`: the controller sees its states through noisy
 /// sensors, and its command, dithered, reaches the plant after the delay. `u` records
 /// what reached the plant; `y_measured` what the controller saw of the regulated state.
-/// With `output_s` (finer than the period), the states are also taken every `output_s`
-/// from the solver's dense output ([`LoopRun::samples`]). `tol`: the solver's settings
+/// `samples` says what it keeps besides its figures ([`LoopSamples`]). `tol`: the solver's settings
 /// (see [`LOOP_RTOL`] for the scenarios' default).
 pub fn closed_loop_with<P: Plant>(
     mut plant: P,
@@ -134,7 +147,7 @@ pub fn closed_loop_with<P: Plant>(
     ctl: &mut dyn Controller,
     input: usize,
     (setpoint, period_s, duration_s): (&Signal, f64, f64),
-    (conditions, output_s): (&LoopConditions, Option<f64>),
+    (conditions, samples): (&LoopConditions, LoopSamples),
     tol: &Tolerances,
 ) -> Result<LoopRun> {
     let n_meas = ctl.measurements().len();
@@ -145,14 +158,26 @@ pub fn closed_loop_with<P: Plant>(
     let n_states = plant.states().len();
     let (floor, bounds, settle_s) = (plant.floor(), plant.state_bounds(), plant.settle_s());
     let mut s = solver(Alone(plant), x0, &[], tol)?;
+    let steps = sampling_steps(duration_s, period_s)?;
+    // One value per control instant: reserved once (a short run's vectors grew by
+    // doubling, a tenth of its time in reallocations and page faults), at most 4Mi each
+    // (a scenario has at most a million control periods; a caller's longer run grows).
+    let n = usize::try_from(steps)
+        .map_or(0, |k| k.saturating_add(1))
+        .min(1 << 22);
+    let per_instant = || Vec::with_capacity(n);
     let mut hooks = Regulate {
         run: LoopRun {
             controller: ctl.name(),
-            t: Vec::new(),
-            y: Vec::new(),
-            setpoint: Vec::new(),
-            u: Vec::new(),
-            states: vec![Vec::new(); n_states],
+            t: per_instant(),
+            y: per_instant(),
+            setpoint: per_instant(),
+            u: per_instant(),
+            states: if samples == LoopSamples::FiguresOnly {
+                vec![Vec::new(); n_states]
+            } else {
+                (0..n_states).map(|_| per_instant()).collect()
+            },
             inner_reference: Vec::new(),
             weights: Vec::new(),
             model_output: Vec::new(),
@@ -175,9 +200,11 @@ pub fn closed_loop_with<P: Plant>(
             },
             duration_s,
         ),
-        dense: output_s
-            .map(|dt| DenseSampler::new(dt, duration_s, n_states))
-            .transpose()?,
+        dense: match samples {
+            LoopSamples::Every(dt) => Some(DenseSampler::new(dt, duration_s, n_states)?),
+            _ => None,
+        },
+        all: samples != LoopSamples::FiguresOnly,
         sensors: Sensors::new(conditions),
         actuator: Actuator::new(conditions),
         noisy: conditions.noisy(),
@@ -187,7 +214,6 @@ pub fn closed_loop_with<P: Plant>(
         input,
         setpoint,
     };
-    let steps = sampling_steps(duration_s, period_s)?;
     let instants = Instants::seconds(period_s);
     if let Some(d) = hooks.dense.as_mut() {
         d.take(&s);
@@ -217,6 +243,8 @@ struct Regulate<'a> {
     run: LoopRun,
     tracker: Tracker<'a>,
     dense: Option<DenseSampler>,
+    /// Whether to keep the states, measurements, inner set-point and weights.
+    all: bool,
     meas: Vec<f64>,
     y_idx: usize,
     ctl: &'a mut dyn Controller,
@@ -247,23 +275,27 @@ impl<P: Plant> Hooks<Alone<P>> for Regulate<'_> {
         let u = self.actuator.apply(t, u);
         s.system_mut().plant_mut().hold_input(self.input, u);
         let (run, y) = (&mut self.run, s.state()[self.y_idx]);
-        if self.noisy {
-            run.y_measured.push(self.meas[0]);
-        }
         run.t.push(t);
         run.y.push(y);
         run.setpoint.push(r);
         run.u.push(u);
-        for (col, v) in run.states.iter_mut().zip(s.state()) {
-            col.push(*v);
-        }
-        if let Some(r1) = ctl.inner_reference() {
-            run.inner_reference.push(r1);
+        if self.all {
+            if self.noisy {
+                run.y_measured.push(self.meas[0]);
+            }
+            for (col, v) in run.states.iter_mut().zip(s.state()) {
+                col.push(*v);
+            }
+            if let Some(r1) = ctl.inner_reference() {
+                run.inner_reference.push(r1);
+            }
         }
         if let Some(v) = ctl.adaptive(t) {
-            run.weights
-                .push([v.w_norm, v.w1_norm, v.w1_distance, v.ball_radius]);
-            run.model_output.push(v.model_output);
+            if self.all {
+                run.weights
+                    .push([v.w_norm, v.w1_norm, v.w1_distance, v.ball_radius]);
+                run.model_output.push(v.model_output);
+            }
             run.adaptive.get_or_insert_with(AdaptiveReport::default).add(&v);
         }
         Ok(())

@@ -31,7 +31,7 @@ pub use integrated::{Alone, Integrated};
 pub use loop_conditions::{LoopConditions, SensorNoise};
 pub use plant_run::{
     campaign_plan, drawn_scenario, nominal_plant_parameters, plant_measured_names, run_plant_scenario,
-    run_plant_scenario_on,
+    run_plant_scenario_on, run_plant_summary,
 };
 pub use plant_summary::{
     FloorFigures, IdentStateFigures, LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, SolverFigures,

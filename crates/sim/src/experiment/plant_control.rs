@@ -2,7 +2,7 @@
 //! identical plant under the same loop conditions, their figures (IAE, ISE, final error,
 //! actuator activity) and findings, and `trajectory.csv`'s columns.
 
-use super::closed_loop::{closed_loop_with, LoopRun};
+use super::closed_loop::{closed_loop_with, LoopRun, LoopSamples};
 use super::plant_summary::{LoopFigures, PlantColumn, PlantRunOutput, PlantSummary, TIME, WEIGHT_QUANTITIES};
 use super::scenario::{loop_conditions, signal, state_index, ScenarioSpec};
 use super::solver_spec::Tolerances;
@@ -267,6 +267,7 @@ pub(super) fn run_control<P: Plant>(
     spec: &ScenarioSpec,
     mut summary: PlantSummary,
     tol: &Tolerances,
+    keep: super::plant_run::Keep,
 ) -> Result<PlantRunOutput> {
     let c = spec
         .control
@@ -282,7 +283,11 @@ pub(super) fn run_control<P: Plant>(
     let mut conditions = loop_conditions(&plant, spec, c, qu, range)?;
     conditions.held_input = Some(rest_input(&plant, c, k));
     // A trajectory finer than the control period comes from the solver's dense output.
-    let output_s = (spec.output_interval_s < c.period_s).then_some(spec.output_interval_s);
+    let samples = match keep {
+        super::plant_run::Keep::Summary => LoopSamples::FiguresOnly,
+        _ if spec.output_interval_s < c.period_s => LoopSamples::Every(spec.output_interval_s),
+        _ => LoopSamples::AtInstants,
+    };
     let loops = loops_of(c)?;
     let mut runs = Vec::new();
     for (field, l, _) in &loops {
@@ -311,7 +316,7 @@ pub(super) fn run_control<P: Plant>(
             ctl.as_mut(),
             k,
             (&sp, c.period_s, spec.duration_s),
-            (&conditions, output_s),
+            (&conditions, samples),
             tol,
         )?);
     }
@@ -342,7 +347,10 @@ pub(super) fn run_control<P: Plant>(
             plant.states().iter().find(|q| q.name == s).copied()
         })
         .collect();
-    let trajectory = loop_columns(&plant, &runs, &qy, qu, &inner);
+    let trajectory = match keep {
+        super::plant_run::Keep::Columns => loop_columns(&plant, &runs, &qy, qu, &inner),
+        super::plant_run::Keep::Summary => Vec::new(),
+    };
     Ok(PlantRunOutput {
         summary,
         trajectory,

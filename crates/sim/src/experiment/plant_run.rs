@@ -15,18 +15,42 @@ use super::solver_spec::{SolverDefaults, Tolerances};
 use crate::error::{Error, Result};
 use crate::plant::{with_kind, Plant, WithPlant};
 
+/// What a run keeps: its columns and its summary, or its summary alone (a loop's columns
+/// not assembled: a tenth of a short loop's time).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Keep {
+    Columns,
+    Summary,
+}
+
 /// Run `spec` with its parameters replaced by `parameters` (display units, in the
 /// plant's order) when given: a campaign's draw.
 pub fn run_plant_scenario(spec: &ScenarioSpec, parameters: Option<&[f64]>) -> Result<PlantRunOutput> {
+    run_keeping(spec, parameters, Keep::Columns)
+}
+
+/// The summary of [`run_plant_scenario`] without recording its samples: the scenario run
+/// with its output interval set to its length (its `settings` still the scenario as
+/// given). A loop's figures are integrated on the solver's dense output, so they are
+/// [`run_plant_scenario`]'s to the bit; an open loop's state ranges are read at the
+/// samples, here at the start and the end only.
+pub fn run_plant_summary(spec: &ScenarioSpec, parameters: Option<&[f64]>) -> Result<PlantSummary> {
+    let mut summary = run_keeping(&spec.without_samples(), parameters, Keep::Summary)?.summary;
+    // The scenario as given: its copy as run differs in its output interval alone.
+    summary.settings.output_interval_s = spec.output_interval_s;
+    Ok(summary)
+}
+
+fn run_keeping(spec: &ScenarioSpec, parameters: Option<&[f64]>, keep: Keep) -> Result<PlantRunOutput> {
     spec.check_common()?;
-    struct Run<'a>(&'a ScenarioSpec, Option<&'a [f64]>);
+    struct Run<'a>(&'a ScenarioSpec, Option<&'a [f64]>, Keep);
     impl WithPlant for Run<'_> {
         type Output = PlantRunOutput;
         fn with<P: Plant>(self, nominal: P) -> Result<PlantRunOutput> {
-            run_on(&nominal, self.0, self.1)
+            run_on(&nominal, self.0, self.1, self.2)
         }
     }
-    with_kind(&spec.plant.kind, Run(spec, parameters))
+    with_kind(&spec.plant.kind, Run(spec, parameters, keep))
 }
 
 /// Run `spec` on your own `plant` (any [`Plant`]; `spec.plant.kind` only names it): the
@@ -34,7 +58,7 @@ pub fn run_plant_scenario(spec: &ScenarioSpec, parameters: Option<&[f64]>) -> Re
 /// `rhonn_report::write_plant_run` to write as `rhonn run` does (`examples/custom_plant.rs`).
 pub fn run_plant_scenario_on<P: Plant>(plant: &P, spec: &ScenarioSpec) -> Result<PlantRunOutput> {
     spec.check_common()?;
-    run_on(plant, spec, None)
+    run_on(plant, spec, None, Keep::Columns)
 }
 
 /// The plan of `spec`'s campaign on its plant (`[plant] kind`, not the pump's): the
@@ -92,7 +116,12 @@ pub fn plant_measured_names(kind: &str) -> Result<Vec<&'static str>> {
     with_kind(kind, Measured)
 }
 
-fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>) -> Result<PlantRunOutput> {
+fn run_on<P: Plant>(
+    nominal: &P,
+    spec: &ScenarioSpec,
+    parameters: Option<&[f64]>,
+    keep: Keep,
+) -> Result<PlantRunOutput> {
     // `[campaign]` is `rhonn campaign`'s, checked by every run (as the pump's).
     if spec.campaign.is_some() {
         campaign_plan_of(nominal, spec)?;
@@ -150,7 +179,7 @@ fn run_on<P: Plant>(nominal: &P, spec: &ScenarioSpec, parameters: Option<&[f64]>
         .map(|(i, v)| (plant.states()[i].name, plant.states()[i], v));
     let mut out = match &spec.identifier {
         Some(ident) => run_identification(plant, &x0, spec, ident, summary, &tol)?,
-        None if closed => run_control(plant, &x0, spec, summary, &tol)?,
+        None if closed => run_control(plant, &x0, spec, summary, &tol, keep)?,
         None => run_open(plant, &x0, spec, summary, &tol)?,
     };
     out.floor = floor;

@@ -4,7 +4,7 @@
 //! the same way.
 
 use super::bench::{bench_plant, BenchFigures};
-use super::plant_run::run_plant_scenario;
+use super::plant_run::{run_plant_scenario, run_plant_summary};
 use super::plant_summary::PlantRunOutput;
 use super::scenario::ScenarioSpec;
 use crate::error::Result;
@@ -27,16 +27,11 @@ impl ScenarioSpec {
         run_plant_scenario(self, None)
     }
 
-    /// The run's summary without recording its samples (its output interval set to the
-    /// run's length; `settings` still says the scenario as given): a loop's figures are
-    /// [`ScenarioSpec::run`]'s to the bit, as they are integrated on the solver's dense
-    /// output, at a fraction of the cost. What `rhonn bench` times and the tuning studies
-    /// run by the thousand. (An open loop's state ranges are read at the samples: here,
-    /// at the start and the end only.)
+    /// The run's summary without recording its samples ([`run_plant_summary`]): a loop's
+    /// figures are [`ScenarioSpec::run`]'s to the bit, at a fraction of the cost. What
+    /// `rhonn bench` times and the tuning studies run by the thousand.
     pub fn run_summary(&self) -> Result<super::PlantSummary> {
-        let mut summary = run_plant_scenario(&self.without_samples(), None)?.summary;
-        summary.settings = self.clone();
-        Ok(summary)
+        run_plant_summary(self, None)
     }
 
     /// Time its runs for about `budget` (`rhonn bench`).
