@@ -267,7 +267,7 @@ pub(super) fn run_control<P: Plant>(
     spec: &ScenarioSpec,
     mut summary: PlantSummary,
     tol: &Tolerances,
-    keep: super::plant_run::Keep,
+    keep: super::plant_summary::Keep,
 ) -> Result<PlantRunOutput> {
     let c = spec
         .control
@@ -284,7 +284,7 @@ pub(super) fn run_control<P: Plant>(
     conditions.held_input = Some(rest_input(&plant, c, k));
     // A trajectory finer than the control period comes from the solver's dense output.
     let samples = match keep {
-        super::plant_run::Keep::Summary => LoopSamples::FiguresOnly,
+        super::plant_summary::Keep::Summary => LoopSamples::FiguresOnly,
         _ if spec.output_interval_s < c.period_s => LoopSamples::Every(spec.output_interval_s),
         _ => LoopSamples::AtInstants,
     };
@@ -348,8 +348,8 @@ pub(super) fn run_control<P: Plant>(
         })
         .collect();
     let trajectory = match keep {
-        super::plant_run::Keep::Columns => loop_columns(&plant, &runs, &qy, qu, &inner),
-        super::plant_run::Keep::Summary => Vec::new(),
+        super::plant_summary::Keep::Columns => loop_columns(&plant, &runs, &qy, qu, &inner),
+        super::plant_summary::Keep::Summary => Vec::new(),
     };
     Ok(PlantRunOutput {
         summary,

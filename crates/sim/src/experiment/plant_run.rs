@@ -9,19 +9,11 @@ use super::campaign_plan::{Plan, Uncertain};
 use super::plant_control::run_control;
 use super::plant_ident::run_identification;
 use super::plant_open::run_open;
-use super::plant_summary::{PlantColumn, PlantRunOutput, PlantSummary, SolverFigures};
+use super::plant_summary::{Keep, PlantColumn, PlantRunOutput, PlantSummary, SolverFigures};
 use super::scenario::{clipped_inputs, configure, drive, ScenarioSpec};
 use super::solver_spec::{SolverDefaults, Tolerances};
 use crate::error::{Error, Result};
 use crate::plant::{with_kind, Plant, WithPlant};
-
-/// What a run keeps: its columns and its summary, or its summary alone (a loop's columns
-/// not assembled: a tenth of a short loop's time).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Keep {
-    Columns,
-    Summary,
-}
 
 /// Run `spec` with its parameters replaced by `parameters` (display units, in the
 /// plant's order) when given: a campaign's draw.

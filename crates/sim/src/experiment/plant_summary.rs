@@ -9,6 +9,14 @@ use crate::signal::SignalSpec;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
+/// What a run keeps: its columns and its summary, or its summary alone (a loop's columns
+/// not assembled: a tenth of a short loop's time).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Keep {
+    Columns,
+    Summary,
+}
+
 /// One column of a run's table: SI values and how people read them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlantColumn {
