@@ -901,9 +901,9 @@ fn a_free_run_from_a_state_initialisation_window_sees_only_its_outputs() {
     for (extra, says) in [
         (
             &["--init-window", "3", "--steps-ahead", "2"][..],
-            "leave out --steps-ahead",
+            "`--init-window` = 3 is not allowed: a free run's window",
         ),
-        (&["--init-window", "0"][..], "--init-window 0 is not allowed"),
+        (&["--init-window", "0"][..], "`--init-window` = 0 is not allowed"),
         (
             &["--init-window", "120"][..],
             "`init_window for test.csv` = 120 is not allowed",

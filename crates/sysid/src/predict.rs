@@ -207,15 +207,33 @@ pub fn predict(fitted: &FittedModel, record: &Record, steps_ahead: Option<usize>
     predict_with(fitted, record, steps_ahead, None)
 }
 
-/// Check a state-initialisation window against a prediction's mode and a record.
-pub fn check_window(init_window: Option<usize>, steps_ahead: Option<usize>, r: &Record) -> Result<()> {
+/// A prediction's options, the one place of their rules (the doors rename the fields:
+/// `--steps-ahead`, `--init-window` on the command line): K steps ahead at least 1; a
+/// state-initialisation window of N >= 1 outputs, for a free run only.
+pub fn check_prediction_options(steps_ahead: Option<usize>, init_window: Option<usize>) -> Result<()> {
+    if steps_ahead == Some(0) {
+        return Err(invalid(
+            "steps_ahead",
+            0,
+            "K >= 1 steps ahead, or none for a free run",
+        ));
+    }
     match init_window {
         Some(w) if steps_ahead.is_some() => Err(invalid(
             "init_window",
             w,
-            "a free run's window (K steps ahead measures every output up to each start)",
+            "a free run's window (K steps ahead measures every output up to each start): give one or the other",
         )),
-        Some(w) if w == 0 || w >= r.len() => Err(invalid(
+        Some(0) => Err(invalid("init_window", 0, "N >= 1 measured outputs")),
+        _ => Ok(()),
+    }
+}
+
+/// Check a state-initialisation window against a prediction's mode and a record.
+pub fn check_window(init_window: Option<usize>, steps_ahead: Option<usize>, r: &Record) -> Result<()> {
+    check_prediction_options(steps_ahead, init_window)?;
+    match init_window {
+        Some(w) if w >= r.len() => Err(invalid(
             format!("init_window for {}", r.source),
             w,
             format!("at least 1 sample and fewer than its {}", r.len()),
@@ -234,13 +252,7 @@ pub fn predict_with(
     steps_ahead: Option<usize>,
     init_window: Option<usize>,
 ) -> Result<Prediction> {
-    if steps_ahead == Some(0) {
-        return Err(invalid(
-            "steps_ahead",
-            0,
-            "K >= 1 steps ahead, or none for a free run",
-        ));
-    }
+    check_prediction_options(steps_ahead, init_window)?;
     if let Some(k) = steps_ahead.filter(|&k| k >= record.len()) {
         return Err(invalid(
             "steps_ahead",

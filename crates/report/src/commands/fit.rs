@@ -557,28 +557,13 @@ fn edited_note(model: &Path) -> Result<Option<String>> {
     })
 }
 
-/// `--steps-ahead` and `--init-window` checked: K >= 1, N >= 1, not both.
+/// `--steps-ahead` and `--init-window` checked by the library's rules, named as flags.
 fn check_prediction_options(steps: Option<usize>, window: Option<usize>) -> Result<()> {
-    if steps == Some(0) {
-        return Err(Error::Input(
-            "--steps-ahead 0 is not allowed: give K >= 1, or leave it out for a free run".into(),
-        ));
-    }
-    match window {
-        Some(_) if steps.is_some() => {
-            return Err(Error::Input(
-                "--init-window is a free run's: leave out --steps-ahead (K steps ahead measures every output up to each start)"
-                    .into(),
-            ))
-        }
-        Some(0) => {
-            return Err(Error::Input(
-                "--init-window 0 is not allowed: give N >= 1 measured outputs".into(),
-            ))
-        }
-        _ => {}
-    }
-    Ok(())
+    rhonn::sysid::check_prediction_options(steps, window).map_err(|e| {
+        e.with_field_named("steps_ahead", "--steps-ahead")
+            .with_field_named("init_window", "--init-window")
+            .into()
+    })
 }
 
 /// A line per output: the prediction's figures, and the ARX baseline's beside them.

@@ -102,11 +102,8 @@ fn identify_into(a: &IdentifyRequest, stage: &Path) -> Result<Outcome> {
     use rhonn::identification::{identify, IdentifyError, IdentifyPlan};
     let given = a.model.as_deref().map(read_spec).transpose()?;
     let (units, units_note) = super::parse_units(&a.units, &a.inputs, &a.outputs)?;
-    if a.steps_ahead == Some(0) {
-        return Err(Error::Input(
-            "--steps-ahead 0 is not allowed: give K >= 1 samples".into(),
-        ));
-    }
+    rhonn::sysid::check_prediction_options(a.steps_ahead, None)
+        .map_err(|e| Error::from(e.with_field_named("steps_ahead", "--steps-ahead")))?;
     if let (Some(k), true) = (a.steps_ahead, a.validate.is_empty()) {
         return Err(Error::Input(format!(
             "--steps-ahead {k} judges the frozen model {k} samples ahead on the --validate records, and none is given: add --validate FILE, or leave --steps-ahead out"
