@@ -348,7 +348,7 @@ pub(super) fn run_control<P: Plant>(
         })
         .collect();
     let trajectory = match keep {
-        super::plant_summary::Keep::Columns => loop_columns(&plant, &runs, &qy, qu, &inner),
+        super::plant_summary::Keep::Columns => loop_columns(&plant, runs, &qy, qu, &inner),
         super::plant_summary::Keep::Summary => Vec::new(),
     };
     Ok(PlantRunOutput {
@@ -569,7 +569,7 @@ const LOOP_SUFFIXES: [&str; 3] = ["", "_baseline", "_second_baseline"];
 /// weights as held since the last control instant).
 fn loop_columns<P: Plant>(
     plant: &P,
-    runs: &[LoopRun],
+    mut runs: Vec<LoopRun>,
     qy: &Quantity,
     qu: &Quantity,
     inner: &[Option<Quantity>],
@@ -580,20 +580,21 @@ fn loop_columns<P: Plant>(
         values,
         input: false,
     };
-    // Per run: its instant-held values on the output grid, and its states there.
-    let at = |run: &LoopRun, v: &[f64]| match &run.samples {
-        Some(d) => d.held(&run.t, v),
-        None => v.to_vec(),
+    // Per run: its instant-held values on the output grid (moved out of the run when the
+    // grid is its instants), and its states there.
+    let at = |samples: &Option<super::any_plant::DenseSamples>, t: &[f64], v: &mut Vec<f64>| match samples {
+        Some(d) => d.held(t, v),
+        None => std::mem::take(v),
     };
-    let states = |run: &LoopRun| match &run.samples {
-        Some(d) => d.states.clone(),
-        None => run.states.clone(),
+    let t = match &runs[0].samples {
+        Some(d) => d.t.clone(),
+        None => runs[0].t.clone(),
     };
-    let t = runs[0].samples.as_ref().map_or(&runs[0].t, |d| &d.t).clone();
+    let first = &mut runs[0];
     let mut cols = vec![col(
         format!("{}_ref", qy.name),
         *qy,
-        at(&runs[0], &runs[0].setpoint),
+        at(&first.samples, &first.t, &mut first.setpoint),
     )];
     // The inputs the loops do not drive (the same profiles on every plant), as the plant
     // reads them: `input_at` holds within the modes `update_modes` sets at each time.
@@ -619,39 +620,50 @@ fn loop_columns<P: Plant>(
     }
     cols.insert(0, col("t".into(), TIME, t));
     let shown = |i: &usize| !plant.internal_states().contains(i);
-    for ((run, suffix), inner) in runs.iter().zip(LOOP_SUFFIXES).zip(inner) {
-        for (i, (q, v)) in plant.states().iter().zip(states(run)).enumerate() {
+    for ((mut run, suffix), inner) in runs.into_iter().zip(LOOP_SUFFIXES).zip(inner) {
+        let states = match run.samples.as_mut() {
+            Some(d) => std::mem::take(&mut d.states),
+            None => std::mem::take(&mut run.states),
+        };
+        for (i, (q, v)) in plant.states().iter().zip(states).enumerate() {
             if shown(&i) {
                 cols.push(col(format!("{}{suffix}", q.name), *q, v));
             }
         }
+        let (samples, ti) = (&run.samples, &run.t);
         cols.push(PlantColumn {
             input: true,
-            ..col(format!("{}{suffix}", qu.name), *qu, at(run, &run.u))
+            ..col(format!("{}{suffix}", qu.name), *qu, at(samples, ti, &mut run.u))
         });
         if !run.y_measured.is_empty() {
             cols.push(col(
                 format!("{}_measured{suffix}", qy.name),
                 *qy,
-                at(run, &run.y_measured),
+                at(samples, ti, &mut run.y_measured),
             ));
         }
         if let (false, Some(q)) = (run.inner_reference.is_empty(), inner) {
             cols.push(col(
                 format!("{}_ref{suffix}", q.name),
                 *q,
-                at(run, &run.inner_reference),
+                at(samples, ti, &mut run.inner_reference),
             ));
         }
         if !run.model_output.is_empty() {
             cols.push(col(
                 format!("{}_model{suffix}", qy.name),
                 *qy,
-                at(run, &run.model_output),
+                at(samples, ti, &mut run.model_output),
             ));
         }
         if !run.weights.is_empty() {
-            let w = |k: usize| at(run, &run.weights.iter().map(|v| v[k]).collect::<Vec<f64>>());
+            let w = |k: usize| {
+                at(
+                    samples,
+                    ti,
+                    &mut run.weights.iter().map(|v| v[k]).collect::<Vec<f64>>(),
+                )
+            };
             let [wq, w1q, ballq] = WEIGHT_QUANTITIES;
             cols.push(col(format!("w_norm{suffix}"), wq, w(0)));
             cols.push(col(format!("w1_norm{suffix}"), w1q, w(1)));
