@@ -273,23 +273,22 @@ def fit(
     return Model(_rhonn.fit(us, ys, float(dt), ins, outs, spec, (select, select_steps_ahead, budget)))
 
 
-def _optional_at_least_one(value, arg: str, letter: str, or_none: str) -> Optional[int]:
-    """An int >= 1 or None (`arg`'s value; messages name it and `letter`, the count's symbol)."""
+def _optional_int(value, arg: str, letter: str) -> Optional[int]:
+    """An int or None (`arg`'s value); the rules on its value are the library's
+    (rhonn_sysid::prediction_options). Beyond +-2**120 it is clamped (still refused there)."""
     if value is None:
         return None
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{arg} must be an int {letter} >= 1 or None, not {type(value).__name__}")
-    if value < 1:
-        raise ValueError(f"{arg} = {value} is not allowed: give {letter} >= 1{or_none}")
-    return int(value)
+    return max(min(int(value), 2**120), -(2**120))
 
 
 def _window(init_window) -> Optional[int]:
-    return _optional_at_least_one(init_window, "init_window", "N", " measured outputs, or None")
+    return _optional_int(init_window, "init_window", "N")
 
 
 def _steps(steps_ahead) -> Optional[int]:
-    return _optional_at_least_one(steps_ahead, "steps_ahead", "K", ", or None for a free run")
+    return _optional_int(steps_ahead, "steps_ahead", "K")
 
 
 def _count(n, arg: str) -> int:

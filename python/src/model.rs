@@ -3,7 +3,7 @@
 //! `rhonn::any_model::AnyModel` through `rhonn_report::any_model`, converted.
 
 use crate::arrays::record;
-use crate::errors::report_err;
+use crate::errors::{report_err, rhonn_err};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
@@ -38,10 +38,12 @@ impl Model {
         py: Python<'py>,
         u: PyReadonlyArray2<'py, f64>,
         y: PyReadonlyArray2<'py, f64>,
-        steps_ahead: Option<usize>,
+        steps_ahead: Option<i128>,
         baseline: bool,
-        init_window: Option<usize>,
+        init_window: Option<i128>,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, String, Vec<String>)> {
+        let (steps_ahead, init_window) =
+            rhonn::sysid::prediction_options(steps_ahead, init_window).map_err(rhonn_err)?;
         let (inputs, outputs, dt) = self.0.signals();
         let rec = record("the data", dt, &u, &y, inputs, outputs)?;
         let (cols, json, warnings) = py

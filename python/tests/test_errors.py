@@ -45,8 +45,13 @@ def test_fit_refuses(kwargs, exc, words):
 
 
 def test_predict_refuses(model):
-    with pytest.raises(ValueError, match="steps_ahead = 0"):
-        model.predict(U, Y, steps_ahead=0)
+    # The values' rules are the library's (rhonn_sysid::prediction_options), negative and
+    # huge ints included, named by Python's argument.
+    for k, shown in ((0, "0"), (-3, "-3"), (2**200, r"\S+")):
+        with pytest.raises(ValueError, match=f"`steps_ahead` = {shown} is not allowed: K >= 1 steps ahead"):
+            model.predict(U, Y, steps_ahead=k)
+    with pytest.raises(ValueError, match="`init_window` = -1 is not allowed: N >= 1"):
+        model.predict(U, Y, init_window=-1)
     with pytest.raises(TypeError, match="steps_ahead must be an int"):
         model.predict(U, Y, steps_ahead=2.5)
     with pytest.raises(ValueError, match="u has 2 columns; 1 are needed"):

@@ -66,7 +66,7 @@ pub use fitted::{
     fit_ensemble, fit_own_structures, fit_with_baseline, parse_spec_file, FittedModel, OutputModel,
 };
 use lm::lm;
-pub use predict::{check_prediction_options, check_window};
+pub use predict::{check_prediction_options, check_window, prediction_options};
 pub use predict::{
     inputs_beyond_training, predict, predict_with, samples_needed, InputBeyond, PredictSummary, Prediction,
     BEYOND_SPAN,

@@ -211,21 +211,37 @@ pub fn predict(fitted: &FittedModel, record: &Record, steps_ahead: Option<usize>
 /// `--steps-ahead`, `--init-window` on the command line): K steps ahead at least 1; a
 /// state-initialisation window of N >= 1 outputs, for a free run only.
 pub fn check_prediction_options(steps_ahead: Option<usize>, init_window: Option<usize>) -> Result<()> {
-    if steps_ahead == Some(0) {
-        return Err(invalid(
-            "steps_ahead",
-            0,
-            "K >= 1 steps ahead, or none for a free run",
-        ));
-    }
+    let wide = |v: Option<usize>| v.map(|v| v as i128);
+    prediction_options(wide(steps_ahead), wide(init_window)).map(|_| ())
+}
+
+/// [`check_prediction_options`] for a door whose integers may be negative or beyond a
+/// `usize` (Python's): the options as counts, or what is wrong with the value given.
+pub fn prediction_options(
+    steps_ahead: Option<i128>,
+    init_window: Option<i128>,
+) -> Result<(Option<usize>, Option<usize>)> {
+    let count = |v: Option<i128>, field: &str, allowed: &str| {
+        v.map(|v| {
+            usize::try_from(v)
+                .ok()
+                .filter(|&c| c >= 1)
+                .ok_or_else(|| invalid(field, v, allowed))
+        })
+        .transpose()
+    };
+    let steps = count(
+        steps_ahead,
+        "steps_ahead",
+        "K >= 1 steps ahead, or none for a free run",
+    )?;
     match init_window {
-        Some(w) if steps_ahead.is_some() => Err(invalid(
+        Some(w) if steps.is_some() => Err(invalid(
             "init_window",
             w,
             "a free run's window (K steps ahead measures every output up to each start): give one or the other",
         )),
-        Some(0) => Err(invalid("init_window", 0, "N >= 1 measured outputs")),
-        _ => Ok(()),
+        _ => Ok((steps, count(init_window, "init_window", "N >= 1 measured outputs")?)),
     }
 }
 
@@ -427,5 +443,19 @@ mod tests {
             e.contains("r.csv (the model's ARX baseline)") && e.contains("at least 1003"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn prediction_options_name_the_field_and_the_value_given() {
+        assert_eq!(prediction_options(Some(3), None).unwrap(), (Some(3), None));
+        assert_eq!(prediction_options(None, Some(2)).unwrap(), (None, Some(2)));
+        let err = |s, w| prediction_options(s, w).unwrap_err().to_string();
+        assert!(err(Some(-3), None).contains("`steps_ahead` = -3 is not allowed: K >= 1"));
+        assert!(err(Some(0), None).contains("`steps_ahead` = 0 is not allowed"));
+        assert!(err(Some(1 << 100), None).contains("`steps_ahead` = 1.2676506"));
+        assert!(err(None, Some(-1)).contains("`init_window` = -1 is not allowed: N >= 1"));
+        assert!(err(Some(2), Some(0)).contains("give one or the other"));
+        assert!(check_prediction_options(Some(0), None).is_err());
+        assert!(check_prediction_options(Some(1), None).is_ok());
     }
 }
