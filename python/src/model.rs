@@ -3,7 +3,7 @@
 //! `rhonn::any_model::AnyModel` through `rhonn_report::any_model`, converted.
 
 use crate::arrays::record;
-use crate::errors::{report_err, rhonn_err};
+use crate::errors::report_err;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
@@ -42,8 +42,6 @@ impl Model {
         baseline: bool,
         init_window: Option<i128>,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, String, Vec<String>)> {
-        let (steps_ahead, init_window) =
-            rhonn::sysid::prediction_options(steps_ahead, init_window).map_err(rhonn_err)?;
         let (inputs, outputs, dt) = self.0.signals();
         let rec = record("the data", dt, &u, &y, inputs, outputs)?;
         let (cols, json, warnings) = py

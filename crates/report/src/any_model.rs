@@ -72,22 +72,19 @@ pub fn save(model: &AnyModel, path: &Path, force: bool) -> Result<()> {
 /// `init_window` outputs when given) or K steps ahead; with `baseline`, the ARX
 /// baseline's prediction and figures instead (prediction.csv's `<y>_hat_arx` and
 /// summary.json's baseline); and the warnings `rhonn predict` prints (inputs beyond the
-/// training range).
+/// training range). The options as Python gives them, any int: checked by the library's
+/// rules (`rhonn::sysid::prediction_options`).
 pub fn predict(
     model: &AnyModel,
     rec: &Record,
-    (steps_ahead, init_window): (Option<usize>, Option<usize>),
+    (steps_ahead, init_window): (Option<i128>, Option<i128>),
     baseline: bool,
 ) -> Result<Prediction> {
+    let (steps_ahead, init_window) = rhonn::sysid::prediction_options(steps_ahead, init_window)?;
     if baseline && !matches!(model, AnyModel::Fitted(f) if f.baseline.is_some()) {
         return Err(Error::Input(
             "baseline=True: this model has no ARX baseline (an online model, or one loaded without it)"
                 .into(),
-        ));
-    }
-    if steps_ahead == Some(0) {
-        return Err(Error::Input(
-            "steps_ahead = 0 is not allowed: give K >= 1, or None for a free run".into(),
         ));
     }
     let needed = model.samples_needed(steps_ahead);
