@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Every test: the Rust workspace (with the mutation harness, tests/mutation.rs), the Python
+# Every test: the Rust workspace (with the mutation harness, crates/cli/tests/mutation.rs), the Python
 # package (python/test.sh), then the firmware on an emulated Cortex-M4F and M7 against the
 # host (embedded/run-qemu.sh; it needs the Rust target thumbv7em-none-eabihf and
 # qemu-system-arm, and says so when they are missing).
@@ -14,7 +14,7 @@
 # Python venv installs, while the Rust tests build; pytest runs beside the Rust tests. The
 # parts that run in the background print their output when they end, under their name
 # (kept in target/test-all/). The examples are not built here (each is compiled by CI's
-# clippy, and tests/custom_plant.rs runs examples/custom_plant.rs).
+# clippy, and crates/cli/tests/custom_plant.rs runs crates/cli/examples/custom_plant.rs).
 set -uo pipefail
 cd "$(dirname "$0")"
 failed=()

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use util::{files_in, rhonn, stderr};
 
 fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
 }
 
 fn json(p: &Path) -> serde_json::Value {

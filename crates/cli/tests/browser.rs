@@ -97,7 +97,7 @@ f.src = {url:?};
 }
 
 fn screenshot(chrome: &Path, work: &Path, report: &Path, name: &str) {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/report-screenshots");
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("target/report-screenshots");
     std::fs::create_dir_all(&dir).unwrap();
     let png = dir.join(format!("{name}.png"));
     let o = headless(chrome, &work.join("profile-shot"))
@@ -117,7 +117,7 @@ fn screenshot(chrome: &Path, work: &Path, report: &Path, name: &str) {
 
 /// One folder of every kind, made by the command line.
 fn folders(d: &Path) -> Vec<(&'static str, PathBuf)> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let data = root.join("data/cascaded-tanks");
     let (est, val) = (data.join("estimation.csv"), data.join("validation.csv"));
     let (est, val) = (est.to_str().unwrap(), val.to_str().unwrap());

@@ -7,7 +7,8 @@ use std::path::Path;
 use std::process::Command;
 
 fn fit(dir: &Path, out: &str, threads: Option<&str>) -> Vec<u8> {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cascaded-tanks/estimation.csv");
+    let data =
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("data/cascaded-tanks/estimation.csv");
     let mut c = Command::new(env!("CARGO_BIN_EXE_rhonn"));
     c.args([
         "fit",

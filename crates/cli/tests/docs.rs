@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use util::{rhonn, stderr, user_docs};
 
 fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
 }
 
 /// The fenced blocks of `text` whose info string starts with `lang`, each as its lines.

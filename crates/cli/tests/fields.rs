@@ -5,7 +5,7 @@ use std::path::Path;
 
 #[test]
 fn the_reference_is_generated_from_the_fields() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/reference/fields.md");
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("docs/reference/fields.md");
     let generated = rhonn_report::fields::markdown();
     if std::env::var_os("RHONN_BLESS").is_some() {
         std::fs::write(&path, &generated).unwrap();

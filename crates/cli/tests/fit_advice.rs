@@ -272,7 +272,8 @@ fn an_output_no_candidate_predicts_better_than_its_mean_is_said_by_fit_and_predi
 #[test]
 fn fit_messages_read_as_sentences_and_keep_significant_digits() {
     let d = tempfile::tempdir().unwrap();
-    let est = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cascaded-tanks/estimation.csv");
+    let est = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .join("data/cascaded-tanks/estimation.csv");
     // The tanks' output scaled by 1e-5: an RMS error of about 1e-5.
     let text = std::fs::read_to_string(&est).unwrap();
     let mut small = String::from("t,u,y\n");

@@ -358,7 +358,7 @@ fn cascade_models_run_free_and_bad_cascade_specs_are_clear_errors() {
 /// file is a failure, never a skip.
 #[test]
 fn cascaded_tanks_free_run_beats_narx_and_arx_on_validation() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let data = root.join("data/cascaded-tanks");
     for f in ["estimation.csv", "validation.csv"] {
         assert!(
@@ -420,7 +420,7 @@ fn cascaded_tanks_free_run_beats_narx_and_arx_on_validation() {
 /// stays above 80 % and ahead of its ARX.
 #[test]
 fn pump_model_predicts_the_validation_record_10_steps_ahead() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let d = tempfile::tempdir().unwrap();
     // Run rhonn in d; it must succeed.
     let ok = |args: &[&str]| {
@@ -530,7 +530,7 @@ fn pump_model_predicts_the_validation_record_10_steps_ahead() {
 /// predicts that pump 10 steps ahead above 95 %.
 #[test]
 fn pump_grey_box_recovers_perturbed_parameters() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let d = tempfile::tempdir().unwrap();
     let ok = |args: &[&str]| {
         let o = rhonn(d.path(), args);
@@ -600,7 +600,7 @@ fn pump_grey_box_recovers_perturbed_parameters() {
 /// file and what to do, and nothing is written.
 #[test]
 fn pump_grey_box_refuses_a_pressure_in_mpa() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let d = tempfile::tempdir().unwrap();
     let mut text = String::from("t,current,demand,p_mpa\n");
     for k in 0..400 {
@@ -800,7 +800,7 @@ fn select_options_are_checked() {
 /// its first 12 s; it refuses a model of another kind.
 #[test]
 fn pump_filter_estimates_follow_the_true_state() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let d = tempfile::tempdir().unwrap();
     let o = rhonn(d.path(), &["run", "pump-validate", "--out", "v"]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -922,7 +922,7 @@ fn a_free_run_from_a_state_initialisation_window_sees_only_its_outputs() {
 #[test]
 fn a_time_column_of_another_name_is_read_with_time_column() {
     let d = tempfile::tempdir().unwrap();
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     for f in ["estimation.csv", "validation.csv"] {
         let text = std::fs::read_to_string(root.join("data/cascaded-tanks").join(f)).unwrap();
         std::fs::write(d.path().join(f), &text).unwrap();

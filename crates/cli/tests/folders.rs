@@ -14,7 +14,7 @@ fn predict_args<'a>(data: &'a str, out: &'a str) -> [&'a str; 7] {
 }
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .join("data/cascaded-tanks")
         .join(name)
 }

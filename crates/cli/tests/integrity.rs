@@ -8,13 +8,15 @@ use std::path::{Path, PathBuf};
 use util::{files_in, rhonn, stderr};
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .join("data/cascaded-tanks")
         .join(name)
 }
 
 fn model(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("models").join(name)
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .join("models")
+        .join(name)
 }
 
 fn s(p: &Path) -> &str {

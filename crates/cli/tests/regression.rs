@@ -27,8 +27,11 @@ fn tree(dir: &Path) -> Vec<String> {
 /// directory."
 #[test]
 fn a_scenario_name_never_leaves_the_output_folder() {
-    let preset =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/thesis-ch3.toml")).unwrap();
+    let preset = std::fs::read_to_string(concat!(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
+        "/scenarios/thesis-ch3.toml"
+    ))
+    .unwrap();
     assert!(preset.contains("name = \"thesis-ch3\""));
     let tricks = [
         "..",
@@ -162,7 +165,7 @@ fn a_model_file_with_more_lagged_regressors_than_allowed_is_refused() {
 /// session') ... Cargo.toml says 'MIT OR Apache-2.0' but there are no LICENSE files."
 #[test]
 fn what_users_read_carries_no_internal_notes_and_the_licenses_exist() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let internal = |text: &str| {
         let low = text.to_lowercase();
         let issue = low
@@ -207,7 +210,7 @@ fn what_users_read_carries_no_internal_notes_and_the_licenses_exist() {
 /// exists in the repository.
 #[test]
 fn every_file_the_readme_names_is_in_the_repository() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let tops = [
         "docs/",
         "data/",
@@ -304,7 +307,7 @@ fn path_errors_name_the_path_and_say_what_it_is() {
 /// without `[control] setpoint` the error names it.
 #[test]
 fn the_adaptive_controller_needs_only_its_set_point() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let preset = std::fs::read_to_string(root.join("scenarios/control-adaptive.toml")).unwrap();
     let short = preset.replace("duration_s = 60.0", "duration_s = 3.0");
     let (head, tail) = short.split_once("[control.controller]").unwrap();
@@ -347,7 +350,7 @@ fn the_adaptive_controller_needs_only_its_set_point() {
 /// panels and `inputs.svg`).
 #[test]
 fn each_controller_keeps_its_colour_across_the_plots_of_a_run() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let preset = std::fs::read_to_string(root.join("scenarios/control-adaptive.toml")).unwrap();
     let d = tempfile::tempdir().unwrap();
     std::fs::write(

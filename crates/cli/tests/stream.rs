@@ -12,7 +12,7 @@ use util::{rhonn, stderr};
 
 /// The DaISy hair dryer's training file as plain CSV in `dir`; its number of samples.
 fn hair_dryer(dir: &Path) -> usize {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let gz = std::fs::File::open(root.join("data/benchmarks/daisy-hair-dryer/train.csv.gz")).unwrap();
     let mut text = String::new();
     std::io::Read::read_to_string(&mut flate2::read::GzDecoder::new(gz), &mut text).unwrap();

@@ -270,7 +270,7 @@ fn tank_campaign_shards_merge_to_the_unsharded_campaign() {
 fn bad_tanks_scenarios_name_the_field() {
     let d = tempfile::tempdir().unwrap();
     let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
         "/scenarios/tanks-control.toml"
     ))
     .unwrap();
@@ -322,7 +322,7 @@ fn bad_tanks_scenarios_name_the_field() {
     } // Found by the mutation sweep: a validation of 1e9 s ran until the solver's step
       // budget failed it, naming no setting.
     let ident = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
         "/scenarios/tanks-identify.toml"
     ))
     .unwrap();

@@ -494,7 +494,7 @@ impl OnlineEngine for LaggedOnline {
     // passes it is least squares on the records repeated, which settles. Restarting it at
     // p0 I each pass let an over-parameterised structure (a recursive ARX of lags 8 on a
     // first-order system) drift along its poorly excited directions, pass after pass
-    // (tests/online_bank.rs).
+    // (crates/rhonn/tests/online_bank.rs).
     fn set_estimate(&mut self, y: &[f64]) {
         LaggedOnline::set_estimate(self, y)
     }

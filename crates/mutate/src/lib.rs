@@ -12,7 +12,7 @@
 //! are counted by whether the message names the file and the field, column or line.
 //!
 //! `cargo run --release -p rhonn-mutate -- --bin target/release/rhonn --cases 20000` runs a
-//! long campaign; `tests/mutation.rs` runs the default, short one; `--sweep` the systematic
+//! long campaign; `crates/cli/tests/mutation.rs` runs the default, short one; `--sweep` the systematic
 //! one ([`mutation::sweep`]: every numeric value set to each extreme in turn, run by CI).
 
 pub mod corpus;

@@ -6,7 +6,7 @@
 //! (seed 10 + inputs + 100 j) and a test record (seed 20 + inputs + 100 j) of 5,000
 //! samples; the structure chosen as `rhonn fit` chooses it without `--model` (the same
 //! selection, with its default options), trained, then run free on the test record beside
-//! its ARX baseline (the selection's best ARX on the folds, as `rhonn fit` keeps it). Seed j = 0 is the pair `tests/fit_predict.rs` checks. Prints one line
+//! its ARX baseline (the selection's best ARX on the folds, as `rhonn fit` keeps it). Seed j = 0 is the pair `crates/cli/tests/fit_predict.rs` checks. Prints one line
 //! per run and the median, best and worst per system.
 
 use rhonn::data::Record;

@@ -86,7 +86,8 @@ pub fn tanks_default_fit() -> &'static Path {
     static FIT: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
     FIT.get_or_init(|| {
         let dir = shared_dir("tanks-default-fit");
-        let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cascaded-tanks/estimation.csv");
+        let data = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+            .join("data/cascaded-tanks/estimation.csv");
         let o = rhonn(
             &dir,
             &[
@@ -114,7 +115,7 @@ pub fn two_benchmarks() -> &'static (std::path::PathBuf, String) {
     static RUN: std::sync::OnceLock<(std::path::PathBuf, String)> = std::sync::OnceLock::new();
     RUN.get_or_init(|| {
         let dir = shared_dir("two-benchmarks");
-        let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/benchmarks");
+        let data = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("data/benchmarks");
         let o = rhonn(
             &dir,
             &[

@@ -94,7 +94,7 @@ fn written(name: &str) -> impl FnOnce(Error) -> Error {
 
 /// Write a plant run's folder as `rhonn run` does: trajectory.csv, summary.json, plots and
 /// report.html, as a whole (`crate::folder`). Your own plant:
-/// `rhonn::experiment::run_plant_scenario_on`, then this (`examples/custom_plant.rs`).
+/// `rhonn::experiment::run_plant_scenario_on`, then this (`crates/cli/examples/custom_plant.rs`).
 pub fn save_plant_run(dir: &Path, output: &rhonn::experiment::PlantRunOutput) -> Result<Outcome> {
     super::in_folder(dir, (&[], crate::folder::writes::RUN), false, |stage| {
         let o = Outcome {

@@ -47,7 +47,7 @@ fn run_keeping(spec: &ScenarioSpec, parameters: Option<&[f64]>, keep: Keep) -> R
 
 /// Run `spec` on your own `plant` (any [`Plant`]; `spec.plant.kind` only names it): the
 /// same experiment, figures and findings as a shipped plant's scenario, for
-/// `rhonn_report::write_plant_run` to write as `rhonn run` does (`examples/custom_plant.rs`).
+/// `rhonn_report::write_plant_run` to write as `rhonn run` does (`crates/cli/examples/custom_plant.rs`).
 pub fn run_plant_scenario_on<P: Plant>(plant: &P, spec: &ScenarioSpec) -> Result<PlantRunOutput> {
     spec.check_common()?;
     run_on(plant, spec, None, Keep::Columns)
