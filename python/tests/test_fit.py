@@ -321,3 +321,14 @@ def test_a_state_space_model_from_python_is_the_commands(tmp_path, tanks, root, 
         csv = read_csv(tmp_path / folder / "prediction.csv")
         pred = m.predict(val["u"], val["y"], steps_ahead=steps)
         np.testing.assert_allclose(pred[:, 0], csv["y_hat"], rtol=0, atol=1e-9)
+
+
+def test_the_mean_kind_predicts_each_outputs_training_mean(tanks):
+    # The smallest model kind (`kind = "mean"`): the reference a model must beat, through
+    # Python as through the command (crates/cli/tests/model_kind.rs).
+    est, val = tanks
+    m = rhonn.fit(est["u"], est["y"], dt=4.0, model={"kind": "mean"})
+    pred = m.predict(val["u"], val["y"])
+    assert np.all(pred == pred[0]) and abs(pred[0, 0] - np.mean(est["y"])) < 1e-12 * np.mean(est["y"])
+    assert abs(m.summary["training"]["free_run"][0]["outputs"][0]["fit_percent"]) < 1e-9
+    assert np.array_equal(m.predict(val["u"], val["y"], steps_ahead=4), pred)

@@ -20,6 +20,7 @@ mod folders;
 mod glossary;
 mod identify;
 mod integrity;
+mod model_kind;
 mod mutation;
 mod regression;
 mod shape;

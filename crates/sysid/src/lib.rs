@@ -43,6 +43,7 @@ mod folds;
 mod kinds;
 mod lagged;
 mod lm;
+mod mean;
 mod predict;
 mod probes;
 pub mod pump_grey;
@@ -94,6 +95,7 @@ pub(crate) fn fitter(kind: Kind) -> &'static dyn kinds::Fit {
         Kind::Pump => &pump_grey::PumpGrey,
         Kind::WienerHammerstein => &wiener_hammerstein::WienerHammerstein,
         Kind::StateSpace => &state_space::StateSpace,
+        Kind::Mean => &mean::Mean,
     }
 }
 

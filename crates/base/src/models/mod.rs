@@ -17,6 +17,7 @@
 pub mod cascade;
 pub mod kinds;
 mod lagged;
+pub mod mean;
 mod model;
 pub mod pump_grey;
 pub mod state_space;
@@ -50,6 +51,9 @@ pub enum Kind {
     /// A discrete-time nonlinear state-space model, from the best linear approximation
     /// (see the `state_space` module).
     StateSpace,
+    /// Each output's training mean, a constant: the reference a model must beat (see the
+    /// `mean` module).
+    Mean,
 }
 
 impl Kind {
@@ -69,6 +73,7 @@ pub fn model_kind(kind: Kind) -> &'static dyn kinds::Structure {
         Kind::Pump => &pump_grey::PumpGrey,
         Kind::WienerHammerstein => &wiener_hammerstein::WienerHammerstein,
         Kind::StateSpace => &state_space::StateSpace,
+        Kind::Mean => &mean::Mean,
     }
 }
 
