@@ -216,7 +216,6 @@ fn every_file_the_readme_names_is_in_the_repository() {
         "data/",
         "models/",
         "scenarios/",
-        "examples/",
         "tools/",
         "crates/",
         "slurm/",
