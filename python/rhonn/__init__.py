@@ -257,7 +257,7 @@ def fit(
     ins = _names(inputs, us[0].shape[1], "u", "inputs")
     outs = _names(outputs, ys[0].shape[1], "y", "outputs")
     # Types here; the rules on the values (which combinations, which ranges) are the
-    # command line's, in rhonn_report::commands::fit_args.
+    # command line's, in rhonn_app::fit_args.
     if select is not None and not isinstance(select, str):
         raise TypeError(f"select must be \"auto\", \"none\" or None, not {type(select).__name__}")
     if select_steps_ahead is not None:

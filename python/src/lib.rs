@@ -26,7 +26,7 @@ fn scenario(name_or_path: &str, toml_text: Option<&str>) -> PyResult<ScenarioSpe
 /// TOML text of a JSON object (a scenario or model spec given as a Python dict).
 #[pyfunction]
 fn json_to_toml(json: &str) -> PyResult<String> {
-    rhonn_report::commands::toml_of_json(json).map_err(report_err)
+    rhonn_app::toml_of_json(json).map_err(report_err)
 }
 
 /// A run's trajectory (name -> SI array), validation columns, and summary.json's text.
@@ -50,10 +50,8 @@ fn interruptible<T: Send + 'static>(py: Python<'_>, f: impl FnOnce() -> T + Send
 #[pyo3(signature = (name, toml_text=None, out=None))]
 fn run(py: Python<'_>, name: &str, toml_text: Option<&str>, out: Option<PathBuf>) -> PyResult<RunResult> {
     let sc = scenario(name, toml_text)?;
-    let (run, _) = interruptible(py, move || {
-        rhonn_report::commands::run_scenario(&sc, out.as_deref())
-    })?
-    .map_err(report_err)?;
+    let (run, _) =
+        interruptible(py, move || rhonn_app::run_scenario(&sc, out.as_deref()))?.map_err(report_err)?;
     let summary = rhonn_report::scenario_run::summary_json(&run).map_err(report_err)?;
     let (traj, val) = run.into_columns();
     let traj = columns_dict(py, traj.into_iter())?;
@@ -84,8 +82,8 @@ fn fit(
         .collect::<PyResult<Vec<_>>>()?;
     let (fitted, summary, notes) = interruptible(py, move || {
         let spec = spec.as_ref().map(|(t, s)| (t.as_str(), s.as_str()));
-        let args = rhonn_report::commands::fit_args::FitArgs::given(select.0.as_deref(), select.1, select.2);
-        rhonn_report::commands::fit_in_memory(&recs, &inputs, &outputs, spec, args)
+        let args = rhonn_app::fit_args::FitArgs::given(select.0.as_deref(), select.1, select.2);
+        rhonn_app::fit_in_memory(&recs, &inputs, &outputs, spec, args)
     })?
     .map_err(report_err)?;
     Ok(model::Model(fitted, Some(summary), notes))
@@ -112,7 +110,7 @@ fn campaign(
     let zero = "threads = 0 is not allowed: give 1 or more, or None for every core";
     let shown = out.display().to_string();
     interruptible(py, move || {
-        rhonn_report::commands::campaign(&sc, &opts, &out, (threads, zero), &|_| {})
+        rhonn_app::campaign(&sc, &opts, &out, (threads, zero), &|_| {})
     })?
     .map_err(report_err)?;
     Ok(shown)
@@ -135,7 +133,7 @@ fn scenarios() -> Vec<(&'static str, String)> {
 /// A scenario's TOML text (a shipped one as shipped).
 #[pyfunction]
 fn show(name: &str) -> PyResult<String> {
-    rhonn_report::commands::show(name).map_err(report_err)
+    rhonn_app::show(name).map_err(report_err)
 }
 
 /// The Rust side of `rhonn`.

@@ -41,7 +41,7 @@ impl OnlineIdentifier {
         samples: Option<usize>,
     ) -> PyResult<Self> {
         let spec = model
-            .map(|text| rhonn_report::commands::online_spec(text, "model"))
+            .map(|text| rhonn_app::online_spec(text, "model"))
             .transpose()
             .map_err(report_err)?;
         let opts = SessionOptions {

@@ -91,7 +91,7 @@ pub fn run(out: &Path) -> Result<Vec<std::path::PathBuf>, Box<dyn std::error::Er
         for f in &output.summary.findings {
             println!("{}: {f}", spec.name);
         }
-        files.extend(rhonn_report::commands::save_plant_run(&out.join(&spec.name), &output)?.files);
+        files.extend(rhonn_app::save_plant_run(&out.join(&spec.name), &output)?.files);
     }
     Ok(files)
 }

@@ -3,7 +3,7 @@
 //! the input does (the model learned so far is frozen and written).
 
 use anyhow::Result;
-use rhonn_report::commands;
+use rhonn_app as commands;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -10,7 +10,8 @@ use anyhow::Result;
 use args::{Cli, Command};
 use clap::Parser;
 use rhonn::experiment::preset;
-use rhonn_report::{campaign, commands};
+use rhonn_app as commands;
+use rhonn_report::campaign;
 use std::path::PathBuf;
 use std::process::ExitCode;
 

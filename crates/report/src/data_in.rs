@@ -107,7 +107,7 @@ fn delimiter_hint(available: &str, column: &str) -> String {
 
 /// A cell's number: finite and of magnitude at most [`MAX_MAGNITUDE`] (None otherwise, which
 /// `DataError::BadCell` words), for files and streams alike.
-pub(crate) fn cell_value(s: &str) -> Option<f64> {
+pub fn cell_value(s: &str) -> Option<f64> {
     s.parse::<f64>()
         .ok()
         .filter(|v| v.is_finite() && v.abs() <= MAX_MAGNITUDE)

@@ -60,17 +60,13 @@ pub fn outputs() -> Vec<Output> {
             "summary.json",
             schema_of::<rhonn::identification::IdentifySummary>(),
         ),
-        out(
-            "rhonn benchmark",
-            "summary.json",
-            crate::commands::benchmark::schema(),
-        ),
+        out("rhonn benchmark", "summary.json", crate::benchmark_file::schema()),
         out(
             "rhonn benchmark",
             "<benchmark>/summary.json",
             schema_of::<rhonn::benchmark::BenchmarkOutcome>(),
         ),
-        out("rhonn corpus", "summary.json", crate::commands::corpus::schema()),
+        out("rhonn corpus", "summary.json", crate::corpus_file::schema()),
         out("rhonn bench", "summary.json", crate::bench_report::schema()),
         out(
             "rhonn bench",

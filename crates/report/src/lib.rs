@@ -16,12 +16,13 @@ rhonn_report::write_scenario_run(std::path::Path::new("out/thesis-ch3"), &run)?;
 pub mod any_model;
 mod atomic;
 pub mod bench_report;
-mod benchmark_data;
+pub mod benchmark_data;
+pub mod benchmark_file;
 pub mod campaign;
 mod campaign_options;
 mod campaign_rows;
 mod campaign_runner;
-pub mod commands;
+pub mod corpus_file;
 mod csv_out;
 mod data_in;
 pub mod fields;
@@ -41,11 +42,12 @@ pub mod worst_runs;
 
 pub use atomic::OutputSet;
 pub use csv_out::write_trace_csv;
-pub use data_in::{read_record, read_record_timed, DataError};
+pub use data_in::{cell_value, read_record, read_record_timed, DataError};
 pub use html::{write_report, write_report_as};
 pub use plant_report::write_plant_run;
 pub use plot::{bin_counts, Band, EnvelopePlot, Histogram, Series, TimePlot};
 pub use prediction::{plot_prediction, prediction_trace, write_prediction};
+pub use residuals::plot_residuals;
 pub use scenario_run::write_scenario_run;
 
 use std::path::{Path, PathBuf};
@@ -120,7 +122,8 @@ impl Error {
 /// Result alias.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
-pub(crate) fn write_json(w: &mut dyn std::io::Write, v: &impl serde::Serialize) -> std::io::Result<()> {
+/// `v` as pretty JSON with a final newline, as every JSON file of rhonn is written.
+pub fn write_json(w: &mut dyn std::io::Write, v: &impl serde::Serialize) -> std::io::Result<()> {
     serde_json::to_writer_pretty(&mut *w, v).map_err(std::io::Error::other)?;
     writeln!(w)
 }

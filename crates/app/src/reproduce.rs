@@ -4,9 +4,9 @@
 
 use super::run::{run_scenario_into_dir, REPRODUCED};
 use super::Outcome;
-use crate::Result;
 use rhonn::experiment::PlantRunOutput;
 use rhonn::metrics::sig;
+use rhonn_report::Result;
 use std::path::Path;
 
 /// Run the main job's scenarios into `root/<name>`: the lead (what was reproduced), then

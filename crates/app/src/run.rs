@@ -1,8 +1,8 @@
 //! `rhonn run`, `rhonn reproduce`, `rhonn bench` and `rhonn show`: scenarios.
 
 use super::{context, Outcome};
-use crate::{Error, Result};
 use rhonn::experiment::preset;
+use rhonn_report::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// The scenarios `rhonn reproduce` runs, in order: the thesis's chapters 3 and 5, the
@@ -54,7 +54,9 @@ fn run_scenario_from(
     inputs: &[PathBuf],
 ) -> Result<(rhonn::experiment::PlantRunOutput, Option<Outcome>)> {
     let writing = out
-        .map(|dir| crate::folder::Writing::begin(dir, inputs, crate::folder::writes::RUN, false))
+        .map(|dir| {
+            rhonn_report::folder::Writing::begin(dir, inputs, rhonn_report::folder::writes::RUN, false)
+        })
         .transpose()?;
     let run = sc.run()?;
     let written = match writing {
@@ -68,10 +70,10 @@ fn run_scenario_from(
 }
 
 /// Write a scenario run's folder as `rhonn run` does ([`run_scenario`]): its files and
-/// `report.html` as a whole (`crate::folder`); the scenario's warnings and the figures
+/// `report.html` as a whole (`rhonn_report::folder`); the scenario's warnings and the figures
 /// `rhonn run` prints.
 pub fn save_scenario_run(dir: &Path, name: &str, run: &rhonn::experiment::PlantRunOutput) -> Result<Outcome> {
-    super::in_folder(dir, (&[], crate::folder::writes::RUN), false, |stage| {
+    super::in_folder(dir, (&[], rhonn_report::folder::writes::RUN), false, |stage| {
         scenario_run_into(stage, name, run)
     })
 }
@@ -80,8 +82,8 @@ fn scenario_run_into(stage: &Path, name: &str, run: &rhonn::experiment::PlantRun
     let mut o = Outcome::default();
     o.notes
         .extend(run.summary.warnings.iter().map(|w| format!("warning: {w}")));
-    o.files = crate::write_scenario_run(stage, run).map_err(written(name))?;
-    o.lines = crate::scenario_run::run_lines(run);
+    o.files = rhonn_report::write_scenario_run(stage, run).map_err(written(name))?;
+    o.lines = rhonn_report::scenario_run::run_lines(run);
     Ok(o)
 }
 
@@ -93,12 +95,12 @@ fn written(name: &str) -> impl FnOnce(Error) -> Error {
 }
 
 /// Write a plant run's folder as `rhonn run` does: trajectory.csv, summary.json, plots and
-/// report.html, as a whole (`crate::folder`). Your own plant:
+/// report.html, as a whole (`rhonn_report::folder`). Your own plant:
 /// `rhonn::experiment::run_plant_scenario_on`, then this (`crates/cli/examples/custom_plant.rs`).
 pub fn save_plant_run(dir: &Path, output: &rhonn::experiment::PlantRunOutput) -> Result<Outcome> {
-    super::in_folder(dir, (&[], crate::folder::writes::RUN), false, |stage| {
+    super::in_folder(dir, (&[], rhonn_report::folder::writes::RUN), false, |stage| {
         let o = Outcome {
-            files: crate::write_plant_run(stage, output).map_err(written(&output.summary.scenario))?,
+            files: rhonn_report::write_plant_run(stage, output).map_err(written(&output.summary.scenario))?,
             ..Outcome::default()
         };
         Ok(o)
@@ -126,7 +128,7 @@ pub fn bench(
     // The comparison file is read before the timings, so a bad one fails at once.
     let compared = match (out, compare) {
         (_, None) => Vec::new(),
-        (Some(_), Some(p)) => crate::bench_report::read_compared(p)?,
+        (Some(_), Some(p)) => rhonn_report::bench_report::read_compared(p)?,
         (None, Some(_)) => {
             return Err(Error::Input(
                 "--compare needs --out DIR (the comparison is drawn in DIR/bench.svg)".into(),
@@ -166,10 +168,15 @@ pub fn bench(
     match out {
         Some(dir) => {
             let inputs: Vec<PathBuf> = compare.iter().map(|p| p.to_path_buf()).collect();
-            super::in_folder(dir, (&inputs, crate::folder::writes::BENCH), false, |stage| {
-                o.files = crate::bench_report::write_bench(stage, &all, &compared)?;
-                Ok(o)
-            })
+            super::in_folder(
+                dir,
+                (&inputs, rhonn_report::folder::writes::BENCH),
+                false,
+                |stage| {
+                    o.files = rhonn_report::bench_report::write_bench(stage, &all, &compared)?;
+                    Ok(o)
+                },
+            )
         }
         None => Ok(o),
     }

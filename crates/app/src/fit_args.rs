@@ -4,8 +4,8 @@
 //! below names its fields by its own (`select_steps_ahead`, `budget`), which the command
 //! line renames to its flags ([`Door::rename`]).
 
-use crate::{Error, Result};
 use rhonn::sysid::select::SelectOptions;
+use rhonn_report::{Error, Result};
 
 /// How a door spells the fit's arguments in messages.
 #[derive(Debug, Clone, Copy)]

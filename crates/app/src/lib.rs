@@ -3,8 +3,10 @@
 //! warnings for stderr, the files written). The binary parses arguments and prints an
 //! `Outcome`; the Python package and tests call the same functions.
 
-pub(crate) mod benchmark;
-pub(crate) mod corpus;
+#![deny(missing_docs)]
+
+mod benchmark;
+mod corpus;
 mod fit;
 pub mod fit_args;
 mod identify;
@@ -23,7 +25,7 @@ pub use identify_stream::{identify_stream, OnError, StreamRequest};
 pub use reproduce::reproduce;
 pub use run::{bench, run, run_scenario, save_plant_run, save_scenario_run, show, REPRODUCED};
 
-use crate::campaign::CampaignOutcome;
+use rhonn_report::campaign::CampaignOutcome;
 use std::path::{Path, PathBuf};
 
 /// What a command did, to be shown to its user.
@@ -67,10 +69,11 @@ impl Outcome {
 
 /// TOML text of a JSON object: a scenario or a model spec given as a Python dict, read
 /// then as the file it would be.
-pub fn toml_of_json(json: &str) -> crate::Result<String> {
-    let bad = |e: &dyn std::fmt::Display| crate::Error::Input(format!("cannot be written as TOML: {e}"));
+pub fn toml_of_json(json: &str) -> rhonn_report::Result<String> {
+    let bad =
+        |e: &dyn std::fmt::Display| rhonn_report::Error::Input(format!("cannot be written as TOML: {e}"));
     let v: serde_json::Value =
-        serde_json::from_str(json).map_err(|e| crate::Error::Input(format!("not JSON: {e}")))?;
+        serde_json::from_str(json).map_err(|e| rhonn_report::Error::Input(format!("not JSON: {e}")))?;
     let t = toml::Value::try_from(v).map_err(|e| bad(&e))?;
     toml::to_string(&t).map_err(|e| bad(&e))
 }
@@ -81,49 +84,49 @@ pub fn toml_of_json(json: &str) -> crate::Result<String> {
 /// tell the user.
 pub fn campaign(
     sc: &rhonn::experiment::ScenarioSpec,
-    opts: &crate::campaign::CampaignOptions,
+    opts: &rhonn_report::campaign::CampaignOptions,
     dir: &Path,
     (threads, zero): (Option<usize>, &str),
-    progress: &(dyn Fn(crate::campaign::Progress) + Sync),
-) -> crate::Result<Outcome> {
-    let outcome = crate::campaign::on_threads(threads, zero, || {
-        crate::scenario_run::run_scenario_campaign(sc, opts, dir, progress)
+    progress: &(dyn Fn(rhonn_report::campaign::Progress) + Sync),
+) -> rhonn_report::Result<Outcome> {
+    let outcome = rhonn_report::campaign::on_threads(threads, zero, || {
+        rhonn_report::scenario_run::run_scenario_campaign(sc, opts, dir, progress)
     })?;
     campaign_report(&outcome)
 }
 
 /// What a campaign (run, resumed or merged) tells its user, after writing its
 /// `report.html`.
-pub fn campaign_report(o: &CampaignOutcome) -> crate::Result<Outcome> {
+pub fn campaign_report(o: &CampaignOutcome) -> rhonn_report::Result<Outcome> {
     let mut out = campaign_outcome(o);
-    out.files.push(crate::write_report(&o.dir)?);
+    out.files.push(rhonn_report::write_report(&o.dir)?);
     Ok(out)
 }
 
 /// `rhonn report DIR`: (re)build a folder's `report.html` from its files. A folder with a
-/// manifest (`crate::folder`) is checked whole and from one run first, and its report is
+/// manifest (`rhonn_report::folder`) is checked whole and from one run first, and its report is
 /// committed with its files again (linked, not copied), so it shows only that run's.
-pub fn report(dir: &Path) -> crate::Result<Outcome> {
+pub fn report(dir: &Path) -> rhonn_report::Result<Outcome> {
     let listed = if dir.is_dir() {
-        crate::folder::check_whole(dir)?
+        rhonn_report::folder::check_whole(dir)?
     } else {
         None
     };
     let Some(manifest) = listed else {
         let _lock = dir
             .is_dir()
-            .then(|| crate::folder::FolderLock::acquire(dir))
+            .then(|| rhonn_report::folder::FolderLock::acquire(dir))
             .transpose()?;
         return Ok(Outcome {
-            files: vec![crate::write_report(dir)?],
+            files: vec![rhonn_report::write_report(dir)?],
             ..Outcome::default()
         });
     };
-    let w = crate::folder::Writing::begin(dir, &[], &[], true)?;
+    let w = rhonn_report::folder::Writing::begin(dir, &[], &[], true)?;
     manifest.verify_except(dir, &["model.json"])?;
     for e in manifest.files.iter().filter(|e| e.path != "report.html") {
         let (from, to) = (dir.join(&e.path), w.stage().join(&e.path));
-        let io = |err: std::io::Error| crate::Error::File {
+        let io = |err: std::io::Error| rhonn_report::Error::File {
             message: rhonn::error::path_problem(&to, &err),
             path: to.clone(),
         };
@@ -157,33 +160,33 @@ pub fn campaign_outcome(o: &CampaignOutcome) -> Outcome {
     }
 }
 
-/// Run `f` into output folder `dir` as a whole (`crate::folder::Writing`): the folder
+/// Run `f` into output folder `dir` as a whole (`rhonn_report::folder::Writing`): the folder
 /// checked, locked and its interrupted commit finished before the work; `f` writes into the
 /// staging folder it is given (`report.html` is rendered there after it); then the set is
 /// committed in one step. `inputs`: this run's input files (never overwritten nor
-/// removed), `writes`: the names it may write (`crate::folder::writes`); `force`: a
+/// removed), `writes`: the names it may write (`rhonn_report::folder::writes`); `force`: a
 /// different `model.json`, or a file no earlier run's manifest lists, may be replaced.
 pub(crate) fn in_folder(
     dir: &Path,
     (inputs, writes): (&[PathBuf], &[&str]),
     force: bool,
-    f: impl FnOnce(&Path) -> crate::Result<Outcome>,
-) -> crate::Result<Outcome> {
-    let w = crate::folder::Writing::begin(dir, inputs, writes, force)?;
+    f: impl FnOnce(&Path) -> rhonn_report::Result<Outcome>,
+) -> rhonn_report::Result<Outcome> {
+    let w = rhonn_report::folder::Writing::begin(dir, inputs, writes, force)?;
     let o = f(w.stage())?;
     commit(w, o)
 }
 
 /// Its `report.html`, rendered in the staging folder of `w` as the last file of `o`.
-fn with_report(w: &crate::folder::Writing, mut o: Outcome) -> crate::Result<Outcome> {
-    o.files.push(crate::write_report_as(w.stage(), w.dir())?);
+fn with_report(w: &rhonn_report::folder::Writing, mut o: Outcome) -> rhonn_report::Result<Outcome> {
+    o.files.push(rhonn_report::write_report_as(w.stage(), w.dir())?);
     Ok(o)
 }
 
 /// Commit a writing whose files `o` names (at their staged paths), its `report.html`
 /// rendered last: they move into the output folder, and `o` names them there, with the
 /// notes of the commit.
-pub(crate) fn commit(w: crate::folder::Writing, o: Outcome) -> crate::Result<Outcome> {
+pub(crate) fn commit(w: rhonn_report::folder::Writing, o: Outcome) -> rhonn_report::Result<Outcome> {
     let mut o = with_report(&w, o)?;
     let (stage, dir) = (w.stage().to_path_buf(), w.dir().to_path_buf());
     let c = w.commit()?;
@@ -233,9 +236,9 @@ pub(crate) fn ratio(v: f64) -> String {
 }
 
 /// A file's text, or an error naming the file and what the system said.
-pub(crate) fn read_text(p: &Path) -> crate::Result<String> {
+pub(crate) fn read_text(p: &Path) -> rhonn_report::Result<String> {
     rhonn::error::read_text(p).map_err(|e| {
-        crate::Error::Input(format!(
+        rhonn_report::Error::Input(format!(
             "cannot read {}: {}",
             p.display(),
             rhonn::error::path_problem(p, &e)
@@ -244,9 +247,9 @@ pub(crate) fn read_text(p: &Path) -> crate::Result<String> {
 }
 
 /// An error that says in which step of a command `source` happened.
-pub(crate) fn context(what: impl Into<String>) -> impl FnOnce(crate::Error) -> crate::Error {
+pub(crate) fn context(what: impl Into<String>) -> impl FnOnce(rhonn_report::Error) -> rhonn_report::Error {
     let context = what.into();
-    move |e| crate::Error::Context {
+    move |e| rhonn_report::Error::Context {
         context,
         source: Box::new(e),
     }

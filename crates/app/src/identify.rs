@@ -2,10 +2,10 @@
 //! its model.
 
 use super::{context, read_text, Outcome};
-use crate::identify::{write_identify, IdentifySummary};
-use crate::{Error, Result};
 use rhonn::any_model::{AnyModel, AnyPrediction};
 use rhonn::ident::{OnlineModel, OnlineSpec};
+use rhonn_report::identify::{write_identify, IdentifySummary};
+use rhonn_report::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// What `rhonn identify` takes.
@@ -71,7 +71,7 @@ pub fn identify(a: &IdentifyRequest) -> Result<Outcome> {
         .collect();
     super::in_folder(
         &a.out,
-        (&inputs, crate::folder::writes::IDENTIFY),
+        (&inputs, rhonn_report::folder::writes::IDENTIFY),
         a.force,
         |stage| identify_into(a, stage),
     )
@@ -231,7 +231,7 @@ pub(super) fn predict_online(
     (steps, window): (Option<usize>, Option<usize>),
 ) -> Result<Outcome> {
     let needed = any.samples_needed(steps);
-    let rec = crate::read_record_timed(data, time, &m.inputs, &m.outputs, needed)?;
+    let rec = rhonn_report::read_record_timed(data, time, &m.inputs, &m.outputs, needed)?;
     rhonn::ident::sample_time(std::slice::from_ref(&rec))?;
     let AnyPrediction::Online { rows: pred, figures } =
         any.predict_with(&rec, steps, window).map_err(|e| {
@@ -244,7 +244,7 @@ pub(super) fn predict_online(
     else {
         unreachable!("an online model's prediction")
     };
-    let files = crate::identify::write_online_prediction(
+    let files = rhonn_report::identify::write_online_prediction(
         out,
         m,
         &model_path.display().to_string(),

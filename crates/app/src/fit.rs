@@ -2,11 +2,11 @@
 
 use super::fit_args::FitArgs;
 use super::{context, read_text, unit_of, Outcome};
-use crate::{Error, Result};
 use rhonn::any_model::{AnyModel, AnyPrediction, ModelFileError};
 use rhonn::data::Record;
 use rhonn::sysid::select::SelectOptions;
 use rhonn::sysid::{parse_spec_file, FitStructure, ModelSpec, RecordFigures};
+use rhonn_report::{Error, Result};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -133,7 +133,7 @@ pub fn read_data_regridded(
     }
     let mut out = ReadData::default();
     for p in paths {
-        let r = crate::read_record_timed(p, time, inputs, outputs, min_rows)?;
+        let r = rhonn_report::read_record_timed(p, time, inputs, outputs, min_rows)?;
         let dt = resample_s.unwrap_or_else(|| r.sample_interval());
         let (parts, split) = r.split_at_gaps()?;
         out.notes.extend(split.map(|s| s.to_string()));
@@ -268,7 +268,7 @@ pub fn fit_with_progress(req: &FitRequest, progress: &(dyn Fn(&str) + Sync)) -> 
     let inputs: Vec<PathBuf> = req.data.iter().chain(&req.model).cloned().collect();
     super::in_folder(
         &req.out,
-        (&inputs, crate::folder::writes::FIT),
+        (&inputs, rhonn_report::folder::writes::FIT),
         req.force,
         |stage| fit_into(req, stage, progress),
     )
@@ -345,7 +345,7 @@ fn fit_into(req: &FitRequest, stage: &Path, progress: &(dyn Fn(&str) + Sync)) ->
     if let Some(n) = replaced_note(&req.out, &fitted, &summary, req.force)? {
         o.notes.push(n);
     }
-    o.files = crate::write_fit(stage, &fitted, &summary, &training)?;
+    o.files = rhonn_report::write_fit(stage, &fitted, &summary, &training)?;
     o.lines
         .extend(fitted_lines(&specs[0], &fitted, &summary, recs.len()));
     if grey {
@@ -531,18 +531,21 @@ pub fn predict(
     window: Option<usize>,
 ) -> Result<Outcome> {
     let inputs = [model.to_path_buf(), data.to_path_buf()];
-    super::in_folder(out, (&inputs, crate::folder::writes::PREDICT), false, |stage| {
-        predict_into(model, (data, time), stage, steps, window)
-    })
+    super::in_folder(
+        out,
+        (&inputs, rhonn_report::folder::writes::PREDICT),
+        false,
+        |stage| predict_into(model, (data, time), stage, steps, window),
+    )
 }
 
-/// The model's folder checked whole (`crate::folder::check_whole`); a note when the model
+/// The model's folder checked whole (`rhonn_report::folder::check_whole`); a note when the model
 /// file was edited since its run wrote it.
 fn edited_note(model: &Path) -> Result<Option<String>> {
     let Some(folder) = model.parent().filter(|p| p.is_dir()) else {
         return Ok(None);
     };
-    let listed = crate::folder::check_whole(folder)
+    let listed = rhonn_report::folder::check_whole(folder)
         .map_err(context(format!("the model's folder of {}", model.display())))?;
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned());
     Ok(match (listed, name) {
@@ -550,7 +553,7 @@ fn edited_note(model: &Path) -> Result<Option<String>> {
             Some(format!(
                 "note: {} was edited since the run that wrote it ({}): predicting with it as it is now",
                 model.display(),
-                folder.join(crate::folder::MANIFEST).display()
+                folder.join(rhonn_report::folder::MANIFEST).display()
             ))
         }
         _ => None,
@@ -662,7 +665,7 @@ fn predict_into(
             p.record.len()
         ));
     }
-    o.files = crate::write_prediction(out, fitted, &p, &model.display().to_string())?;
+    o.files = rhonn_report::write_prediction(out, fitted, &p, &model.display().to_string())?;
     o.lines.extend(figure_lines(fitted, &p));
     Ok(o)
 }

@@ -4,11 +4,12 @@
 //! on every test set as CSV and plots, and a report.
 
 use super::Outcome;
-use crate::atomic::OutputSet;
-use crate::plot::{Series, TimePlot};
-use crate::{Error, Result};
 use rhonn::benchmark::BenchmarkOutcome;
-use serde::Serialize;
+pub use rhonn_report::benchmark_file::Row;
+use rhonn_report::benchmark_file::Summary;
+use rhonn_report::OutputSet;
+use rhonn_report::{Error, Result};
+use rhonn_report::{Series, TimePlot};
 use std::path::{Path, PathBuf};
 
 /// What `rhonn benchmark` takes.
@@ -25,78 +26,6 @@ pub struct BenchmarkRequest {
     /// A model spec (`rhonn fit --model`'s) trained in place of the default selection's
     /// choice (`rhonn fit (--model)` in the table).
     pub model: Option<PathBuf>,
-}
-
-/// One row of the table: one output of one test set.
-#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
-pub struct Row {
-    /// The benchmark.
-    pub benchmark: String,
-    /// The test set.
-    pub test: String,
-    /// The output.
-    pub output: String,
-    /// Its unit (empty when the data's owners give none).
-    pub unit: String,
-    /// The first sample scored, and how many.
-    pub scored_from: usize,
-    /// Samples scored.
-    pub samples: usize,
-    /// How the fit column's model was made when it is not the default selection's choice
-    /// (`rhonn fit (--model)`); absent otherwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub fit_method: Option<String>,
-    /// Free-run RMS error of rhonn fit's default model, its structure and training time.
-    pub fit_rmse: f64,
-    /// See `fit_rmse`.
-    pub fit_structure: String,
-    /// See `fit_rmse` \[s\].
-    pub fit_time_s: f64,
-    /// The same for rhonn identify's default online model.
-    pub online_rmse: f64,
-    /// See `online_rmse`.
-    pub online_structure: String,
-    /// See `online_rmse` \[s\].
-    pub online_time_s: f64,
-    /// The same for the ARX of lags by cross-validation on train.
-    pub arx_rmse: f64,
-    /// See `arx_rmse`.
-    pub arx_structure: String,
-    /// See `arx_rmse` \[s\].
-    pub arx_time_s: f64,
-    /// The best published figure on this test set and output under the protocol's own
-    /// split, its model and source (with the year).
-    pub published_rmse: Option<f64>,
-    /// See `published_rmse`.
-    pub published_model: String,
-    /// See `published_rmse`.
-    pub published_source: String,
-    /// The best published neural network on it (the baseline a user would train), cited
-    /// as `model, source, year`.
-    pub baseline_rmse: Option<f64>,
-    /// See `baseline_rmse`.
-    pub baseline_cited: String,
-    /// A published figure on another split, when below `published_rmse`: cited, with the
-    /// split it used.
-    pub other_split_rmse: Option<f64>,
-    /// See `other_split_rmse`.
-    pub other_split_cited: String,
-}
-
-/// `summary.json` of the whole run.
-#[derive(Debug, Serialize, schemars::JsonSchema)]
-struct Summary<'a> {
-    /// rhonn's version.
-    rhonn_version: &'static str,
-    /// How every model was trained and judged, in words.
-    protocol: &'static str,
-    /// One row per benchmark, test set, output and method (benchmark.csv's rows).
-    rows: &'a [Row],
-}
-
-/// The schema of `summary.json` (`fields`).
-pub(crate) fn schema() -> serde_json::Value {
-    schemars::schema_for!(Summary<'static>).to_value()
 }
 
 const PROTOCOL: &str = "every model trained on the benchmark's training records only (structure and settings chosen by cross-validation inside them), run free on each test set from its start-up window; RMS error from the first sample every model predicts (the window, or a model's largest lag if later), in the data's units";
@@ -163,7 +92,7 @@ pub fn figure(v: f64, unit: &str) -> String {
 /// `rhonn benchmark`.
 pub fn benchmark(req: &BenchmarkRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcome> {
     let names = if req.names.is_empty() {
-        crate::benchmark_data::available(&req.data_dir)?
+        rhonn_report::benchmark_data::available(&req.data_dir)?
     } else {
         req.names.clone()
     };
@@ -187,12 +116,12 @@ pub fn benchmark(req: &BenchmarkRequest, progress: &(dyn Fn(&str) + Sync)) -> Re
     };
     let loaded = names
         .iter()
-        .map(|n| crate::benchmark_data::load(&req.data_dir, n))
+        .map(|n| rhonn_report::benchmark_data::load(&req.data_dir, n))
         .collect::<Result<Vec<_>>>()?;
     let inputs: Vec<PathBuf> = req.model.iter().cloned().collect();
     super::in_folder(
         &req.out,
-        (&inputs, crate::folder::writes::BENCHMARK),
+        (&inputs, rhonn_report::folder::writes::BENCHMARK),
         false,
         |stage| {
             let mut o = Outcome::default();
@@ -218,7 +147,7 @@ pub fn benchmark(req: &BenchmarkRequest, progress: &(dyn Fn(&str) + Sync)) -> Re
                 protocol: PROTOCOL,
                 rows: &rows,
             };
-            set.write("summary.json", |w| crate::write_json(w, &summary))?;
+            set.write("summary.json", |w| rhonn_report::write_json(w, &summary))?;
             set.write("benchmark.csv", |w| write_rows_csv(w, &rows))?;
             o.files.extend(set.commit()?);
             o.lines = if req.json {
@@ -308,11 +237,11 @@ fn write_one(
 ) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let mut online = OutputSet::new(&dir.join("online"))?;
-    online.write("model.json", |w| crate::write_json(w, &res.online))?;
+    online.write("model.json", |w| rhonn_report::write_json(w, &res.online))?;
     files.extend(online.commit()?);
     let mut set = OutputSet::new(dir)?;
-    set.write("model.json", |w| crate::write_json(w, &res.fitted))?;
-    set.write("summary.json", |w| crate::write_json(w, res))?;
+    set.write("model.json", |w| rhonn_report::write_json(w, &res.fitted))?;
+    set.write("summary.json", |w| rhonn_report::write_json(w, res))?;
     for (k, (ts, r)) in res.test_sets.iter().zip(&b.tests).enumerate() {
         let preds: Vec<&Vec<Vec<f64>>> = res.methods.iter().map(|m| &m.tests[k].prediction).collect();
         set.write(&format!("free_run_{k}.csv"), |w| {
@@ -320,12 +249,11 @@ fn write_one(
         })?;
         let svg = free_run_plot(res, k, r, &preds);
         set.write(&format!("free_run_{k}.svg"), |w| w.write_all(svg.as_bytes()))?;
-        let resid =
-            crate::residuals::plot_residuals(r, preds[0], ts.scored_from, &b.spec.inputs, &res.outputs);
+        let resid = rhonn_report::plot_residuals(r, preds[0], ts.scored_from, &b.spec.inputs, &res.outputs);
         set.write(&format!("residuals_{k}.svg"), |w| w.write_all(resid.as_bytes()))?;
     }
     files.extend(set.commit()?);
-    files.push(crate::write_report_as(dir, shown)?);
+    files.push(rhonn_report::write_report_as(dir, shown)?);
     Ok(files)
 }
 

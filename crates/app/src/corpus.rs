@@ -3,10 +3,11 @@
 //! over the ARX's (lags by cross-validation on train), then the median and the worst.
 
 use super::Outcome;
-use crate::atomic::OutputSet;
-use crate::{Error, Result};
 use rhonn::corpus::{self, Judged, Summary};
 use rhonn::metrics::sig;
+use rhonn_report::corpus_file::SummaryFile;
+use rhonn_report::OutputSet;
+use rhonn_report::{Error, Result};
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -45,26 +46,6 @@ struct Row<'a> {
     online_ratio: Option<f64>,
     online_structure: &'a str,
     failed: &'a str,
-}
-
-/// `rhonn corpus`'s `summary.json`.
-#[derive(Serialize, schemars::JsonSchema)]
-struct SummaryFile<'a> {
-    /// rhonn's version.
-    rhonn_version: &'static str,
-    /// The seed the systems were drawn from.
-    seed: u64,
-    /// How each system was judged, in words.
-    protocol: &'static str,
-    /// The figures over every output.
-    summary: &'a Summary,
-    /// Each system, its models and their figures per output.
-    systems: &'a [Judged],
-}
-
-/// The schema of `summary.json` (`fields`).
-pub(crate) fn schema() -> serde_json::Value {
-    schemars::schema_for!(SummaryFile<'static>).to_value()
 }
 
 const PROTOCOL: &str = "each system's default rhonn fit and ARX (lags by cross-validation) trained on its training records only, run free on its test records; RMS error from the later of the two models' first predictions; ratio = rhonn / ARX per output; online_ratio = rhonn identify's default online model (trained on the same records, frozen) / ARX over the samples from the later of their first predictions";
@@ -181,7 +162,7 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
         )));
     }
     if let Some(out) = &req.out {
-        crate::folder::check_writable(out)?;
+        rhonn_report::folder::check_writable(out)?;
     }
     let picked: Vec<usize> = if req.only.is_empty() {
         (0..req.systems).collect()
@@ -215,9 +196,9 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
             ..Outcome::default()
         });
     };
-    super::in_folder(out, (&[], crate::folder::writes::CORPUS), false, |stage| {
+    super::in_folder(out, (&[], rhonn_report::folder::writes::CORPUS), false, |stage| {
         let mut set = OutputSet::new(stage)?;
-        set.write("summary.json", |w| crate::write_json(w, &file))?;
+        set.write("summary.json", |w| rhonn_report::write_json(w, &file))?;
         // Each system's records, as recordings every command (and any other tool) reads.
         let mut recordings = 0;
         for i in &picked {

@@ -1,6 +1,6 @@
 //! Each command of `rhonn` as a library call (what the binary and the Python package call).
 
-use rhonn_report::commands::{self, FitRequest};
+use rhonn_app::{self as commands, FitRequest};
 use rhonn_report::Error;
 use std::path::PathBuf;
 

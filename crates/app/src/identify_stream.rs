@@ -7,8 +7,8 @@
 
 use super::identify::read_spec;
 use super::{in_folder, Outcome};
-use crate::{DataError, Error, OutputSet, Result};
 use rhonn::ident::Stream;
+use rhonn_report::{DataError, Error, OutputSet, Result};
 use std::io::BufRead;
 use std::path::PathBuf;
 
@@ -99,7 +99,7 @@ fn sample(
     }
     let mut v = Vec::with_capacity(cols.at.len());
     for (k, &i) in cols.at.iter().enumerate() {
-        let Some(x) = crate::data_in::cell_value(cells[i]) else {
+        let Some(x) = rhonn_report::cell_value(cells[i]) else {
             return Err(DataError::BadCell {
                 file: req.source.clone(),
                 line,
@@ -186,12 +186,12 @@ pub fn identify_stream(
     let inputs: Vec<PathBuf> = req.model.iter().cloned().collect();
     let mut o = in_folder(
         &req.out,
-        (&inputs, crate::folder::writes::IDENTIFY),
+        (&inputs, rhonn_report::folder::writes::IDENTIFY),
         req.force,
         |stage| {
             let mut set = OutputSet::new(stage)?;
-            set.write("summary.json", |w| crate::write_json(w, &summary))?;
-            set.write("model.json", |w| crate::write_json(w, &model))?;
+            set.write("summary.json", |w| rhonn_report::write_json(w, &summary))?;
+            set.write("model.json", |w| rhonn_report::write_json(w, &model))?;
             let files = set.commit()?;
             let rms: Vec<String> = summary
                 .outputs
