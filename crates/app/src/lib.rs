@@ -259,3 +259,14 @@ pub(crate) fn context(what: impl Into<String>) -> impl FnOnce(rhonn_report::Erro
 pub(crate) fn unit_of(units: &std::collections::BTreeMap<String, String>, col: &str) -> String {
     units.get(col).map_or(String::new(), |u| format!(" {u}"))
 }
+
+/// The Rust code blocks of the user guides (which call `rhonn`, `rhonn-report` and this
+/// crate), compiled by `cargo test --doc` so that what a user copies builds (those that
+/// read or write files are compiled, not run).
+#[cfg(doctest)]
+mod guides {
+    #[doc = include_str!("../../../docs/guides/library.md")]
+    struct Library;
+    #[doc = include_str!("../../../docs/guides/identify.md")]
+    struct Identify;
+}

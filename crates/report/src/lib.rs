@@ -152,13 +152,3 @@ pub fn write_fit(
     }
     set.commit()
 }
-
-/// The Rust code blocks of the user guides, compiled by `cargo test --doc` so that what a
-/// user copies builds (those that read or write files are compiled, not run).
-#[cfg(doctest)]
-mod guides {
-    #[doc = include_str!("../../../docs/guides/library.md")]
-    struct Library;
-    #[doc = include_str!("../../../docs/guides/identify.md")]
-    struct Identify;
-}
