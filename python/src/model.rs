@@ -1,13 +1,13 @@
 //! `rhonn.Model`: a model of `rhonn fit` or a frozen online RHONN (`rhonn identify`,
 //! `OnlineIdentifier.freeze()`), in the same `model.json` as the command line:
-//! `rhonn::any_model::AnyModel` through `rhonn_report::any_model`, converted.
+//! `rhonn::any_model::AnyModel` through `rhonn_app::any_model`, converted.
 
 use crate::arrays::record;
 use crate::errors::report_err;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
-use rhonn_report::any_model::{self, AnyModel};
+use rhonn_app::any_model::{self, AnyModel};
 use std::path::PathBuf;
 
 /// A model: `predict`, `save`, its `summary`. Its parts: the model, what `rhonn fit`

@@ -8,7 +8,7 @@ use crate::model::Model;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use rhonn::ident::{OnlineSession, SessionOptions};
-use rhonn_report::any_model::AnyModel;
+use rhonn_app::any_model::AnyModel;
 
 /// Identify a sampled plant online: `update(t, u, y)` returns the estimate of `y(t)`
 /// made before seeing `y`, then learns from it.

@@ -5,6 +5,7 @@
 
 #![deny(missing_docs)]
 
+pub mod any_model;
 mod benchmark;
 mod corpus;
 mod fit;

@@ -13,7 +13,6 @@ rhonn_report::write_scenario_run(std::path::Path::new("out/thesis-ch3"), &run)?;
 */
 #![deny(missing_docs)]
 
-pub mod any_model;
 mod atomic;
 pub mod bench_report;
 pub mod benchmark_data;

@@ -2,9 +2,9 @@
 //! files, and its prediction as columns and JSON figures: what Python's `rhonn.Model`
 //! converts. `rhonn predict` reads and predicts through the same library calls.
 
-use crate::{Error, Result};
 pub use rhonn::any_model::{AnyModel, AnyPrediction, ModelFileError};
 use rhonn::data::Record;
+use rhonn_report::{Error, Result};
 use std::path::Path;
 
 /// A prediction's columns (one per output) and its figures as JSON text.
