@@ -81,10 +81,11 @@ impl OnlineBank {
     }
 
     /// With several outputs, also run each output's own bank of `candidates` (one
-    /// output each), as `rhonn identify` does over recordings
-    /// ([`super::select_per_output`]); nothing for one output.
+    /// output each; those that may stand alone, as `rhonn identify` does over recordings:
+    /// [`super::select_per_output`]); nothing for one output.
     pub fn with_own_banks(mut self, candidates: Vec<Candidate>) -> Result<Self> {
         if self.ny > 1 {
+            let candidates = super::per_output::own_candidates(candidates);
             self.own = (0..self.ny)
                 .map(|_| OnlineBank::new(candidates.clone(), 1, self.nu, self.dt, self.settings))
                 .collect::<Result<_>>()?;
@@ -137,8 +138,7 @@ impl OnlineBank {
     }
 
     /// Feed each output's own bank its output; where its leader runs free better than the
-    /// joint leader on that output so far (and may stand alone: not the polynomial NARX,
-    /// as the verdict requires), the estimate of that output is its leader's.
+    /// joint leader on that output so far, the estimate of that output is its leader's.
     fn update_own(&mut self, t: f64, u: &[f64], y: &[f64], leader: Option<usize>) -> Result<()> {
         if self.own.is_empty() {
             return Ok(());
@@ -147,10 +147,7 @@ impl OnlineBank {
         let joint = leader.and_then(|k| self.lanes[k].free.nrmse_each(&sd));
         for (j, b) in self.own.iter_mut().enumerate() {
             let e = b.update(t, u, &y[j..=j])?[0];
-            let mine = b
-                .leader()
-                .filter(|&k| super::per_output::may_stand_alone(&b.lanes[k].candidate.spec))
-                .and_then(|k| b.lanes[k].free.nrmse(&b.spread.sd()));
+            let mine = b.leader().and_then(|k| b.lanes[k].free.nrmse(&b.spread.sd()));
             if let (Some(m), Some(theirs)) = (mine, joint.as_ref().map(|v| v[j])) {
                 if m < theirs {
                     self.estimate[j] = e;
