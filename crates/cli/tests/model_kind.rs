@@ -8,7 +8,7 @@
 use crate::util;
 
 use std::path::Path;
-use util::{rhonn, stderr};
+use util::{rhonn, stderr, stdout};
 
 /// Column `col` of a CSV with a header (every row parsed).
 fn column(path: &Path, col: &str) -> Vec<f64> {
@@ -61,6 +61,18 @@ fn a_kind_added_by_the_recipe_runs_through_fit_predict_and_the_checks() {
         "{train}"
     );
     assert!(train["fit_percent"].as_f64().unwrap().abs() < 1e-9, "{train}");
+    // Its ARX baseline takes the spec's na and nb (the defaults here), and says so: the
+    // kind has no lags of its own for the baseline to share.
+    assert_eq!(
+        s["baseline_arx"]["chosen_as"], "the spec's na and nb: this kind has no lags",
+        "{}",
+        s["baseline_arx"]
+    );
+    assert!(
+        stdout(&o).contains("ARX baseline (na 2 nb 2 nk 1, the spec's na and nb: this kind has no lags)"),
+        "{}",
+        stdout(&o)
+    );
 
     // `rhonn predict`, free run and K steps ahead: the mean at every sample, scored from
     // the first sample on.

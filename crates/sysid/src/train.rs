@@ -57,7 +57,10 @@ pub struct OutputStructureSummary {
 pub struct BaselineSummary {
     /// Its lags, e.g. `na 4 nb 4 nk 1`.
     pub structure: String,
-    /// Why this ARX: `same lags` as the model, or `best ARX on the folds` of a selection.
+    /// Why this ARX: `same lags` as a lagged model (an ARX or a lagged RHONN), `the spec's
+    /// na and nb: this kind has no lags` for the others (their defaults unless the spec
+    /// gives them), or
+    /// `best ARX on the folds` of a selection.
     pub chosen_as: &'static str,
     /// Features per output.
     pub features: usize,
@@ -303,10 +306,10 @@ fn train_composite(
         baseline_arx: match &fitted.baseline {
             Some(b) => Some(BaselineSummary {
                 structure: b.spec.lags_name(),
-                chosen_as: if baseline.is_some() {
-                    "best ARX on the folds"
-                } else {
-                    "same lags"
+                chosen_as: match (baseline.is_some(), m.spec.kind) {
+                    (true, _) => "best ARX on the folds",
+                    (false, super::Kind::Arx | super::Kind::Rhonn) => "same lags",
+                    (false, _) => "the spec's na and nb: this kind has no lags",
                 },
                 features: b.n_features(),
                 one_step: figures_on(b, |r| b.predict(r, Some(1)), records)?,
