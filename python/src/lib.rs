@@ -104,7 +104,7 @@ fn campaign(
     corners: bool,
     envelope_runs: u64,
 ) -> PyResult<String> {
-    use rhonn_report::campaign::CampaignOptions;
+    use rhonn_app::campaign::CampaignOptions;
     let sc = scenario(name, toml_text)?;
     let opts = CampaignOptions::whole(runs, seed, corners, envelope_runs);
     let zero = "threads = 0 is not allowed: give 1 or more, or None for every core";

@@ -7,6 +7,7 @@
 
 pub mod any_model;
 mod benchmark;
+pub mod campaign;
 mod corpus;
 mod fit;
 pub mod fit_args;
@@ -26,7 +27,7 @@ pub use identify_stream::{identify_stream, OnError, StreamRequest};
 pub use reproduce::reproduce;
 pub use run::{bench, run, run_scenario, save_plant_run, save_scenario_run, show, REPRODUCED};
 
-use rhonn_report::campaign::CampaignOutcome;
+use campaign::CampaignOutcome;
 use std::path::{Path, PathBuf};
 
 /// What a command did, to be shown to its user.
@@ -85,13 +86,13 @@ pub fn toml_of_json(json: &str) -> rhonn_report::Result<String> {
 /// tell the user.
 pub fn campaign(
     sc: &rhonn::experiment::ScenarioSpec,
-    opts: &rhonn_report::campaign::CampaignOptions,
+    opts: &campaign::CampaignOptions,
     dir: &Path,
     (threads, zero): (Option<usize>, &str),
-    progress: &(dyn Fn(rhonn_report::campaign::Progress) + Sync),
+    progress: &(dyn Fn(campaign::Progress) + Sync),
 ) -> rhonn_report::Result<Outcome> {
-    let outcome = rhonn_report::campaign::on_threads(threads, zero, || {
-        rhonn_report::scenario_run::run_scenario_campaign(sc, opts, dir, progress)
+    let outcome = campaign::on_threads(threads, zero, || {
+        campaign::run_scenario_campaign(sc, opts, dir, progress)
     })?;
     campaign_report(&outcome)
 }

@@ -11,7 +11,7 @@ use args::{Cli, Command};
 use clap::Parser;
 use rhonn::experiment::preset;
 use rhonn_app as commands;
-use rhonn_report::campaign;
+use rhonn_app::campaign;
 use std::path::PathBuf;
 use std::process::ExitCode;
 

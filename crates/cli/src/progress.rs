@@ -1,6 +1,6 @@
 //! Progress on stderr: a bar on a terminal, a line a second otherwise.
 
-use rhonn_report::campaign::Progress;
+use rhonn_app::campaign::Progress;
 use std::io::IsTerminal;
 use std::sync::Mutex;
 use std::time::Instant;

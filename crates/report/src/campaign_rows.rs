@@ -12,12 +12,19 @@ use std::path::{Path, PathBuf};
 
 type Result<T, E = Error> = std::result::Result<T, E>;
 
+// The CSV written into memory buffers: an error there is a formatting one.
+impl From<csv::Error> for Error {
+    fn from(e: csv::Error) -> Self {
+        Error::Campaign(format!("CSV: {e}"))
+    }
+}
+
 fn err(msg: String) -> Error {
     Error::Campaign(msg)
 }
 
 /// An input/output error on `path`: what was tried and what the path is.
-pub(crate) fn io_err(verb: &str, path: &Path, e: std::io::Error) -> Error {
+pub fn io_err(verb: &str, path: &Path, e: std::io::Error) -> Error {
     err(format!(
         "cannot {verb} {}: {}",
         path.display(),
@@ -26,14 +33,17 @@ pub(crate) fn io_err(verb: &str, path: &Path, e: std::io::Error) -> Error {
 }
 
 /// A row's reading: whether run `index` failed, or what is wrong with its fields.
-pub(crate) type RowReading<'a> = Box<dyn Fn(u64, &[String]) -> std::result::Result<bool, String> + 'a>;
+pub type RowReading<'a> = Box<dyn Fn(u64, &[String]) -> std::result::Result<bool, String> + 'a>;
 
 /// How a campaign's rows read: `runs.csv`'s header, a row's reading (whether the run
 /// failed, or what is wrong with the row, in words), and `traces.csv`'s header when the
 /// campaign keeps traces.
-pub(crate) struct RowFormat<'a> {
+pub struct RowFormat<'a> {
+    /// `runs.csv`'s header.
     pub header: Vec<String>,
+    /// A row's reading.
     pub failed: RowReading<'a>,
+    /// `traces.csv`'s header, when the campaign keeps traces.
     pub traces_header: Option<Vec<String>>,
 }
 
@@ -56,7 +66,7 @@ const EMPTY: Place = Place {
 
 /// The finished runs of a campaign over run indices `[first, first + places.len())`.
 #[derive(Debug)]
-pub(crate) struct Runs {
+pub struct Runs {
     files: Vec<PathBuf>,
     first: u64,
     places: Vec<Place>,
@@ -64,7 +74,7 @@ pub(crate) struct Runs {
 }
 
 /// A reader of the CSV file `path`, whose header must be `want`.
-pub(crate) fn reader(path: &Path, want: &[String]) -> Result<csv::Reader<std::fs::File>> {
+pub fn reader(path: &Path, want: &[String]) -> Result<csv::Reader<std::fs::File>> {
     let mut rd = csv::ReaderBuilder::new()
         .flexible(false)
         .from_path(path)
@@ -100,7 +110,7 @@ impl Runs {
     /// cut by an interruption (a field missing, or the last row read without its line
     /// break) ends its file's reading, with a note; a run outside the range, or twice, is
     /// an error (`twice` says where the two rows were looked for).
-    pub(crate) fn scan(
+    pub fn scan(
         format: &RowFormat,
         files: Vec<PathBuf>,
         range: [u64; 2],
@@ -183,7 +193,7 @@ impl Runs {
     /// Attach the rows of a traces file (if the campaign keeps traces and the file
     /// exists) to their runs; rows of runs not held are dropped (a kill between the two
     /// files).
-    pub(crate) fn attach_traces(&mut self, format: &RowFormat, path: &Path) -> Result<()> {
+    pub fn attach_traces(&mut self, format: &RowFormat, path: &Path) -> Result<()> {
         let Some(header) = &format.traces_header else {
             return Ok(());
         };
@@ -206,7 +216,7 @@ impl Runs {
 
     /// Forget the runs that should have traces (`wants(index, failed)`) and have none
     /// (they are run again).
-    pub(crate) fn drop_runs_without_traces(&mut self, wants: impl Fn(u64, bool) -> bool) {
+    pub fn drop_runs_without_traces(&mut self, wants: impl Fn(u64, bool) -> bool) {
         for (k, p) in self.places.iter_mut().enumerate() {
             let index = self.first + k as u64;
             if *p != EMPTY && wants(index, p.failed) && !self.traces.contains_key(&index) {
@@ -221,34 +231,39 @@ impl Runs {
     }
 
     /// Whether run `index` is held.
-    pub(crate) fn has(&self, index: u64) -> bool {
+    pub fn has(&self, index: u64) -> bool {
         self.place(index).is_some()
     }
 
     /// How many runs are held.
-    pub(crate) fn len(&self) -> usize {
+    pub fn len(&self) -> usize {
         self.places.iter().filter(|p| **p != EMPTY).count()
     }
 
+    /// Whether no run is held.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
     /// How many of them failed.
-    pub(crate) fn failed(&self) -> usize {
+    pub fn failed(&self) -> usize {
         self.places.iter().filter(|p| **p != EMPTY && p.failed).count()
     }
 
     /// Whether every run of the range is held.
-    pub(crate) fn complete(&self) -> bool {
+    pub fn complete(&self) -> bool {
         self.places.iter().all(|p| *p != EMPTY)
     }
 
     /// The traces' rows, in run order.
-    pub(crate) fn traces(&self) -> impl Iterator<Item = &Vec<String>> {
+    pub fn traces(&self) -> impl Iterator<Item = &Vec<String>> {
         self.traces.values().flatten()
     }
 
     /// Every held run's row as `f(index, fields, failed)`, in the files' order (not the
     /// runs': what is read this way must not depend on the order), each file read
     /// straight through.
-    pub(crate) fn for_each(&self, mut f: impl FnMut(u64, &[String], bool) -> Result<()>) -> Result<()> {
+    pub fn for_each(&self, mut f: impl FnMut(u64, &[String], bool) -> Result<()>) -> Result<()> {
         for (file, path) in self.files.iter().enumerate() {
             let mut rd = csv::ReaderBuilder::new()
                 .flexible(true)
@@ -281,7 +296,7 @@ impl Runs {
 
     /// Every held run's row as written, in run order, after `header`: `runs.csv` (the
     /// same bytes as the rows written one by one).
-    pub(crate) fn write_csv(&self, header: &[String], w: &mut dyn Write) -> std::io::Result<()> {
+    pub fn write_csv(&self, header: &[String], w: &mut dyn Write) -> std::io::Result<()> {
         {
             let mut c = csv::Writer::from_writer(&mut *w);
             c.write_record(header)?;
@@ -318,7 +333,7 @@ impl Runs {
 /// time: a pass over the runs each, so that one figure's values are in memory at once.
 /// Figure `k` of a finished run is its field `first + k` (a value that does not read, or is
 /// not finite, is left out of both).
-pub(crate) fn figure_statistics(
+pub fn figure_statistics(
     runs: &Runs,
     (names, first): (&[String], usize),
     scenario: &str,

@@ -73,7 +73,7 @@ pub fn outputs() -> Vec<Output> {
             "(one scenario's figures)",
             schema_of::<BenchFigures>(),
         ),
-        out("rhonn campaign", "summary.json", crate::plant_campaign::schema()),
+        out("rhonn campaign", "summary.json", crate::campaign_file::schema()),
     ]
 }
 

@@ -130,14 +130,3 @@ fn solver_line(s: &PlantSummary) -> String {
         v.rhs_evaluations, v.accepted_steps, v.rejected_steps, v.events
     )
 }
-
-/// `rhonn campaign` on a scenario into `dir` (resumes a folder left by an interrupted
-/// one), whatever its plant.
-pub fn run_scenario_campaign(
-    sc: &rhonn::experiment::ScenarioSpec,
-    o: &crate::campaign::CampaignOptions,
-    dir: &Path,
-    progress: &(dyn Fn(crate::campaign::Progress) + Sync),
-) -> Result<crate::campaign::CampaignOutcome> {
-    crate::plant_campaign::run_plant_campaign(sc, o, dir, progress)
-}

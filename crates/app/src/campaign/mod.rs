@@ -1,5 +1,7 @@
 //! The files of a Monte Carlo campaign (`rhonn campaign`, `rhonn merge`): one campaign
-//! kind for every plant, the pump's included ([`crate::plant_campaign`]).
+//! kind for every plant, the pump's included (`plant.rs`), run by one runner
+//! (`runner.rs`); the rows' files and the finished folder's writers are `rhonn-report`'s
+//! (`campaign_rows`, `campaign_file`, `worst_runs`, `plant_envelope`).
 //!
 //! `DIR/campaign.json` says what the campaign is (scenario, seed, runs, sampling, shard);
 //! finished runs are appended to `DIR/runs.partial.csv` and flushed one by one, so an
@@ -7,18 +9,16 @@
 //! resumes it; at the end `DIR/runs.csv` holds every row sorted by run index (the same
 //! bytes whatever the thread count or sharding) and `DIR/summary.json` the statistics.
 
-pub use crate::campaign_options::{on_threads, CampaignOptions, CampaignOutcome, Progress};
-use crate::Error;
+mod options;
+mod plant;
+mod runner;
+
+pub use options::{on_threads, CampaignOptions, CampaignOutcome, Progress, MAX_RUNS, MAX_WORKER_THREADS};
+pub use plant::run_scenario_campaign;
+use rhonn_report::Error;
 use std::path::{Path, PathBuf};
 
 type Result<T, E = Error> = std::result::Result<T, E>;
-
-// The CSV written into memory buffers: an error there is a formatting one.
-impl From<csv::Error> for Error {
-    fn from(e: csv::Error) -> Self {
-        Error::Campaign(format!("CSV: {e}"))
-    }
-}
 
 /// Parse a shard `K/M` (1 <= K <= M).
 pub fn parse_shard(s: &str) -> Result<[u64; 2]> {
@@ -40,7 +40,7 @@ pub fn parse_shard(s: &str) -> Result<[u64; 2]> {
 
 /// Combine finished shard folders of one campaign into the folder `out` (`rhonn merge`).
 pub fn merge_campaigns(dirs: &[PathBuf], out: &Path) -> Result<CampaignOutcome> {
-    crate::plant_campaign::merge_plant_campaigns(dirs, out)
+    plant::merge_plant_campaigns(dirs, out)
 }
 
 #[cfg(test)]
@@ -60,7 +60,7 @@ mod tests {
             corners: false,
             envelope_runs: 0,
         };
-        let run = crate::plant_campaign::run_plant_campaign;
+        let run = run_scenario_campaign;
         let calls = AtomicUsize::new(0);
         let out = run(&sc, &o, d.path(), &|p| {
             calls.fetch_add(1, Ordering::Relaxed);

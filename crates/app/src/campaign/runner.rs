@@ -4,13 +4,13 @@
 //! `runs.partial.csv` (its traces first to `traces.partial.csv`) and flushed, so that an
 //! interrupted campaign resumes where it stopped; and `rhonn merge`'s reading of finished
 //! shards. What a run is, what its row holds and how the folder is finished is the
-//! [`CampaignKind`]'s (`plant_campaign.rs`).
+//! [`CampaignKind`]'s (`plant.rs`).
 
-use crate::campaign_options::{CampaignOutcome, Progress};
-use crate::campaign_rows::RowFormat;
-pub(crate) use crate::campaign_rows::{io_err, Runs};
-use crate::Error;
+use super::options::{CampaignOutcome, Progress};
 use rayon::prelude::*;
+use rhonn_report::campaign_rows::RowFormat;
+pub(super) use rhonn_report::campaign_rows::{io_err, Runs};
+use rhonn_report::Error;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -25,7 +25,7 @@ fn err(msg: String) -> Error {
 
 /// One run as it was just made: what the campaign's files get of it.
 #[derive(Debug, Clone)]
-pub(crate) struct Done {
+pub(super) struct Done {
     /// Its `runs.csv` fields.
     pub fields: Vec<String>,
     /// Its `traces.csv` rows.
@@ -35,7 +35,7 @@ pub(crate) struct Done {
 }
 
 /// What differs between the campaigns of the two scenario formats.
-pub(crate) trait CampaignKind: Sync + Sized {
+pub(super) trait CampaignKind: Sync + Sized {
     /// The kind's reading of a row.
     type Row;
     /// `campaign.json`'s content.
@@ -96,7 +96,7 @@ fn read_file<C: CampaignKind>(meta: &Path) -> Result<C::File> {
 /// Run (or resume) the campaign `c` over run indices `indices` in `dir`; `progress` is
 /// called after every run. Returns the finished folder's outcome (already complete: a
 /// folder whose `runs.csv` is written and whose partial file is gone).
-pub(crate) fn run<C: CampaignKind>(
+pub(super) fn run<C: CampaignKind>(
     c: &C,
     indices: [u64; 2],
     dir: &Path,
@@ -104,7 +104,7 @@ pub(crate) fn run<C: CampaignKind>(
 ) -> Result<CampaignOutcome> {
     std::fs::create_dir_all(dir).map_err(|e| io_err("create the folder", dir, e))?;
     // One campaign writes a folder at a time (a second is refused, not interleaved).
-    let _lock = crate::folder::FolderLock::acquire(dir)?;
+    let _lock = rhonn_report::folder::FolderLock::acquire(dir)?;
     let mut notes = Vec::new();
     let format = format_of(c);
     let meta = dir.join("campaign.json");
@@ -285,7 +285,7 @@ fn run_missing<C: CampaignKind>(
 
 /// Combine finished shard folders of one campaign of kind `C` into `out` (`rhonn
 /// merge`): the same files as the unsharded campaign.
-pub(crate) fn merge<C: CampaignKind>(dirs: &[PathBuf], out: &Path) -> Result<CampaignOutcome> {
+pub(super) fn merge<C: CampaignKind>(dirs: &[PathBuf], out: &Path) -> Result<CampaignOutcome> {
     let Some(first_dir) = dirs.first() else {
         return Err(err("give at least one campaign folder to merge".into()));
     };
@@ -332,7 +332,7 @@ pub(crate) fn merge<C: CampaignKind>(dirs: &[PathBuf], out: &Path) -> Result<Cam
         )));
     }
     std::fs::create_dir_all(out).map_err(|e| io_err("create", out, e))?;
-    let _lock = crate::folder::FolderLock::acquire(out)?;
+    let _lock = rhonn_report::folder::FolderLock::acquire(out)?;
     write_json_atomic(&out.join("campaign.json"), c.file())?;
     c.finish(out, &runs, notes)
 }

@@ -1,5 +1,4 @@
-//! What a campaign call is asked for, how far it has come, and what it did: shared by
-//! the pump's campaigns (`campaign.rs`) and the other plants' (`plant_campaign.rs`).
+//! What a campaign call is asked for, how far it has come, and what it did.
 
 use std::path::PathBuf;
 
@@ -35,15 +34,15 @@ impl CampaignOptions {
 
     /// The run indices `[first, end)` this call's shard runs of a campaign of `runs` runs
     /// (every run for shard 1/1); a shard that would hold no run is refused.
-    pub fn shard_indices(&self, runs: u64) -> Result<[u64; 2], crate::Error> {
+    pub fn shard_indices(&self, runs: u64) -> Result<[u64; 2], rhonn_report::Error> {
         if runs == 0 || runs > MAX_RUNS {
-            return Err(crate::Error::Input(format!(
+            return Err(rhonn_report::Error::Input(format!(
                 "--runs {runs} is not allowed: give a number in [1, {MAX_RUNS}]"
             )));
         }
         let [k, m] = self.shard;
         if m > runs {
-            return Err(crate::Error::Input(format!(
+            return Err(rhonn_report::Error::Input(format!(
                 "--shard {k}/{m} is not allowed: the campaign has {runs} runs, so give M at most {runs} (each shard runs at least one)"
             )));
         }
@@ -89,15 +88,15 @@ pub const MAX_WORKER_THREADS: usize = 1024;
 /// Run `f` on `threads` worker threads (None: every core, rayon's global pool), as
 /// `rhonn campaign --threads` and Python's `rhonn.campaign(threads=...)` do; `Some(0)` is
 /// refused with `zero`, the door's message naming its argument.
-pub fn on_threads<T: Send, E: From<crate::Error> + Send>(
+pub fn on_threads<T: Send, E: From<rhonn_report::Error> + Send>(
     threads: Option<usize>,
     zero: &str,
     f: impl FnOnce() -> Result<T, E> + Send,
 ) -> Result<T, E> {
     match threads {
-        Some(0) => Err(crate::Error::Input(zero.to_string()).into()),
+        Some(0) => Err(rhonn_report::Error::Input(zero.to_string()).into()),
         // 100,000 threads took longer to start than the campaign to run (found by hand).
-        Some(n) if n > MAX_WORKER_THREADS => Err(crate::Error::Input(format!(
+        Some(n) if n > MAX_WORKER_THREADS => Err(rhonn_report::Error::Input(format!(
             "threads = {n} is not allowed: give at most {MAX_WORKER_THREADS} worker threads (this machine has {} cores)",
             std::thread::available_parallelism().map_or(1, |c| c.get())
         ))
@@ -105,7 +104,7 @@ pub fn on_threads<T: Send, E: From<crate::Error> + Send>(
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
-            .map_err(|e| crate::Error::Campaign(format!("cannot start {n} worker threads: {e}")))?
+            .map_err(|e| rhonn_report::Error::Campaign(format!("cannot start {n} worker threads: {e}")))?
             .install(f),
         None => f(),
     }

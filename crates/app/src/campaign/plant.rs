@@ -9,15 +9,16 @@
 //! nothing, with `histograms.svg` (one histogram per figure) and the envelope of the
 //! runs below `--envelope-runs` (`envelope.csv`, `envelope.svg`: see `plant_envelope`).
 
-use crate::atomic::OutputSet;
-use crate::campaign_options::{CampaignOptions, CampaignOutcome, Progress};
-use crate::campaign_runner::{self, CampaignKind, Done, Runs};
-use crate::worst_runs::Ranker;
-use crate::{write_json, Error};
-use rhonn::experiment::campaign::{draw, FigureStats, Plan, Sampling};
+use super::options::{CampaignOptions, CampaignOutcome, Progress};
+use super::runner::{self, CampaignKind, Done, Runs};
+use rhonn::experiment::campaign::{draw, Plan, Sampling};
 use rhonn::experiment::{
     campaign_plan, nominal_plant_parameters, run_plant_scenario, run_plant_summary, ScenarioSpec,
 };
+use rhonn_report::campaign_file::CampaignSummary;
+use rhonn_report::plant_envelope::EnvelopeSeries;
+use rhonn_report::worst_runs::{self, Ranker};
+use rhonn_report::{write_json, Error, OutputSet};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::Path;
@@ -69,8 +70,9 @@ fn row(
     r
 }
 
-/// Run (or resume) a campaign of the plant scenario `spec` in `dir` (see the module).
-pub fn run_plant_campaign(
+/// `rhonn campaign` on a scenario into `dir` (resumes a folder left by an interrupted
+/// one), whatever its plant (see the module).
+pub fn run_scenario_campaign(
     spec: &ScenarioSpec,
     o: &CampaignOptions,
     dir: &Path,
@@ -93,14 +95,14 @@ pub fn run_plant_campaign(
         envelope_runs: o.envelope_runs,
     };
     let c = PlantCampaign {
-        envelope: crate::plant_envelope::EnvelopeSeries::of(spec, &nominal)?,
+        envelope: EnvelopeSeries::of(spec, &nominal)?,
         spec: spec.clone(),
         n_params: plan.params.len(),
         plan,
         fig_names,
         file,
     };
-    campaign_runner::run(&c, indices, dir, progress)
+    runner::run(&c, indices, dir, progress)
 }
 
 /// A campaign of a plant scenario: what every run shares.
@@ -110,7 +112,7 @@ struct PlantCampaign {
     n_params: usize,
     plan: Plan,
     fig_names: Vec<String>,
-    envelope: Option<crate::plant_envelope::EnvelopeSeries>,
+    envelope: Option<EnvelopeSeries>,
 }
 
 impl CampaignKind for PlantCampaign {
@@ -136,7 +138,7 @@ impl CampaignKind for PlantCampaign {
         let nominal = run_plant_scenario(&spec, None)?;
         Ok(PlantCampaign {
             fig_names: nominal.summary.figures().into_iter().map(|(n, _)| n).collect(),
-            envelope: crate::plant_envelope::EnvelopeSeries::of(&spec, &nominal)?,
+            envelope: EnvelopeSeries::of(&spec, &nominal)?,
             n_params: plan.params.len(),
             spec,
             file: f.clone(),
@@ -209,18 +211,18 @@ impl CampaignKind for PlantCampaign {
 }
 
 /// One pass over the runs: the worst runs (see `worst_runs::describe_plant`).
-fn worst(job: &PlantCampaign, runs: &Runs) -> Result<Vec<(crate::worst_runs::WorstRun, String)>> {
+fn worst(job: &PlantCampaign, runs: &Runs) -> Result<Vec<(worst_runs::WorstRun, String)>> {
     let (spec, n_params, fig_names) = (&job.spec, job.n_params, &job.fig_names);
     let params = nominal_plant_parameters(&spec.plant.kind)?;
     let names: Vec<&str> = params.iter().map(|p| p.name).collect();
-    let key = crate::worst_runs::plant_key_figure(fig_names);
+    let key = worst_runs::plant_key_figure(fig_names);
     let mut ranker = Ranker::new(key.map(|(_, larger)| larger));
     runs.for_each(|index, r, failed| {
         let values: Vec<f64> = r[2..2 + n_params]
             .iter()
             .map(|v| v.parse().unwrap_or(f64::NAN))
             .collect();
-        ranker.add(crate::worst_runs::Candidate {
+        ranker.add(worst_runs::Candidate {
             index,
             values,
             value: key.and_then(|(k, _)| r[2 + n_params + k].parse::<f64>().ok()),
@@ -228,36 +230,8 @@ fn worst(job: &PlantCampaign, runs: &Runs) -> Result<Vec<(crate::worst_runs::Wor
         });
         Ok(())
     })?;
-    crate::worst_runs::describe_plant(spec, &names, &ranker.ranked())
+    worst_runs::describe_plant(spec, &names, &ranker.ranked())
         .map_err(|e| err(format!("cannot write a worst run's scenario: {e}")))
-}
-
-/// A plant campaign's `summary.json`.
-#[derive(Serialize, schemars::JsonSchema)]
-struct Summary<'a> {
-    /// The scenario's name.
-    scenario: &'a str,
-    /// The plant (`[plant] kind`).
-    plant: &'a str,
-    /// Runs in the campaign.
-    runs: usize,
-    /// Runs that failed (their figures NaN in runs.csv).
-    failed: usize,
-    /// The parameters' distributions as drawn (the plant's parameter order).
-    plan: &'a Plan,
-    /// Each figure's statistics over the runs that finished.
-    figures: Vec<FigureStats>,
-    /// The failed runs and those with the worst key figure, each with its scenario file.
-    worst_runs: Vec<crate::worst_runs::WorstRun>,
-    /// The worst runs in words.
-    findings: Vec<String>,
-    /// Runs whose traces make the envelope, per series (`envelope.csv`'s series).
-    envelope_runs: Vec<(String, usize)>,
-}
-
-/// The schema of `summary.json` (`fields`).
-pub(crate) fn schema() -> serde_json::Value {
-    schemars::schema_for!(Summary<'static>).to_value()
 }
 
 fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> Result<CampaignOutcome> {
@@ -266,7 +240,7 @@ fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> R
     // Figures follow the run, its status and its drawn values.
     let first = 2 + job.n_params;
     let (stats, panels) =
-        crate::campaign_rows::figure_statistics(runs, (&job.fig_names, first), &spec.name, |_| true)?;
+        rhonn_report::campaign_rows::figure_statistics(runs, (&job.fig_names, first), &spec.name, |_| true)?;
     let worst = worst(job, runs)?;
     let envelope = match &job.envelope {
         Some(e) => e.envelope(runs.traces())?,
@@ -279,26 +253,26 @@ fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> R
     let worst_list: Vec<_> = worst.iter().map(|(w, _)| w.clone()).collect();
     let worst_files: Vec<String> = worst.iter().map(|(w, _)| w.file.clone()).collect();
     let fig_names = &job.fig_names;
-    let key = crate::worst_runs::plant_key_figure(fig_names).map(|(k, _)| fig_names[k].as_str());
+    let key = worst_runs::plant_key_figure(fig_names).map(|(k, _)| fig_names[k].as_str());
     let mut set = OutputSet::new(dir)?;
     for (w, text) in &worst {
         set.write(&w.file, |f| f.write_all(text.as_bytes()))?;
     }
     set.write("runs.csv", |w| runs.write_csv(&job.header(), w))?;
-    let summary = Summary {
+    let summary = CampaignSummary {
         scenario: &spec.name,
         plant: &spec.plant.kind,
         runs: n,
         failed,
         plan: &job.plan,
         figures: stats,
-        findings: crate::worst_runs::findings(key, &worst_list),
+        findings: worst_runs::findings(key, &worst_list),
         worst_runs: worst_list,
         envelope_runs: envelope_counts,
     };
     set.write("summary.json", |w: &mut dyn Write| write_json(w, &summary))?;
     // One histogram per figure over the runs that finished.
-    let svg = crate::Histogram::render(&panels, 3);
+    let svg = rhonn_report::Histogram::render(&panels, 3);
     set.write("histograms.svg", |w| w.write_all(svg.as_bytes()))?;
     if let (Some(env), Some(series)) = (&envelope, &job.envelope) {
         set.write("traces.csv", |w| {
@@ -313,7 +287,7 @@ fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> R
         set.write("envelope.svg", |w| w.write_all(env.svg.as_bytes()))?;
     }
     set.commit()?;
-    crate::worst_runs::remove_stale(dir, &worst_files)?;
+    worst_runs::remove_stale(dir, &worst_files)?;
     for name in ["runs.partial.csv", "traces.partial.csv"] {
         let partial = dir.join(name);
         if partial.exists() {
@@ -336,17 +310,8 @@ fn finish(job: &PlantCampaign, dir: &Path, runs: &Runs, notes: Vec<String>) -> R
     })
 }
 
-/// Whether the campaign folder `dir` holds a plant scenario's campaign (its
-/// `campaign.json` names a plant).
-pub fn is_plant_campaign(dir: &Path) -> bool {
-    std::fs::read_to_string(dir.join("campaign.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .is_some_and(|v| v.get("plant").is_some())
-}
-
 /// Combine the finished shard folders of one plant campaign into `out` (`rhonn merge`):
 /// the same `runs.csv`, `summary.json`, plots and worst runs as the unsharded campaign.
 pub fn merge_plant_campaigns(dirs: &[std::path::PathBuf], out: &Path) -> Result<CampaignOutcome> {
-    campaign_runner::merge::<PlantCampaign>(dirs, out)
+    runner::merge::<PlantCampaign>(dirs, out)
 }
