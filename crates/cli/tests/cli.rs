@@ -104,6 +104,10 @@ fn bad_scenario_files_name_the_field_value_and_range() {
             "`input.current.points[2][0]` = 5",
         ),
         (
+            text.replace("output_interval_s = 0.001", "output_interval_s = 60.0"),
+            "`output_interval_s` = 60 is not allowed: at most duration_s = 40 s: at least one output sample",
+        ),
+        (
             text.replace("duration_s = 40.0", "duration_s = \"forty\""),
             "invalid type",
         ),

@@ -208,7 +208,10 @@ fn two_writers(
         }
     }
     if ca != Some(0) && cb != Some(0) {
-        return Ok((outcome::judge(ca, &ea, dir, out, s, names), stderr));
+        // Judge the refusal of the input, not the other writer's hold on the folder: which
+        // writer held it is a race, and its message rightly names the folder only.
+        let (code, e) = outcome::input_refusal((ca, &ea), (cb, &eb));
+        return Ok((outcome::judge(code, e, dir, out, s, names), stderr));
     }
     let v = outcome::judge(Some(0), &stderr, dir, out, s, names);
     if matches!(v, Verdict::Failed(_)) {

@@ -46,6 +46,17 @@ pub fn judge(
     }
 }
 
+/// Of two writers that both refused, the one refused on its input rather than on the
+/// output folder the other held (the first when neither or both were).
+pub fn input_refusal<'a>(a: (Option<i32>, &'a str), b: (Option<i32>, &'a str)) -> (Option<i32>, &'a str) {
+    let on_folder = |e: &str| e.contains("cannot write to output folder");
+    if on_folder(a.1) && !on_folder(b.1) {
+        b
+    } else {
+        a
+    }
+}
+
 fn find_temporary(dir: &Path) -> Option<String> {
     let rd = std::fs::read_dir(dir).ok()?;
     for e in rd.flatten() {
@@ -275,5 +286,20 @@ impl Report {
             ));
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::input_refusal;
+
+    #[test]
+    fn of_two_refused_writers_the_one_refused_on_its_input_is_judged() {
+        let held =
+            "error: cannot write to output folder /w/out: another rhonn command is writing into it now\n";
+        let input = "error: /w/model.json is not a model: field `model.spec.nk`\n";
+        assert_eq!(input_refusal((Some(2), held), (Some(2), input)).1, input);
+        assert_eq!(input_refusal((Some(2), input), (Some(2), held)).1, input);
+        assert_eq!(input_refusal((Some(2), held), (Some(2), held)).1, held);
     }
 }

@@ -391,6 +391,16 @@ impl ScenarioSpec {
                 "finite and > 0",
             ));
         }
+        if self.output_interval_s > self.duration_s {
+            return Err(invalid(
+                "output_interval_s",
+                self.output_interval_s,
+                format!(
+                    "at most duration_s = {} s: at least one output sample",
+                    self.duration_s
+                ),
+            ));
+        }
         if self.duration_s / self.output_interval_s > 1e7 {
             return Err(invalid(
                 "duration_s, output_interval_s",
