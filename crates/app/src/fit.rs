@@ -635,15 +635,10 @@ fn predict_into(
             gap_notes.join("; ")
         )));
     }
-    // What the model refuses of this record (its sample time, its length) is named with both.
-    let named = |e: rhonn::Error| {
-        context(format!(
-            "predicting {} with the model {}",
-            data.display(),
-            model.display()
-        ))(e.into())
-    };
-    let AnyPrediction::Fitted(p) = any.predict_with(&recs[0], steps, window).map_err(named)? else {
+    let AnyPrediction::Fitted(p) = any
+        .predict_with(&recs[0], steps, window)
+        .map_err(super::predicting(data, model))?
+    else {
         unreachable!("a fitted model's prediction")
     };
     let mut o = Outcome {

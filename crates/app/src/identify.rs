@@ -233,14 +233,9 @@ pub(super) fn predict_online(
     let needed = any.samples_needed(steps);
     let rec = rhonn_report::read_record_timed(data, time, &m.inputs, &m.outputs, needed)?;
     rhonn::ident::sample_time(std::slice::from_ref(&rec))?;
-    let AnyPrediction::Online { rows: pred, figures } =
-        any.predict_with(&rec, steps, window).map_err(|e| {
-            context(format!(
-                "predicting {} with the model {}",
-                data.display(),
-                model_path.display()
-            ))(e.into())
-        })?
+    let AnyPrediction::Online { rows: pred, figures } = any
+        .predict_with(&rec, steps, window)
+        .map_err(super::predicting(data, model_path))?
     else {
         unreachable!("an online model's prediction")
     };

@@ -257,6 +257,13 @@ pub(crate) fn context(what: impl Into<String>) -> impl FnOnce(rhonn_report::Erro
     }
 }
 
+/// A model's refusal of a record (its sample time, its length, its run) named with the data
+/// file and the model file.
+pub(crate) fn predicting(data: &Path, model: &Path) -> impl FnOnce(rhonn::Error) -> rhonn_report::Error {
+    let what = format!("predicting {} with the model {}", data.display(), model.display());
+    move |e| context(what)(e.into())
+}
+
 /// " V" for a column with a unit, else "".
 pub(crate) fn unit_of(units: &std::collections::BTreeMap<String, String>, col: &str) -> String {
     units.get(col).map_or(String::new(), |u| format!(" {u}"))
