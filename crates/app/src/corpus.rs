@@ -170,11 +170,13 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
         req.only.clone()
     };
     let opts = rhonn::sysid::select::SelectOptions::default();
-    let mut judged = Vec::new();
+    let (mut judged, mut trained) = (Vec::new(), Vec::new());
     for (n, &i) in picked.iter().enumerate() {
         let sys = corpus::system(req.seed, i);
         let say = |l: &str| progress(&format!("system {}/{} ({}): {l}", n + 1, picked.len(), sys.name));
-        judged.push(corpus::judge(&sys, &opts, &say));
+        let (j, t) = corpus::judge(&sys, &opts, &say);
+        judged.push(j);
+        trained.push(t);
         rhonn::cancel::check()?;
     }
     let summary = corpus::summarise(&judged);
@@ -199,10 +201,14 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
     super::in_folder(out, (&[], rhonn_report::folder::writes::CORPUS), false, |stage| {
         let mut set = OutputSet::new(stage)?;
         set.write("summary.json", |w| rhonn_report::write_json(w, &file))?;
-        // Each system's records, as recordings every command (and any other tool) reads.
+        // Each system's records, as recordings every command (and any other tool) reads,
+        // and what was trained on them (`write_trained`).
         let mut recordings = 0;
-        for i in &picked {
+        for ((i, j), t) in picked.iter().zip(&judged).zip(&trained) {
             let sys = corpus::system(req.seed, *i);
+            if let Some(t) = t {
+                write_trained(&stage.join(&sys.name), j, t)?;
+            }
             let mut one = OutputSet::new(&stage.join(&sys.name))?;
             for (what, recs) in [("train", &sys.train), ("test", &sys.tests)] {
                 for (k, r) in recs.iter().enumerate() {
@@ -222,7 +228,7 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
         })?;
         let mut lines = lines.clone();
         lines.push(format!(
-            "  wrote {recordings} recordings: {}/<system>/train_0.csv, test_0.csv (t, inputs, outputs)",
+            "  wrote {recordings} recordings: {}/<system>/train_0.csv, test_0.csv (t, inputs, outputs); beside them model.json, online/model.json and summary.json (each model's selection)",
             out.display()
         ));
         Ok(Outcome {
@@ -231,4 +237,25 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
             ..Outcome::default()
         })
     })
+}
+
+/// `DIR/<system>/`: rhonn fit's default model (`model.json`), the online default frozen
+/// (`online/model.json`), both run with `rhonn predict` on the system's test records; and
+/// `summary.json`, the system's row with each model's selection (why it was chosen).
+fn write_trained(dir: &std::path::Path, judged: &Judged, t: &corpus::Trained) -> Result<()> {
+    if let Some((model, _)) = &t.online {
+        let mut online = OutputSet::new(&dir.join("online"))?;
+        online.write("model.json", |w| rhonn_report::write_json(w, model))?;
+        online.commit()?;
+    }
+    let mut set = OutputSet::new(dir)?;
+    set.write("model.json", |w| rhonn_report::write_json(w, &t.fitted))?;
+    let file = rhonn_report::corpus_file::SystemFile {
+        system: judged,
+        selection: t.selection.as_ref(),
+        online_selection: t.online.as_ref().map(|(_, s)| s),
+    };
+    set.write("summary.json", |w| rhonn_report::write_json(w, &file))?;
+    set.commit()?;
+    Ok(())
 }

@@ -300,7 +300,9 @@ pub enum Command {
     /// pulses). Per system and output: rhonn fit's default free-run RMS error on test over
     /// an ARX's (lags by cross-validation on train), then the median and the worst. With
     /// --out DIR: DIR/corpus.csv (a row per system and output), DIR/summary.json,
-    /// DIR/report.html.
+    /// DIR/report.html, and per system DIR/SYSTEM/: train_0.csv, test_0.csv (its
+    /// records), model.json and online/model.json (the models scored: `rhonn predict`
+    /// runs them), summary.json (why each was chosen: every candidate's scores).
     #[command(verbatim_doc_comment)]
     Corpus {
         /// The corpus's seed: judge a change to a default on a seed it was not designed with.

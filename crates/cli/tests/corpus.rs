@@ -63,6 +63,55 @@ fn a_small_fixed_sample_of_the_corpus_is_judged_and_written() {
             "{online}"
         );
         assert!(!r[col("online_structure")].is_empty() && !r[col("online_structure")].starts_with("failed"));
+        // Beside the records, the models that were scored: `rhonn predict` of each on the
+        // test record gives the row's figure (the corpus scores from the later of the model's
+        // and the ARX's first prediction, predict from the model's: within 1 %).
+        let sys = &r[col("system")];
+        for (model, figure) in [("model.json", fit), ("online/model.json", online_rmse)] {
+            let out = format!("p-{sys}-{}", model.replace('/', "-"));
+            let o = rhonn(
+                d.path(),
+                &[
+                    "predict",
+                    "--model",
+                    &format!("c/{sys}/{model}"),
+                    "--data",
+                    &format!("c/{sys}/test_0.csv"),
+                    "--out",
+                    &out,
+                ],
+            );
+            assert!(o.status.success(), "{sys} {model}: {}", stderr(&o));
+            let p: serde_json::Value = serde_json::from_str(
+                &std::fs::read_to_string(d.path().join(&out).join("summary.json")).unwrap(),
+            )
+            .unwrap();
+            // An offline model's summary holds `outputs`, an online model's `figures`.
+            let figures = if model == "model.json" {
+                &p["outputs"]
+            } else {
+                &p["figures"]
+            };
+            let rms = figures[0]["rms_error"].as_f64().unwrap();
+            assert!(
+                (rms - figure).abs() <= 0.01 * figure,
+                "{sys} {model}: {rms} against the row's {figure}"
+            );
+        }
+        // And why each was chosen: every candidate of both selections.
+        let why: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(d.path().join(format!("c/{sys}/summary.json"))).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(why["system"]["system"], sys);
+        assert!(
+            why["selection"]["candidates"].as_array().unwrap().len() > 5,
+            "{why}"
+        );
+        assert!(
+            why["online_selection"]["candidates"].as_array().unwrap().len() > 5,
+            "{why}"
+        );
         n += 1;
     }
     assert_eq!(n, 2);
@@ -185,22 +234,11 @@ fn closed_loop_integrators_get_no_one_step_structure_and_no_ensemble_as_their_re
             s["fit_structure"]
         );
     }
-    let fit = rhonn(
-        d.path(),
-        &[
-            "fit",
-            "--data",
-            "c/s00-closed-loop-integrator/train_0.csv",
-            "--inputs",
-            "force",
-            "--outputs",
-            "position",
-            "--out",
-            "f",
-        ],
-    );
-    assert!(fit.status.success(), "{}", stderr(&fit));
-    let said = format!("{}{}", String::from_utf8_lossy(&fit.stdout), stderr(&fit));
+    // The default fit the corpus scored (`c/<system>/model.json`) and its selection's
+    // findings, as `rhonn fit` prints them (`c/<system>/summary.json`).
+    let why = std::fs::read_to_string(d.path().join("c/s00-closed-loop-integrator/summary.json")).unwrap();
+    let why: serde_json::Value = serde_json::from_str(&why).unwrap();
+    let said = why["selection"]["findings"].to_string();
     assert!(
         said.contains("rhonn na 8 nb 8 scored")
             && said.contains("fitted one step ahead")
@@ -215,7 +253,7 @@ fn closed_loop_integrators_get_no_one_step_structure_and_no_ensemble_as_their_re
             &[
                 "predict",
                 "--model",
-                "f/model.json",
+                "c/s00-closed-loop-integrator/model.json",
                 "--data",
                 &data,
                 "--out",

@@ -2,6 +2,8 @@
 //! schema documents it, `fields`).
 
 use rhonn::corpus::{Judged, Summary};
+use rhonn::ident::bank::BankSelection;
+use rhonn::sysid::select::Selection;
 use serde::Serialize;
 
 /// `rhonn corpus`'s `summary.json`.
@@ -22,4 +24,21 @@ pub struct SummaryFile<'a> {
 /// The schema of `summary.json` (`fields`).
 pub fn schema() -> serde_json::Value {
     schemars::schema_for!(SummaryFile<'static>).to_value()
+}
+
+/// `rhonn corpus`'s `<system>/summary.json`: one system's row and why each of its models was
+/// chosen.
+#[derive(Serialize, schemars::JsonSchema)]
+pub struct SystemFile<'a> {
+    /// The system's row, as in `summary.json`'s `systems`.
+    pub system: &'a Judged,
+    /// rhonn fit's default selection: every candidate's scores on the training folds.
+    pub selection: Option<&'a Selection>,
+    /// rhonn identify's default bank: every candidate's prequential figures.
+    pub online_selection: Option<&'a BankSelection>,
+}
+
+/// The schema of `<system>/summary.json` (`fields`).
+pub fn system_schema() -> serde_json::Value {
+    schemars::schema_for!(SystemFile<'static>).to_value()
 }

@@ -67,6 +67,11 @@ pub fn outputs() -> Vec<Output> {
             schema_of::<rhonn::benchmark::BenchmarkOutcome>(),
         ),
         out("rhonn corpus", "summary.json", crate::corpus_file::schema()),
+        out(
+            "rhonn corpus",
+            "<system>/summary.json",
+            crate::corpus_file::system_schema(),
+        ),
         out("rhonn bench", "summary.json", crate::bench_report::schema()),
         out(
             "rhonn bench",

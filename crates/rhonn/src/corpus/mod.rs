@@ -17,6 +17,7 @@ pub use plants::Family;
 
 use crate::data::Record;
 use crate::error::Result;
+use crate::ident::{bank::BankSelection, OnlineModel};
 use crate::sysid::{self, select::SelectOptions, FitStructure};
 use plants::{ClosedLoop, Drawn};
 use rand::{Rng, SeedableRng};
@@ -280,10 +281,28 @@ pub struct Judged {
     pub failed: Option<String>,
 }
 
+/// What judging a system trained, for `rhonn corpus --out` to write beside its records:
+/// each model runs with `rhonn predict`, each selection says why its model was chosen.
+#[derive(Debug, Clone)]
+pub struct Trained {
+    /// rhonn fit's default model.
+    pub fitted: sysid::FittedModel,
+    /// Its selection (every candidate's scores on the folds).
+    pub selection: Option<sysid::select::Selection>,
+    /// rhonn identify's default online model, frozen after the training records, and its
+    /// bank's selection (None: the online default failed; the row says why).
+    pub online: Option<(OnlineModel, BankSelection)>,
+}
+
 /// Fit rhonn's default (`opts`) and the ARX of lags by cross-validation on `sys`'s
 /// training records and score both in free run on its test records, each from the later
-/// of the two models' first predictions. A fit that fails is a row with its error.
-pub fn judge(sys: &System, opts: &SelectOptions, progress: &(dyn Fn(&str) + Sync)) -> Judged {
+/// of the two models' first predictions. A fit that fails is a row with its error (and
+/// nothing trained).
+pub fn judge(
+    sys: &System,
+    opts: &SelectOptions,
+    progress: &(dyn Fn(&str) + Sync),
+) -> (Judged, Option<Trained>) {
     let mut j = Judged {
         system: sys.name.clone(),
         family: sys.family,
@@ -298,11 +317,14 @@ pub fn judge(sys: &System, opts: &SelectOptions, progress: &(dyn Fn(&str) + Sync
         fit_warnings: Vec::new(),
         failed: None,
     };
-    if let Err(e) = judge_into(sys, opts, progress, &mut j) {
-        j.failed = Some(e.to_string());
-        j.outputs.clear();
+    match judge_into(sys, opts, progress, &mut j) {
+        Ok(t) => (j, Some(t)),
+        Err(e) => {
+            j.failed = Some(e.to_string());
+            j.outputs.clear();
+            (j, None)
+        }
     }
-    j
 }
 
 fn judge_into(
@@ -310,7 +332,7 @@ fn judge_into(
     opts: &SelectOptions,
     progress: &(dyn Fn(&str) + Sync),
     j: &mut Judged,
-) -> Result<()> {
+) -> Result<Trained> {
     let (ins, outs) = (&sys.inputs, &sys.outputs);
     let run = sysid::fit_records(FitStructure::Select(opts), &sys.train, ins, outs, progress)?;
     if let Some(sel) = &run.summary.selection {
@@ -336,12 +358,16 @@ fn judge_into(
             }
         }
     }
-    let online = online_scores(sys, &arx);
-    j.online_structure = match &online {
-        Ok((name, _)) => name.clone(),
-        Err(e) => format!("failed: {e}"),
+    let (online_scores, online) = match online_scores(sys, &arx) {
+        Ok((model, sel, scores)) => {
+            j.online_structure = sel.chosen_name();
+            (scores, Some((model, sel)))
+        }
+        Err(e) => {
+            j.online_structure = format!("failed: {e}");
+            (Vec::new(), None)
+        }
     };
-    let online = online.map(|(_, s)| s).unwrap_or_default();
     j.outputs = outs
         .iter()
         .zip(sq)
@@ -350,7 +376,7 @@ fn judge_into(
         .map(|(o, ((name, [f, a]), y))| {
             let n = y.len().max(1) as f64;
             let (fit_rmse, arx_rmse) = ((f / n).sqrt(), (a / n).sqrt());
-            let on = online.get(o).copied();
+            let on = online_scores.get(o).copied();
             OutputScore {
                 output: name.clone(),
                 fit_rmse,
@@ -363,13 +389,23 @@ fn judge_into(
             }
         })
         .collect();
-    Ok(())
+    Ok(Trained {
+        selection: run.summary.selection.clone(),
+        fitted: run.fitted,
+        online,
+    })
 }
 
+/// One output's RMS errors on the test records: the model's and the ARX's.
+type RmsPair = (f64, f64);
+
 /// rhonn identify's default on `sys` (trained on its training records, frozen), run free on
-/// its test records: its structure's name and, per output, its RMS error and the ARX's over
-/// the same samples (from the later of the two models' first predictions).
-fn online_scores(sys: &System, arx: &sysid::FittedModel) -> Result<(String, Vec<(f64, f64)>)> {
+/// its test records: the model, its bank's selection and, per output, its RMS error and the
+/// ARX's over the same samples (from the later of the two models' first predictions).
+fn online_scores(
+    sys: &System,
+    arx: &sysid::FittedModel,
+) -> Result<(OnlineModel, BankSelection, Vec<RmsPair>)> {
     let (ins, outs) = (&sys.inputs, &sys.outputs);
     let (model, sel) = crate::identification::online_default(&sys.train, ins, outs)?;
     let lag = crate::ident::outputs_read_in_free_run(&model.model);
@@ -395,7 +431,7 @@ fn online_scores(sys: &System, arx: &sysid::FittedModel) -> Result<(String, Vec<
             ((m / n).sqrt(), (a / n).sqrt())
         })
         .collect();
-    Ok((sel.chosen_name(), scores))
+    Ok((model, sel, scores))
 }
 
 /// The corpus's verdict on rhonn's default against the ARX, over every system's outputs.
