@@ -96,7 +96,7 @@ pub fn predict(
     }
     match model.predict_with(rec, steps_ahead, init_window)? {
         AnyPrediction::Fitted(p) => {
-            let said = p.input_warnings();
+            let said = p.range_warnings();
             match (baseline, p.baseline) {
                 (true, Some((cols, figures))) => Ok((cols, json(&figures)?, said)),
                 _ => Ok((p.outputs, json(&p.figures)?, said)),

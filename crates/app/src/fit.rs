@@ -654,7 +654,7 @@ fn predict_into(
             model.display()
         ));
     }
-    for w in p.input_warnings() {
+    for w in p.range_warnings() {
         o.notes.push(format!("warning: {w}"));
     }
     if let Some(dt) = p.resampled_from_s {

@@ -69,8 +69,8 @@ pub use fitted::{
 use lm::lm;
 pub use predict::{check_prediction_options, check_window, prediction_options};
 pub use predict::{
-    inputs_beyond_training, predict, predict_with, samples_needed, InputBeyond, PredictSummary, Prediction,
-    BEYOND_SPAN,
+    inputs_beyond_training, outputs_beyond_training, predict, predict_with, samples_needed, InputBeyond,
+    OutputBeyond, PredictSummary, Prediction, BEYOND_SPAN,
 };
 pub use train::{
     best_arx, fit_records, train, train_beside, train_selected, BaselineSummary, FitRun, FitStructure,
