@@ -2,26 +2,14 @@
 //! epochs, and the free-run (simulation-error) refinement by Levenberg-Marquardt.
 
 use super::*;
+use crate::lagged_normal::free_run_residuals;
 use crate::law::{Gradient, LearningLaw, LeastSquares, Rule};
 
-/// Free-run residuals (normalised units) of `m` over `records`, appended to `out`.
-pub(super) fn free_run_residuals(m: &Model, records: &[Record], horizon: Option<usize>, out: &mut Vec<f64>) {
-    out.clear();
-    for r in records {
-        let (p, first) = m
-            .predict(r, horizon)
-            .expect("a lagged model predicts every record");
-        for (j, (col, (_, sd))) in r.outputs.iter().zip(&m.output_norm).enumerate() {
-            for k in first..r.len() {
-                out.push((p[j][k] - col[k]) / sd);
-            }
-        }
-    }
-}
-
-/// Levenberg-Marquardt on the free-run error, from the current weights. The Jacobian
-/// is taken by forward differences (a few dozen weights and a cheap simulation make
-/// that simpler and as fast as differentiating through the clipped recursion).
+/// Levenberg-Marquardt on the free-run error (`horizon` None) or on the `horizon`-step
+/// predictions' error, from the current weights. The free run's Jacobian comes from its
+/// forward sensitivities ([`lagged_normal`](super::lagged_normal)); the K-step predictions',
+/// whose every window restarts from measurements, by forward differences (a free run per
+/// weight).
 pub(super) fn simulation_error(m: &mut Model, records: &[Record], horizon: Option<usize>) {
     let shapes: Vec<usize> = m.weights.iter().map(|w| w.len()).collect();
     let set = |m: &mut Model, th: &[f64]| {
@@ -34,12 +22,28 @@ pub(super) fn simulation_error(m: &mut Model, records: &[Record], horizon: Optio
     let mut theta: Vec<f64> = m.weights.iter().flatten().copied().collect();
     let iters = m.spec.epochs;
     let base = m.clone();
-    lm(&mut theta, iters, 1e-6, &|th, out| {
+    let at = |th: &[f64]| {
         let mut w = base.clone();
         set(&mut w, th);
-        free_run_residuals(&w, records, horizon, out);
-        true
-    });
+        w
+    };
+    if horizon.is_none() {
+        lm_normal(
+            &mut theta,
+            iters,
+            &|th| {
+                let mut out = Vec::new();
+                free_run_residuals(&at(th), records, None, &mut out);
+                Some(out.iter().map(|v| v * v).sum::<f64>())
+            },
+            &|th| Some(crate::lagged_normal::normal(&at(th), records)),
+        );
+    } else {
+        lm(&mut theta, iters, 1e-6, &|th, out| {
+            free_run_residuals(&at(th), records, horizon, out);
+            true
+        });
+    }
     set(m, &theta);
 }
 

@@ -23,7 +23,10 @@ impl Fit for Lagged {
     }
 
     /// Least squares accumulate the normal equations (`n p^2`); on the free-run error,
-    /// each iteration a free run per weight of every output.
+    /// each iteration as a free run per weight of every output (its Jacobian by differences).
+    /// The Jacobian now comes from the free run's sensitivities, several times less work
+    /// (`lagged_normal`), but the estimate stays in the units the default budget was set in,
+    /// so the same candidates run within it.
     fn work(&self, spec: &ModelSpec, n: f64, p: f64, no: f64) -> f64 {
         let epochs = spec.epochs.max(1) as f64;
         match spec.law {

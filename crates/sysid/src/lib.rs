@@ -42,6 +42,7 @@ mod fold_queue;
 mod folds;
 mod kinds;
 mod lagged;
+mod lagged_normal;
 mod lm;
 mod mean;
 mod predict;
@@ -66,7 +67,7 @@ pub use estimate::fit;
 pub use fitted::{
     fit_ensemble, fit_own_structures, fit_with_baseline, parse_spec_file, FittedModel, OutputModel,
 };
-use lm::lm;
+use lm::{lm, lm_normal};
 pub use predict::{check_prediction_options, check_window, prediction_options};
 pub use predict::{
     inputs_beyond_training, outputs_beyond_training, predict, predict_with, samples_needed, InputBeyond,

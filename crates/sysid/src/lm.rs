@@ -225,3 +225,53 @@ fn minimise(p: &mut impl Problem, theta: &mut Vec<f64>, iters: usize) -> f64 {
     }
     c0
 }
+
+/// Rows gathered before they join `J^T J`.
+const BLOCK: usize = 256;
+
+/// `J^T J`, `J^T r` and the cost of a model whose Jacobian rows come from its forward
+/// sensitivities (the state-space models', the lagged models' free run), summed a block of
+/// [`BLOCK`] rows at a time by one matrix product each: the rows are never stored whole.
+pub(super) struct Acc {
+    pub(super) jtj: DMatrix<f64>,
+    pub(super) g: DVector<f64>,
+    pub(super) cost: f64,
+    rows: DMatrix<f64>,
+    r: DVector<f64>,
+    n: usize,
+}
+
+impl Acc {
+    pub(super) fn new(np: usize) -> Acc {
+        Acc {
+            jtj: DMatrix::zeros(np, np),
+            g: DVector::zeros(np),
+            cost: 0.0,
+            rows: DMatrix::zeros(BLOCK, np),
+            r: DVector::zeros(BLOCK),
+            n: 0,
+        }
+    }
+
+    pub(super) fn push(&mut self, row: &[f64], r: f64) {
+        for (c, v) in row.iter().enumerate() {
+            self.rows[(self.n, c)] = *v;
+        }
+        self.r[self.n] = r;
+        self.cost += r * r;
+        self.n += 1;
+        if self.n == BLOCK {
+            self.flush();
+        }
+    }
+
+    pub(super) fn flush(&mut self) {
+        if self.n == 0 {
+            return;
+        }
+        let b = self.rows.rows(0, self.n);
+        self.jtj.gemm_tr(1.0, &b, &b, 1.0);
+        self.g.gemv_tr(1.0, &b, &self.r.rows(0, self.n), 1.0);
+        self.n = 0;
+    }
+}

@@ -60,9 +60,9 @@ pub struct OutputBeyond {
     pub share_outside: f64,
 }
 
-/// How far beyond its training range, as a share of that range's span, an input must go
-/// for a prediction to say so: a record of the same kind reaches a little past its
-/// training's extremes (noise, a longer record), which says nothing.
+/// How far beyond its training range, as a share of that range's span, an input or a
+/// measured output must go for a prediction to say so: a record of the same kind reaches a
+/// little past its training's extremes (noise, a longer record), which says nothing.
 pub const BEYOND_SPAN: f64 = 0.1;
 
 /// The inputs of `record` that go beyond `m`'s training range by more than [`BEYOND_SPAN`]

@@ -11,16 +11,15 @@
 //! parameters about 20 times less work, for a 6-state model's 600 about 200. The initial
 //! state fitted to the `settle` samples is held fixed in the derivative (the cost, which
 //! decides each step, includes it). The Jacobian's rows are never stored whole: blocks of
-//! [`BLOCK`] rows are added to `J^T J` by one matrix product each, and the windows are summed in
+//! `BLOCK` rows are added to `J^T J` by one matrix product each, and the windows are summed in
 //! a fixed grouping, so the result is the same bits on any number of threads.
 
 use super::{Data, Monomials, Params, DIVERGED};
 use crate::law::dot;
+use crate::lm::Acc;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
-/// Rows gathered before they join `J^T J`.
-const BLOCK: usize = 256;
 /// Windows one task sums (a fixed grouping, whatever the threads).
 const WINDOWS_PER_TASK: usize = 8;
 
@@ -69,51 +68,6 @@ pub(super) fn cost(p: &Params, mono: &Monomials, settle: usize, windows: &[Data]
         })
         .collect();
     parts.into_iter().sum()
-}
-
-/// `J^T J`, `J^T r` and the cost, summed a block of rows at a time.
-struct Acc {
-    jtj: DMatrix<f64>,
-    g: DVector<f64>,
-    cost: f64,
-    rows: DMatrix<f64>,
-    r: DVector<f64>,
-    n: usize,
-}
-
-impl Acc {
-    fn new(np: usize) -> Acc {
-        Acc {
-            jtj: DMatrix::zeros(np, np),
-            g: DVector::zeros(np),
-            cost: 0.0,
-            rows: DMatrix::zeros(BLOCK, np),
-            r: DVector::zeros(BLOCK),
-            n: 0,
-        }
-    }
-
-    fn push(&mut self, row: &[f64], r: f64) {
-        for (c, v) in row.iter().enumerate() {
-            self.rows[(self.n, c)] = *v;
-        }
-        self.r[self.n] = r;
-        self.cost += r * r;
-        self.n += 1;
-        if self.n == BLOCK {
-            self.flush();
-        }
-    }
-
-    fn flush(&mut self) {
-        if self.n == 0 {
-            return;
-        }
-        let b = self.rows.rows(0, self.n);
-        self.jtj.gemm_tr(1.0, &b, &b, 1.0);
-        self.g.gemv_tr(1.0, &b, &self.r.rows(0, self.n), 1.0);
-        self.n = 0;
-    }
 }
 
 /// Where each block of parameters starts in `theta` (the order of `Params::free`).
