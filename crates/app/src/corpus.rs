@@ -170,13 +170,14 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
         req.only.clone()
     };
     let opts = rhonn::sysid::select::SelectOptions::default();
-    let (mut judged, mut trained) = (Vec::new(), Vec::new());
+    let (mut systems, mut judged, mut trained) = (Vec::new(), Vec::new(), Vec::new());
     for (n, &i) in picked.iter().enumerate() {
         let sys = corpus::system(req.seed, i);
         let say = |l: &str| progress(&format!("system {}/{} ({}): {l}", n + 1, picked.len(), sys.name));
         let (j, t) = corpus::judge(&sys, &opts, &say);
         judged.push(j);
         trained.push(t);
+        systems.push(sys);
         rhonn::cancel::check()?;
     }
     let summary = corpus::summarise(&judged);
@@ -204,20 +205,20 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
         // Each system's records, as recordings every command (and any other tool) reads,
         // and what was trained on them (`write_trained`).
         let mut recordings = 0;
-        for ((i, j), t) in picked.iter().zip(&judged).zip(&trained) {
-            let sys = corpus::system(req.seed, *i);
-            if let Some(t) = t {
-                write_trained(&stage.join(&sys.name), j, t)?;
-            }
+        for ((sys, j), t) in systems.iter().zip(&judged).zip(&trained) {
             let mut one = OutputSet::new(&stage.join(&sys.name))?;
             for (what, recs) in [("train", &sys.train), ("test", &sys.tests)] {
                 for (k, r) in recs.iter().enumerate() {
                     one.write(&format!("{what}_{k}.csv"), |w| {
                         super::benchmark::free_run_csv(w, r, (&sys.inputs, &sys.outputs), &[])
                     })?;
+                    recordings += 1;
                 }
             }
-            recordings += one.commit()?.len();
+            if let Some(t) = t {
+                write_trained(&mut one, &stage.join(&sys.name), j, t)?;
+            }
+            one.commit()?;
         }
         set.write("corpus.csv", |w| {
             let mut c = csv::Writer::from_writer(w);
@@ -239,16 +240,21 @@ pub fn corpus(req: &CorpusRequest, progress: &(dyn Fn(&str) + Sync)) -> Result<O
     })
 }
 
-/// `DIR/<system>/`: rhonn fit's default model (`model.json`), the online default frozen
-/// (`online/model.json`), both run with `rhonn predict` on the system's test records; and
-/// `summary.json`, the system's row with each model's selection (why it was chosen).
-fn write_trained(dir: &std::path::Path, judged: &Judged, t: &corpus::Trained) -> Result<()> {
+/// Into a system's folder `dir` (its files staged in `set`): rhonn fit's default model
+/// (`model.json`), the online default frozen (`online/model.json`), both run with `rhonn
+/// predict` on the system's test records; and `summary.json`, the system's row with each
+/// model's selection (why it was chosen).
+fn write_trained(
+    set: &mut OutputSet,
+    dir: &std::path::Path,
+    judged: &Judged,
+    t: &corpus::Trained,
+) -> Result<()> {
     if let Some((model, _)) = &t.online {
         let mut online = OutputSet::new(&dir.join("online"))?;
         online.write("model.json", |w| rhonn_report::write_json(w, model))?;
         online.commit()?;
     }
-    let mut set = OutputSet::new(dir)?;
     set.write("model.json", |w| rhonn_report::write_json(w, &t.fitted))?;
     let file = rhonn_report::corpus_file::SystemFile {
         system: judged,
@@ -256,6 +262,5 @@ fn write_trained(dir: &std::path::Path, judged: &Judged, t: &corpus::Trained) ->
         online_selection: t.online.as_ref().map(|(_, s)| s),
     };
     set.write("summary.json", |w| rhonn_report::write_json(w, &file))?;
-    set.commit()?;
     Ok(())
 }
