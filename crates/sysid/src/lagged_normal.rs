@@ -217,18 +217,13 @@ mod tests {
             };
             let th: Vec<f64> = m.weights.iter().flatten().copied().collect();
             assert_eq!(cost, cost_at(&th), "{kind:?} {activation:?}");
-            for k in 0..th.len() {
-                let h = 1e-6 * th[k].abs().max(1e-2);
-                let (mut up, mut down) = (th.clone(), th.clone());
-                up[k] += h;
-                down[k] -= h;
-                let fd = (cost_at(&up) - cost_at(&down)) / (2.0 * h);
-                assert!(
-                    (fd - 2.0 * g[k]).abs() <= 1e-4 * fd.abs().max(1e-3 * cost),
-                    "{kind:?} {activation:?} weight {k}: differences {fd}, sensitivities {}",
-                    2.0 * g[k]
-                );
-            }
+            crate::lm::assert_gradient(
+                &th,
+                g.as_slice(),
+                cost,
+                cost_at,
+                &format!("{kind:?} {activation:?}"),
+            );
         }
     }
 }

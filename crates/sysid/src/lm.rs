@@ -275,3 +275,28 @@ impl Acc {
         self.n = 0;
     }
 }
+
+/// For the tests of a model's normal equations: `2 g` (`g = J^T r` from its sensitivities)
+/// is the gradient of `cost_at` at `theta` by central differences, for every parameter, to
+/// 1e-4 of the derivative (or of 1e-3 of the cost when the derivative is near zero).
+#[cfg(test)]
+pub(super) fn assert_gradient(
+    theta: &[f64],
+    g: &[f64],
+    cost: f64,
+    cost_at: impl Fn(&[f64]) -> f64,
+    what: &str,
+) {
+    for k in 0..theta.len() {
+        let h = 1e-6 * theta[k].abs().max(1e-2);
+        let (mut up, mut down) = (theta.to_vec(), theta.to_vec());
+        up[k] += h;
+        down[k] -= h;
+        let fd = (cost_at(&up) - cost_at(&down)) / (2.0 * h);
+        assert!(
+            (fd - 2.0 * g[k]).abs() <= 1e-4 * fd.abs().max(1e-3 * cost),
+            "{what} parameter {k}: differences {fd}, sensitivities {}",
+            2.0 * g[k]
+        );
+    }
+}

@@ -185,18 +185,7 @@ fn the_sensitivities_give_the_gradient_and_the_cost_of_the_simulation_error() {
         cost_at(&th)
     );
     // d cost / d theta = 2 J^T r, against central differences, for every parameter.
-    for k in 0..th.len() {
-        let h = 1e-6 * th[k].abs().max(1e-2);
-        let (mut up, mut down) = (th.clone(), th.clone());
-        up[k] += h;
-        down[k] -= h;
-        let fd = (cost_at(&up) - cost_at(&down)) / (2.0 * h);
-        assert!(
-            (fd - 2.0 * g[k]).abs() <= 1e-4 * fd.abs().max(1e-3 * cost),
-            "parameter {k}: differences {fd}, sensitivities {}",
-            2.0 * g[k]
-        );
-    }
+    crate::lm::assert_gradient(&th, g.as_slice(), cost, cost_at, "state-space");
 }
 
 #[test]
