@@ -77,12 +77,21 @@ fn record(m: &Model, r: &Record, acc: &mut Acc) -> Vec<Vec<f64>> {
     let mut pred = yn.clone();
     let mut feat = vec![0.0; nf];
     let mut c = vec![0.0; n_out];
+    let mut y = vec![0.0; nphi];
     let mut res = vec![Vec::with_capacity(n.saturating_sub(lag)); no];
     let mut row = vec![0.0; np];
     for k in lag..n {
         {
             let p = &pred;
             m.features(&|j, i| p[j][i], &un, k, &terms, &mut feat);
+        }
+        // The regressors as the terms see them, once per sample for every output.
+        for (q, yq) in y.iter_mut().enumerate() {
+            *yq = if q < n_out && squash {
+                feat[q].tanh()
+            } else {
+                feat[q]
+            };
         }
         for j in 0..no {
             let w = &m.weights[j];
@@ -92,7 +101,7 @@ fn record(m: &Model, r: &Record, acc: &mut Acc) -> Vec<Vec<f64>> {
             row.iter_mut().for_each(|x| *x = 0.0);
             // Held at its bound (or not a number): no sensitivity, as the hold's slope.
             if v == p {
-                coefficients(m, w, &feat, nphi, n_out, squash, &mut c);
+                coefficients(m, w, &y, nphi, squash, &mut c);
                 row[j * nf..(j + 1) * nf].copy_from_slice(&feat);
                 for (q, &cq) in c.iter().enumerate() {
                     let i = spec.output_lag_start + q % spec.na;
@@ -116,18 +125,13 @@ fn record(m: &Model, r: &Record, acc: &mut Acc) -> Vec<Vec<f64>> {
     res
 }
 
-/// `c[q] = d(w^T phi)/d phi_q` for each output-lag regressor `q` at the current features:
+/// `c[q] = d(w^T phi)/d phi_q` for each output-lag regressor `q`, given `y`, the
+/// regressors as the terms see them (the output lags through `tanh` for a RHONN of sigmoids):
 /// its weight, plus each term's weight times the term's slope in `y_q` and `y_q`'s in
 /// `phi_q` (`tanh'` for a RHONN of sigmoids, 1 for a polynomial one).
-fn coefficients(m: &Model, w: &[f64], feat: &[f64], nphi: usize, n_out: usize, squash: bool, c: &mut [f64]) {
+fn coefficients(m: &Model, w: &[f64], y: &[f64], nphi: usize, squash: bool, c: &mut [f64]) {
+    let n_out = c.len();
     c.copy_from_slice(&w[..n_out]);
-    let y = |q: usize| {
-        if q < n_out && squash {
-            feat[q].tanh()
-        } else {
-            feat[q]
-        }
-    };
     for (t, factors) in m.terms.iter().enumerate() {
         let wt = w[nphi + t];
         if wt == 0.0 {
@@ -137,11 +141,11 @@ fn coefficients(m: &Model, w: &[f64], feat: &[f64], nphi: usize, n_out: usize, s
             if q >= n_out {
                 continue;
             }
-            let yq = y(q);
+            let yq = y[q];
             let mut d = e as f64 * yq.powi(e as i32 - 1);
             for (g, &[q2, e2]) in factors.iter().enumerate() {
                 if g != f {
-                    d *= y(q2).powi(e2 as i32);
+                    d *= y[q2].powi(e2 as i32);
                 }
             }
             let slope = if squash { 1.0 - yq * yq } else { 1.0 };
