@@ -122,7 +122,7 @@ def _matrix(name: str, a: ArrayLike) -> np.ndarray:
         masked = int(np.ma.getmaskarray(a).sum())
         if masked:
             raise ValueError(
-                f"{name} is a masked array with {masked} masked value(s): rhonn reads every value, "
+                f"{name} is a masked array with {masked} masked value{'' if masked == 1 else 's'}: rhonn reads every value, "
                 f"so fill them ({name}.filled(...)) or drop those rows first"
             )
         a = np.ma.getdata(a)

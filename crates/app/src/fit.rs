@@ -4,6 +4,7 @@ use super::fit_args::FitArgs;
 use super::{context, read_text, unit_of, Outcome};
 use rhonn::any_model::{AnyModel, AnyPrediction, ModelFileError};
 use rhonn::data::Record;
+use rhonn::metrics::count;
 use rhonn::sysid::select::SelectOptions;
 use rhonn::sysid::{parse_spec_file, FitStructure, ModelSpec, RecordFigures};
 use rhonn_report::{Error, Result};
@@ -393,28 +394,32 @@ fn fitted_lines(
     let mut lines = Vec::new();
     lines.push(if grey {
         format!(
-            "fitted the pump's grey-box model on {} record(s); estimated: {}",
-            n_records,
+            "fitted the pump's grey-box model on {}; estimated: {}",
+            count(n_records, "record"),
             rhonn::sysid::pump_grey::describe_estimates(&fitted.model)
         )
     } else if fitted.members.is_empty() {
         format!(
-            "fitted {} model with {} features per output on {} record(s)",
+            "fitted {} model with {} on {}",
             spec.kind.with_article(),
-            fitted.model.n_features(),
-            n_records
+            size(&fitted.model),
+            count(n_records, "record")
         )
     } else {
         format!(
-            "fitted an ensemble of {} models ({} features per output in all) on {} record(s)",
+            "fitted an ensemble of {} models ({}) on {}",
             1 + fitted.members.len(),
-            fitted.all_members().map(|m| m.n_features()).sum::<usize>(),
-            n_records
+            fitted
+                .all_members()
+                .map(|m| format!("{} with {}", m.spec.kind.with_article(), size(m)))
+                .collect::<Vec<_>>()
+                .join("; "),
+            count(n_records, "record")
         )
     });
     for own in &summary.by_output {
         lines.push(format!(
-            "  output `{}` from a structure of its own: {} {}with {} features per output",
+            "  output `{}` from a structure of its own: {} {}with {}",
             own.output,
             own.model.kind.with_article(),
             if own.members > 1 {
@@ -422,10 +427,24 @@ fn fitted_lines(
             } else {
                 String::new()
             },
-            own.features
+            if own.model.kind.is_lagged() {
+                count(own.features, "feature") + " per output"
+            } else {
+                count(own.features, "parameter")
+            }
         ));
     }
     lines
+}
+
+/// A fitted model's size in words: a lagged model's features per output (its weights on
+/// each output), any other kind's parameters.
+fn size(m: &rhonn::sysid::Model) -> String {
+    if m.spec.kind.is_lagged() {
+        count(m.n_features(), "feature") + " per output"
+    } else {
+        count(m.n_features(), "parameter")
+    }
 }
 
 /// When `dir` holds an earlier fit's model that differs from `fitted`: without `force` an

@@ -252,7 +252,9 @@ pub(super) fn predict_online(
         files,
         ..Outcome::default()
     };
-    let mode = steps.map_or("free run".to_string(), |k| format!("{k} steps ahead"));
+    let mode = steps.map_or("free run".to_string(), |k| {
+        rhonn::metrics::count(k, "step") + " ahead"
+    });
     for f in &figures {
         o.lines.push(format!(
             "{} ({mode}): rms error {}, fit {}, nrmse {}",

@@ -42,7 +42,7 @@ fn fit_then_predict_as_library_calls() {
     )
     .unwrap();
     assert!(
-        p.lines[0].starts_with("y (10 step(s) ahead): rms error"),
+        p.lines[0].starts_with("y (10 steps ahead): rms error"),
         "{:?}",
         p.lines
     );
@@ -53,7 +53,7 @@ fn fit_then_predict_as_library_calls() {
             .unwrap();
     let f = s["findings"][0].as_str().unwrap();
     assert!(
-        f.starts_with("y (10 step(s) ahead): fit ")
+        f.starts_with("y (10 steps ahead): fit ")
             && f.contains("predicting the mean")
             && f.contains("x the baseline's"),
         "{f}"

@@ -23,6 +23,16 @@ pub fn rms_error(y: &[f64], yhat: &[f64]) -> f64 {
     (y.iter().zip(yhat).map(|(a, b)| (a - b) * (a - b)).sum::<f64>() / n as f64).sqrt()
 }
 
+/// A count with its noun, for people to read: "1 record", "2 records", "0 samples" (`noun`
+/// singular, its plural by an added s: every noun counted in rhonn's messages takes one).
+pub fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// `v` with `digits` significant digits, for people to read: plain decimals from 1e-4 to
 /// 1e6 (`0.007589`, `27.65`), else scientific (`5.331e-5`); trailing zeros dropped.
 pub fn sig(v: f64, digits: usize) -> String {
@@ -126,6 +136,9 @@ mod tests {
         assert_eq!(sig(1.0e-4, 4), "0.0001");
         assert_eq!(sig(1234567.0, 3), "1.23e6");
         assert_eq!(sig(-0.5, 4), "-0.5");
+        assert_eq!(count(1, "record"), "1 record");
+        assert_eq!(count(0, "sample"), "0 samples");
+        assert_eq!(count(10, "step"), "10 steps");
         assert!((nrmse(&y, &yhat) - 1.0 / 3.0).abs() < 1e-15);
         let t = [0.0, 0.1, 0.2, 0.3, 0.4];
         let e = [5.0, -2.0, 0.5, -0.1, 0.05];

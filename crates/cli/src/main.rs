@@ -290,7 +290,10 @@ fn cmd_identify(c: Command) -> Result<()> {
         out,
         force,
     };
-    let busy = progress::Busy::start(format!("identifying online on {} record(s)", req.data.len()));
+    let busy = progress::Busy::start(format!(
+        "identifying online on {}",
+        rhonn::metrics::count(req.data.len(), "record")
+    ));
     let o = commands::identify(&req);
     drop(busy);
     o?.print();
@@ -308,7 +311,7 @@ fn cmd_benchmark(req: commands::BenchmarkRequest) -> Result<()> {
 
 /// `rhonn fit`: the fit with the candidate structure being tried on the spinner.
 fn cmd_fit(req: commands::FitRequest) -> Result<()> {
-    let what = format!("fitting on {} record(s)", req.data.len());
+    let what = format!("fitting on {}", rhonn::metrics::count(req.data.len(), "record"));
     let busy = progress::Busy::start(what.clone());
     let o = commands::fit_with_progress(&req, &|line| busy.set_message(format!("{what}: {line}")));
     drop(busy);

@@ -228,7 +228,7 @@ fn every_kind_of_report_renders_in_a_real_browser() {
                 serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
             let fit = summary["outputs"][0]["fit_percent"].as_f64().unwrap();
             assert!(
-                html.contains(&format!("y_hat (10 step(s) ahead, fit {fit:.1} %)")),
+                html.contains(&format!("y_hat (10 steps ahead, fit {fit:.1} %)")),
                 "fit {fit:.1} % not in the legend"
             );
             for text in [

@@ -266,7 +266,7 @@ fn an_output_no_candidate_predicts_better_than_its_mean_is_said_by_fit_and_predi
 }
 
 /// Messages read as sentences and figures keep their significant digits: "an ARX model",
-/// "1 sample", a small RMS error not printed as 0.0000, `--resample -1` refused by rhonn
+/// "1 sample", "on 1 record" (no "(s)"), a small RMS error not printed as 0.0000, `--resample -1` refused by rhonn
 /// (not taken for an option), and a fit into a folder holding another model is refused
 /// unless `--force` (then it says what it replaces, with both fits).
 #[test]
@@ -307,7 +307,12 @@ fn fit_messages_read_as_sentences_and_keep_significant_digits() {
     let o = fit(Some("arx.toml"), "f");
     let (out, err) = (String::from_utf8_lossy(&o.stdout).into_owned(), stderr(&o));
     assert!(o.status.success(), "{err}");
-    assert!(out.contains("fitted an ARX model with 3 features"), "{out}");
+    // Counts agree with their nouns: "1 record", never "record(s)".
+    assert!(
+        out.contains("fitted an ARX model with 3 features per output on 1 record\n"),
+        "{out}"
+    );
+    assert!(!out.contains("(s)") && !err.contains("(s)"), "{out}{err}");
     assert!(err.contains("the model looks back 1 sample (4 s)"), "{err}");
     let line = out
         .lines()

@@ -666,7 +666,7 @@ fn a_long_gap_splits_the_record_and_many_missing_rows_are_refused_in_every_comma
     let o = fit(&jump, "fj", &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("jump.csv: split into 2 records at 1 gap(s)"),
+        stderr(&o).contains("jump.csv: split into 2 records at 1 gap of more than"),
         "{}",
         stderr(&o)
     );

@@ -63,7 +63,10 @@ pub fn sample_time(records: &[Record]) -> Result<f64> {
             let d = w[1] - w[0];
             if !(d > 0.0) || (d - dt).abs() > 0.01 * dt {
                 let what = if d > 1.5 * dt {
-                    format!("{} missing sample(s) or a gap", (d / dt).round() as i64 - 1)
+                    format!(
+                        "{} or a gap",
+                        crate::metrics::count((d / dt).round() as usize - 1, "missing sample")
+                    )
                 } else {
                     "an uneven interval".to_string()
                 };

@@ -129,7 +129,7 @@ impl Stream {
         let Some(session) = self.session.as_mut() else {
             return Err(invalid(
                 "the stream",
-                format!("{} sample(s)", usize::from(self.first.is_some())),
+                crate::metrics::count(usize::from(self.first.is_some()), "sample"),
                 "at least two samples (the first two give the sample time)",
             ));
         };

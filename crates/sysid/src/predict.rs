@@ -175,7 +175,7 @@ pub struct PredictSummary<'a> {
     pub model: &'a str,
     /// The record's source.
     pub data: &'a str,
-    /// "free run" or "K step(s) ahead".
+    /// "free run", "1 step ahead" or "K steps ahead".
     pub mode: String,
     /// None: free run.
     pub steps_ahead: Option<usize>,
@@ -231,11 +231,11 @@ fn findings(mode: &str, figures: &[OutputFigures], baseline: Option<&[OutputFigu
 }
 
 impl Prediction {
-    /// "free run" or "K step(s) ahead".
+    /// "free run", "1 step ahead" or "K steps ahead".
     pub fn mode(&self) -> String {
         match self.steps_ahead {
             None => "free run".to_string(),
-            Some(k) => format!("{k} step(s) ahead"),
+            Some(k) => crate::metrics::count(k, "step") + " ahead",
         }
     }
 

@@ -237,9 +237,10 @@ pub(super) fn select_from(
     let may_start = |c: usize| !too_long(&list[c].1) && !over(c);
     let runs_n = (0..total).filter(|&c| may_start(c)).count();
     progress(&format!(
-        "{runs_n} of {total} candidates within the work budget of {} units ({samples} samples, {} output(s))",
+        "{runs_n} of {total} candidates within the work budget of {} units ({}, {})",
         crate::metrics::sig(limit, 2),
-        outputs.len()
+        crate::metrics::count(samples, "sample"),
+        crate::metrics::count(outputs.len(), "output")
     ));
     // Said before it runs, so that a slow candidate is not shown as the one before it.
     let on_start = |c: usize| progress(&format!("candidate {}/{total}, {}: running", c + 1, list[c].0));
@@ -661,7 +662,8 @@ fn cautions(
         .count();
     if skipped > 0 {
         findings.push(format!(
-            "{skipped} candidate(s) skipped: their estimated work on the folds exceeds the budget ({} units, from the data's size; --budget K multiplies it)",
+            "{} skipped: their estimated work on the folds exceeds the budget ({} units, from the data's size; --budget K multiplies it)",
+            crate::metrics::count(skipped, "candidate"),
             crate::metrics::sig(tally.work_budget, 2)
         ));
     }

@@ -94,7 +94,7 @@ fn progress_names_each_candidate_as_it_starts_then_with_its_score() {
     let budget = lines.remove(0);
     assert_eq!(
         budget,
-        "16 of 16 candidates within the work budget of 1.5e10 units (600 samples, 1 output(s))"
+        "16 of 16 candidates within the work budget of 1.5e10 units (600 samples, 1 output)"
     );
     // The ensembles, judged from the others' predictions, last: one line each, with
     // their score.

@@ -48,10 +48,10 @@ impl std::fmt::Display for Split {
         let more = self.split_at_s.len().saturating_sub(5);
         write!(
             f,
-            "{}: split into {} records at {} gap(s) of more than {MAX_FILLED_GAP} missing samples ({} samples missing; at {}{}): no value was made up across them",
+            "{}: split into {} records at {} of more than {MAX_FILLED_GAP} missing samples ({} samples missing; at {}{}): no value was made up across them",
             self.source,
             self.split_at_s.len() + 1,
-            self.split_at_s.len(),
+            crate::metrics::count(self.split_at_s.len(), "gap"),
             self.missing_split,
             at.join(", "),
             if more > 0 { format!(" and {more} more") } else { String::new() }

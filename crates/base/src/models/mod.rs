@@ -62,6 +62,11 @@ impl Kind {
     pub fn with_article(self) -> &'static str {
         model_kind(self).with_article(self)
     }
+
+    /// An ARX or a lagged RHONN: weights over lagged measurements, one set per output.
+    pub fn is_lagged(self) -> bool {
+        matches!(self, Kind::Arx | Kind::Rhonn)
+    }
 }
 
 /// The implementation of `kind` (see the `kinds` module): the registry of model kinds,
