@@ -315,7 +315,7 @@ struct Summary<'a> {
     kind: &'a str,
     /// The record predicted.
     data: &'a str,
-    /// `free run`, or `K steps ahead`.
+    /// `free run`, `1 step ahead` or `K steps ahead`.
     mode: String,
     /// Samples at the start of the record that set the model's state before it predicts
     /// (`--init-window`); left out when not given.
