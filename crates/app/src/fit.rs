@@ -402,7 +402,7 @@ fn fitted_lines(
         format!(
             "fitted {} model with {} on {}",
             spec.kind.with_article(),
-            size(&fitted.model),
+            size(spec.kind, fitted.model.n_features()),
             count(n_records, "record")
         )
     } else {
@@ -411,7 +411,11 @@ fn fitted_lines(
             1 + fitted.members.len(),
             fitted
                 .all_members()
-                .map(|m| format!("{} with {}", m.spec.kind.with_article(), size(m)))
+                .map(|m| format!(
+                    "{} with {}",
+                    m.spec.kind.with_article(),
+                    size(m.spec.kind, m.n_features())
+                ))
                 .collect::<Vec<_>>()
                 .join("; "),
             count(n_records, "record")
@@ -427,23 +431,19 @@ fn fitted_lines(
             } else {
                 String::new()
             },
-            if own.model.kind.is_lagged() {
-                count(own.features, "feature") + " per output"
-            } else {
-                count(own.features, "parameter")
-            }
+            size(own.model.kind, own.features)
         ));
     }
     lines
 }
 
-/// A fitted model's size in words: a lagged model's features per output (its weights on
-/// each output), any other kind's parameters.
-fn size(m: &rhonn::sysid::Model) -> String {
-    if m.spec.kind.is_lagged() {
-        count(m.n_features(), "feature") + " per output"
+/// The size `n` of a model of `kind` in words: a lagged model's features per output (its
+/// weights on each output), any other kind's parameters.
+fn size(kind: rhonn::sysid::Kind, n: usize) -> String {
+    if kind.is_lagged() {
+        count(n, "feature") + " per output"
     } else {
-        count(m.n_features(), "parameter")
+        count(n, "parameter")
     }
 }
 

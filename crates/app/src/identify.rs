@@ -252,9 +252,7 @@ pub(super) fn predict_online(
         files,
         ..Outcome::default()
     };
-    let mode = steps.map_or("free run".to_string(), |k| {
-        rhonn::metrics::count(k, "step") + " ahead"
-    });
+    let mode = rhonn::metrics::prediction_mode(steps);
     for f in &figures {
         o.lines.push(format!(
             "{} ({mode}): rms error {}, fit {}, nrmse {}",

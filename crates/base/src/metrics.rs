@@ -33,6 +33,12 @@ pub fn count(n: usize, noun: &str) -> String {
     }
 }
 
+/// How a prediction runs, in words (summary.json's `mode`, offline and online): "free run"
+/// (`steps_ahead` None), "1 step ahead", "K steps ahead".
+pub fn prediction_mode(steps_ahead: Option<usize>) -> String {
+    steps_ahead.map_or("free run".to_string(), |k| count(k, "step") + " ahead")
+}
+
 /// `v` with `digits` significant digits, for people to read: plain decimals from 1e-4 to
 /// 1e6 (`0.007589`, `27.65`), else scientific (`5.331e-5`); trailing zeros dropped.
 pub fn sig(v: f64, digits: usize) -> String {
@@ -139,6 +145,8 @@ mod tests {
         assert_eq!(count(1, "record"), "1 record");
         assert_eq!(count(0, "sample"), "0 samples");
         assert_eq!(count(10, "step"), "10 steps");
+        assert_eq!(prediction_mode(Some(1)), "1 step ahead");
+        assert_eq!(prediction_mode(None), "free run");
         assert!((nrmse(&y, &yhat) - 1.0 / 3.0).abs() < 1e-15);
         let t = [0.0, 0.1, 0.2, 0.3, 0.4];
         let e = [5.0, -2.0, 0.5, -0.1, 0.05];

@@ -1,8 +1,8 @@
 //! What users read, checked: the README is a front door (at most 400 lines, prerequisites
 //! and the two commands first); every link in the README, CHANGELOG and docs/ resolves;
 //! the README's shell blocks run as written (from a folder holding the shipped data; its
-//! campaign cut to 4 runs) and print the lines its `text` blocks quote; the guides' shell blocks run (campaigns cut
-//! short) and every file they name ships;
+//! campaign cut to 4 runs) and print the lines its `text` blocks quote; the guides' shell
+//! blocks run (campaigns cut short) and every file they name ships;
 //! the scenario reference's TOML blocks are scenarios `rhonn run` accepts. (The guides' Rust
 //! blocks are doctests of `rhonn-report` and `rhonn-core`.)
 

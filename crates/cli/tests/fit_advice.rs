@@ -266,8 +266,8 @@ fn an_output_no_candidate_predicts_better_than_its_mean_is_said_by_fit_and_predi
 }
 
 /// Messages read as sentences and figures keep their significant digits: "an ARX model",
-/// "1 sample", "on 1 record" (no "(s)"), a small RMS error not printed as 0.0000, `--resample -1` refused by rhonn
-/// (not taken for an option), and a fit into a folder holding another model is refused
+/// "1 sample", "on 1 record" (no "(s)"), a small RMS error not printed as 0.0000,
+/// `--resample -1` refused by rhonn (not taken for an option), and a fit into a folder holding another model is refused
 /// unless `--force` (then it says what it replaces, with both fits).
 #[test]
 fn fit_messages_read_as_sentences_and_keep_significant_digits() {

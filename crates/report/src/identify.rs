@@ -343,9 +343,7 @@ pub fn write_online_prediction(
     (steps_ahead, init_window): (Option<usize>, Option<usize>),
     figures: &[OnlinePredictionFigures],
 ) -> Result<Vec<PathBuf>> {
-    let mode = steps_ahead.map_or("free run".to_string(), |k| {
-        rhonn::metrics::count(k, "step") + " ahead"
-    });
+    let mode = rhonn::metrics::prediction_mode(steps_ahead);
     let mut set = OutputSet::new(dir)?;
     set.write("prediction.csv", |w| {
         let mut columns = vec![col("t", record.t.clone())];

@@ -233,10 +233,7 @@ fn findings(mode: &str, figures: &[OutputFigures], baseline: Option<&[OutputFigu
 impl Prediction {
     /// "free run", "1 step ahead" or "K steps ahead".
     pub fn mode(&self) -> String {
-        match self.steps_ahead {
-            None => "free run".to_string(),
-            Some(k) => crate::metrics::count(k, "step") + " ahead",
-        }
+        crate::metrics::prediction_mode(self.steps_ahead)
     }
 
     /// The summary, naming the model's source `model`.
