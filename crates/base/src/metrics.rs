@@ -1,4 +1,5 @@
-//! Small pure functions of a measured series `y` and an estimate `yhat`.
+//! Small pure functions of a measured series `y` and an estimate `yhat`, and the words
+//! that print them (significant digits, counts, prediction modes).
 
 /// Mean and standard deviation (population) of columns taken together; a constant or
 /// empty set gets standard deviation 1 (a scale to divide by).
