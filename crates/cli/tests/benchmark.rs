@@ -310,6 +310,17 @@ fn an_unknown_benchmark_or_a_bad_file_is_a_clear_error_and_writes_nothing() {
         "{e}"
     );
     assert!(!d.path().join("b").exists());
+    // Run from another folder without --data-dir: the default folder is not there, and
+    // the error says so and how to give it (it once listed the benchmarks of a missing
+    // folder: none).
+    let o = rhonn(d.path(), &["benchmark", "silverbox", "--out", "b"]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("cannot read the benchmarks' folder data/benchmarks") && e.contains("--data-dir"),
+        "{e}"
+    );
+    assert!(!d.path().join("b").exists());
     // A copy of a benchmark with a cell that is not a number: file, line and column named.
     let mine = d.path().join("mine/dryer");
     std::fs::create_dir_all(&mine).unwrap();

@@ -33,12 +33,20 @@ pub fn load(dir: &Path, name: &str) -> Result<Benchmark> {
     let folder = dir.join(name);
     let toml_path = folder.join("benchmark.toml");
     let text = rhonn::error::read_text(&toml_path).map_err(|e| {
-        let known = available(dir).map(|v| v.join(", ")).unwrap_or_default();
+        // What the user can pick instead: the folder's benchmarks, or why there are none
+        // (a folder that cannot be read says so, and how to give another).
+        let known = match available(dir) {
+            Err(folder) => return folder,
+            Ok(v) if v.is_empty() => format!(
+                "{} holds no benchmark (a folder per benchmark with its benchmark.toml)",
+                dir.display()
+            ),
+            Ok(v) => format!("the benchmarks in {}: {}", dir.display(), v.join(", ")),
+        };
         Error::Input(format!(
-            "no benchmark `{name}`: cannot read {} ({}); the benchmarks in {}: {known}",
+            "no benchmark `{name}`: cannot read {} ({}); {known}",
             toml_path.display(),
             rhonn::error::path_problem(&toml_path, &e),
-            dir.display()
         ))
     })?;
     let spec: BenchmarkSpec = toml::from_str(&text)
