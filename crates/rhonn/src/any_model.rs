@@ -67,6 +67,18 @@ pub enum AnyPrediction {
     },
 }
 
+/// What to do with a model spec given where a fitted model is asked for (a newcomer's
+/// first `rhonn predict --model spec.toml`): an empty text when `text` is not a TOML
+/// table with a field.
+fn spec_hint(text: &str) -> &'static str {
+    match toml::from_str::<toml::Table>(text) {
+        Ok(t) if !t.is_empty() => {
+            " (it reads as TOML: a model spec? `rhonn fit --model SPEC.toml` or `rhonn identify --model SPEC.toml` trains it and writes the model.json that runs here)"
+        }
+        _ => "",
+    }
+}
+
 /// `text` as a `T`; an error names the field's path in it.
 fn parse<T: DeserializeOwned>(
     text: &str,
@@ -133,7 +145,7 @@ impl AnyModel {
         }
         let value = serde_json::from_str::<serde_json::Value>(text).map_err(|e| ModelFileError::NotJson {
             source_name: source_name.to_string(),
-            message: e.to_string(),
+            message: format!("{e}{}", spec_hint(text)),
         })?;
         let invalid = |source: crate::Error| ModelFileError::Invalid {
             source_name: source_name.to_string(),
@@ -249,6 +261,15 @@ mod tests {
         let e = AnyModel::parse("not json", "m.json").unwrap_err();
         assert!(matches!(e, ModelFileError::NotJson { .. }), "{e}");
         assert!(e.to_string().starts_with("m.json is not JSON: "), "{e}");
+        assert!(!e.to_string().contains("TOML"), "{e}");
+        // A model spec where a trained model is asked for: what to do with it.
+        let e = AnyModel::parse("kind = \"arx\"\nna = 2\n", "spec.toml").unwrap_err();
+        assert!(
+            e.to_string().starts_with("spec.toml is not JSON: ")
+                && e.to_string()
+                    .contains("it reads as TOML: a model spec? `rhonn fit --model SPEC.toml`"),
+            "{e}"
+        );
         // The `kind` field picks the reader: an online model's fields are asked for.
         let e = AnyModel::parse(r#"{"kind": "online-rhonn", "weights": []}"#, "m.json").unwrap_err();
         assert!(
