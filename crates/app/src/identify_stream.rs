@@ -115,13 +115,16 @@ fn sample(
 }
 
 /// `rhonn identify --stream`: learn the lines of `input` (a header, then one sample a
-/// line) until its end or `stop()`, printing through `print`; write the folder. Returns
-/// the outcome, and the error that stopped the stream (with `OnError::Stop`) after the
-/// model learned until then was written.
+/// line) until its end or `stop()`, printing through `print` and saying each skipped line
+/// through `warn` as it comes (a live stream may run for hours before its end); write the
+/// folder. Returns the outcome, and the error that stopped the stream (with
+/// `OnError::Stop`) after the model learned until then was written. A stream that stopped
+/// before anything could be saved fails with the line that stopped it and why nothing was.
 pub fn identify_stream(
     req: &StreamRequest,
     input: &mut dyn BufRead,
     print: &mut dyn FnMut(&str),
+    warn: &mut dyn FnMut(&str),
     stop: &dyn Fn() -> bool,
 ) -> Result<(Outcome, Option<Error>)> {
     let spec = req.model.as_deref().map(read_spec).transpose()?;
@@ -142,7 +145,7 @@ pub fn identify_stream(
         .map(|y| format!("{y}_hat,{y}_prequential_rms"))
         .collect();
     print(&format!("t,{}", hat.join(",")));
-    let (mut line_no, mut stopped, mut notes) = (1u64, None, Vec::new());
+    let (mut line_no, mut stopped, mut skipped) = (1u64, None, 0usize);
     let mut text = String::new();
     while !stop() {
         text.clear();
@@ -173,16 +176,25 @@ pub fn identify_stream(
                 print(&format!("{t},{}", cells.join(",")));
             }
             (Ok(_), _) => {}
-            (Err(e), OnError::Skip) => notes.push(format!("warning: skipped: {e}")),
+            (Err(e), OnError::Skip) => {
+                skipped += 1;
+                warn(&format!("warning: skipped: {e}"));
+            }
             (Err(e), OnError::Stop) => {
                 stopped = Some(e);
                 break;
             }
         }
     }
-    let (model, summary) = stream
-        .finish()
-        .map_err(|e| Error::Input(format!("{}: {e}", req.source)))?;
+    let (model, summary) = stream.finish().map_err(|e| {
+        let e = format!("{}: {e}", req.source);
+        Error::Input(match &stopped {
+            Some(line) => format!(
+                "{line}; the stream stopped there (--on-error stop) and nothing was written: what it learned before cannot be saved ({e})"
+            ),
+            None => e,
+        })
+    })?;
     let inputs: Vec<PathBuf> = req.model.iter().cloned().collect();
     let mut o = in_folder(
         &req.out,
@@ -211,6 +223,10 @@ pub fn identify_stream(
             })
         },
     )?;
-    o.notes.splice(0..0, notes);
+    if skipped > 0 {
+        let lines = rhonn::metrics::count(skipped, "malformed line");
+        o.notes
+            .insert(0, format!("note: {lines} skipped (each said above)"));
+    }
     Ok((o, stopped))
 }

@@ -66,7 +66,8 @@ pub fn identify(req: &commands::StreamRequest, follow: Option<&Path>) -> Result<
         let _ = writeln!(out, "{line}");
     };
     let stop = || INTERRUPTED.load(Ordering::SeqCst);
-    let (o, stopped) = commands::identify_stream(req, &mut input, &mut print, &stop)?;
+    let mut warn = |line: &str| eprintln!("{line}");
+    let (o, stopped) = commands::identify_stream(req, &mut input, &mut print, &mut warn, &stop)?;
     o.print_to(&mut |l| eprintln!("{l}"));
     match stopped {
         Some(e) => Err(anyhow::anyhow!(

@@ -110,11 +110,11 @@ fn a_malformed_line_stops_the_stream_with_its_number_or_is_skipped() {
     args.extend(COLUMNS);
     let o = piped(d.path(), &args, &bad);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("warning: skipped: standard input, line 601"),
-        "{}",
-        stderr(&o)
-    );
+    let e = stderr(&o);
+    assert!(e.contains("warning: skipped: standard input, line 601"), "{e}");
+    // Said as it came (before the folder's lines), and counted at the end.
+    assert!(e.find("line 601") < e.find("wrote "), "{e}");
+    assert!(e.contains("note: 1 malformed line skipped"), "{e}");
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(d.path().join("skip/summary.json")).unwrap()).unwrap();
     assert_eq!(s["samples"], lines.len() - 2, "{s}");
@@ -123,12 +123,24 @@ fn a_malformed_line_stops_the_stream_with_its_number_or_is_skipped() {
     args.extend(COLUMNS);
     let o = piped(d.path(), &args, &text);
     assert_eq!(o.status.code(), Some(2));
-    assert!(
-        stderr(&o).contains("open-ended") && stderr(&o).contains("its length given"),
-        "{}",
-        stderr(&o)
-    );
+    let e = stderr(&o);
+    assert!(e.contains("open-ended") && e.contains("its length given"), "{e}");
+    // Every candidate failed for one reason: said once, not once per candidate.
+    assert_eq!(e.matches("no free-run window").count(), 1, "{e}");
+    assert!(e.contains("(all 12 candidates)"), "{e}");
     assert!(!d.path().join("open").exists());
+    // A malformed line before anything could be saved: the error names that line (it once
+    // said only that the stream was too short), and that nothing was written.
+    let mut args = vec!["identify", "--stream", "--out", "early"];
+    args.extend(COLUMNS);
+    let o = piped(d.path(), &args, &(lines[..2].join("\n") + "\n2,0.16,oops,1\n"));
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("standard input, line 3, column `u_heater_V`") && e.contains("nothing was written"),
+        "{e}"
+    );
+    assert!(!d.path().join("early").exists());
 }
 
 /// A followed file is read to its end and then waited on; Ctrl-C (SIGINT), sent once the

@@ -252,6 +252,27 @@ fn polynomial(p0: f64) -> Candidate {
     }
 }
 
+/// Why every candidate failed: each reason once, with the candidates it stopped (a stream
+/// too short for the windows stops them all alike: one reason, not a copy per candidate).
+fn failures(scored: &[CandidateScore]) -> String {
+    let mut groups: Vec<(String, Vec<&str>)> = Vec::new();
+    for c in scored {
+        let why = c.failed.clone().unwrap_or_else(|| "no free-run figure".into());
+        match groups.iter_mut().find(|(w, _)| *w == why) {
+            Some((_, names)) => names.push(&c.name),
+            None => groups.push((why, vec![&c.name])),
+        }
+    }
+    if let [(why, _)] = groups.as_slice() {
+        return format!("{why} (all {})", crate::metrics::count(scored.len(), "candidate"));
+    }
+    let parts: Vec<String> = groups
+        .iter()
+        .map(|(why, names)| format!("{}: {why}", names.join(", ")))
+        .collect();
+    parts.join("; ")
+}
+
 /// Whether a candidate is a recursive ARX (the lagged structure of degree 1).
 fn is_linear(spec: &OnlineSpec) -> bool {
     spec.structure == OnlineStructure::Lagged && spec.degree == 1
@@ -512,14 +533,10 @@ fn judge(
     let chosen = match best(false) {
         Some(k) => k,
         None => {
-            let why: Vec<String> = scored
-                .iter()
-                .map(|c| format!("{}: {}", c.name, c.failed.clone().unwrap_or_default()))
-                .collect();
             return Err(invalid(
                 "online selection",
                 "every candidate failed",
-                why.join("; "),
+                failures(&scored),
             ));
         }
     };
