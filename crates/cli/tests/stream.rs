@@ -124,9 +124,17 @@ fn a_malformed_line_stops_the_stream_with_its_number_or_is_skipped() {
     let o = piped(d.path(), &args, &text);
     assert_eq!(o.status.code(), Some(2));
     let e = stderr(&o);
-    assert!(e.contains("open-ended") && e.contains("its length given"), "{e}");
+    assert!(
+        e.contains("the stream ended after 750 samples, open-ended")
+            && e.contains("give the stream's length beforehand"),
+        "{e}"
+    );
     // Every candidate failed for one reason: said once, not once per candidate.
     assert_eq!(e.matches("no free-run window").count(), 1, "{e}");
+    assert!(
+        e.contains("every candidate of the online selection failed: no free-run window"),
+        "{e}"
+    );
     assert!(e.contains("(all 12 candidates)"), "{e}");
     assert!(!d.path().join("open").exists());
     // A malformed line before anything could be saved: the error names that line (it once

@@ -136,15 +136,13 @@ impl Stream {
         let (taken, open_ended) = (self.taken, self.model.is_none() && self.samples.is_none());
         let selection = session.selection().map_err(|e| {
             if open_ended {
-                invalid(
-                    "the stream",
-                    format!("{taken} samples, open-ended"),
-                    format!(
-                        "a stream long enough for the online selection to judge its candidates, or its length given \
-                         beforehand (an open-ended stream is judged as one of 2,000 samples, scored from sample 1,000), \
-                         or a model ({e})"
-                    ),
-                )
+                crate::Error::Argument(format!(
+                    "the stream ended after {}, open-ended (its length not given beforehand): the online \
+                     selection judges such a stream as one of 2,000 samples, scored from sample 1,000, and could \
+                     not judge its candidates on these ({e}); give the stream's length beforehand (the windows are \
+                     then sized by it), or a model",
+                    crate::metrics::count(taken, "sample")
+                ))
             } else {
                 e
             }

@@ -533,11 +533,10 @@ fn judge(
     let chosen = match best(false) {
         Some(k) => k,
         None => {
-            return Err(invalid(
-                "online selection",
-                "every candidate failed",
-                failures(&scored),
-            ));
+            return Err(crate::Error::Argument(format!(
+                "every candidate of the online selection failed: {}",
+                failures(&scored)
+            )));
         }
     };
     let Some(winner) = ids.swap_remove(chosen) else {
