@@ -16,7 +16,17 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let hint = columns_hint(&e);
+            let _ = e.print();
+            if let Some(h) = hint {
+                eprintln!("{h}");
+            }
+            return ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2));
+        }
+    };
     match dispatch(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -27,6 +37,30 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// For `--inputs` or `--outputs` missing where `--data FILE` is given: the file's columns,
+/// so the first command on one's own data needs no second look at the file.
+fn columns_hint(e: &clap::Error) -> Option<String> {
+    let text = e.to_string();
+    if e.kind() != clap::error::ErrorKind::MissingRequiredArgument
+        || !(text.contains("--inputs") || text.contains("--outputs"))
+    {
+        return None;
+    }
+    let args: Vec<String> = std::env::args().collect();
+    let file = args
+        .iter()
+        .enumerate()
+        .find_map(|(i, a)| match a.strip_prefix("--data=") {
+            Some(v) => Some(v.to_string()),
+            None => (a == "--data").then(|| args.get(i + 1).cloned()).flatten(),
+        })?;
+    let columns = rhonn_report::csv_header(std::path::Path::new(&file)).ok()?;
+    Some(format!(
+        "the columns of {file}: {}; give --inputs and --outputs from them, comma-separated",
+        columns.join(", ")
+    ))
 }
 
 fn dispatch(cli: Cli) -> Result<()> {

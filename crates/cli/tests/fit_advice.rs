@@ -606,3 +606,31 @@ fn a_column_too_small_to_square_is_refused_naming_it() {
         assert!(!stderr(&o).contains("below 1e-150"), "{name}: {}", stderr(&o));
     }
 }
+
+/// A first command on one's own data without --inputs or --outputs: the file's columns are
+/// listed beside clap's message (exit 2, nothing written); for `identify` too.
+#[test]
+fn missing_inputs_or_outputs_list_the_files_columns() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("mine.csv"), "t,valve_V,flow_m3_s\n0,1,2\n0.1,1,2\n").unwrap();
+    for args in [
+        &["fit", "--data", "mine.csv", "--out", "o"][..],
+        &["identify", "--data=mine.csv", "--inputs", "valve_V", "--out", "o"][..],
+    ] {
+        let o = rhonn(d.path(), args);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{e}");
+        assert!(e.contains("--outputs <OUTPUTS>"), "{e}");
+        assert!(
+            e.contains(
+                "the columns of mine.csv: t, valve_V, flow_m3_s; give --inputs and --outputs from them"
+            ),
+            "{e}"
+        );
+        assert!(!d.path().join("o").exists());
+    }
+    // No hint where the file cannot be read (the missing argument is the message).
+    let o = rhonn(d.path(), &["fit", "--data", "none.csv", "--out", "o"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!stderr(&o).contains("the columns of"), "{}", stderr(&o));
+}

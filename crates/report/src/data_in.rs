@@ -189,6 +189,11 @@ fn open_csv(path: &Path, file: &str) -> Result<(CsvReader, Vec<String>), DataErr
     Ok((rd, header))
 }
 
+/// The column names of a CSV file's header (plain or gzip).
+pub fn csv_header(path: &Path) -> Result<Vec<String>, DataError> {
+    open_csv(path, &path.display().to_string()).map(|(_, h)| h)
+}
+
 /// A CSV reader of a file, plain or gzip.
 type CsvReader = csv::Reader<rhonn::error::LineLimited<Box<dyn std::io::Read>>>;
 

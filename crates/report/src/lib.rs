@@ -38,7 +38,7 @@ pub mod worst_runs;
 
 pub use atomic::OutputSet;
 pub use csv_out::write_trace_csv;
-pub use data_in::{cell_value, read_record, read_record_timed, DataError};
+pub use data_in::{cell_value, csv_header, read_record, read_record_timed, DataError};
 pub use html::{write_report, write_report_as};
 pub use plant_report::write_plant_run;
 pub use plot::{bin_counts, Band, EnvelopePlot, Histogram, Series, TimePlot};
