@@ -48,7 +48,10 @@ fn columns_hint(e: &clap::Error) -> Option<String> {
     {
         return None;
     }
-    let args: Vec<String> = std::env::args().collect();
+    // `args_os`: an argument that is not UTF-8 (a file name) must not panic here.
+    let args: Vec<String> = std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
     let file = args
         .iter()
         .enumerate()
