@@ -7,7 +7,7 @@
 
 use super::identify::read_spec;
 use super::{in_folder, Outcome};
-use rhonn::ident::Stream;
+use rhonn::ident::{OnlineModel, Stream, StreamSummary};
 use rhonn_report::{DataError, Error, OutputSet, Result};
 use std::io::BufRead;
 use std::path::PathBuf;
@@ -195,8 +195,19 @@ pub fn identify_stream(
             None => e,
         })
     })?;
+    let mut o = write_folder(req, &model, &summary)?;
+    if skipped > 0 {
+        let lines = rhonn::metrics::count(skipped, "malformed line");
+        o.notes
+            .insert(0, format!("note: {lines} skipped (each said above)"));
+    }
+    Ok((o, stopped))
+}
+
+/// The stream's folder: the frozen model and the summary, and what to say of them.
+fn write_folder(req: &StreamRequest, model: &OnlineModel, summary: &StreamSummary) -> Result<Outcome> {
     let inputs: Vec<PathBuf> = req.model.iter().cloned().collect();
-    let mut o = in_folder(
+    in_folder(
         &req.out,
         (&inputs, rhonn_report::folder::writes::IDENTIFY),
         req.force,
@@ -222,11 +233,5 @@ pub fn identify_stream(
                 files,
             })
         },
-    )?;
-    if skipped > 0 {
-        let lines = rhonn::metrics::count(skipped, "malformed line");
-        o.notes
-            .insert(0, format!("note: {lines} skipped (each said above)"));
-    }
-    Ok((o, stopped))
+    )
 }
