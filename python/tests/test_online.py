@@ -108,6 +108,44 @@ def test_cascade_structure_matches_rhonn_identify(tmp_path, root, rhonn_bin, tan
     np.testing.assert_allclose(y_hat, estimate["y_hat"], rtol=0, atol=1e-12)
 
 
+def test_wiener_hammerstein_structure_matches_rhonn_identify_and_predicts(tmp_path, root, rhonn_bin, tanks):
+    """The Wiener-Hammerstein structure from Python (as a dict): fitted on its window, then
+    learned on; the command's estimates, weights and term names, and its frozen model
+    predicts as `rhonn predict` does. Frozen before its window is full, it says why."""
+    est, val = tanks
+    block = {"poles": 2, "degree": 3, "window": 600}
+    spec = tmp_path / "wh.toml"
+    spec.write_text('structure = "wiener-hammerstein"\nblock = { poles = 2, degree = 3, window = 600 }\n'
+                    "output_margin = 0.5\n")
+    subprocess.run(
+        [rhonn_bin, "identify", "--data", str(root / "data/cascaded-tanks/estimation.csv"), "--inputs", "u",
+         "--outputs", "y", "--model", str(spec), "--out", str(tmp_path / "id")],
+        check=True, capture_output=True, cwd=root,
+    )
+    cli_model = json.loads((tmp_path / "id/model.json").read_text())
+    sc = cli_model["scaling"]
+    model = {"structure": "wiener-hammerstein", "block": block, "output_margin": 0.5}
+    ident = rhonn.OnlineIdentifier(
+        ["u"], ["y"], dt=4.0, model=model, y_offset=sc["y_offset"], y_scale=sc["y_scale"],
+        u_offset=sc["u_offset"], u_scale=sc["u_scale"], y_bounds=sc["y_bounds"],
+    )
+    with pytest.raises(ValueError, match="window of 600 samples"):
+        ident.freeze()
+    y_hat = np.array([ident.update(t, [u], [y])[0] for t, u, y in zip(est["t"], est["u"], est["y"])])
+    assert ident.term_names[:4] == ["u mean", "u deviation", "y mean", "y deviation"]
+    np.testing.assert_allclose(ident.weights, np.array(cli_model["weights"]), rtol=1e-12, atol=0)
+    estimate = read_csv(tmp_path / "id/estimate.csv")
+    np.testing.assert_allclose(y_hat, estimate["y_hat"], rtol=0, atol=1e-12)
+    frozen = ident.freeze()
+    subprocess.run(
+        [rhonn_bin, "predict", "--model", str(tmp_path / "id/model.json"), "--data",
+         str(root / "data/cascaded-tanks/validation.csv"), "--out", str(tmp_path / "p")],
+        check=True, capture_output=True, cwd=root,
+    )
+    predicted = read_csv(tmp_path / "p/prediction.csv")
+    np.testing.assert_allclose(frozen.predict(val["u"], val["y"])[:, 0], predicted["y_hat"], rtol=0, atol=1e-12)
+
+
 def test_without_a_model_it_chooses_online_as_rhonn_identify_does(tmp_path, root, rhonn_bin, tanks):
     """No model: the bank, fed the tanks' estimation record one sample at a time, gives
     `rhonn identify --epochs 1`'s selection (every candidate's prequential figures and the

@@ -482,6 +482,56 @@ fn tanks_cascade_online_model_runs_free_within_the_goal() {
     );
 }
 
+/// The Wiener-Hammerstein structure on the cascaded tanks (fitted on the first 600
+/// samples, then its polynomial learned by recursive least squares): `rhonn predict` of
+/// its model.json gives the validation's figures (free run and 10 ahead), it runs free
+/// below the ARX(2,2), its parameters are named; with the default window (5,000 samples,
+/// more than the file's 1,024) it is refused, naming the window, and nothing is written.
+#[test]
+fn tanks_wiener_hammerstein_online_model_predicts_as_validated_and_a_long_window_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let spec = d.path().join("wh.toml");
+    std::fs::write(
+        &spec,
+        "structure = \"wiener-hammerstein\"\nblock = { poles = 2, degree = 3, window = 600 }\noutput_margin = 0.5\n",
+    )
+    .unwrap();
+    let (s, free, ahead, arx) = tanks_online(spec.to_str().unwrap());
+    eprintln!("online wiener-hammerstein: free run {free} V, 10 ahead {ahead} V, ARX(2,2) {arx} V");
+    assert!(free < arx, "online wiener-hammerstein {free} V, ARX(2,2) {arx} V");
+    assert_eq!(s["model"]["structure"], "wiener-hammerstein");
+    let terms = term_names(&s);
+    assert!(
+        terms.starts_with(&["u mean", "u deviation", "y mean", "y deviation"]) && terms.contains(&"c[3]"),
+        "{terms:?}"
+    );
+    std::fs::write(d.path().join("long.toml"), "structure = \"wiener-hammerstein\"\n").unwrap();
+    let est = repo().join("data/cascaded-tanks/estimation.csv");
+    let o = rhonn(
+        d.path(),
+        &[
+            "identify",
+            "--data",
+            est.to_str().unwrap(),
+            "--inputs",
+            "u",
+            "--outputs",
+            "y",
+            "--model",
+            "long.toml",
+            "--out",
+            "long",
+        ],
+    );
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("window of 5000 samples (`block.window`)") && e.contains("learned 1024 samples"),
+        "{e}"
+    );
+    assert!(!d.path().join("long").exists());
+}
+
 #[test]
 fn without_a_model_the_bank_picks_online_and_beats_the_offline_arx_on_the_tanks() {
     let d = tempfile::tempdir().unwrap();

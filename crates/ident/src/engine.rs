@@ -89,6 +89,11 @@ pub(crate) trait OnlineEngine: Debug + Send + Sync {
     fn check_weights(&self, _w: &[Vec<f64>]) -> Result<()> {
         Ok(())
     }
+    /// Why the structure has no model to freeze yet (a block structure before its
+    /// window is full), or None.
+    fn unfinished(&self) -> Option<String> {
+        None
+    }
     /// A copy in a box.
     fn box_clone(&self) -> Box<dyn OnlineEngine>;
 }

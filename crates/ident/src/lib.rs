@@ -445,6 +445,7 @@ impl DiscreteIdentifier {
 }
 
 pub mod bank;
+mod block_online;
 mod cascade_online;
 mod continuous;
 mod engine;

@@ -24,6 +24,7 @@
 //!
 //! Signals are normalised inside ([`Scaling`]): offset and scale per output and input.
 
+use super::block_online::BlockOnline;
 use super::cascade_online::CascadeOnline;
 use super::continuous::Continuous;
 use super::engine::{EngineState, OnlineEngine};
@@ -222,6 +223,7 @@ impl OnlineIdentifier {
             OnlineStructure::Continuous => Box::new(Continuous::new(spec, ny, nu, period_s, scaling)?),
             OnlineStructure::Lagged => Box::new(LaggedOnline::new(spec, ny, nu, period_s, scaling)?),
             OnlineStructure::Cascade => Box::new(CascadeOnline::new(spec, ny, nu, period_s, scaling)?),
+            OnlineStructure::WienerHammerstein => Box::new(BlockOnline::new(spec, ny, nu, scaling)?),
             OnlineStructure::PerOutput => {
                 let build = |s: &OnlineSpec, n: usize, sc: Scaling| -> Result<Box<dyn OnlineEngine>> {
                     Ok(Box::new(OnlineIdentifier::new(s, n, nu, period_s, sc)?))
@@ -368,6 +370,12 @@ impl OnlineIdentifier {
         self.engine.term_names(outputs, inputs)
     }
 
+    /// Why the structure has no model to freeze yet (a `wiener-hammerstein` structure
+    /// before its window is full), or None.
+    pub fn unfinished(&self) -> Option<String> {
+        self.engine.unfinished()
+    }
+
     /// Number of terms (weights) per neuron.
     pub fn n_terms(&self) -> usize {
         self.engine.n_terms()
@@ -470,6 +478,9 @@ impl OnlineEngine for OnlineIdentifier {
     }
     fn check_weights(&self, w: &[Vec<f64>]) -> Result<()> {
         self.engine.check_weights(w)
+    }
+    fn unfinished(&self) -> Option<String> {
+        self.engine.unfinished()
     }
     fn box_clone(&self) -> Box<dyn OnlineEngine> {
         Box::new(self.clone())

@@ -29,6 +29,9 @@ pub struct OnlineSpec {
     /// with a structure of their own.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub per_output: Option<super::PerOutputSpec>,
+    /// The settings of the `wiener-hammerstein` structure.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub block: Option<BlockOnlineSpec>,
     /// Learning law (a `[law]` table as in scenarios); default `filtered-error` with
     /// `gamma = gain / (T L)` per neuron (T the sample time, L the number of terms).
     pub law: Option<LawSpec>,
@@ -72,6 +75,7 @@ impl Default for OnlineSpec {
             lags: None,
             cascade: None,
             per_output: None,
+            block: None,
             law: None,
             gain: 0.5,
             degree: 2,
@@ -104,6 +108,10 @@ pub enum OnlineStructure {
     /// A joint structure of every output and, for some outputs, a structure of their own
     /// (`per_output`): what `rhonn identify` chooses when outputs differ.
     PerOutput,
+    /// `rhonn fit`'s Wiener-Hammerstein block structure (one input, one output; Wiener and
+    /// Hammerstein models are among its splits), fitted on the stream's first `block.window`
+    /// samples, then its polynomial learned by recursive least squares (`block`).
+    WienerHammerstein,
 }
 
 impl OnlineStructure {
@@ -158,6 +166,65 @@ pub struct CascadeOnlineSpec {
     pub pass_var: f64,
     /// RK4 substeps per sample (default 4).
     pub substeps: usize,
+}
+
+/// The `wiener-hammerstein` structure's settings (`block = { ... }`), as `rhonn fit`'s
+/// `kind = "wiener-hammerstein"` (`na` poles, `nb` = poles + 1, `degree`, `epochs`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BlockOnlineSpec {
+    /// Poles of the best linear approximation, split between the two filters (default 6).
+    pub poles: usize,
+    /// Degree of the static polynomial (default 15, at most 15).
+    pub degree: usize,
+    /// Input delay in samples (default 0).
+    pub nk: usize,
+    /// Levenberg-Marquardt iterations of the fit (default 50).
+    pub iterations: usize,
+    /// Samples learned before the block structure is fitted on them (default 5,000; the
+    /// bank: its warm-up, at most 50,000). Until then the estimate is the last measured
+    /// output; after it, only the polynomial and the offset learn.
+    pub window: usize,
+}
+
+impl Default for BlockOnlineSpec {
+    fn default() -> Self {
+        BlockOnlineSpec {
+            poles: 6,
+            degree: 15,
+            nk: 0,
+            iterations: 50,
+            window: 5_000,
+        }
+    }
+}
+
+impl BlockOnlineSpec {
+    /// Each setting within its range (errors name the key).
+    pub(super) fn check(&self) -> Result<()> {
+        let ranges = [
+            ("poles", self.poles, 1, 20),
+            (
+                "degree",
+                self.degree,
+                1,
+                crate::models::wiener_hammerstein::MAX_DEGREE,
+            ),
+            ("nk", self.nk, 0, 100),
+            ("iterations", self.iterations, 1, 10_000),
+            ("window", self.window, 20, 10_000_000),
+        ];
+        for (key, v, lo, hi) in ranges {
+            if !(lo..=hi).contains(&v) {
+                return Err(invalid(
+                    format!("model.block.{key}"),
+                    v,
+                    format!("an integer in [{lo}, {hi}]"),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for CascadeOnlineSpec {
@@ -394,8 +461,19 @@ fn check_tables(spec: &OnlineSpec, ny: usize) -> Result<()> {
     if spec.structure != OnlineStructure::Cascade && spec.cascade.is_some() {
         return only("cascade", "cascade");
     }
+    if spec.structure != OnlineStructure::WienerHammerstein && spec.block.is_some() {
+        return only("block", "wiener-hammerstein");
+    }
     if spec.structure == OnlineStructure::Cascade {
         check_cascade(spec)?;
+    }
+    if spec.structure == OnlineStructure::WienerHammerstein {
+        spec.block.clone().unwrap_or_default().check()?;
+        check_others(
+            spec,
+            "wiener-hammerstein",
+            "its fit and recursive least squares learn; its settings are the `block` table's",
+        )?;
     }
     match (spec.structure == OnlineStructure::PerOutput, &spec.per_output) {
         (true, Some(p)) => p.check(ny),
@@ -473,6 +551,15 @@ fn check_scaling(s: &Scaling, ny: usize, nu: usize) -> Result<()> {
 /// structures (it learns by its filters, not by a `law`).
 fn check_cascade(spec: &OnlineSpec) -> Result<()> {
     spec.cascade.clone().unwrap_or_default().check()?;
+    check_others(
+        spec,
+        "cascade",
+        "its extended Kalman filters learn; its settings are the `cascade` table's",
+    )
+}
+
+/// No key of the other structures with `structure` (which learns its own way, `why`).
+fn check_others(spec: &OnlineSpec, structure: &str, why: &str) -> Result<()> {
     let d = OnlineSpec::default();
     let others = [
         ("law", spec.law.is_some()),
@@ -489,7 +576,7 @@ fn check_cascade(spec: &OnlineSpec) -> Result<()> {
         return Err(invalid(
             format!("model.{key}"),
             "set",
-            "not with `structure = \"cascade\"` (its extended Kalman filters learn; its settings are the `cascade` table's)",
+            format!("not with `structure = \"{structure}\"` ({why})"),
         ));
     }
     Ok(())

@@ -307,6 +307,9 @@ impl OnlineEngine for PerOutputOnline {
         }
     }
 
+    fn unfinished(&self) -> Option<String> {
+        self.parts().find_map(|p| p.unfinished())
+    }
     fn check_weights(&self, w: &[Vec<f64>]) -> Result<()> {
         for (p, w) in self.parts().zip(self.split(w)) {
             p.check_weights(w)?;

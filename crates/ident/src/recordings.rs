@@ -264,6 +264,9 @@ pub fn identify_records_scaled(
         }
         max_norm_per_pass.push(max_norm);
     }
+    if let Some(why) = id.unfinished() {
+        return Err(crate::Error::Argument(why));
+    }
     let figures = figures(records, &estimates, outputs, dt);
     Ok(OnlineRun {
         identifier: id,

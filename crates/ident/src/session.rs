@@ -147,8 +147,8 @@ impl OnlineSession {
                 }
                 let settings = bank_settings(opts.samples)?;
                 let n = opts.samples.unwrap_or(usize::MAX);
-                let bank = OnlineBank::new(default_candidates(ny, n), ny, nu, dt, settings)?
-                    .with_own_banks(default_candidates(1, n))?;
+                let bank = OnlineBank::new(default_candidates(ny, nu, n), ny, nu, dt, settings)?
+                    .with_own_banks(default_candidates(1, nu, n))?;
                 Engine::Bank(Box::new(bank))
             }
             Some(spec) => {
@@ -251,6 +251,9 @@ impl OnlineSession {
         let Engine::One { inner, spec } = &mut self.engine else {
             return Err(argument("no model to freeze"));
         };
+        if let Some(why) = inner.unfinished() {
+            return Err(argument(why));
+        }
         inner.freeze(true);
         Ok(OnlineModel::of(
             inner,

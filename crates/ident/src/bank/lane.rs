@@ -173,8 +173,13 @@ pub(super) struct Lane {
 impl Lane {
     /// The candidate normalised by the warm-up window, judged on one pass whatever its
     /// final passes.
-    pub(super) fn new(candidate: Candidate, warm: &WarmUp, dt: f64, settings: BankSettings) -> Self {
+    /// A block structure's window is at most the warm-up (it is fitted before the scored
+    /// part starts).
+    pub(super) fn new(mut candidate: Candidate, warm: &WarmUp, dt: f64, settings: BankSettings) -> Self {
         let ny = warm.lo.len();
+        if let Some(b) = &mut candidate.spec.block {
+            b.window = b.window.min(settings.warmup).max(20);
+        }
         let one_pass = OnlineSpec {
             epochs: 1,
             ..candidate.spec.clone()

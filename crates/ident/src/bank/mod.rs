@@ -282,12 +282,41 @@ fn is_linear(spec: &OnlineSpec) -> bool {
 /// several starts, the slowest) runs on.
 pub const MAX_CASCADE_SAMPLES: usize = 5_000;
 
-/// The default bank for `ny` outputs and a stream of `samples` samples: recursive ARX at
+/// The most samples the block structures' window holds (the bank's warm-up, up to this).
+pub const MAX_BLOCK_WINDOW: usize = 50_000;
+
+/// The block structures (one input, one output): `rhonn fit`'s two Wiener-Hammerstein
+/// candidates (2 poles with a cubic, 6 poles with degree 15), fitted on the warm-up
+/// window of a stream of `samples` (at most [`MAX_BLOCK_WINDOW`] samples), then their polynomials learned by
+/// recursive least squares.
+fn block_structures(samples: usize) -> Vec<Candidate> {
+    let window = warmup_for(samples).min(MAX_BLOCK_WINDOW);
+    [(2, 3), (6, 15)]
+        .into_iter()
+        .map(|(poles, degree)| Candidate {
+            name: format!("wiener-hammerstein, {poles} poles, degree {degree}, fitted on the warm-up"),
+            spec: OnlineSpec {
+                structure: OnlineStructure::WienerHammerstein,
+                block: Some(super::online_spec::BlockOnlineSpec {
+                    poles,
+                    degree,
+                    window,
+                    ..Default::default()
+                }),
+                output_margin: 0.5,
+                ..OnlineSpec::default()
+            },
+        })
+        .collect()
+}
+
+/// The default bank for `ny` outputs and `nu` inputs and a stream of `samples` samples: recursive ARX at
 /// three orders, the lagged RHONN by recursive least squares at three orders of degree 2
 /// and two of degree 3 (the high-order terms on the first lags only at the longer orders), the thesis's continuous-time neurons, for one output a polynomial NARX
-/// at two priors (`polynomial`) and, for one output and a stream of at most [`MAX_CASCADE_SAMPLES`],
+/// at two priors (`polynomial`), for one input and one output the block structures
+/// (`block_structures`) and, for one output and a stream of at most [`MAX_CASCADE_SAMPLES`],
 /// the cascade with a hidden neuron.
-pub fn default_candidates(ny: usize, samples: usize) -> Vec<Candidate> {
+pub fn default_candidates(ny: usize, nu: usize, samples: usize) -> Vec<Candidate> {
     let mut c = vec![
         lagged(1, 1, 1, None),
         lagged(2, 2, 1, None),
@@ -306,6 +335,9 @@ pub fn default_candidates(ny: usize, samples: usize) -> Vec<Candidate> {
     if ny == 1 {
         c.push(polynomial(1e3));
         c.push(polynomial(10.0));
+    }
+    if ny == 1 && nu == 1 {
+        c.extend(block_structures(samples));
     }
     if ny == 1 && samples <= MAX_CASCADE_SAMPLES {
         c.push(Candidate {

@@ -119,7 +119,8 @@ fn with_output(records: &[Record], j: usize) -> Vec<Record> {
 /// default candidates, unchanged.
 pub fn select_per_output(records: &[Record], outputs: &[String]) -> Result<BankSelection> {
     let total = records.iter().map(Record::len).sum();
-    let mut joint = select(default_candidates(outputs.len(), total), records, outputs)?;
+    let nu = records.first().map_or(0, |r| r.inputs.len());
+    let mut joint = select(default_candidates(outputs.len(), nu, total), records, outputs)?;
     if outputs.len() < 2 {
         return Ok(joint);
     }
@@ -127,7 +128,7 @@ pub fn select_per_output(records: &[Record], outputs: &[String]) -> Result<BankS
         // An output whose own bank cannot run (every candidate failed) keeps the joint
         // winner, as an output whose own winner is worse does.
         if let Ok(own) = select(
-            own_candidates(default_candidates(1, total)),
+            own_candidates(default_candidates(1, nu, total)),
             &with_output(records, j),
             std::slice::from_ref(name),
         ) {
