@@ -135,7 +135,7 @@ fn a_malformed_line_stops_the_stream_with_its_number_or_is_skipped() {
         e.contains("every candidate of the online selection failed: no free-run window"),
         "{e}"
     );
-    assert!(e.contains("(all 12 candidates)"), "{e}");
+    assert!(e.contains("(all 14 candidates)"), "{e}");
     assert!(!d.path().join("open").exists());
     // A malformed line before anything could be saved: the error names that line (it once
     // said only that the stream was too short), and that nothing was written.

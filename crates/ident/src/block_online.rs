@@ -610,23 +610,29 @@ impl OnlineEngine for BlockOnline {
 mod tests {
     use super::*;
 
+    /// A spec of the structure and a fresh engine of it (one input, one output, unscaled).
+    fn engine(poles: usize, degree: usize, iterations: usize, window: usize) -> (OnlineSpec, BlockOnline) {
+        let spec = OnlineSpec {
+            structure: crate::online_spec::OnlineStructure::WienerHammerstein,
+            block: Some(BlockOnlineSpec {
+                poles,
+                degree,
+                iterations,
+                window,
+                ..Default::default()
+            }),
+            ..OnlineSpec::default()
+        };
+        let e = BlockOnline::new(&spec, 1, 1, Scaling::identity(1, 1)).unwrap();
+        (spec, e)
+    }
+
     /// A fitted structure run sample by sample, frozen and free, gives `rhonn fit`'s own
     /// free run of the same parameters.
     #[test]
     fn frozen_free_run_is_the_offline_free_run() {
         let r = rhonn_sysid::benchmarks::wiener_hammerstein(3, 1500);
-        let spec = OnlineSpec {
-            structure: crate::online_spec::OnlineStructure::WienerHammerstein,
-            block: Some(BlockOnlineSpec {
-                poles: 4,
-                degree: 5,
-                iterations: 10,
-                window: 1000,
-                ..Default::default()
-            }),
-            ..OnlineSpec::default()
-        };
-        let mut e = BlockOnline::new(&spec, 1, 1, Scaling::identity(1, 1)).unwrap();
+        let (_, mut e) = engine(4, 5, 10, 1000);
         for k in 0..1000 {
             e.update(r.t[k], &[r.inputs[0][k]], &[r.outputs[0][k]]).unwrap();
         }
@@ -660,18 +666,7 @@ mod tests {
     #[test]
     fn stored_weights_round_trip_and_bad_ones_are_refused() {
         let r = rhonn_sysid::benchmarks::wiener_hammerstein(5, 800);
-        let spec = OnlineSpec {
-            structure: crate::online_spec::OnlineStructure::WienerHammerstein,
-            block: Some(BlockOnlineSpec {
-                poles: 2,
-                degree: 3,
-                iterations: 5,
-                window: 500,
-                ..Default::default()
-            }),
-            ..OnlineSpec::default()
-        };
-        let mut e = BlockOnline::new(&spec, 1, 1, Scaling::identity(1, 1)).unwrap();
+        let (spec, mut e) = engine(2, 3, 5, 500);
         assert!(e.unfinished().unwrap().contains("window of 500 samples"));
         let never = e.weights();
         let err = e.check_weights(&never).unwrap_err().to_string();
