@@ -486,7 +486,9 @@ class OnlineIdentifier(_OnlineIdentifier):
 
     Without ``model`` it picks its model online as ``rhonn identify`` does: a bank of
     candidates (recursive ARX, lagged RHONNs by recursive least squares, the
-    continuous-time neurons, and the cascade for one output and at most 5,000 samples)
+    continuous-time neurons, for one input and one output ``rhonn fit``'s
+    Wiener-Hammerstein block structures fitted on the warm-up, and the cascade for one
+    output and at most 5,000 samples)
     learns the same stream; each is normalised by the warm-up window (the stream's first
     half) and judged by its prequential free-run error; ``update`` returns the leader's
     estimate (during the warm-up: the last measurement), ``selection`` lists every
@@ -514,7 +516,11 @@ class OnlineIdentifier(_OnlineIdentifier):
         by recursive least squares, ``models/tanks-online-lagged.toml``; or
         ``{"structure": "cascade", "epochs": 4}``: the continuous-time cascade with a
         hidden neuron learned by extended Kalman filters, one output,
-        ``models/tanks-online-cascade.toml``).
+        ``models/tanks-online-cascade.toml``; or ``{"structure": "wiener-hammerstein",
+        "block": {"poles": 2, "degree": 3, "window": 600}}``: ``rhonn fit``'s block
+        structure fitted on the first ``window`` samples, then learned on by recursive least
+        squares, one input and one output; ``freeze()`` before the window is full raises
+        ``ValueError``).
     y_offset, y_scale, u_offset, u_scale : sequence of float, optional
         The identifier sees ``(signal - offset) / scale``.
     y_bounds : sequence of (low, high), optional

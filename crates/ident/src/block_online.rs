@@ -176,10 +176,14 @@ impl BlockOnline {
             self.out[0] = self.out[0].clamp(lo, hi);
         }
         if self.fitted.is_none() && learn {
-            let last = self.window.last_mut().expect("one record at least");
-            last.0.push(t);
-            last.1.push(u[0]);
-            last.2.push(y[0]);
+            if self.window.is_empty() {
+                self.window.push((Vec::new(), Vec::new(), Vec::new()));
+            }
+            if let Some(last) = self.window.last_mut() {
+                last.0.push(t);
+                last.1.push(u[0]);
+                last.2.push(y[0]);
+            }
             self.kept += 1;
             if self.kept >= self.set.window {
                 self.fit()?;
@@ -239,7 +243,7 @@ impl BlockOnline {
             nk: s.nk,
         };
         // The current record's pasts, replayed without learning.
-        let (_, u, y) = self.window.pop().expect("one record at least");
+        let (_, u, y) = self.window.pop().unwrap_or_default();
         let mut st = BlockState {
             seen: self.state.seen,
             t_last: self.state.t_last,
