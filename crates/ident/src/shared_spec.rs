@@ -169,9 +169,11 @@ fn fit_table_to_online(fit: &Table) -> Result<OnlineSpec, String> {
             out.insert("structure".into(), "cascade".into());
             out.insert("cascade".into(), Value::Table(Table::new()));
         }
-        other => return Err(format!(
+        other => {
+            return Err(format!(
             "kind = \"{other}\" has no online counterpart (online: arx, rhonn, cascade, wiener-hammerstein)"
-        )),
+        ))
+        }
     }
     let ignored_by_arx = ["degree", "max_factors", "nonlinear_lags"];
     for (k, v) in fit.iter().filter(|(k, _)| *k != "kind") {
