@@ -150,6 +150,79 @@ fn roots_and_polynomials_round_trip_with_complex_pairs_kept_together() {
 }
 
 #[test]
+fn the_stability_test_agrees_with_the_poles_found_as_roots() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let (mut stable, mut unstable) = (0, 0);
+    for _ in 0..2000 {
+        let n = rng.gen_range(1..=6);
+        let a: Vec<f64> = (0..n).map(|_| rng.gen_range(-1.5..1.5)).collect();
+        let mut den = vec![1.0];
+        den.extend(&a);
+        let radius = roots(&den).iter().fold(0.0f64, |m, r| m.max(r.norm()));
+        // Poles within 1e-6 of the circle are left out: the eigenvalues' own rounding.
+        if (radius - 1.0).abs() < 1e-6 {
+            continue;
+        }
+        let f = Filter { b: vec![1.0], a };
+        assert_eq!(f.is_stable(), radius < 1.0, "{:?}: largest pole {radius}", f.a);
+        if radius < 1.0 {
+            stable += 1;
+        } else {
+            unstable += 1;
+        }
+    }
+    // Both sides drawn often enough for the comparison to mean something.
+    assert!(
+        stable > 200 && unstable > 200,
+        "{stable} stable, {unstable} unstable"
+    );
+}
+
+#[test]
+fn an_unstable_start_is_reflected_inside_the_unit_circle() {
+    // Poles 1.25 and 0.5: 1.25 moves to 0.8, 0.5 stays.
+    let a = [-1.75, 0.625];
+    let s = stabilised(&a);
+    let mut den = vec![1.0];
+    den.extend(&s);
+    let mut r: Vec<f64> = roots(&den).iter().map(|r| r.re).collect();
+    r.sort_by(f64::total_cmp);
+    assert!((r[0] - 0.5).abs() < 1e-9 && (r[1] - 0.8).abs() < 1e-9, "{r:?}");
+    // A pole on the circle goes to 0.99; a stable filter is kept bit for bit.
+    let s = stabilised(&[-1.0]);
+    assert!((s[0] + 0.99).abs() < 1e-12, "{s:?}");
+    assert_eq!(stabilised(&[-1.2, 0.35]), vec![-1.2, 0.35]);
+}
+
+#[test]
+fn a_filter_with_a_pole_outside_the_unit_circle_has_no_residuals() {
+    // The free run holds its output in range, so an unstable G2 would otherwise score.
+    let spec = spec(1);
+    let data = vec![(vec![0.1; 50], vec![0.0; 50])];
+    let mut p = Params {
+        g1: Filter {
+            b: vec![1.0],
+            a: vec![-0.5],
+        },
+        c: vec![1.0],
+        g2: Filter {
+            b: vec![1.0],
+            a: vec![-0.9],
+        },
+        bias: 0.0,
+        x_range: (f64::NEG_INFINITY, f64::INFINITY),
+    };
+    let bases: Vec<Vec<f64>> = data.iter().map(|(u, _)| p.basis(u, 0)).collect();
+    let mut out = Vec::new();
+    assert!(residuals(&p, &spec, &data, &bases, (-1.0, 1.0), &mut out));
+    p.g2.a = vec![-1.2];
+    assert!(!residuals(&p, &spec, &data, &bases, (-1.0, 1.0), &mut out));
+    p.g2.a = vec![-0.9];
+    p.g1.a = vec![-1.0];
+    assert!(!residuals(&p, &spec, &data, &bases, (-1.0, 1.0), &mut out));
+}
+
+#[test]
 fn stored_parameters_that_do_not_fit_the_layout_are_refused_by_name() {
     let bad_order = [1.5, 1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0, -1.0, 1.0];
     let e = Params::from_stored(1, &bad_order).unwrap_err().to_string();

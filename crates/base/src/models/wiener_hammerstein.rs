@@ -73,6 +73,25 @@ impl Filter {
             out.push(v);
         }
     }
+
+    /// Whether every pole lies strictly inside the unit circle: the Schur-Cohn step-down
+    /// test on `1 + a_1 z^-1 + ... + a_n z^-n` (each reflection coefficient below 1 in
+    /// magnitude). Written out: no numerical crate gives the test, and finding the roots
+    /// for it would cost an eigenvalue problem at every training step.
+    pub fn is_stable(&self) -> bool {
+        let mut a: Vec<f64> = self.a.clone();
+        while let Some(&k) = a.last() {
+            if !(k.abs() < 1.0) {
+                return false;
+            }
+            let n = a.len();
+            let d = 1.0 - k * k;
+            // a_i <- (a_i - k a_(n-i)) / (1 - k^2), i = 1..n-1 (a_0 = 1 throughout).
+            let next: Vec<f64> = (0..n - 1).map(|i| (a[i] - k * a[n - 2 - i]) / d).collect();
+            a = next;
+        }
+        true
+    }
 }
 
 /// The parameters of one model (normalised units).
