@@ -89,7 +89,7 @@ fn refine(mut p: Params, spec: &ModelSpec, data: &[(Vec<f64>, Vec<f64>)], b: (f6
     let cost = lm(&mut theta, spec.epochs, 1e-6, &|th, out| {
         let mut q = base.clone();
         q.set_free(th);
-        residuals(&q, spec, data, &cache.bases(&q, spec.nk, data), b, out)
+        residuals(&q, spec, data, &cache.inner(&q, spec.nk, data), b, out)
     });
     p.set_free(&theta);
     (cost, p)
@@ -114,7 +114,7 @@ fn residuals(
     p: &Params,
     spec: &ModelSpec,
     data: &[(Vec<f64>, Vec<f64>)],
-    bases: &[Vec<f64>],
+    inner: &[Vec<f64>],
     b: (f64, f64),
     out: &mut Vec<f64>,
 ) -> bool {
@@ -122,8 +122,8 @@ fn residuals(
     if !(p.g1.is_stable() && p.g2.is_stable()) {
         return false;
     }
-    for ((_, yn), basis) in data.iter().zip(bases) {
-        let y = free_run_from(p, spec, &p.combine(basis), yn, b);
+    for ((_, yn), v) in data.iter().zip(inner) {
+        let y = free_run_from(p, spec, v, yn, b);
         for k in spec.settle.min(yn.len())..yn.len() {
             let e = y[k] - yn[k];
             if !e.is_finite() || e.abs() > DIVERGED {
@@ -188,7 +188,7 @@ fn best_linear_approximation(spec: &ModelSpec, data: &[(Vec<f64>, Vec<f64>)], b:
     lm(&mut free, spec.epochs, 1e-6, &|th, out| {
         let mut q = base.clone();
         set(&mut q, th);
-        residuals(&q, &linear, data, &cache.bases(&q, linear.nk, data), b, out)
+        residuals(&q, &linear, data, &cache.inner(&q, linear.nk, data), b, out)
     });
     set(&mut p, &free);
     p
@@ -343,18 +343,12 @@ fn with_polynomial(
     let mut filtered = Vec::new();
     for (u, y) in data {
         g1.run(u, spec.nk, &mut x);
-        let mut h = vec![0.0; d];
-        let basis: Vec<Vec<f64>> = x
-            .iter()
-            .map(|&v| {
-                hermite(v, &mut h);
-                h.clone()
-            })
-            .collect();
+        let mut basis = vec![0.0; x.len() * d];
+        hermite_rows(&x, d, &mut basis);
+        g2.run_columns(&basis, d, 0, &mut filtered);
+        let from = spec.settle.min(y.len());
         for (e, col) in cols.iter_mut().take(d).enumerate() {
-            let pw: Vec<f64> = basis.iter().map(|h| h[e]).collect();
-            g2.run(&pw, 0, &mut filtered);
-            col.extend(&filtered[spec.settle.min(y.len())..]);
+            col.extend(filtered.chunks(d).skip(from).map(|h| h[e]));
         }
         cols[d].extend(std::iter::repeat_n(1.0, y.len().saturating_sub(spec.settle)));
         target.extend(&y[spec.settle.min(y.len())..]);

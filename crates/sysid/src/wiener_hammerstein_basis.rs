@@ -4,7 +4,8 @@
 //! Each column of the Jacobian is a full free run with one parameter moved; the columns of
 //! c, G2 and the bias (most of them: 23 of 36 for 6 poles and degree 15) leave G1 as it is,
 //! so its output through the Hermite basis is the same for all of them. The basis is kept
-//! for a G1 asked for a second time (the unmoved one) and reused, bit for bit what
+//! for a G1 asked for a second time (the unmoved one) and reused; a G1 seen once (a moved
+//! one) goes straight to G2's input without its basis stored. Both give bit for bit what
 //! `Params::inner` computes: the same operations on the same values. Written by hand: it is
 //! a memo of one function of this module, keyed by the filter's coefficients' bits.
 
@@ -38,13 +39,23 @@ fn key(p: &Params) -> Vec<u64> {
 }
 
 impl BasisCache {
-    /// `p`'s basis on every record's normalised input `data[i].0` at delay `nk`.
-    pub(super) fn bases(&self, p: &Params, nk: usize, data: &[(Vec<f64>, Vec<f64>)]) -> Bases {
+    /// G2's input (`Params::inner`) of `p` on every record's normalised input `data[i].0`
+    /// at delay `nk`, from the kept basis of its G1 when there is one.
+    pub(super) fn inner(&self, p: &Params, nk: usize, data: &[(Vec<f64>, Vec<f64>)]) -> Vec<Vec<f64>> {
+        match self.bases(p, nk, data) {
+            Some(b) => b.iter().map(|basis| p.combine(basis)).collect(),
+            None => data.iter().map(|(u, _)| p.inner(u, nk)).collect(),
+        }
+    }
+
+    /// `p`'s basis on every record when its G1 is kept or asked for a second time (then
+    /// kept); None for a G1 seen once.
+    fn bases(&self, p: &Params, nk: usize, data: &[(Vec<f64>, Vec<f64>)]) -> Option<Bases> {
         let k = key(p);
         let keep = {
             let mut m = self.memo.lock().unwrap_or_else(|e| e.into_inner());
             if let Some((_, b)) = m.kept.iter().find(|(kk, _)| *kk == k) {
-                return Arc::clone(b);
+                return Some(Arc::clone(b));
             }
             let twice = m.seen.contains(&k);
             if !twice {
@@ -55,17 +66,18 @@ impl BasisCache {
             }
             twice
         };
-        let b: Bases = Arc::new(data.iter().map(|(u, _)| p.basis(u, nk)).collect());
-        if keep {
-            let mut m = self.memo.lock().unwrap_or_else(|e| e.into_inner());
-            if !m.kept.iter().any(|(kk, _)| *kk == k) {
-                if m.kept.len() == KEPT {
-                    m.kept.remove(0);
-                }
-                m.kept.push((k, Arc::clone(&b)));
-            }
+        if !keep {
+            return None;
         }
-        b
+        let b: Bases = Arc::new(data.iter().map(|(u, _)| p.basis(u, nk)).collect());
+        let mut m = self.memo.lock().unwrap_or_else(|e| e.into_inner());
+        if !m.kept.iter().any(|(kk, _)| *kk == k) {
+            if m.kept.len() == KEPT {
+                m.kept.remove(0);
+            }
+            m.kept.push((k, Arc::clone(&b)));
+        }
+        Some(b)
     }
 }
 
@@ -98,16 +110,21 @@ mod tests {
         )];
         let cache = BasisCache::default();
         let (p, moved) = (params(1.0), params(1.0 + 1e-6));
-        let first = cache.bases(&p, 1, &data);
-        assert_eq!(*first, vec![p.basis(&data[0].0, 1)]);
-        cache.bases(&moved, 1, &data);
-        let second = cache.bases(&p, 1, &data);
-        let third = cache.bases(&p, 1, &data);
+        assert!(cache.bases(&p, 1, &data).is_none(), "not kept when seen once");
+        assert!(cache.bases(&moved, 1, &data).is_none());
+        let second = cache.bases(&p, 1, &data).unwrap();
+        let third = cache.bases(&p, 1, &data).unwrap();
         assert!(Arc::ptr_eq(&second, &third), "kept after the second request");
-        assert!(!Arc::ptr_eq(&first, &second));
-        let once = cache.bases(&moved, 1, &data);
-        assert_eq!(*once, vec![moved.basis(&data[0].0, 1)]);
-        // The values through the basis are `inner`'s, bit for bit.
-        assert_eq!(p.combine(&third[0]), p.inner(&data[0].0, 1));
+        assert_eq!(*second, vec![p.basis(&data[0].0, 1)]);
+        let again = cache.bases(&moved, 1, &data).unwrap();
+        assert_eq!(*again, vec![moved.basis(&data[0].0, 1)]);
+        // The values through the kept basis and straight through `inner` are the same
+        // bits: a G1 seen once, and a kept one.
+        let direct = vec![p.inner(&data[0].0, 1)];
+        assert_eq!(p.combine(&third[0]), direct[0]);
+        let fresh = BasisCache::default();
+        let bits = |v: &[Vec<f64>]| v[0].iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&fresh.inner(&p, 1, &data)), bits(&direct));
+        assert_eq!(bits(&cache.inner(&p, 1, &data)), bits(&direct));
     }
 }

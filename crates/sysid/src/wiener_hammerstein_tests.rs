@@ -136,6 +136,56 @@ fn the_hermite_basis_is_the_normalised_probabilists_polynomials() {
 }
 
 #[test]
+fn the_basis_of_a_block_of_samples_is_each_samples_basis_bit_for_bit() {
+    // Across a block boundary (64 samples) and at every degree: the same bits as `hermite`.
+    let xs: Vec<f64> = (0..150)
+        .map(|k| 4.0 * (k as f64 * 0.37).sin() + 0.01 * k as f64)
+        .collect();
+    for d in 0..=MAX_DEGREE {
+        let mut rows = vec![f64::NAN; xs.len() * d];
+        hermite_rows(&xs, d, &mut rows);
+        let mut h = vec![0.0; d];
+        for (k, &x) in xs.iter().enumerate() {
+            hermite(x, &mut h);
+            for j in 0..d {
+                assert_eq!(
+                    rows[k * d + j].to_bits(),
+                    h[j].to_bits(),
+                    "degree {d}, sample {k}, term {j}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_filter_over_several_signals_at_once_gives_each_signals_run_bit_for_bit() {
+    let f = Filter {
+        b: vec![0.3, -0.2, 0.05],
+        a: vec![-1.1, 0.3],
+    };
+    let (n, d) = (40, 5);
+    let u: Vec<f64> = (0..n * d).map(|k| (k as f64 * 0.71).sin()).collect();
+    for delay in [0, 2] {
+        let mut all = Vec::new();
+        f.run_columns(&u, d, delay, &mut all);
+        assert_eq!(all.len(), n * d);
+        for e in 0..d {
+            let one: Vec<f64> = u.chunks(d).map(|r| r[e]).collect();
+            let mut out = Vec::new();
+            f.run(&one, delay, &mut out);
+            for k in 0..n {
+                assert_eq!(
+                    all[k * d + e].to_bits(),
+                    out[k].to_bits(),
+                    "delay {delay}, signal {e}, sample {k}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn roots_and_polynomials_round_trip_with_complex_pairs_kept_together() {
     // (z - 0.5)(z^2 - 1.2 z + 0.61): a real root and the pair 0.6 +- 0.5 i.
     let c = [2.0, -3.4, 2.42, -0.61];
@@ -212,14 +262,14 @@ fn a_filter_with_a_pole_outside_the_unit_circle_has_no_residuals() {
         bias: 0.0,
         x_range: (f64::NEG_INFINITY, f64::INFINITY),
     };
-    let bases: Vec<Vec<f64>> = data.iter().map(|(u, _)| p.basis(u, 0)).collect();
+    let inner: Vec<Vec<f64>> = data.iter().map(|(u, _)| p.inner(u, 0)).collect();
     let mut out = Vec::new();
-    assert!(residuals(&p, &spec, &data, &bases, (-1.0, 1.0), &mut out));
+    assert!(residuals(&p, &spec, &data, &inner, (-1.0, 1.0), &mut out));
     p.g2.a = vec![-1.2];
-    assert!(!residuals(&p, &spec, &data, &bases, (-1.0, 1.0), &mut out));
+    assert!(!residuals(&p, &spec, &data, &inner, (-1.0, 1.0), &mut out));
     p.g2.a = vec![-0.9];
     p.g1.a = vec![-1.0];
-    assert!(!residuals(&p, &spec, &data, &bases, (-1.0, 1.0), &mut out));
+    assert!(!residuals(&p, &spec, &data, &inner, (-1.0, 1.0), &mut out));
 }
 
 #[test]

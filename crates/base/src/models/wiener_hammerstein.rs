@@ -42,6 +42,36 @@ pub fn hermite(x: f64, h: &mut [f64]) {
     }
 }
 
+/// Samples whose basis [`hermite_rows`] computes together.
+const LANES: usize = 64;
+
+/// [`hermite`] of each of `xs`, `d` values a sample, sample after sample, into `out`
+/// (`xs.len() * d` values). The same operations on the same values as [`hermite`], so the
+/// same bits; the recursion's steps run across a block of samples at a time, so its
+/// divisions, each waiting on the last within one sample, pipeline across samples (the
+/// basis was most of the Wiener-Hammerstein training's time).
+pub fn hermite_rows(xs: &[f64], d: usize, out: &mut [f64]) {
+    if d == 0 {
+        return;
+    }
+    for (xc, oc) in xs.chunks(LANES).zip(out.chunks_mut(LANES * d)) {
+        let n = xc.len();
+        let mut prev = [1.0f64; LANES];
+        let mut cur = [0.0f64; LANES];
+        cur[..n].copy_from_slice(xc);
+        for j in 0..d {
+            let n1 = (j + 1) as f64;
+            let (s, r) = (n1.sqrt(), (n1 + 1.0).sqrt());
+            for k in 0..n {
+                oc[k * d + j] = cur[k];
+                let next = (xc[k] * cur[k] - s * prev[k]) / r;
+                prev[k] = cur[k];
+                cur[k] = next;
+            }
+        }
+    }
+}
+
 /// A simulated value beyond this (normalised units) marks an unstable parameter set.
 pub const DIVERGED: f64 = 1e6;
 
@@ -55,6 +85,39 @@ pub struct Filter {
 }
 
 impl Filter {
+    /// [`Filter::run`] over each of `d` signals at once: `u` holds `d` values a sample,
+    /// sample after sample, and so does `out`. Each signal gets the same operations in the
+    /// same order as `run` gives it, so the same bits; the signals' recursions are
+    /// independent, so they run side by side rather than each waiting on its own last
+    /// sample (the polynomial's basis through G2 for every split of the poles).
+    pub fn run_columns(&self, u: &[f64], d: usize, delay: usize, out: &mut Vec<f64>) {
+        out.clear();
+        if d == 0 {
+            return;
+        }
+        let n = u.len() / d;
+        out.resize(n * d, 0.0);
+        let mut v = vec![0.0; d];
+        for k in 0..n {
+            v.fill(0.0);
+            for (i, bi) in self.b.iter().enumerate() {
+                if k >= delay + i {
+                    for (ve, ue) in v.iter_mut().zip(&u[(k - delay - i) * d..][..d]) {
+                        *ve += bi * ue;
+                    }
+                }
+            }
+            for (i, ai) in self.a.iter().enumerate() {
+                if k > i {
+                    for (ve, oe) in v.iter_mut().zip(&out[(k - 1 - i) * d..][..d]) {
+                        *ve -= ai * oe;
+                    }
+                }
+            }
+            out[k * d..(k + 1) * d].copy_from_slice(&v);
+        }
+    }
+
     /// Run over `u` delayed by `delay` samples into `out`.
     pub fn run(&self, u: &[f64], delay: usize, out: &mut Vec<f64>) {
         out.clear();
@@ -201,21 +264,44 @@ impl Params {
         Ok(p)
     }
 
-    /// G1 and the polynomial: the input to G2, from the normalised input alone.
+    /// G1 and the polynomial: the input to G2, from the normalised input alone. Bit for
+    /// bit `self.combine(&self.basis(un, nk))`, a block of samples' basis at a time.
     pub fn inner(&self, un: &[f64], nk: usize) -> Vec<f64> {
-        self.combine(&self.basis(un, nk))
+        let x = self.held_x(un, nk);
+        let d = self.c.len();
+        if d == 0 {
+            return Vec::new();
+        }
+        let mut h = vec![0.0; LANES * d];
+        let mut v = Vec::with_capacity(x.len());
+        for xc in x.chunks(LANES) {
+            let rows = &mut h[..xc.len() * d];
+            hermite_rows(xc, d, rows);
+            v.extend(
+                rows.chunks(d)
+                    .map(|h| self.c.iter().zip(h).map(|(c, h)| c * h).sum::<f64>()),
+            );
+        }
+        v
     }
 
     /// G1's output, held in the x range, through the basis: `c.len()` values a sample.
     pub fn basis(&self, un: &[f64], nk: usize) -> Vec<f64> {
-        let mut x = Vec::new();
-        self.g1.run(un, nk, &mut x);
+        let x = self.held_x(un, nk);
         let d = self.c.len();
         let mut out = vec![0.0; x.len() * d];
-        for (xv, h) in x.iter().zip(out.chunks_mut(d.max(1))) {
-            hermite(xv.max(self.x_range.0).min(self.x_range.1), &mut h[..d]);
-        }
+        hermite_rows(&x, d, &mut out);
         out
+    }
+
+    /// G1's output held in the x range.
+    fn held_x(&self, un: &[f64], nk: usize) -> Vec<f64> {
+        let mut x = Vec::new();
+        self.g1.run(un, nk, &mut x);
+        for v in &mut x {
+            *v = v.max(self.x_range.0).min(self.x_range.1);
+        }
+        x
     }
 
     /// The polynomial of a [`Params::basis`]: the input to G2.
