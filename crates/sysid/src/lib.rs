@@ -45,6 +45,7 @@ mod lagged;
 mod lagged_normal;
 mod lm;
 mod mean;
+mod poles;
 mod predict;
 mod probes;
 pub mod pump_grey;

@@ -3,8 +3,9 @@
 //!
 //! 1. **The best linear approximation**: per output, an ARX of `na` poles from every input
 //!    (least squares), realised in observer canonical form; the outputs' realisations side by
-//!    side (`na * outputs` states). Its A, B, C, D and bias are then refined by
-//!    Levenberg-Marquardt on the simulation error (an output-error model).
+//!    side (`na * outputs` states), its poles on or outside the unit circle reflected
+//!    inside. Its A, B, C, D and bias are then refined by Levenberg-Marquardt on the
+//!    simulation error (an output-error model).
 //! 2. **The states whitened**: the linear model's states over the training records have
 //!    their covariance `L L^T`; the similarity `x = L x'` gives states of unit deviation and
 //!    no correlation, so that the terms of degree 2 and more are of comparable size and the
@@ -15,7 +16,8 @@
 //!    each record from its fitted initial state; `law = "multi-step"`: subsections of
 //!    `horizon` samples, each from the initial state fitted to the `settle` samples before
 //!    it, SUBNET's truncated simulation, which keeps a long record's gradients tame). At most
-//!    `epochs` iterations per stage; the states' ranges are then taken again.
+//!    `epochs` iterations per stage; the states' ranges are then taken again. A step that
+//!    puts an eigenvalue of A on or outside the unit circle is refused in both stages.
 //!
 //! Training is deterministic: the same data and spec give the same bits on any number of
 //! threads (the Jacobian is exact, from forward sensitivities, its sums taken in a fixed
@@ -122,11 +124,15 @@ fn refine(p: &mut Params, mono: &Monomials, spec: &ModelSpec, windows: &[Data]) 
         q.set_free(th);
         q
     };
+    // A step that puts an eigenvalue of A on or outside the unit circle is refused: each
+    // state is held within its range, which would hide an unstable A from the residuals
+    // (the block structure's G2 did so on the corpus: `sysid::wiener_hammerstein`).
+    let stable = |q: Params| q.is_stable().then_some(q);
     lm_normal(
         &mut theta,
         spec.epochs,
-        &|th| normal::cost(&at(th), mono, spec.settle, windows),
-        &|th| normal::normal(&at(th), mono, spec.settle, windows),
+        &|th| normal::cost(&stable(at(th))?, mono, spec.settle, windows),
+        &|th| normal::normal(&stable(at(th))?, mono, spec.settle, windows),
     );
     p.set_free(&theta);
 }
@@ -162,7 +168,9 @@ fn linear_start(spec: &ModelSpec, data: &[Data], ni: usize, no: usize) -> Result
                 "records whose inputs and outputs vary (a state-space model starts from an ARX)",
             )
         })?;
-        let coef_a: Vec<f64> = th.iter().take(n).copied().collect();
+        // An ARX may have poles on or outside the unit circle: reflected inside, where the
+        // refinement, which refuses an unstable A, can start.
+        let coef_a: Vec<f64> = super::poles::stabilised(&th.iter().take(n).copied().collect::<Vec<_>>());
         let off = j * n;
         for i in 0..n {
             p.a[(off + i) * nx + off] = -coef_a[i];

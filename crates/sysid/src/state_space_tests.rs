@@ -281,3 +281,61 @@ fn the_same_bits_on_one_thread_and_on_four() {
     };
     assert_eq!(on(1), on(4));
 }
+
+#[test]
+fn the_stability_of_a_is_the_largest_eigenvalue_inside_the_unit_circle() {
+    // A rotation scaled to radius r: a complex pair of modulus r; then a real pole alone.
+    let rotation = |r: f64| {
+        let mut p = Params::zeros(2, 1, 1, false, 0);
+        let (c, s) = (0.6, 0.8);
+        p.a = vec![r * c, -r * s, r * s, r * c];
+        p
+    };
+    assert!(rotation(0.99).is_stable());
+    assert!(!rotation(1.0 + 1e-9).is_stable());
+    assert!(!rotation(1.3).is_stable());
+    let mut p = rotation(0.5);
+    p.a[3] = f64::NAN;
+    assert!(!p.is_stable(), "not finite");
+    let mut one = Params::zeros(1, 1, 1, false, 0);
+    one.a = vec![-1.01];
+    assert!(!one.is_stable());
+    one.a = vec![-0.999];
+    assert!(one.is_stable());
+}
+
+#[test]
+fn an_integrator_is_trained_to_a_stable_model() {
+    // y(k+1) = y(k) + 0.05 u(k): the least-squares ARX puts its pole at 1 or just beyond,
+    // and the simulation error pulls A toward the circle; the trained A stays inside it,
+    // and the free run on a record of another seed stays finite and near the output.
+    let integrator = |seed: u64| {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let u: Vec<f64> = (0..2000)
+            .map(|k| (k as f64 * 0.01).sin() + 0.3 * rng.gen_range(-1.0..1.0))
+            .collect();
+        let mut y = vec![0.0];
+        for k in 0..u.len() - 1 {
+            y.push(y[k] + 0.05 * u[k]);
+        }
+        Record {
+            source: format!("integrator{seed}"),
+            t: (0..u.len()).map(|k| 0.01 * k as f64).collect(),
+            inputs: vec![u],
+            outputs: vec![y],
+        }
+    };
+    let (i, o) = names();
+    let s = ModelSpec {
+        na: 1,
+        degree: 2,
+        epochs: 50,
+        ..spec()
+    };
+    let train = integrator(1);
+    let m = fit(&s, std::slice::from_ref(&train), &i, &o).unwrap();
+    let p = Params::from_stored(&m.spec, 1, 1, &m.weights[0]).unwrap();
+    assert!(p.is_stable(), "A = {:?}", p.a);
+    let rms = free_run_rms(&m, &integrator(2));
+    assert!(rms.is_finite(), "{rms}");
+}

@@ -14,6 +14,7 @@
 //! see only the inputs, so they are the same in both).
 //!
 
+use super::poles::{poly, roots, stabilised};
 use super::{least_squares, lm, Model, ModelSpec};
 use crate::data::Record;
 use crate::error::{invalid, Result};
@@ -194,56 +195,6 @@ fn best_linear_approximation(spec: &ModelSpec, data: &[(Vec<f64>, Vec<f64>)], b:
     p
 }
 
-/// Roots of `c[0] z^n + c[1] z^(n-1) + ... + c[n]` (leading zeros dropped).
-fn roots(c: &[f64]) -> Vec<Complex<f64>> {
-    let scale = c.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let start = c.iter().position(|v| v.abs() > 1e-9 * scale).unwrap_or(c.len());
-    let c = &c[start..];
-    let n = c.len().saturating_sub(1);
-    if n == 0 {
-        return vec![];
-    }
-    let comp = DMatrix::from_fn(n, n, |i, j| {
-        if i == 0 {
-            -c[j + 1] / c[0]
-        } else if i == j + 1 {
-            1.0
-        } else {
-            0.0
-        }
-    });
-    comp.complex_eigenvalues().iter().copied().collect()
-}
-
-/// Denominator coefficients `a` (without the leading 1) with every pole `r` on or outside
-/// the unit circle moved to `1 / conj(r)`, at most 0.99 in magnitude; `a` itself when
-/// stable.
-fn stabilised(a: &[f64]) -> Vec<f64> {
-    let f = Filter {
-        b: Vec::new(),
-        a: a.to_vec(),
-    };
-    if f.is_stable() {
-        return a.to_vec();
-    }
-    let mut den = vec![1.0];
-    den.extend(a);
-    let inside: Vec<Complex<f64>> = roots(&den)
-        .into_iter()
-        .map(|r| {
-            let m = r.norm();
-            if m < 1.0 {
-                r
-            } else {
-                r / (m * m).max(m / 0.99)
-            }
-        })
-        .collect();
-    let mut out = poly(&inside)[1..].to_vec();
-    out.resize(a.len(), 0.0);
-    out
-}
-
 /// Roots in groups that a real filter keeps together: one real root, or a complex pair.
 fn groups(r: &[Complex<f64>]) -> Vec<Vec<Complex<f64>>> {
     let mut out = Vec::new();
@@ -255,20 +206,6 @@ fn groups(r: &[Complex<f64>]) -> Vec<Vec<Complex<f64>>> {
         }
     }
     out
-}
-
-/// Real coefficients `[1, p_1, ..., p_n]` of `prod (z - r_i)`.
-fn poly(roots: &[Complex<f64>]) -> Vec<f64> {
-    let mut c = vec![Complex::new(1.0, 0.0)];
-    for r in roots {
-        let mut next = vec![Complex::new(0.0, 0.0); c.len() + 1];
-        for (i, ci) in c.iter().enumerate() {
-            next[i] += ci;
-            next[i + 1] -= ci * r;
-        }
-        c = next;
-    }
-    c.iter().map(|v| v.re).collect()
 }
 
 /// Every split of the BLA's poles and zeros between G1 and G2, each with its polynomial

@@ -206,6 +206,18 @@ pub struct Params {
 }
 
 impl Params {
+    /// Whether every eigenvalue of A lies strictly inside the unit circle: the rest point
+    /// at the mean input is stable (the terms, of degree 2 and more, vanish to first order
+    /// there). False when A is not finite or its eigenvalues are not found.
+    pub fn is_stable(&self) -> bool {
+        if !self.a.iter().all(|v| v.is_finite()) {
+            return false;
+        }
+        let a = DMatrix::from_row_slice(self.nx, self.nx, &self.a);
+        nalgebra::linalg::Schur::try_new(a, f64::EPSILON, 10_000)
+            .is_some_and(|s| s.complex_eigenvalues().iter().all(|z| z.norm() < 1.0))
+    }
+
     /// A linear model of these sizes with every parameter zero, states unbounded.
     pub fn zeros(nx: usize, ni: usize, no: usize, has_d: bool, nt: usize) -> Params {
         Params {
