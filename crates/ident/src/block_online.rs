@@ -89,9 +89,18 @@ pub(super) struct BlockOnline {
     /// The window's records (t, u, y), until the fit.
     window: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>,
     kept: usize,
+    /// Fits made after the first (at most `block.refits`).
+    refitted: usize,
     fitted: Option<Fitted>,
     state: BlockState,
     out: Vec<f64>,
+}
+
+/// The measured outputs a free run holds as G2's past at a record's start: `rhonn fit`'s
+/// (`ModelSpec::settle`, which the window's fit trains with), so that the model runs as
+/// the fit's of the same parameters.
+pub(crate) fn settle() -> usize {
+    ModelSpec::default().settle.max(1)
 }
 
 /// Shift `v` one place to the right (dropping its oldest) and put `x` first.
@@ -119,6 +128,7 @@ impl BlockOnline {
             free_run: false,
             window: vec![(Vec::new(), Vec::new(), Vec::new())],
             kept: 0,
+            refitted: 0,
             fitted: None,
             state: BlockState::default(),
             out: vec![0.0],
@@ -152,9 +162,8 @@ impl BlockOnline {
         }
         let learn = !self.frozen && !self.free_run && measured;
         // G2's past is measured in series-parallel, and in a free run over its first
-        // samples (as `rhonn fit`'s free run settles on the first measured outputs).
-        let settle = self.fitted.as_ref().map_or(1, |f| f.p.g2.a.len().max(1));
-        let read = measured && (!self.free_run || self.state.seen < settle);
+        // samples: as many as `rhonn fit`'s free run of the same parameters settles on.
+        let read = measured && (!self.free_run || self.state.seen < settle());
         self.out[0] = match &mut self.fitted {
             Some(f) => step(f, &mut self.state, u[0], y[0], read, learn)?,
             None => {
@@ -175,7 +184,7 @@ impl BlockOnline {
         if let Some([lo, hi]) = self.scaling.y_bounds.as_ref().map(|b| b[0]) {
             self.out[0] = self.out[0].clamp(lo, hi);
         }
-        if self.fitted.is_none() && learn {
+        if self.collecting() && learn {
             if self.window.is_empty() {
                 self.window.push((Vec::new(), Vec::new(), Vec::new()));
             }
@@ -186,7 +195,17 @@ impl BlockOnline {
             }
             self.kept += 1;
             if self.kept >= self.set.window {
-                self.fit()?;
+                let refit = self.fitted.is_some();
+                self.refitted += usize::from(refit);
+                match self.fit() {
+                    // A refit that cannot be made (no record of the window long enough)
+                    // keeps the last fit.
+                    Err(_) if refit => {
+                        self.window = Vec::new();
+                        self.kept = 0;
+                    }
+                    r => r?,
+                }
             }
         }
         self.state.seen += 1;
@@ -194,8 +213,14 @@ impl BlockOnline {
         Ok(&self.out)
     }
 
-    /// Fit the block structure on the window, drop it, and bring the filters' pasts to
-    /// the current record's end.
+    /// Whether learned samples go into the window: before the first fit, and after it
+    /// while refits remain.
+    fn collecting(&self) -> bool {
+        self.fitted.is_none() || self.refitted < self.set.refits
+    }
+
+    /// Fit the block structure on the window (from scratch: a refit keeps nothing of the
+    /// last fit), drop it, and bring the filters' pasts to the current record's end.
     fn fit(&mut self) -> Result<()> {
         let s = &self.set;
         let spec = ModelSpec {
@@ -255,6 +280,7 @@ impl BlockOnline {
         self.state = st;
         self.fitted = Some(fitted);
         self.window = Vec::new();
+        self.kept = 0;
         Ok(())
     }
 
@@ -516,7 +542,7 @@ impl OnlineEngine for BlockOnline {
             y_last: self.state.y_last,
             ..kept
         };
-        if self.fitted.is_none() && self.window.last().is_some_and(|w| !w.0.is_empty()) {
+        if self.collecting() && self.window.last().is_some_and(|w| !w.0.is_empty()) {
             self.window.push((Vec::new(), Vec::new(), Vec::new()));
         }
     }
@@ -611,84 +637,5 @@ impl OnlineEngine for BlockOnline {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A spec of the structure and a fresh engine of it (one input, one output, unscaled).
-    fn engine(poles: usize, degree: usize, iterations: usize, window: usize) -> (OnlineSpec, BlockOnline) {
-        let spec = OnlineSpec {
-            structure: crate::online_spec::OnlineStructure::WienerHammerstein,
-            block: Some(BlockOnlineSpec {
-                poles,
-                degree,
-                iterations,
-                window,
-                ..Default::default()
-            }),
-            ..OnlineSpec::default()
-        };
-        let e = BlockOnline::new(&spec, 1, 1, Scaling::identity(1, 1)).unwrap();
-        (spec, e)
-    }
-
-    /// A fitted structure run sample by sample, frozen and free, gives `rhonn fit`'s own
-    /// free run of the same parameters.
-    #[test]
-    fn frozen_free_run_is_the_offline_free_run() {
-        let r = rhonn_sysid::benchmarks::wiener_hammerstein(3, 1500);
-        let (_, mut e) = engine(4, 5, 10, 1000);
-        for k in 0..1000 {
-            e.update(r.t[k], &[r.inputs[0][k]], &[r.outputs[0][k]]).unwrap();
-        }
-        let f = e.fitted.clone().expect("fitted at the window's end");
-        let [mu, su, my, sy] = f.norm;
-        let un: Vec<f64> = r.inputs[0][1000..].iter().map(|v| (v - mu) / su).collect();
-        let yn: Vec<f64> = r.outputs[0][1000..].iter().map(|v| (v - my) / sy).collect();
-        let ms = ModelSpec {
-            kind: Kind::WienerHammerstein,
-            nk: 0,
-            settle: f.p.g2.a.len().max(1),
-            ..Default::default()
-        };
-        let offline = crate::models::wiener_hammerstein::free_run(&f.p, &ms, &un, &yn, f.bounds);
-        e.freeze(true);
-        e.set_free_run(true);
-        e.reset();
-        for k in 1000..1500 {
-            let est = e.update(r.t[k], &[r.inputs[0][k]], &[r.outputs[0][k]]).unwrap()[0];
-            let want = offline[k - 1000] * sy + my;
-            assert!(
-                (est - want).abs() <= 1e-9 * (1.0 + want.abs()),
-                "sample {k}: {est} against {want}"
-            );
-        }
-    }
-
-    /// Stored weights are read back only when they are a fitted structure: an engine
-    /// that never reached its window, or orders beyond the spec's poles, are refused with
-    /// the reason; a fitted one round-trips exactly.
-    #[test]
-    fn stored_weights_round_trip_and_bad_ones_are_refused() {
-        let r = rhonn_sysid::benchmarks::wiener_hammerstein(5, 800);
-        let (spec, mut e) = engine(2, 3, 5, 500);
-        assert!(e.unfinished().unwrap().contains("window of 500 samples"));
-        let never = e.weights();
-        let err = e.check_weights(&never).unwrap_err().to_string();
-        assert!(err.contains("never fitted"), "{err}");
-        for k in 0..800 {
-            e.update(r.t[k], &[r.inputs[0][k]], &[r.outputs[0][k]]).unwrap();
-        }
-        assert!(e.unfinished().is_none() && e.window.is_empty());
-        let w = e.weights();
-        assert_eq!(w[0].len(), e.n_terms());
-        assert_eq!(e.term_names(&[], &[]).len(), e.n_terms());
-        let mut back = BlockOnline::new(&spec, 1, 1, Scaling::identity(1, 1)).unwrap();
-        back.check_weights(&w).unwrap();
-        back.set_weights(&w);
-        assert_eq!(back.weights(), w);
-        let mut big = w.clone();
-        big[0][HEADER] = 3.0;
-        let err = e.check_weights(&big).unwrap_err().to_string();
-        assert!(err.contains("orders") && err.contains("[2, 3, 2, 3]"), "{err}");
-    }
-}
+#[path = "block_online_tests.rs"]
+mod tests;

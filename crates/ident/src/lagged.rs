@@ -79,12 +79,14 @@ pub fn first_prediction(spec: &OnlineSpec) -> usize {
 
 /// The measured outputs a frozen model of `spec` reads in a free run before it runs on its
 /// own: a lagged structure's largest lag, the cascade's `settle` samples (its filters
-/// settle the hidden levels on them, though it predicts from the second sample on), one
+/// settle the hidden levels on them, though it predicts from the second sample on), the
+/// block structure's `rhonn fit` settling samples (G2's past held at them), one
 /// for continuous-time neurons. A state-initialisation window must hold them
 /// (`data::within_window`).
 pub fn outputs_read_in_free_run(spec: &OnlineSpec) -> usize {
     match spec.structure {
         super::OnlineStructure::Cascade => spec.cascade.clone().unwrap_or_default().settle.max(1),
+        super::OnlineStructure::WienerHammerstein => super::block_online::settle(),
         super::OnlineStructure::PerOutput => spec
             .per_output
             .as_ref()

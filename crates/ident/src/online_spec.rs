@@ -185,6 +185,11 @@ pub struct BlockOnlineSpec {
     /// bank: its warm-up, at most 50,000). Until then the estimate is the last measured
     /// output; after it, only the polynomial and the offset learn.
     pub window: usize,
+    /// Times the block structure is fitted again from scratch, each on the latest `window`
+    /// samples once that many more have been learned (default 0; the bank: 1, so that on a
+    /// stream of two windows the model saved is fitted on the second). The memory held
+    /// stays one window.
+    pub refits: usize,
 }
 
 impl Default for BlockOnlineSpec {
@@ -195,6 +200,7 @@ impl Default for BlockOnlineSpec {
             nk: 0,
             iterations: 50,
             window: 5_000,
+            refits: 0,
         }
     }
 }
@@ -213,6 +219,7 @@ impl BlockOnlineSpec {
             ("nk", self.nk, 0, 100),
             ("iterations", self.iterations, 1, 10_000),
             ("window", self.window, 20, 10_000_000),
+            ("refits", self.refits, 0, 1_000),
         ];
         for (key, v, lo, hi) in ranges {
             if !(lo..=hi).contains(&v) {
