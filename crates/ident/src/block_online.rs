@@ -219,11 +219,10 @@ impl BlockOnline {
         self.fitted.is_none() || self.refitted < self.set.refits
     }
 
-    /// Fit the block structure on the window (from scratch: a refit keeps nothing of the
-    /// last fit), drop it, and bring the filters' pasts to the current record's end.
-    fn fit(&mut self) -> Result<()> {
+    /// `rhonn fit`'s spec of the structure the window is fitted with.
+    pub(super) fn window_spec(&self) -> ModelSpec {
         let s = &self.set;
-        let spec = ModelSpec {
+        ModelSpec {
             kind: Kind::WienerHammerstein,
             na: s.poles,
             nb: s.poles + 1,
@@ -233,7 +232,14 @@ impl BlockOnline {
             epochs: s.iterations,
             output_margin: self.output_margin,
             ..Default::default()
-        };
+        }
+    }
+
+    /// Fit the block structure on the window (from scratch: a refit keeps nothing of the
+    /// last fit), drop it, and bring the filters' pasts to the current record's end.
+    fn fit(&mut self) -> Result<()> {
+        let s = &self.set;
+        let spec = self.window_spec();
         // A record too short for the structure's lags is left out of the fit.
         let least = 2 * (s.poles + s.nk + 2);
         let records: Vec<Record> = self

@@ -83,18 +83,7 @@ fn stored_weights_round_trip_and_bad_ones_are_refused() {
 /// `rhonn fit`'s block structure fitted on `r`'s samples `from..to` as the engine fits
 /// its window (`BlockOnline::fit`'s spec).
 fn offline_fit(e: &BlockOnline, r: &Record, from: usize, to: usize) -> Params {
-    let s = &e.set;
-    let spec = ModelSpec {
-        kind: Kind::WienerHammerstein,
-        na: s.poles,
-        nb: s.poles + 1,
-        nk: s.nk,
-        degree: s.degree,
-        law: Estimator::SimulationError,
-        epochs: s.iterations,
-        output_margin: e.output_margin,
-        ..Default::default()
-    };
+    let spec = e.window_spec();
     let part = Record {
         source: "part".into(),
         t: r.t[from..to].to_vec(),
@@ -103,7 +92,7 @@ fn offline_fit(e: &BlockOnline, r: &Record, from: usize, to: usize) -> Params {
     };
     let names = |s: &str| vec![s.to_string()];
     let m = rhonn_sysid::fit(&spec, &[part], &names("u"), &names("y")).unwrap();
-    Params::from_stored(s.degree, &m.weights[0]).unwrap()
+    Params::from_stored(e.set.degree, &m.weights[0]).unwrap()
 }
 
 /// With `refits = 1` the structure is fitted on its first window, then from scratch on
