@@ -91,6 +91,8 @@ pub(super) struct BlockOnline {
     kept: usize,
     /// Fits made after the first (at most `block.refits`).
     refitted: usize,
+    /// [`settle`], read once.
+    settle: usize,
     fitted: Option<Fitted>,
     state: BlockState,
     out: Vec<f64>,
@@ -129,6 +131,7 @@ impl BlockOnline {
             window: vec![(Vec::new(), Vec::new(), Vec::new())],
             kept: 0,
             refitted: 0,
+            settle: settle(),
             fitted: None,
             state: BlockState::default(),
             out: vec![0.0],
@@ -163,7 +166,7 @@ impl BlockOnline {
         let learn = !self.frozen && !self.free_run && measured;
         // G2's past is measured in series-parallel, and in a free run over its first
         // samples: as many as `rhonn fit`'s free run of the same parameters settles on.
-        let read = measured && (!self.free_run || self.state.seen < settle());
+        let read = measured && (!self.free_run || self.state.seen < self.settle);
         self.out[0] = match &mut self.fitted {
             Some(f) => step(f, &mut self.state, u[0], y[0], read, learn)?,
             None => {

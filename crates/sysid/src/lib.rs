@@ -105,12 +105,14 @@ pub(crate) fn fitter(kind: Kind) -> &'static dyn kinds::Fit {
 /// None when the columns are collinear even so.
 pub(crate) fn least_squares(a: &DMatrix<f64>, t: &DVector<f64>) -> Option<DVector<f64>> {
     let n = a.ncols();
-    let mut ata = a.transpose() * a;
+    // One transpose for both products (the same products, so the same bits).
+    let at = a.transpose();
+    let mut ata = &at * a;
     let mean_diag = (0..n).map(|i| ata[(i, i)]).sum::<f64>() / n as f64;
     for i in 0..n {
         ata[(i, i)] += 1e-9 * mean_diag;
     }
-    Some(ata.cholesky()?.solve(&(a.transpose() * t)))
+    Some(ata.cholesky()?.solve(&(&at * t)))
 }
 
 #[cfg(test)]

@@ -114,21 +114,25 @@ impl Problem for Differences<'_> {
                 let h = self.fd_rel * theta[p].abs().max(1e-3);
                 let mut th = theta.to_vec();
                 th[p] += h;
-                let mut r = Vec::new();
-                ((self.column)(&th, p, r0, &mut r) && r.len() == nr)
-                    .then(|| r.iter().zip(r0).map(|(a, b)| (a - b) / h).collect())
+                let mut r = Vec::with_capacity(nr);
+                ((self.column)(&th, p, r0, &mut r) && r.len() == nr).then(|| {
+                    for (a, b) in r.iter_mut().zip(r0) {
+                        *a = (*a - b) / h;
+                    }
+                    r
+                })
             })
             .collect();
         let mut jac = DMatrix::<f64>::zeros(nr, np);
         for (p, col) in columns.iter().enumerate() {
             if let Some(c) = col {
-                for i in 0..nr {
-                    jac[(i, p)] = c[i];
-                }
+                jac.column_mut(p).copy_from_slice(c);
             }
         }
-        let jtj = jac.transpose() * &jac;
-        let g = jac.transpose() * DVector::from_column_slice(r0);
+        // One transpose for both products (the same products, so the same bits).
+        let jt = jac.transpose();
+        let jtj = &jt * &jac;
+        let g = &jt * DVector::from_column_slice(r0);
         (jtj, g)
     }
 

@@ -185,6 +185,75 @@ fn a_filter_over_several_signals_at_once_gives_each_signals_run_bit_for_bit() {
     }
 }
 
+/// G2's free run as `Params::outer` computed it before its taps were walked as slices (a
+/// test per tap whether it reaches the record, a call per sample asking whether it is
+/// measured): the reference the faster form must give bit for bit.
+fn outer_by_tests(
+    p: &Params,
+    v: &[f64],
+    yn: &[f64],
+    measured: &dyn Fn(usize) -> bool,
+    b: (f64, f64),
+) -> Vec<f64> {
+    let mut w: Vec<f64> = Vec::with_capacity(v.len());
+    for k in 0..v.len() {
+        let val = if measured(k) {
+            yn[k] - p.bias
+        } else {
+            let mut s = 0.0;
+            for (i, bi) in p.g2.b.iter().enumerate() {
+                if k >= i {
+                    s += bi * v[k - i];
+                }
+            }
+            for (i, ai) in p.g2.a.iter().enumerate() {
+                if k > i {
+                    s -= ai * w[k - 1 - i];
+                }
+            }
+            s.max(b.0 - p.bias).min(b.1 - p.bias)
+        };
+        w.push(val);
+    }
+    w
+}
+
+#[test]
+fn g2s_free_run_is_the_tap_by_tap_one_bit_for_bit() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let n = 60;
+    let v: Vec<f64> = (0..n).map(|_| rng.gen_range(-2.0..2.0)).collect();
+    let yn: Vec<f64> = (0..n).map(|_| rng.gen_range(-1.0..1.0)).collect();
+    for (nb, na) in [(1, 0), (3, 2), (1, 4), (6, 6), (0, 1)] {
+        let p = Params {
+            g1: Filter {
+                b: vec![1.0],
+                a: vec![],
+            },
+            c: vec![1.0],
+            g2: Filter {
+                b: (0..nb).map(|_| rng.gen_range(-0.5..0.5)).collect(),
+                a: (0..na).map(|_| rng.gen_range(-0.3..0.3)).collect(),
+            },
+            bias: 0.1,
+            x_range: (f64::NEG_INFINITY, f64::INFINITY),
+        };
+        // Bounds that clip some samples, and none.
+        for b in [(-0.4, 0.5), (-1e9, 1e9)] {
+            for measured in [0, 1, 5, n] {
+                let fast = p.outer(&v, &yn, measured, b);
+                let slow = outer_by_tests(&p, &v, &yn, &|k| k < measured, b);
+                let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(
+                    bits(&fast),
+                    bits(&slow),
+                    "nb {nb}, na {na}, measured {measured}, {b:?}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn roots_and_polynomials_round_trip_with_complex_pairs_kept_together() {
     // (z - 0.5)(z^2 - 1.2 z + 0.61): a real root and the pair 0.6 +- 0.5 i.

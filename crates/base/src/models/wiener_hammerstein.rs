@@ -123,15 +123,15 @@ impl Filter {
         out.clear();
         for k in 0..u.len() {
             let mut v = 0.0;
-            for (i, bi) in self.b.iter().enumerate() {
-                if k >= delay + i {
-                    v += bi * u[k - delay - i];
+            // The taps that reach a sample of the record, newest first: b_i on u(k - delay
+            // - i) for i <= k - delay, a_i on x(k - 1 - i) for i < k.
+            if k >= delay {
+                for (bi, ui) in self.b.iter().zip(u[..=k - delay].iter().rev()) {
+                    v += bi * ui;
                 }
             }
-            for (i, ai) in self.a.iter().enumerate() {
-                if k > i {
-                    v -= ai * out[k - 1 - i];
-                }
+            for (ai, xi) in self.a.iter().zip(out[..k].iter().rev()) {
+                v -= ai * xi;
             }
             out.push(v);
         }
@@ -312,32 +312,24 @@ impl Params {
             .collect()
     }
 
-    /// G2 run over `v` with its past measured where `measured(k)` says so (the value is
-    /// then `yn[k] - bias`); each output held within `bounds`.
-    pub fn outer(
-        &self,
-        v: &[f64],
-        yn: &[f64],
-        measured: &dyn Fn(usize) -> bool,
-        bounds: (f64, f64),
-    ) -> Vec<f64> {
+    /// G2 run over `v` with its past measured over the first `measured` samples (the value
+    /// is then `yn[k] - bias`); each output held within `bounds`.
+    pub fn outer(&self, v: &[f64], yn: &[f64], measured: usize, bounds: (f64, f64)) -> Vec<f64> {
+        let (lo, hi) = (bounds.0 - self.bias, bounds.1 - self.bias);
         let mut w: Vec<f64> = Vec::with_capacity(v.len());
         for k in 0..v.len() {
-            let val = if measured(k) {
+            let val = if k < measured {
                 yn[k] - self.bias
             } else {
+                // The taps that reach a sample of the record, newest first (as `Filter::run`).
                 let mut s = 0.0;
-                for (i, bi) in self.g2.b.iter().enumerate() {
-                    if k >= i {
-                        s += bi * v[k - i];
-                    }
+                for (bi, vi) in self.g2.b.iter().zip(v[..=k].iter().rev()) {
+                    s += bi * vi;
                 }
-                for (i, ai) in self.g2.a.iter().enumerate() {
-                    if k > i {
-                        s -= ai * w[k - 1 - i];
-                    }
+                for (ai, wi) in self.g2.a.iter().zip(w[..k].iter().rev()) {
+                    s -= ai * wi;
                 }
-                s.max(bounds.0 - self.bias).min(bounds.1 - self.bias)
+                s.max(lo).min(hi)
             };
             w.push(val);
         }
@@ -380,10 +372,11 @@ pub fn free_run(p: &Params, spec: &ModelSpec, un: &[f64], yn: &[f64], bounds: (f
 /// [`free_run`] from G2's input `v`.
 pub fn free_run_from(p: &Params, spec: &ModelSpec, v: &[f64], yn: &[f64], bounds: (f64, f64)) -> Vec<f64> {
     let settle = spec.settle.min(yn.len());
-    p.outer(v, yn, &|k| k < settle, bounds)
-        .iter()
-        .map(|w| w + p.bias)
-        .collect()
+    let mut w = p.outer(v, yn, settle, bounds);
+    for x in &mut w {
+        *x += p.bias;
+    }
+    w
 }
 
 /// Predict (see [`Model::predict`]).
@@ -405,7 +398,7 @@ pub fn predict(m: &Model, r: &Record, steps_ahead: Option<usize>) -> Result<(Vec
             for end in first..yn.len() {
                 let start = end + 1 - kk;
                 let lo = start.saturating_sub(hist);
-                let w = p.outer(&v[lo..=end], &yn[lo..=end], &|k| lo + k < start, b);
+                let w = p.outer(&v[lo..=end], &yn[lo..=end], start - lo, b);
                 out[end] = w[end - lo] + p.bias;
             }
             out
