@@ -122,19 +122,24 @@ impl Filter {
     pub fn run(&self, u: &[f64], delay: usize, out: &mut Vec<f64>) {
         out.clear();
         for k in 0..u.len() {
-            let mut v = 0.0;
-            // The taps that reach a sample of the record, newest first: b_i on u(k - delay
-            // - i) for i <= k - delay, a_i on x(k - 1 - i) for i < k.
-            if k >= delay {
-                for (bi, ui) in self.b.iter().zip(u[..=k - delay].iter().rev()) {
-                    v += bi * ui;
-                }
-            }
-            for (ai, xi) in self.a.iter().zip(out[..k].iter().rev()) {
-                v -= ai * xi;
-            }
+            let past_in = if k >= delay { &u[..=k - delay] } else { &[] };
+            let v = self.at(past_in, out);
             out.push(v);
         }
+    }
+
+    /// The filter's next output from the inputs `past_in` (its last the newest that reaches
+    /// it) and the outputs `past_out` so far: `sum_i b_i past_in[-1 - i] - sum_i a_i
+    /// past_out[-1 - i]` over the taps that reach a sample, newest first.
+    fn at(&self, past_in: &[f64], past_out: &[f64]) -> f64 {
+        let mut v = 0.0;
+        for (bi, ui) in self.b.iter().zip(past_in.iter().rev()) {
+            v += bi * ui;
+        }
+        for (ai, xi) in self.a.iter().zip(past_out.iter().rev()) {
+            v -= ai * xi;
+        }
+        v
     }
 
     /// Whether every pole lies strictly inside the unit circle: the Schur-Cohn step-down
@@ -321,15 +326,7 @@ impl Params {
             let val = if k < measured {
                 yn[k] - self.bias
             } else {
-                // The taps that reach a sample of the record, newest first (as `Filter::run`).
-                let mut s = 0.0;
-                for (bi, vi) in self.g2.b.iter().zip(v[..=k].iter().rev()) {
-                    s += bi * vi;
-                }
-                for (ai, wi) in self.g2.a.iter().zip(w[..k].iter().rev()) {
-                    s -= ai * wi;
-                }
-                s.max(lo).min(hi)
+                self.g2.at(&v[..=k], &w).max(lo).min(hi)
             };
             w.push(val);
         }
