@@ -201,8 +201,8 @@ impl BlockOnline {
                 let refit = self.fitted.is_some();
                 self.refitted += usize::from(refit);
                 match self.fit() {
-                    // A refit that cannot be made (no record of the window long enough)
-                    // keeps the last fit.
+                    // A refit that fails, whatever the cause (for example no record of the
+                    // window long enough), keeps the last fit.
                     Err(_) if refit => {
                         self.window = Vec::new();
                         self.kept = 0;
