@@ -312,23 +312,68 @@ pub fn ensure_finite_errors<'a>(
     }
 }
 
+/// The bound a model holds output `j` in (the training range widened by `output_margin`),
+/// as (low, high, tolerance); None for a kind that does not hold its outputs in range.
+fn output_bound(m: &Model, j: usize) -> Option<(f64, f64, f64)> {
+    if !super::model_kind(m.spec.kind).holds_outputs_in_range() {
+        return None;
+    }
+    let (lo, hi) = *m.output_range.get(j)?;
+    let w = (hi - lo) * m.spec.output_margin;
+    let (a, b) = (lo - w, hi + w);
+    Some((a, b, 1e-9 * (b - a).abs().max(1e-300)))
+}
+
 /// The stability check of a frozen lagged model: where its free run on `r` (the
 /// prediction `pred`, from sample `first`) sits on the bound its outputs are held in (the
 /// training range widened by `output_margin`), which a stable model that fits the data
 /// never reaches: (output name, time \[s\]) of the first such sample.
 pub fn free_run_at_bound(m: &Model, r: &Record, pred: &[Vec<f64>], first: usize) -> Option<(String, f64)> {
-    if !super::model_kind(m.spec.kind).holds_outputs_in_range() {
-        return None;
-    }
-    for (j, ((lo, hi), col)) in m.output_range.iter().zip(pred).enumerate() {
-        let w = (hi - lo) * m.spec.output_margin;
-        let (a, b) = (lo - w, hi + w);
-        let tol = 1e-9 * (b - a).abs().max(1e-300);
+    for (j, col) in pred.iter().enumerate() {
+        let Some((a, b, tol)) = output_bound(m, j) else {
+            continue;
+        };
         if let Some(k) = (first..col.len().min(r.len())).find(|&k| col[k] <= a + tol || col[k] >= b - tol) {
             return Some((m.outputs[j].clone(), r.t[k]));
         }
     }
     None
+}
+
+/// An output whose free run on a record sits on the bound the model holds it in.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputAtBound {
+    /// The output's column.
+    pub output: String,
+    /// The time \[s\] of the record's first sample on the bound.
+    pub first_t_s: f64,
+    /// The share of the predicted samples on the bound, in (0, 1].
+    pub share: f64,
+}
+
+/// Each output whose free run `pred` on `r` (from sample `first`) reaches the bound `m`
+/// holds it in: where its output is clipped, the model ran away from the system (on the
+/// unseen-systems corpus, seed 45, a Wiener system's RHONN sat there for most of a test of
+/// pulses at 29.5 x the ARX's error).
+pub fn outputs_at_bound(m: &Model, r: &Record, pred: &[Vec<f64>], first: usize) -> Vec<OutputAtBound> {
+    let mut v = Vec::new();
+    for (j, col) in pred.iter().enumerate() {
+        let Some((a, b, tol)) = output_bound(m, j) else {
+            continue;
+        };
+        let end = col.len().min(r.len());
+        let on: Vec<usize> = (first..end)
+            .filter(|&k| col[k] <= a + tol || col[k] >= b - tol)
+            .collect();
+        if let (Some(&k), Some(name)) = (on.first(), m.outputs.get(j)) {
+            v.push(OutputAtBound {
+                output: name.clone(),
+                first_t_s: r.t[k],
+                share: on.len() as f64 / (end - first) as f64,
+            });
+        }
+    }
+    v
 }
 
 #[cfg(test)]

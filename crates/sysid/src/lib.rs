@@ -62,7 +62,7 @@ mod wiener_hammerstein;
 use checks::ensure_finite_model;
 pub use checks::{
     data_warnings, decorrelation_lag, ensure_finite_errors, ensure_finite_figures, free_run_at_bound,
-    milliseconds_hint, signal_warnings, DataWarning,
+    milliseconds_hint, outputs_at_bound, signal_warnings, DataWarning, OutputAtBound,
 };
 pub use estimate::fit;
 pub use fitted::{

@@ -1,6 +1,7 @@
 //! `rhonn predict` as a library call: a fitted model (and its ARX baseline) on one
 //! record, free run or K steps ahead, with the figures.
 
+use super::checks::{outputs_at_bound, OutputAtBound};
 use super::{ensure_finite_figures, FittedModel, OutputFigures};
 use crate::data::{within_window, Record};
 use crate::error::{invalid, Result};
@@ -31,6 +32,9 @@ pub struct Prediction {
     pub inputs_beyond: Vec<InputBeyond>,
     /// The record's measured outputs that leave it ([`outputs_beyond_training`]).
     pub outputs_beyond: Vec<OutputBeyond>,
+    /// A free run's outputs that reach the bound the model holds them in
+    /// ([`outputs_at_bound`]; empty K steps ahead).
+    pub at_bound: Vec<OutputAtBound>,
 }
 
 /// An input of a record that leaves the model's training range.
@@ -130,6 +134,14 @@ impl Prediction {
             .iter()
             .map(|b| b.said(source))
             .chain(self.outputs_beyond.iter().map(|b| b.said(source)))
+            .chain(self.at_bound.iter().map(|b| {
+                format!(
+                    "the model's free run of output `{}` on {source} reaches the bound it is held in (the training range widened by output_margin) at t = {} s and sits on it for {} % of the predicted samples: there it ran away from the system and was clipped; compare its free run with the ARX baseline's",
+                    b.output,
+                    crate::metrics::sig(b.first_t_s, 6),
+                    crate::metrics::sig(100.0 * b.share, 3)
+                )
+            }))
             .collect()
     }
 }
@@ -392,6 +404,10 @@ pub fn predict_with(
     };
     let inputs_beyond = inputs_beyond_training(m, &record);
     let outputs_beyond = outputs_beyond_training(m, &record);
+    let at_bound = match steps_ahead {
+        None => outputs_at_bound(m, &record, &outputs, first),
+        Some(_) => Vec::new(),
+    };
     Ok(Prediction {
         record,
         resampled_from_s,
@@ -403,6 +419,7 @@ pub fn predict_with(
         baseline,
         inputs_beyond,
         outputs_beyond,
+        at_bound,
     })
 }
 
@@ -528,6 +545,49 @@ mod tests {
         assert!(!text.contains("input_range"));
         let back: crate::Model = serde_json::from_str(&text).unwrap();
         back.validate().unwrap();
+    }
+
+    #[test]
+    fn a_free_run_that_reaches_the_bound_its_output_is_held_in_is_said_with_its_share() {
+        let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
+        let spec = ModelSpec {
+            kind: crate::Kind::Arx,
+            ..ModelSpec::default()
+        };
+        let (mut fitted, _) = train(&[spec], &[record(200, 0.1)], &u, &y).unwrap();
+        // The same kind of record: the free run stays within the range.
+        let p = predict(&fitted, &record(100, 0.1), None).unwrap();
+        assert!(p.at_bound.is_empty(), "{:?}", p.at_bound);
+        // A model held in a fifth of its range (bound +-0.4 where the system swings to
+        // about +-0.87): its free run is clipped on every swing, and said so.
+        fitted.model.output_range = vec![(-0.2, 0.2)];
+        let p = predict(&fitted, &record(100, 0.1), None).unwrap();
+        assert_eq!(p.at_bound.len(), 1, "{:?}", p.at_bound);
+        let b = &p.at_bound[0];
+        assert_eq!(b.output, "y");
+        assert!(b.share > 0.2 && b.share < 1.0 && b.first_t_s > 0.0, "{b:?}");
+        let on = p.outputs[0][p.first..]
+            .iter()
+            .filter(|v| (v.abs() - 0.4).abs() < 1e-9)
+            .count();
+        assert!(
+            (b.share - on as f64 / (100 - p.first) as f64).abs() < 1e-12,
+            "{b:?} {on}"
+        );
+        let said = p.summary("m.json").findings.join("\n");
+        assert!(
+            said.contains("the model's free run of output `y` on r.csv reaches the bound it is held in")
+                && said.contains(&format!(
+                    "for {} % of the predicted samples",
+                    crate::metrics::sig(100.0 * b.share, 3)
+                )),
+            "{said}"
+        );
+        // K steps ahead is not a free run: nothing to say.
+        assert!(predict(&fitted, &record(100, 0.1), Some(1))
+            .unwrap()
+            .at_bound
+            .is_empty());
     }
 
     /// A model.json whose ARX baseline has lags longer than the record (a hand-edited
