@@ -329,15 +329,10 @@ fn output_bound(m: &Model, j: usize) -> Option<(f64, f64, f64)> {
 /// training range widened by `output_margin`), which a stable model that fits the data
 /// never reaches: (output name, time \[s\]) of the first such sample.
 pub fn free_run_at_bound(m: &Model, r: &Record, pred: &[Vec<f64>], first: usize) -> Option<(String, f64)> {
-    for (j, col) in pred.iter().enumerate() {
-        let Some((a, b, tol)) = output_bound(m, j) else {
-            continue;
-        };
-        if let Some(k) = (first..col.len().min(r.len())).find(|&k| col[k] <= a + tol || col[k] >= b - tol) {
-            return Some((m.outputs[j].clone(), r.t[k]));
-        }
-    }
-    None
+    outputs_at_bound(m, r, pred, first)
+        .into_iter()
+        .next()
+        .map(|b| (b.output, b.first_t_s))
 }
 
 /// An output whose free run on a record sits on the bound the model holds it in.
