@@ -3,10 +3,11 @@
 //! of the part's own input distribution (its quantiles: every level is one the system was
 //! recorded at, but held, as a user's next record of steps or pulses holds it), scored by
 //! how far the free run leaves the training output range (the **excursion**: RMS distance
-//! outside the range, in output standard deviations). A caution, not a rule of the
-//! selection: a true system may leave the range under held steps (a Wiener system's
-//! output nonlinearity), and on the unseen-systems corpus a rule that put out candidates
-//! beyond it chose worse models (`docs/results.md`).
+//! outside the range, in output standard deviations). Above 1 for the chosen model, a
+//! caution (a true system may leave the range under held steps: a Wiener system's output
+//! nonlinearity; on the unseen-systems corpus a rule that put out candidates above 1 and
+//! twice the best ARX's chose worse models); above `select_candidates::EXCURSION_LIMIT`
+//! (1.5), a rule: such a structure does not replace the ARX (`docs/results.md`).
 //!
 //! The same free runs give each structure's **disagreement** ([`disagreements`]): how far
 //! its held-step runs are from those of the other structures that could replace the best

@@ -514,6 +514,8 @@ fn may_join(c: &CandidateScore, arx: Option<f64>) -> bool {
     c.note.is_none()
         && c.members.is_empty()
         && c.slow_one_step.is_none()
+        && c.excursion
+            .is_none_or(|e| e <= super::select_candidates::EXCURSION_LIMIT)
         && c.score.zip(arx).is_some_and(|(s, a)| s <= a)
 }
 

@@ -3,10 +3,11 @@
 //! every fold (a lower mean alone is within the folds' spread: a linear system with noise,
 //! a lagged RHONN 0.2 % below the ARX on the mean and above it on one fold, ran free 0.8 %
 //! worse on new data); the eligible structure with the lowest mean wins, and a polynomial
-//! (unbounded terms) only by a margin over the best structure with bounded terms. Two kinds
-//! of structure are out whatever the folds say: one whose free run under held steps
-//! disagrees with the other structures that beat the ARX (`probes`), and a lagged RHONN
-//! fitted one step ahead on an output far slower than its lags
+//! (unbounded terms) only by a margin over the best structure with bounded terms. Three
+//! kinds of structure are out whatever the folds say: one whose free run under held steps
+//! disagrees with the other structures that beat the ARX (`probes`), one whose free run
+//! there leaves the training output range far (`select_candidates::EXCURSION_LIMIT`), and a
+//! lagged RHONN fitted one step ahead on an output far slower than its lags
 //! (`select_candidates::one_step_on_slow`). The reference is one ARX, never an ensemble led
 //! by one (such a mean holds other structures: on corpus seed 8 one ran free 1.62 x worse
 //! than its ARX, having had nothing to beat).
@@ -23,7 +24,7 @@
 //! candidates apart by less than their noise: an ARX of 8 lags 0.7 % below the ARX of 4 on
 //! the folds ran 3 x worse on a test of steps).
 
-use super::select_candidates::{CandidateScore, DISAGREEMENT_LIMIT, POLYNOMIAL_MARGIN};
+use super::select_candidates::{CandidateScore, DISAGREEMENT_LIMIT, EXCURSION_LIMIT, POLYNOMIAL_MARGIN};
 use serde::Serialize;
 
 /// What the rule chose among the candidates by one measure of their error.
@@ -59,8 +60,10 @@ pub(super) fn choose(candidates: &[CandidateScore], measure: &[Option<(&[f64], f
             .filter(|&d| d > DISAGREEMENT_LIMIT)
     };
     let slow = |i: usize| candidates[i].slow_one_step;
+    let far = |i: usize| candidates[i].excursion.filter(|&e| e > EXCURSION_LIMIT);
     let beats_arx = |i: usize, f: &[f64]| {
-        i == best_arx || (below_on_every_fold(f) && disagreement(i).is_none() && slow(i).is_none())
+        i == best_arx
+            || (below_on_every_fold(f) && disagreement(i).is_none() && slow(i).is_none() && far(i).is_none())
     };
     let mut findings = Vec::new();
     if let Some((i, _, s)) = scored(false)
@@ -114,6 +117,16 @@ pub(super) fn choose(candidates: &[CandidateScore], measure: &[Option<(&[f64], f
                 candidates[i].name,
                 candidates[i].model.max_lag(),
                 super::checks::SLOW_SPANS
+            ));
+        }
+    }
+    for (i, _, s) in scored(false).filter(|&(i, f, _)| below_on_every_fold(f) && i != best_arx) {
+        if let Some(e) = far(i) {
+            findings.push(format!(
+                "{} scored {s:.4}, below the best ARX's {arx_score:.4} on every fold, but under held steps at the data's own input levels {} free run leaves the training output range by {} output standard deviations (above {EXCURSION_LIMIT}): it runs away from the training trajectory where the folds cannot judge it",
+                candidates[i].name,
+                if candidates[i].members.is_empty() { "its" } else { "its worst member's" },
+                crate::metrics::sig(e, 3)
             ));
         }
     }

@@ -317,6 +317,50 @@ fn a_structure_whose_held_steps_disagree_with_the_others_does_not_replace_the_ar
 }
 
 #[test]
+fn a_structure_whose_held_steps_leave_the_training_range_far_does_not_replace_the_arx() {
+    // Corpus seed 46, s39 (a closed-loop integrator): a RHONN of 8 lags below the ARX on
+    // every fold, its held-step free run 1.99 output deviations outside the training range,
+    // ran free on test at 1.97 x the ARX.
+    let with = |name: &str, kind: Kind, score: f64, e: Option<f64>| CandidateScore {
+        excursion: e,
+        ..scored(name, kind, Activation::Tanh, score)
+    };
+    let list = |e: f64| {
+        vec![
+            with("arx", Kind::Arx, 0.5, Some(2.4)),
+            with("far", Kind::Rhonn, 0.05, Some(e)),
+            with("near", Kind::Rhonn, 0.2, Some(0.3)),
+        ]
+    };
+    let opts = SelectOptions::default();
+    let s = finish(list(1.99), &opts, tally()).unwrap();
+    assert_eq!(s.candidates[s.chosen].name, "near");
+    assert!(
+        s.findings
+            .iter()
+            .any(|f| f.starts_with("far scored 0.0500")
+                && f.contains("leaves the training output range by 1.99")),
+        "{:?}",
+        s.findings
+    );
+    // At or below the limit: the lowest mean, as before (the best ARX's own excursion,
+    // 2.4 here, is no matter: it is the reference).
+    for e in [super::super::select_candidates::EXCURSION_LIMIT, 1.2] {
+        let s = finish(list(e), &opts, tally()).unwrap();
+        assert_eq!(s.candidates[s.chosen].name, "far");
+        assert!(!s
+            .findings
+            .iter()
+            .any(|f| f.contains("leaves the training output range")));
+    }
+    // Every structure out: the ARX.
+    let mut l = list(1.99);
+    l[2].excursion = Some(1.6);
+    let s = finish(l, &opts, tally()).unwrap();
+    assert_eq!(s.candidates[s.chosen].name, "arx");
+}
+
+#[test]
 fn an_ensemble_led_by_an_arx_is_not_the_reference_arx_and_must_beat_it_on_every_fold() {
     // Corpus seed 8, s39 (a closed-loop integrator): the mean of an ARX, a lagged RHONN and
     // another ARX, its first member an ARX, was taken for the best ARX itself, so nothing
@@ -421,6 +465,16 @@ fn an_ensemble_s_members_are_the_best_arx_and_structures_below_it_on_the_mean() 
     let mut slow = c(0.5);
     slow.slow_one_step = Some(257);
     assert!(!may_join(&slow, arx));
+    // Far outside the training range under held steps: out, an ARX too (it stays the
+    // reference, alone).
+    let mut far = c(0.2);
+    far.excursion = Some(1.8);
+    assert!(!may_join(&far, arx));
+    far.excursion = Some(1.4);
+    assert!(may_join(&far, arx));
+    let mut far_arx = scored("arx", Kind::Arx, Activation::Tanh, 0.73);
+    far_arx.excursion = Some(2.4);
+    assert!(!may_join(&far_arx, arx));
     let mut ens = c(0.3);
     ens.members = vec![ModelSpec::default(); 2];
     assert!(!may_join(&ens, arx));
