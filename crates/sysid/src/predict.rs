@@ -446,14 +446,19 @@ mod tests {
         }
     }
 
-    #[test]
-    fn train_then_predict_are_library_calls_with_clear_errors() {
+    /// An ARX of one input `u` and one output `y` trained on `r`.
+    fn arx_on(r: &Record) -> (FittedModel, crate::FitSummary) {
         let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
         let spec = ModelSpec {
             kind: crate::Kind::Arx,
             ..ModelSpec::default()
         };
-        let (fitted, summary) = train(&[spec], &[record(200, 0.1)], &u, &y).unwrap();
+        train(&[spec], std::slice::from_ref(r), &u, &y).unwrap()
+    }
+
+    #[test]
+    fn train_then_predict_are_library_calls_with_clear_errors() {
+        let (fitted, summary) = arx_on(&record(200, 0.1));
         assert!(summary.training.free_run[0].outputs[0].fit_percent > 99.0);
         let p = predict(&fitted, &record(100, 0.1), Some(3)).unwrap();
         assert_eq!((p.steps_ahead, p.resampled_from_s), (Some(3), None));
@@ -472,12 +477,7 @@ mod tests {
 
     #[test]
     fn a_measured_output_beyond_the_training_range_is_said_even_where_the_inputs_stay_within() {
-        let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
-        let spec = ModelSpec {
-            kind: crate::Kind::Arx,
-            ..ModelSpec::default()
-        };
-        let (fitted, _) = train(&[spec], &[record(200, 0.1)], &u, &y).unwrap();
+        let (fitted, _) = arx_on(&record(200, 0.1));
         let (lo, hi) = fitted.model.output_range[0];
         // The same record: nothing to say.
         let p = predict(&fitted, &record(100, 0.1), None).unwrap();
@@ -506,12 +506,7 @@ mod tests {
 
     #[test]
     fn inputs_beyond_the_training_range_are_said_and_inputs_within_it_are_not() {
-        let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
-        let spec = ModelSpec {
-            kind: crate::Kind::Arx,
-            ..ModelSpec::default()
-        };
-        let (fitted, _) = train(&[spec], &[record(200, 0.1)], &u, &y).unwrap();
+        let (fitted, _) = arx_on(&record(200, 0.1));
         assert_eq!(fitted.model.input_range, vec![(-1.0, 1.0)]);
         // The same kind of record: nothing to say.
         let p = predict(&fitted, &record(100, 0.1), None).unwrap();
@@ -549,12 +544,7 @@ mod tests {
 
     #[test]
     fn a_free_run_that_reaches_the_bound_its_output_is_held_in_is_said_with_its_share() {
-        let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
-        let spec = ModelSpec {
-            kind: crate::Kind::Arx,
-            ..ModelSpec::default()
-        };
-        let (mut fitted, _) = train(&[spec], &[record(200, 0.1)], &u, &y).unwrap();
+        let (mut fitted, _) = arx_on(&record(200, 0.1));
         // The same kind of record: the free run stays within the range.
         let p = predict(&fitted, &record(100, 0.1), None).unwrap();
         assert!(p.at_bound.is_empty(), "{:?}", p.at_bound);
@@ -594,12 +584,7 @@ mod tests {
     /// `output_lag_start`): a clear error, not a panic (found by the mutation harness).
     #[test]
     fn a_baseline_longer_than_the_record_is_an_error() {
-        let (u, y) = (vec!["u".to_string()], vec!["y".to_string()]);
-        let spec = ModelSpec {
-            kind: crate::Kind::Arx,
-            ..ModelSpec::default()
-        };
-        let (mut fitted, _) = train(&[spec], &[record(200, 0.1)], &u, &y).unwrap();
+        let (mut fitted, _) = arx_on(&record(200, 0.1));
         let mut b = fitted.model.clone();
         b.spec.output_lag_start = 1000;
         fitted.baseline = Some(b);
