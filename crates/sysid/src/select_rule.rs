@@ -95,39 +95,50 @@ pub(super) fn choose(candidates: &[CandidateScore], measure: &[Option<(&[f64], f
             (chosen, score) = (i, s);
         }
     }
-    // Each structure below the ARX on every fold put out by its disagreement, said.
-    for (i, _, s) in scored(false).filter(|&(i, f, _)| below_on_every_fold(f) && i != best_arx) {
+    // Each structure below the ARX on every fold put out by one of the rules, said: by its
+    // disagreement, then by its slow one-step fit, then by its excursion.
+    let below: Vec<(usize, f64)> = scored(false)
+        .filter(|&(i, f, _)| below_on_every_fold(f) && i != best_arx)
+        .map(|(i, _, s)| (i, s))
+        .collect();
+    let said = |i: usize, s: f64, why: String| {
+        format!(
+            "{} scored {s:.4}, below the best ARX's {arx_score:.4} on every fold, but {why}",
+            candidates[i].name
+        )
+    };
+    let whose = |i: usize| {
+        if candidates[i].members.is_empty() {
+            "its"
+        } else {
+            "its worst member's"
+        }
+    };
+    for &(i, s) in &below {
         if let Some(d) = disagreement(i) {
-            let whose = if candidates[i].members.is_empty() {
-                "its"
-            } else {
-                "its worst member's"
-            };
-            findings.push(format!(
-                "{} scored {s:.4}, below the best ARX's {arx_score:.4} on every fold, but under held steps at the data's own input levels {whose} free run disagrees with the other structures that beat the ARX {} x as much as they do with each other (above {DISAGREEMENT_LIMIT}): it extrapolates in a way of its own, which the folds cannot judge",
-                candidates[i].name,
+            findings.push(said(i, s, format!(
+                "under held steps at the data's own input levels {} free run disagrees with the other structures that beat the ARX {} x as much as they do with each other (above {DISAGREEMENT_LIMIT}): it extrapolates in a way of its own, which the folds cannot judge",
+                whose(i),
                 crate::metrics::sig(d, 3)
-            ));
+            )));
         }
     }
-    for (i, _, s) in scored(false).filter(|&(i, f, _)| below_on_every_fold(f) && i != best_arx) {
+    for &(i, s) in &below {
         if let Some(n) = slow(i) {
-            findings.push(format!(
-                "{} scored {s:.4}, below the best ARX's {arx_score:.4} on every fold, but it is fitted one step ahead and looks back {} samples, while the output falls to 1/e of its autocorrelation only after {n} samples (more than {} x): its lags see almost none of the dynamics, and its free run integrates their error away from the data, which the folds cannot judge",
-                candidates[i].name,
+            findings.push(said(i, s, format!(
+                "it is fitted one step ahead and looks back {} samples, while the output falls to 1/e of its autocorrelation only after {n} samples (more than {} x): its lags see almost none of the dynamics, and its free run integrates their error away from the data, which the folds cannot judge",
                 candidates[i].model.max_lag(),
                 super::checks::SLOW_SPANS
-            ));
+            )));
         }
     }
-    for (i, _, s) in scored(false).filter(|&(i, f, _)| below_on_every_fold(f) && i != best_arx) {
+    for &(i, s) in &below {
         if let Some(e) = far(i) {
-            findings.push(format!(
-                "{} scored {s:.4}, below the best ARX's {arx_score:.4} on every fold, but under held steps at the data's own input levels {} free run leaves the training output range by {} output standard deviations (above {EXCURSION_LIMIT}): it runs away from the training trajectory where the folds cannot judge it",
-                candidates[i].name,
-                if candidates[i].members.is_empty() { "its" } else { "its worst member's" },
+            findings.push(said(i, s, format!(
+                "under held steps at the data's own input levels {} free run leaves the training output range by {} output standard deviations (above {EXCURSION_LIMIT}): it runs away from the training trajectory where the folds cannot judge it",
+                whose(i),
                 crate::metrics::sig(e, 3)
-            ));
+            )));
         }
     }
     Some(Choice {
