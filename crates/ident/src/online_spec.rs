@@ -175,7 +175,7 @@ pub struct CascadeOnlineSpec {
 pub struct BlockOnlineSpec {
     /// Poles of the best linear approximation, split between the two filters (default 6).
     pub poles: usize,
-    /// Degree of the static polynomial (default 15, at most 15).
+    /// Degree of the static polynomial (default 15, at most 40).
     pub degree: usize,
     /// Input delay in samples (default 0).
     pub nk: usize,
@@ -186,9 +186,8 @@ pub struct BlockOnlineSpec {
     /// output; after it, only the polynomial and the offset learn.
     pub window: usize,
     /// Times the block structure is fitted again from scratch, each on the latest `window`
-    /// samples once that many more have been learned (default 0; the bank: 1, so that on a
-    /// stream of two windows the model saved is fitted on the second). The memory held
-    /// stays one window.
+    /// samples once that many more have been learned (default 0, as in the bank, where
+    /// fitting again was measured and not kept). The memory held stays one window.
     pub refits: usize,
 }
 
