@@ -54,16 +54,13 @@ pub(super) fn choose(candidates: &[CandidateScore], measure: &[Option<(&[f64], f
     let (best_arx, arx_folds, arx_score) = scored(true).min_by(|a, b| a.2.total_cmp(&b.2))?;
     let below_on_every_fold =
         |f: &[f64]| f.len() == arx_folds.len() && f.iter().zip(arx_folds).all(|(c, a)| c < a);
-    let disagreement = |i: usize| {
-        candidates[i]
-            .held_disagreement
-            .filter(|&d| d > DISAGREEMENT_LIMIT)
-    };
-    let slow = |i: usize| candidates[i].slow_one_step;
-    let far = |i: usize| candidates[i].excursion.filter(|&e| e > EXCURSION_LIMIT);
     let beats_arx = |i: usize, f: &[f64]| {
+        let c = &candidates[i];
         i == best_arx
-            || (below_on_every_fold(f) && disagreement(i).is_none() && slow(i).is_none() && far(i).is_none())
+            || (below_on_every_fold(f)
+                && disagreement(c).is_none()
+                && c.slow_one_step.is_none()
+                && far(c).is_none())
     };
     let mut findings = Vec::new();
     if let Some((i, _, s)) = scored(false)
@@ -95,52 +92,11 @@ pub(super) fn choose(candidates: &[CandidateScore], measure: &[Option<(&[f64], f
             (chosen, score) = (i, s);
         }
     }
-    // Each structure below the ARX on every fold put out by one of the rules, said: by its
-    // disagreement, then by its slow one-step fit, then by its excursion.
     let below: Vec<(usize, f64)> = scored(false)
         .filter(|&(i, f, _)| below_on_every_fold(f) && i != best_arx)
         .map(|(i, _, s)| (i, s))
         .collect();
-    let said = |i: usize, s: f64, why: String| {
-        format!(
-            "{} scored {s:.4}, below the best ARX's {arx_score:.4} on every fold, but {why}",
-            candidates[i].name
-        )
-    };
-    let whose = |i: usize| {
-        if candidates[i].members.is_empty() {
-            "its"
-        } else {
-            "its worst member's"
-        }
-    };
-    for &(i, s) in &below {
-        if let Some(d) = disagreement(i) {
-            findings.push(said(i, s, format!(
-                "under held steps at the data's own input levels {} free run disagrees with the other structures that beat the ARX {} x as much as they do with each other (above {DISAGREEMENT_LIMIT}): it extrapolates in a way of its own, which the folds cannot judge",
-                whose(i),
-                crate::metrics::sig(d, 3)
-            )));
-        }
-    }
-    for &(i, s) in &below {
-        if let Some(n) = slow(i) {
-            findings.push(said(i, s, format!(
-                "it is fitted one step ahead and looks back {} samples, while the output falls to 1/e of its autocorrelation only after {n} samples (more than {} x): its lags see almost none of the dynamics, and its free run integrates their error away from the data, which the folds cannot judge",
-                candidates[i].model.max_lag(),
-                super::checks::SLOW_SPANS
-            )));
-        }
-    }
-    for &(i, s) in &below {
-        if let Some(e) = far(i) {
-            findings.push(said(i, s, format!(
-                "under held steps at the data's own input levels {} free run leaves the training output range by {} output standard deviations (above {EXCURSION_LIMIT}): it runs away from the training trajectory where the folds cannot judge it",
-                whose(i),
-                crate::metrics::sig(e, 3)
-            )));
-        }
-    }
+    findings.extend(put_out(candidates, &below, arx_score));
     Some(Choice {
         chosen,
         score,
@@ -148,6 +104,66 @@ pub(super) fn choose(candidates: &[CandidateScore], measure: &[Option<(&[f64], f
         arx_score,
         findings,
     })
+}
+
+/// A structure's held-step disagreement above [`DISAGREEMENT_LIMIT`].
+fn disagreement(c: &CandidateScore) -> Option<f64> {
+    c.held_disagreement.filter(|&d| d > DISAGREEMENT_LIMIT)
+}
+
+/// A structure's held-step excursion above [`EXCURSION_LIMIT`].
+fn far(c: &CandidateScore) -> Option<f64> {
+    c.excursion.filter(|&e| e > EXCURSION_LIMIT)
+}
+
+/// Why a rule puts a structure out, in words (None: it does not).
+type Reason<'a> = dyn Fn(&CandidateScore) -> Option<String> + 'a;
+
+/// Each structure below the ARX on every fold (`below`: its index and mean score) put out
+/// by one of the rules, said: by its disagreement, then by its slow one-step fit, then by
+/// its excursion.
+fn put_out(candidates: &[CandidateScore], below: &[(usize, f64)], arx_score: f64) -> Vec<String> {
+    let whose = |c: &CandidateScore| {
+        if c.members.is_empty() {
+            "its"
+        } else {
+            "its worst member's"
+        }
+    };
+    let disagrees = |c: &CandidateScore| {
+        disagreement(c).map(|d| format!(
+            "under held steps at the data's own input levels {} free run disagrees with the other structures that beat the ARX {} x as much as they do with each other (above {DISAGREEMENT_LIMIT}): it extrapolates in a way of its own, which the folds cannot judge",
+            whose(c),
+            crate::metrics::sig(d, 3)
+        ))
+    };
+    let looks_back_too_little = |c: &CandidateScore| {
+        c.slow_one_step.map(|n| format!(
+            "it is fitted one step ahead and looks back {} samples, while the output falls to 1/e of its autocorrelation only after {n} samples (more than {} x): its lags see almost none of the dynamics, and its free run integrates their error away from the data, which the folds cannot judge",
+            c.model.max_lag(),
+            super::checks::SLOW_SPANS
+        ))
+    };
+    let runs_away = |c: &CandidateScore| {
+        far(c).map(|e| format!(
+            "under held steps at the data's own input levels {} free run leaves the training output range by {} output standard deviations (above {EXCURSION_LIMIT}): it runs away from the training trajectory where the folds cannot judge it",
+            whose(c),
+            crate::metrics::sig(e, 3)
+        ))
+    };
+    let rules: [&Reason; 3] = [&disagrees, &looks_back_too_little, &runs_away];
+    let mut findings = Vec::new();
+    for why in rules {
+        for &(i, s) in below {
+            if let Some(w) = why(&candidates[i]) {
+                findings.push(format!(
+                    "{} scored {s:.4}, below the best ARX's {arx_score:.4} on every fold, but {w}",
+                    candidates[i].name
+                ));
+            }
+        }
+    }
+    findings
 }
 
 /// One output's structure (`summary.json`'s `selection.by_output`).
